@@ -1,0 +1,1 @@
+//! beam3d element (in progress).

@@ -1,0 +1,18 @@
+//! railfem-elements: the built-in element kinds and the rail toolkit.
+//!
+//! What lives here: `beam3d` (Euler–Bernoulli / Timoshenko 3-D beam), `spring_damper`
+//! (six springs and dashpots in a local frame), `mass` (lumped mass with rotary inertia),
+//! and [`rail`]: track alignment and cant, rail and wheel profiles, the moving wheel-axle
+//! contact element of Ju & Ro (2021), vehicles and the simple theory. Each element kind
+//! registers itself with the framework's registry; nothing else lists them.
+//!
+//! Units are SI throughout: m, kg, s, N, rad.
+
+pub mod beam3d;
+pub mod mass;
+pub mod rail;
+pub mod spring_damper;
+
+/// Forces the linker to keep this crate's registrations (call once from a binary that
+/// otherwise uses nothing of this crate).
+pub fn link() {}

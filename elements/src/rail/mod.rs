@@ -1,0 +1,6 @@
+//! The rail toolkit: alignment and cant, track meshes, profiles, contact geometry, the
+//! moving wheel-axle element, vehicles and the simple theory of the paper's Section 3.
+
+pub mod alignment;
+pub mod profiles;
+pub mod theory;

@@ -1,0 +1,1 @@
+//! spring_damper element (in progress).

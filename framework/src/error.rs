@@ -1,0 +1,119 @@
+//! Typed errors of the framework, and the helpers that make them useful.
+//!
+//! Every error a user's input can cause is a [`FemError`] whose `Display` is one line naming
+//! the file, the place and the fix; the CLI prints it and exits with code 2. Nothing here
+//! panics on bad input.
+
+use thiserror::Error;
+
+/// Everything that can go wrong in building or running a model.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum FemError {
+    /// Bad input: `origin` names the file and the place, `message` what is wrong and the fix.
+    #[error("{origin}: {message}")]
+    Input {
+        /// File and place (`"bridge.toml: element[3] (id 7)"`).
+        origin: String,
+        /// What is wrong and how to fix it.
+        message: String,
+    },
+    /// A plugin could not be loaded or refused to load.
+    #[error("plugin: {0}")]
+    Plugin(String),
+    /// The model is singular: a DOF has no stiffness.
+    #[error("singular model: {0}")]
+    Singular(String),
+    /// A step did not converge even after cutting the step.
+    #[error("no convergence: {0}")]
+    Convergence(String),
+    /// A NaN or infinity appeared.
+    #[error("non-finite value: {0}")]
+    NonFinite(String),
+    /// An element failed.
+    #[error("element {id} ({kind}): {message}")]
+    Element {
+        /// User id of the element.
+        id: u64,
+        /// Registered type.
+        kind: String,
+        /// What happened.
+        message: String,
+    },
+    /// Writing an output failed.
+    #[error("output {path}: {message}")]
+    Output {
+        /// File that could not be written.
+        path: String,
+        /// The operating system's reason.
+        message: String,
+    },
+}
+
+impl FemError {
+    /// A bad-input error at `origin`.
+    pub fn input(origin: impl Into<String>, message: impl Into<String>) -> FemError {
+        FemError::Input {
+            origin: origin.into(),
+            message: message.into(),
+        }
+    }
+
+    /// An output error for `path`.
+    pub fn output(path: impl AsRef<std::path::Path>, e: impl std::fmt::Display) -> FemError {
+        FemError::Output {
+            path: path.as_ref().display().to_string(),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// Levenshtein edit distance between two strings (case-insensitive).
+pub fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.to_lowercase().chars().collect();
+    let b: Vec<char> = b.to_lowercase().chars().collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    let mut cur = vec![0; b.len() + 1];
+    for i in 1..=a.len() {
+        cur[0] = i;
+        for j in 1..=b.len() {
+            let sub = prev[j - 1] + usize::from(a[i - 1] != b[j - 1]);
+            cur[j] = sub.min(prev[j] + 1).min(cur[j - 1] + 1);
+        }
+        std::mem::swap(&mut prev, &mut cur);
+    }
+    prev[b.len()]
+}
+
+/// The candidate nearest to `word`, if any is reasonably close.
+pub fn nearest<'a>(word: &str, candidates: &[&'a str]) -> Option<&'a str> {
+    nearest_n(word, candidates, 1).into_iter().next()
+}
+
+/// Up to `n` candidates nearest to `word`, closest first, excluding hopeless ones.
+pub fn nearest_n<'a>(word: &str, candidates: &[&'a str], n: usize) -> Vec<&'a str> {
+    let mut scored: Vec<(usize, &str)> = candidates
+        .iter()
+        .map(|c| {
+            let d = edit_distance(word, c);
+            // A prefix or substring match is as good as one edit.
+            let d = if c.contains(word) || word.contains(c) { d.min(1) } else { d };
+            (d, *c)
+        })
+        .filter(|(d, c)| *d <= (c.len().max(word.len()) / 2).max(2))
+        .collect();
+    scored.sort();
+    scored.into_iter().take(n).map(|(_, c)| c).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distances() {
+        assert_eq!(edit_distance("kitten", "sitting"), 3);
+        assert_eq!(edit_distance("", "abc"), 3);
+        assert_eq!(nearest("beam3", &["beam3d", "mass", "spring_damper"]), Some("beam3d"));
+        assert_eq!(nearest("zzzzzzzz", &["beam3d", "mass"]), None);
+    }
+}

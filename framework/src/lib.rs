@@ -1,0 +1,25 @@
+//! railfem-framework: the generic core of the railfem finite element code.
+//!
+//! What lives here: DOFs and the model ([`dof`], [`model`]), the element contract
+//! ([`element`]), the registry and plugins ([`registry`], [`plugin`]), equation numbering
+//! with constraints ([`dofmap`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
+//! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]),
+//! recorders ([`recorder`]) and the element conformance kit ([`conformance`]). What does
+//! not: concrete elements (railfem-elements) and solvers (railfem-solvers).
+//!
+//! Units are SI throughout: m, kg, s, N, rad.
+
+pub mod dof;
+pub mod element;
+pub mod error;
+pub mod moving;
+pub mod registry;
+pub mod sparse;
+
+pub use dof::{Dof, DofSet};
+pub use element::{
+    Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, StepContext, TrialState,
+};
+pub use error::FemError;
+pub use inventory;
+pub use serde_json;

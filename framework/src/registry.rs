@@ -1,0 +1,298 @@
+//! The element registry: every element kind registers itself at startup, and model files
+//! name elements by type.
+//!
+//! Built-in kinds register with one `inventory::submit!` of an [`ElementKind`]; dynamic
+//! plugins hand the same [`ElementKind`] values to [`register`] from their entry point
+//! (see [`crate::plugin`]), because `inventory` inside a `cdylib` collects into the plugin's
+//! own copy of the framework, never into the host's. No framework code lists element kinds
+//! by hand: [`kinds`] is the union of both sources.
+//!
+//! Parameters are declared with [`element_params!`], which generates a serde struct whose
+//! doc comments, units and defaults also become the model-file documentation
+//! ([`ParamDoc`]) printed by `railfem elements`.
+
+use crate::element::Element;
+use crate::error::FemError;
+use nalgebra::Vector3;
+use serde::de::DeserializeOwned;
+use std::sync::{Mutex, OnceLock};
+
+/// Documentation of one model-file key of an element kind.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParamDoc {
+    /// The key as written in the model file.
+    pub key: &'static str,
+    /// SI unit (`"Pa"`, `"m^4"`, `"-"` for dimensionless, `""` for non-numeric).
+    pub unit: &'static str,
+    /// Default value as JSON, or `None` when the key is required.
+    pub default: Option<serde_json::Value>,
+    /// One-line description (the field's doc comment).
+    pub doc: &'static str,
+}
+
+/// A parameter struct declared with [`element_params!`].
+pub trait Params: DeserializeOwned + serde::Serialize {
+    /// Documentation of every key.
+    fn docs() -> Vec<ParamDoc>;
+}
+
+/// Declares an element's parameter struct: serde (unknown keys refused), documented keys,
+/// units and defaults in one place.
+///
+/// ```
+/// railfem_framework::element_params! {
+///     /// Parameters of a linear spring.
+///     pub struct SpringParams {
+///         /// Axial stiffness.
+///         k: f64 ["N/m"],
+///         /// Viscous damping coefficient.
+///         c: f64 ["N*s/m"] = 0.0,
+///     }
+/// }
+/// use railfem_framework::registry::Params;
+/// let docs = SpringParams::docs();
+/// assert_eq!(docs[0].key, "k");
+/// assert!(docs[0].default.is_none() && docs[1].default.is_some());
+/// ```
+#[macro_export]
+macro_rules! element_params {
+    (
+        $(#[doc = $sdoc:literal])*
+        $vis:vis struct $name:ident {
+            $(
+                $(#[doc = $fdoc:literal])*
+                $field:ident $(as $key:literal)? : $ty:ty [$unit:literal] $(= $default:expr)?
+            ),* $(,)?
+        }
+    ) => {
+        $(#[doc = $sdoc])*
+        #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        #[allow(non_snake_case)]
+        $vis struct $name {
+            $(
+                $(#[doc = $fdoc])*
+                $(#[serde(rename = $key)])?
+                pub $field: $ty,
+            )*
+        }
+        impl $crate::registry::Params for $name {
+            fn docs() -> Vec<$crate::registry::ParamDoc> {
+                vec![$(
+                    $crate::registry::ParamDoc {
+                        key: $crate::element_params!(@key $field $($key)?),
+                        unit: $unit,
+                        default: $crate::element_params!(@default $($default)?),
+                        doc: $crate::element_params!(@doc $($fdoc)*),
+                    }
+                ),*]
+            }
+        }
+    };
+    (@key $field:ident) => { stringify!($field) };
+    (@key $field:ident $key:literal) => { $key };
+    (@default) => { None };
+    (@default $d:expr) => { Some(serde_json::json!($d)) };
+    (@doc) => { "" };
+    (@doc $first:literal $($rest:literal)*) => { $first.trim() };
+}
+
+/// An `[[element]]` entry of a model file, as the registry sees it.
+#[derive(Debug, Clone)]
+pub struct ElementSpec {
+    /// User id of the element.
+    pub id: u64,
+    /// Registered type name.
+    pub kind: String,
+    /// User ids of the nodes, in order.
+    pub nodes: Vec<u64>,
+    /// The element's own keys (everything but `type`, `id`, `nodes`).
+    pub params: serde_json::Map<String, serde_json::Value>,
+    /// Where the entry came from, for messages (`"model.toml: element[3] (id 7)"`).
+    pub origin: String,
+}
+
+impl ElementSpec {
+    /// Deserializes the element's keys into `P`, filling documented defaults first.
+    /// Errors name the origin, the offending key and the valid keys.
+    pub fn parse<P: Params>(&self) -> Result<P, FemError> {
+        let docs = P::docs();
+        let mut map = self.params.clone();
+        for d in &docs {
+            if !map.contains_key(d.key) {
+                match &d.default {
+                    Some(v) => {
+                        map.insert(d.key.to_string(), v.clone());
+                    }
+                    None => {
+                        return Err(FemError::input(
+                            &self.origin,
+                            format!(
+                                "missing key `{}` ({}) for element type `{}`; add it, e.g. `{} = …` [{}]",
+                                d.key, d.doc, self.kind, d.key, d.unit
+                            ),
+                        ))
+                    }
+                }
+            }
+        }
+        for k in map.keys() {
+            if !docs.iter().any(|d| d.key == k) {
+                let names: Vec<&str> = docs.iter().map(|d| d.key).collect();
+                let near = crate::error::nearest(k, &names);
+                return Err(FemError::input(
+                    &self.origin,
+                    format!(
+                        "unknown key `{k}` for element type `{}`{}; valid keys: {}",
+                        self.kind,
+                        near.map(|n| format!(" (did you mean `{n}`?)"))
+                            .unwrap_or_default(),
+                        names.join(", ")
+                    ),
+                ));
+            }
+        }
+        let p: P = serde_json::from_value(serde_json::Value::Object(map)).map_err(|e| {
+            FemError::input(&self.origin, format!("element type `{}`: {e}", self.kind))
+        })?;
+        // Refuse NaN / infinity in any numeric key.
+        let v = serde_json::to_value(&p).unwrap_or(serde_json::Value::Null);
+        if let Some(bad) = first_non_finite(&v, "") {
+            return Err(FemError::input(
+                &self.origin,
+                format!("key `{bad}` is not a finite number; give a finite value in SI units"),
+            ));
+        }
+        Ok(p)
+    }
+}
+
+fn first_non_finite(v: &serde_json::Value, path: &str) -> Option<String> {
+    match v {
+        // serde_json serialises non-finite floats as null; a null where a number was
+        // deserialised means the number was not finite.
+        serde_json::Value::Null if !path.is_empty() => Some(path.to_string()),
+        serde_json::Value::Object(m) => m.iter().find_map(|(k, x)| {
+            let p = if path.is_empty() {
+                k.clone()
+            } else {
+                format!("{path}.{k}")
+            };
+            first_non_finite(x, &p)
+        }),
+        serde_json::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, x)| first_non_finite(x, &format!("{path}[{i}]"))),
+        _ => None,
+    }
+}
+
+/// What a factory may ask of the model while building an element.
+pub trait BuildContext {
+    /// Index of the node with user id `id`.
+    fn node_index(&self, id: u64) -> Option<usize>;
+    /// Reference position of the node with index `index` (m).
+    fn node_position(&self, index: usize) -> Vector3<f64>;
+    /// Adds an internal node owned by the element at `position`; returns its index.
+    /// An internal node is carried by the same carrier as `like` (if any).
+    fn add_internal_node(&mut self, position: Vector3<f64>, like: Option<usize>) -> usize;
+    /// A shared resource the model defines (the track, profiles), by name.
+    fn resource(&self, name: &str) -> Option<std::sync::Arc<dyn std::any::Any + Send + Sync>>;
+}
+
+/// Builds an element from its model-file entry.
+pub type Factory = fn(&ElementSpec, &mut dyn BuildContext) -> Result<Box<dyn Element>, FemError>;
+
+/// A sample admissible state of an element for the conformance kit.
+pub struct Sample {
+    /// Short name of the state (`"stick"`, `"two-point contact"`).
+    pub name: String,
+    /// The element, built and advanced to the state's time.
+    pub element: Box<dyn Element>,
+    /// Node kinematics the element was built against.
+    pub nodes: Vec<crate::element::NodeKinematics>,
+    /// Displacements (element order) of the sample state.
+    pub disp: Vec<f64>,
+    /// Velocities (element order) of the sample state.
+    pub vel: Vec<f64>,
+    /// Relative finite-difference step to use for this state (scaled by the DOF size).
+    pub fd_step: f64,
+    /// Actions to take before the check: commit the state at `disp` first, so that the
+    /// sample sits on a committed history (a stick anchor, a plastic strain).
+    pub committed_disp: Option<Vec<f64>>,
+}
+
+/// Generates the conformance samples of a kind.
+pub type SampleGenerator = fn() -> Vec<Sample>;
+
+/// One registered element kind.
+#[derive(Clone, Copy)]
+pub struct ElementKind {
+    /// Type name used in model files.
+    pub name: &'static str,
+    /// One-line description.
+    pub description: &'static str,
+    /// Documentation of the model-file keys.
+    pub params: fn() -> Vec<ParamDoc>,
+    /// The factory.
+    pub build: Factory,
+    /// Sample states for the conformance kit.
+    pub samples: SampleGenerator,
+}
+
+inventory::collect!(ElementKind);
+
+fn dynamic() -> &'static Mutex<Vec<ElementKind>> {
+    static DYN: OnceLock<Mutex<Vec<ElementKind>>> = OnceLock::new();
+    DYN.get_or_init(|| Mutex::new(Vec::new()))
+}
+
+/// Registers a kind at run time (the path dynamic plugins take).
+/// A name that is already registered is refused.
+pub fn register(kind: ElementKind) -> Result<(), FemError> {
+    if find(kind.name).is_some() {
+        return Err(FemError::Plugin(format!(
+            "element type `{}` is already registered; rename the plugin's kind",
+            kind.name
+        )));
+    }
+    dynamic().lock().unwrap_or_else(|e| e.into_inner()).push(kind);
+    Ok(())
+}
+
+/// Every registered kind, static ones first, sorted by name within each source.
+pub fn kinds() -> Vec<ElementKind> {
+    let mut v: Vec<ElementKind> = inventory::iter::<ElementKind>.into_iter().copied().collect();
+    v.sort_by_key(|k| k.name);
+    let mut d = dynamic().lock().unwrap_or_else(|e| e.into_inner()).clone();
+    d.sort_by_key(|k| k.name);
+    v.extend(d);
+    v
+}
+
+/// The kind registered under `name`.
+pub fn find(name: &str) -> Option<ElementKind> {
+    kinds().into_iter().find(|k| k.name == name)
+}
+
+/// Builds an element from its spec through the registry; an unknown type lists the
+/// nearest registered names.
+pub fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Element>, FemError> {
+    match find(&spec.kind) {
+        Some(k) => (k.build)(spec, ctx),
+        None => {
+            let all = kinds();
+            let names: Vec<&str> = all.iter().map(|k| k.name).collect();
+            let near = crate::error::nearest_n(&spec.kind, &names, 3);
+            Err(FemError::input(
+                &spec.origin,
+                format!(
+                    "unknown element type `{}`; nearest registered: {} (run `railfem elements` for all; a plugin's type needs --plugin PATH)",
+                    spec.kind,
+                    if near.is_empty() { "none".to_string() } else { near.join(", ") }
+                ),
+            ))
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! A compressed-sparse-column matrix with a fixed pattern, the form assembly fills and the
+//! linear solvers factor.
+//!
+//! Both triangles are stored (a symmetric matrix stores each off-diagonal entry twice), row
+//! indices are sorted within each column, and every diagonal entry is present even when
+//! zero. Values change every iteration; the pattern changes only when an element's
+//! connectivity does, and [`CscMatrix::pattern_id`] tells solvers when to redo their
+//! symbolic analysis.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+static NEXT_PATTERN: AtomicU64 = AtomicU64::new(1);
+
+/// Square sparse matrix in compressed-sparse-column form.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CscMatrix {
+    /// Number of rows and columns.
+    pub n: usize,
+    /// Column pointers, length `n + 1`.
+    pub col_ptr: Vec<usize>,
+    /// Row index of each stored entry, sorted within each column.
+    pub row_idx: Vec<usize>,
+    /// Value of each stored entry.
+    pub values: Vec<f64>,
+    /// Identifies the sparsity pattern: equal ids mean identical `col_ptr` and `row_idx`.
+    pub pattern_id: u64,
+}
+
+impl CscMatrix {
+    /// Builds the pattern from per-column sorted, deduplicated row lists; values are zero.
+    /// Diagonal entries are added where missing.
+    pub fn from_columns(mut cols: Vec<Vec<usize>>) -> CscMatrix {
+        let n = cols.len();
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0);
+        let mut nnz = 0;
+        for (j, c) in cols.iter_mut().enumerate() {
+            c.push(j);
+            c.sort_unstable();
+            c.dedup();
+            nnz += c.len();
+            col_ptr.push(nnz);
+        }
+        let mut row_idx = Vec::with_capacity(nnz);
+        for c in &cols {
+            row_idx.extend_from_slice(c);
+        }
+        CscMatrix {
+            n,
+            col_ptr,
+            row_idx,
+            values: vec![0.0; nnz],
+            pattern_id: NEXT_PATTERN.fetch_add(1, Ordering::Relaxed),
+        }
+    }
+
+    /// Builds a matrix from `(row, col, value)` triplets, summing duplicates.
+    pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> CscMatrix {
+        let mut cols = vec![Vec::new(); n];
+        for &(i, j, _) in triplets {
+            cols[j].push(i);
+        }
+        let mut m = CscMatrix::from_columns(cols);
+        for &(i, j, v) in triplets {
+            let p = m.position(i, j).expect("entry is in the pattern");
+            m.values[p] += v;
+        }
+        m
+    }
+
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// Storage position of entry `(i, j)`, if it is in the pattern (binary search).
+    pub fn position(&self, i: usize, j: usize) -> Option<usize> {
+        let (a, b) = (self.col_ptr[j], self.col_ptr[j + 1]);
+        self.row_idx[a..b].binary_search(&i).ok().map(|p| a + p)
+    }
+
+    /// Value of entry `(i, j)` (zero outside the pattern).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.position(i, j).map_or(0.0, |p| self.values[p])
+    }
+
+    /// Same pattern, values set to zero, same pattern id.
+    pub fn zeros_like(&self) -> CscMatrix {
+        CscMatrix {
+            values: vec![0.0; self.nnz()],
+            ..self.clone()
+        }
+    }
+
+    /// `y = A·x`.
+    pub fn mul_vec(&self, x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        self.mul_vec_add(1.0, x, y);
+    }
+
+    /// `y += alpha·A·x`.
+    pub fn mul_vec_add(&self, alpha: f64, x: &[f64], y: &mut [f64]) {
+        for j in 0..self.n {
+            let xj = alpha * x[j];
+            if xj == 0.0 {
+                continue;
+            }
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                y[self.row_idx[p]] += self.values[p] * xj;
+            }
+        }
+    }
+
+    /// `self.values = sum(c_k · A_k.values)` for matrices of the same pattern.
+    pub fn set_combination(&mut self, terms: &[(f64, &CscMatrix)]) {
+        for v in self.values.iter_mut() {
+            *v = 0.0;
+        }
+        for (c, a) in terms {
+            debug_assert_eq!(a.pattern_id, self.pattern_id);
+            if *c == 0.0 {
+                continue;
+            }
+            for (v, av) in self.values.iter_mut().zip(&a.values) {
+                *v += c * av;
+            }
+        }
+    }
+
+    /// Largest `|A_ij − A_ji|` relative to the largest `|A_ij|` (0 for a symmetric matrix).
+    pub fn asymmetry(&self) -> f64 {
+        let mut worst: f64 = 0.0;
+        let mut big: f64 = 0.0;
+        for j in 0..self.n {
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let i = self.row_idx[p];
+                big = big.max(self.values[p].abs());
+                worst = worst.max((self.values[p] - self.get(j, i)).abs());
+            }
+        }
+        if big == 0.0 {
+            0.0
+        } else {
+            worst / big
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn triplets_sum_and_multiply() {
+        let a = CscMatrix::from_triplets(3, &[(0, 0, 2.0), (0, 0, 1.0), (2, 1, 4.0), (1, 2, 4.0)]);
+        assert_eq!(a.get(0, 0), 3.0);
+        assert_eq!(a.get(1, 1), 0.0); // diagonal present, zero
+        assert!(a.position(1, 1).is_some());
+        let mut y = vec![0.0; 3];
+        a.mul_vec(&[1.0, 2.0, 3.0], &mut y);
+        assert_eq!(y, vec![3.0, 12.0, 8.0]);
+        assert_eq!(a.asymmetry(), 0.0);
+    }
+}

@@ -1,0 +1,1 @@
+//! railfem solvers.
