@@ -1,1 +1,29 @@
-fn main() {}
+//! The `railfem` binary: see [`railfem::cli`].
+
+fn main() {
+    std::panic::set_hook(Box::new(|info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        let at = info
+            .location()
+            .map(|l| format!(" at {}:{}", l.file(), l.line()))
+            .unwrap_or_default();
+        eprintln!("railfem: internal error{at}: {msg} — please report this with the model file");
+    }));
+    let argv: Vec<String> = std::env::args().skip(1).collect();
+    let code = match std::panic::catch_unwind(|| {
+        railfem::cli::parse(&argv).and_then(|a| railfem::cli::run(&a))
+    }) {
+        Ok(Ok(code)) => code,
+        Ok(Err(e)) => {
+            eprintln!("error: {}", e.to_string().replace('\n', " "));
+            2
+        }
+        Err(_) => 101,
+    };
+    std::process::exit(code);
+}

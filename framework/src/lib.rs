@@ -3,16 +3,23 @@
 //! What lives here: DOFs and the model ([`dof`], [`model`]), the element contract
 //! ([`element`]), the registry and plugins ([`registry`], [`plugin`]), equation numbering
 //! with constraints ([`dofmap`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
-//! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]),
-//! recorders ([`recorder`]) and the element conformance kit ([`conformance`]). What does
-//! not: concrete elements (railfem-elements) and solvers (railfem-solvers).
+//! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]) and
+//! recorders ([`recorder`]). What does not: concrete elements (railfem-elements) and
+//! solvers (railfem-solvers).
 //!
 //! Units are SI throughout: m, kg, s, N, rad.
 
+pub mod assembly;
 pub mod dof;
+pub mod dofmap;
 pub mod element;
 pub mod error;
+pub mod loads;
+pub mod model;
+pub mod modelfile;
 pub mod moving;
+pub mod plugin;
+pub mod recorder;
 pub mod registry;
 pub mod sparse;
 
@@ -22,4 +29,5 @@ pub use element::{
 };
 pub use error::FemError;
 pub use inventory;
+pub use model::{Model, ModelBuilder};
 pub use serde_json;

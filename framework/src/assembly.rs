@@ -1,0 +1,727 @@
+//! Sparse assembly: the global pattern, constant contributions computed once, and the
+//! value-only re-assembly of what changes.
+//!
+//! Elements are split once into *constant* ones (linear, fixed connectivity: their stiffness,
+//! mass and damping go into cached global matrices at the start and are never evaluated
+//! again — a multi-span bridge's beams) and *variable* ones (nonlinear, or moving: the wheel
+//! axles), which are updated every iteration and scattered through precomputed position
+//! maps. The pattern is the union over both; it is rebuilt only when a variable element
+//! reports a connectivity change, and its `pattern_id` tells the linear solver whether to
+//! redo its symbolic analysis. Elements with all their DOFs fixed or inactive are skipped
+//! entirely (a rigid rail costs nothing).
+//!
+//! Loads are formed here too because they need the masses: gravity `M·g`, the rigid-body
+//! pseudo-loads of carried masses `−M·a_ref` (Eq. 5, see [`crate::moving`]), uniform ground
+//! motion `−M·r·a_g(t)`, nodal loads and moving forces.
+
+use crate::dofmap::DofMap;
+use crate::element::{ElementError, NodeKinematics, StepContext, TrialState};
+use crate::error::FemError;
+use crate::loads::{Load, MovingForce};
+use crate::model::Model;
+use crate::sparse::CscMatrix;
+use nalgebra::{DMatrix, Vector3};
+
+/// Per-element scatter information.
+#[derive(Debug, Clone, Default)]
+struct ElementMap {
+    /// For each element DOF: (node index, dof index).
+    dofs: Vec<(usize, usize)>,
+    /// Whether any DOF of the element has an equation.
+    active: bool,
+    /// Whether any node is carried.
+    carried: bool,
+    /// Scatter positions for variable elements: (csc position, a·n + b, coefficient).
+    scatter: Vec<(u32, u32, f64)>,
+}
+
+/// Counters of the work done, for benchmarks and the performance report.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct AssemblyStats {
+    /// Times the sparsity pattern was built.
+    pub patterns: usize,
+    /// Element state determinations (`update` calls).
+    pub element_updates: usize,
+    /// Variable elements at the last build.
+    pub variable_elements: usize,
+    /// Constant elements at the last build (assembled once).
+    pub constant_elements: usize,
+    /// Elements skipped because none of their DOFs has an equation.
+    pub skipped_elements: usize,
+}
+
+/// The assembler of one model.
+pub struct Assembler {
+    /// Equation numbering.
+    pub dofmap: DofMap,
+    /// Constant stiffness (linear elements).
+    pub k_const: CscMatrix,
+    /// Constant mass.
+    pub m_const: CscMatrix,
+    /// Constant damping, Rayleigh included.
+    pub c_const: CscMatrix,
+    /// Mass of variable-mass elements, current step.
+    pub m_var: CscMatrix,
+    /// Tangent stiffness of variable elements, current iteration.
+    pub k_var: CscMatrix,
+    /// Damping of variable elements, current step.
+    pub c_var: CscMatrix,
+    maps: Vec<ElementMap>,
+    variable: Vec<usize>,
+    /// Elements whose mass must be re-formed each step (not constant, or carried loads).
+    mass_elems: Vec<usize>,
+    /// Cached element mass matrices of elements on carried nodes (for Eq. 5 loads).
+    carried_mass: Vec<(usize, DMatrix<f64>)>,
+    /// Gravity load of elements on fixed (non-carried) nodes, constant.
+    gravity_fixed: Vec<f64>,
+    /// `−M·r` per ground-motion load, constant part.
+    ground_unit: Vec<Vec<f64>>,
+    symmetric: bool,
+    /// Work counters.
+    pub stats: AssemblyStats,
+}
+
+fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Vector3<f64>) -> f64 {
+    // Components of a global vector in the node's axes: Rᵀ·v.
+    if d < 3 {
+        kin.frame.column(d).dot(lin)
+    } else {
+        kin.frame.column(d - 3).dot(ang)
+    }
+}
+
+impl Assembler {
+    /// Numbers equations, classifies elements, builds the pattern and the constant parts.
+    pub fn new(model: &mut Model) -> Result<Assembler, FemError> {
+        let kin = model.kinematics(0.0);
+        // Let every element see its t = 0 state before anything is numbered.
+        {
+            let ctx = StepContext {
+                time: 0.0,
+                dt: 0.0,
+                nodes: &kin,
+            };
+            for e in model.elements.iter_mut() {
+                e.element
+                    .advance(&ctx)
+                    .map_err(|err| element_error(e.id, e.element.kind(), err))?;
+            }
+        }
+        let dofmap = DofMap::new(model, &kin)?;
+        let n = dofmap.neq;
+        let empty = CscMatrix::from_columns(vec![Vec::new(); n]);
+        let mut a = Assembler {
+            dofmap,
+            k_const: empty.clone(),
+            m_const: empty.clone(),
+            c_const: empty.clone(),
+            m_var: empty.clone(),
+            k_var: empty.clone(),
+            c_var: empty,
+            maps: Vec::new(),
+            variable: Vec::new(),
+            mass_elems: Vec::new(),
+            carried_mass: Vec::new(),
+            gravity_fixed: vec![0.0; n],
+            ground_unit: Vec::new(),
+            symmetric: true,
+            stats: AssemblyStats::default(),
+        };
+        a.build(model, &kin)?;
+        Ok(a)
+    }
+
+    /// Number of equations.
+    pub fn neq(&self) -> usize {
+        self.dofmap.neq
+    }
+
+    /// Whether every element declares a symmetric tangent.
+    pub fn symmetric(&self) -> bool {
+        self.symmetric
+    }
+
+    /// (Re)builds maps, pattern, constant matrices and constant loads.
+    fn build(&mut self, model: &mut Model, kin: &[NodeKinematics]) -> Result<(), FemError> {
+        let n = self.dofmap.neq;
+        let ne = model.elements.len();
+        let mut carried_node = vec![false; model.nodes.len()];
+        for c in &model.carriers {
+            for cn in &c.nodes {
+                carried_node[cn.node] = true;
+            }
+        }
+        self.maps = Vec::with_capacity(ne);
+        self.variable.clear();
+        self.mass_elems.clear();
+        self.symmetric = true;
+        let mut stats = AssemblyStats {
+            patterns: self.stats.patterns + 1,
+            element_updates: self.stats.element_updates,
+            ..Default::default()
+        };
+        let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
+        let mut eqbuf = Vec::new();
+        for ei in 0..ne {
+            let mut map = {
+                let e = &model.elements[ei].element;
+                let mut dofs = Vec::with_capacity(e.ndof());
+                let mut active = false;
+                let mut carried = false;
+                for nd in e.connectivity() {
+                    carried |= carried_node[nd.node];
+                    for d in nd.dofs.iter() {
+                        if self.dofmap.terms(nd.node, d.index()).next().is_some() {
+                            active = true;
+                        }
+                        dofs.push((nd.node, d.index()));
+                    }
+                }
+                ElementMap {
+                    dofs,
+                    active,
+                    carried,
+                    scatter: Vec::new(),
+                }
+            };
+            let props = model.elements[ei].element.properties();
+            if !map.active {
+                stats.skipped_elements += 1;
+                self.maps.push(map);
+                continue;
+            }
+            self.symmetric &= props.symmetric;
+            eqbuf.clear();
+            for &(node, d) in &map.dofs {
+                eqbuf.extend(self.dofmap.terms(node, d).map(|t| t.0));
+            }
+            eqbuf.sort_unstable();
+            eqbuf.dedup();
+            for &j in &eqbuf {
+                cols[j].extend_from_slice(&eqbuf);
+            }
+            let variable = !props.linear || props.connectivity_may_change;
+            if variable {
+                self.variable.push(ei);
+                stats.variable_elements += 1;
+            } else {
+                stats.constant_elements += 1;
+            }
+            if props.has_mass && (!props.constant_mass || variable) {
+                self.mass_elems.push(ei);
+            }
+            map.scatter.clear();
+            self.maps.push(map);
+        }
+        for c in cols.iter_mut() {
+            c.sort_unstable();
+            c.dedup();
+        }
+        let pattern = CscMatrix::from_columns(cols);
+        // Scatter maps of variable elements.
+        for &ei in &self.variable {
+            let map = &self.maps[ei];
+            let nd = map.dofs.len();
+            let mut sc = Vec::new();
+            for (b, &(nb, db)) in map.dofs.iter().enumerate() {
+                for (eb, cb) in self.dofmap.terms(nb, db) {
+                    for (a, &(na, da)) in map.dofs.iter().enumerate() {
+                        for (ea, ca) in self.dofmap.terms(na, da) {
+                            let p = pattern.position(ea, eb).expect("pattern holds the element");
+                            sc.push((p as u32, (a * nd + b) as u32, ca * cb));
+                        }
+                    }
+                }
+            }
+            self.maps[ei].scatter = sc;
+        }
+        // Constant matrices.
+        let mut k_const = pattern.zeros_like();
+        let mut m_const = pattern.zeros_like();
+        let mut c_const = pattern.zeros_like();
+        let mut kbuf = DMatrix::zeros(0, 0);
+        let zeros: Vec<f64> = Vec::new();
+        for ei in 0..ne {
+            if !self.maps[ei].active {
+                continue;
+            }
+            let entry = &mut model.elements[ei];
+            let props = entry.element.properties();
+            let nd = self.maps[ei].dofs.len();
+            let variable = !props.linear || props.connectivity_may_change;
+            if !variable {
+                // A linear element: its tangent at the zero state is its stiffness.
+                let z = if zeros.len() >= nd {
+                    &zeros[..nd]
+                } else {
+                    &vec![0.0; nd][..]
+                };
+                let z = z.to_vec();
+                entry
+                    .element
+                    .update(&TrialState {
+                        time: 0.0,
+                        dt: 0.0,
+                        disp: &z,
+                        vel: &z,
+                        acc: &z,
+                    })
+                    .map_err(|err| element_error(entry.id, entry.element.kind(), err))?;
+                kbuf = DMatrix::zeros(nd, nd);
+                entry.element.tangent_stiffness(&mut kbuf);
+                check_finite(&kbuf, entry.id, entry.element.kind(), "tangent stiffness")?;
+                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &kbuf, &mut k_const);
+            }
+            if props.has_mass && props.constant_mass && !variable {
+                kbuf = DMatrix::zeros(nd, nd);
+                entry.element.mass(&mut kbuf);
+                check_finite(&kbuf, entry.id, entry.element.kind(), "mass")?;
+                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &kbuf, &mut m_const);
+            }
+            if props.has_damping && props.constant_damping && !variable {
+                kbuf = DMatrix::zeros(nd, nd);
+                entry.element.damping(&mut kbuf);
+                check_finite(&kbuf, entry.id, entry.element.kind(), "damping")?;
+                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &kbuf, &mut c_const);
+            }
+        }
+        let _ = kbuf;
+        if let Some(r) = model.analysis.rayleigh {
+            for ((c, m), k) in c_const
+                .values
+                .iter_mut()
+                .zip(&m_const.values)
+                .zip(&k_const.values)
+            {
+                *c += r.alpha * m + r.beta * k;
+            }
+        }
+        self.k_var = pattern.zeros_like();
+        self.m_var = pattern.zeros_like();
+        self.c_var = pattern.zeros_like();
+        self.k_const = k_const;
+        self.m_const = m_const;
+        self.c_const = c_const;
+        // Constant loads: gravity on non-carried masses, ground-motion influence.
+        self.carried_mass.clear();
+        self.gravity_fixed = vec![0.0; n];
+        self.ground_unit = Vec::new();
+        let grav = model.analysis.gravity.map(Vector3::from);
+        let ground_dirs: Vec<Vector3<f64>> = model
+            .loads
+            .iter()
+            .filter_map(|l| match l {
+                Load::GroundMotion { direction, .. } => Some(*direction),
+                _ => None,
+            })
+            .collect();
+        self.ground_unit = vec![vec![0.0; n]; ground_dirs.len()];
+        for ei in 0..ne {
+            let map = &self.maps[ei];
+            if !map.active {
+                continue;
+            }
+            let e = &model.elements[ei].element;
+            if !e.properties().has_mass {
+                continue;
+            }
+            let nd = map.dofs.len();
+            let mut m = DMatrix::zeros(nd, nd);
+            e.mass(&mut m);
+            if map.carried {
+                self.carried_mass.push((ei, m));
+                continue;
+            }
+            if let Some(g) = grav {
+                let gv: Vec<f64> = map
+                    .dofs
+                    .iter()
+                    .map(|&(node, d)| kinematic_vector(&kin[node], d, &g, &Vector3::zeros()))
+                    .collect();
+                let f = &m * nalgebra::DVector::from_vec(gv);
+                scatter_vec(
+                    &self.dofmap,
+                    &map.dofs,
+                    f.as_slice(),
+                    &mut self.gravity_fixed,
+                );
+            }
+            for (gi, dir) in ground_dirs.iter().enumerate() {
+                let r: Vec<f64> = map
+                    .dofs
+                    .iter()
+                    .map(|&(node, d)| kinematic_vector(&kin[node], d, dir, &Vector3::zeros()))
+                    .collect();
+                let f = -(&m * nalgebra::DVector::from_vec(r));
+                scatter_vec(
+                    &self.dofmap,
+                    &map.dofs,
+                    f.as_slice(),
+                    &mut self.ground_unit[gi],
+                );
+            }
+        }
+        stats.element_updates = self.stats.element_updates;
+        self.stats = stats;
+        Ok(())
+    }
+
+    /// Starts a step at time `t`: moves carried frames, lets elements advance (re-pick
+    /// nodes), rebuilds the pattern if any connectivity changed, re-forms variable masses.
+    /// Returns whether the pattern was rebuilt.
+    pub fn advance(&mut self, model: &mut Model, t: f64, dt: f64) -> Result<bool, FemError> {
+        let kin = model.kinematics(t);
+        let ctx = StepContext {
+            time: t,
+            dt,
+            nodes: &kin,
+        };
+        let mut changed = false;
+        for &ei in &self.variable {
+            let e = &mut model.elements[ei];
+            if e.element.properties().connectivity_may_change {
+                changed |= e
+                    .element
+                    .advance(&ctx)
+                    .map_err(|err| element_error(e.id, e.element.kind(), err))?;
+            } else {
+                e.element
+                    .advance(&ctx)
+                    .map_err(|err| element_error(e.id, e.element.kind(), err))?;
+            }
+        }
+        if changed {
+            // Equation numbering is fixed for the run: a moved element must land on DOFs
+            // that already have equations (rail nodes always do).
+            for &ei in &self.variable {
+                let e = &model.elements[ei];
+                for nd in e.element.connectivity() {
+                    let act = self.dofmap.active[nd.node];
+                    let covered = act.bits() | model.nodes[nd.node].fixed.bits();
+                    if nd.dofs.bits() & !covered != 0 {
+                        return Err(FemError::Element {
+                            id: e.id,
+                            kind: e.element.kind().to_string(),
+                            message: format!(
+                                "moved onto {} which has no equation; connect it to another element",
+                                model.dof_name(nd.node, 0)
+                            ),
+                        });
+                    }
+                }
+            }
+            self.build(model, &kin)?;
+        }
+        // Variable masses and damping of this step.
+        self.m_var.values.iter_mut().for_each(|v| *v = 0.0);
+        self.c_var.values.iter_mut().for_each(|v| *v = 0.0);
+        for &ei in &self.mass_elems {
+            let e = &model.elements[ei];
+            let nd = self.maps[ei].dofs.len();
+            let mut m = DMatrix::zeros(nd, nd);
+            e.element.mass(&mut m);
+            scatter_dense(&self.dofmap, &self.maps[ei].dofs, &m, &mut self.m_var);
+        }
+        for &ei in &self.variable {
+            let e = &model.elements[ei];
+            if e.element.properties().has_damping {
+                let nd = self.maps[ei].dofs.len();
+                let mut c = DMatrix::zeros(nd, nd);
+                e.element.damping(&mut c);
+                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &c, &mut self.c_var);
+            }
+        }
+        Ok(changed)
+    }
+
+    /// Element DOF values gathered from an equation vector.
+    fn gather(&self, ei: usize, q: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        for &(node, d) in &self.maps[ei].dofs {
+            out.push(self.dofmap.value(q, node, d));
+        }
+    }
+
+    /// Updates every variable element to the trial state `(q, v, a)` at time `t`, and
+    /// forms `f_int` (resisting force of all elements) and `k_var`.
+    pub fn update(
+        &mut self,
+        model: &mut Model,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        t: f64,
+        dt: f64,
+        f_int: &mut [f64],
+        form_tangent: bool,
+    ) -> Result<(), FemError> {
+        self.k_const.mul_vec(q, f_int);
+        if form_tangent {
+            self.k_var.values.iter_mut().for_each(|x| *x = 0.0);
+        }
+        let (mut ue, mut ve, mut ae) = (Vec::new(), Vec::new(), Vec::new());
+        let mut fe = Vec::new();
+        let mut ke = DMatrix::zeros(0, 0);
+        for &ei in &self.variable {
+            self.gather(ei, q, &mut ue);
+            self.gather(ei, v, &mut ve);
+            self.gather(ei, a, &mut ae);
+            let entry = &mut model.elements[ei];
+            entry
+                .element
+                .update(&TrialState {
+                    time: t,
+                    dt,
+                    disp: &ue,
+                    vel: &ve,
+                    acc: &ae,
+                })
+                .map_err(|err| element_error(entry.id, entry.element.kind(), err))?;
+            self.stats.element_updates += 1;
+            let nd = ue.len();
+            fe.clear();
+            fe.resize(nd, 0.0);
+            entry.element.resisting_force(&mut fe);
+            if let Some(i) = fe.iter().position(|x| !x.is_finite()) {
+                return Err(FemError::NonFinite(format!(
+                    "element {} ({}) returned a non-finite resisting force at its DOF {i} (t = {t} s)",
+                    entry.id,
+                    entry.element.kind()
+                )));
+            }
+            scatter_vec(&self.dofmap, &self.maps[ei].dofs, &fe, f_int);
+            if form_tangent {
+                if ke.nrows() != nd {
+                    ke = DMatrix::zeros(nd, nd);
+                } else {
+                    ke.fill(0.0);
+                }
+                entry.element.tangent_stiffness(&mut ke);
+                check_finite(&ke, entry.id, entry.element.kind(), "tangent stiffness")?;
+                for &(p, ab, c) in &self.maps[ei].scatter {
+                    self.k_var.values[p as usize] += c * ke.as_slice()[col_major(ab as usize, nd)];
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// `out = M·x` (constant and variable mass).
+    pub fn mass_times(&self, x: &[f64], out: &mut [f64]) {
+        self.m_const.mul_vec(x, out);
+        if !self.mass_elems.is_empty() {
+            self.m_var.mul_vec_add(1.0, x, out);
+        }
+    }
+
+    /// `out += C·x` (constant and variable damping).
+    pub fn damping_times_add(&self, x: &[f64], out: &mut [f64]) {
+        self.c_const.mul_vec_add(1.0, x, out);
+        self.c_var.mul_vec_add(1.0, x, out);
+    }
+
+    /// `out = cK·(K_const + K_var) + cM·M + cC·C` on the common pattern.
+    pub fn effective(&self, ck: f64, cm: f64, cc: f64, out: &mut CscMatrix) {
+        if out.pattern_id != self.k_const.pattern_id {
+            *out = self.k_const.zeros_like();
+        }
+        out.set_combination(&[
+            (ck, &self.k_const),
+            (ck, &self.k_var),
+            (cm, &self.m_const),
+            (cm, &self.m_var),
+            (cc, &self.c_const),
+            (cc, &self.c_var),
+        ]);
+    }
+
+    /// External force at time `t` (N, N·m) into `out`: nodal loads, gravity, Eq. 5
+    /// pseudo-loads of carried masses, ground motion and moving forces. `load_factor`
+    /// scales everything (static load stepping).
+    pub fn external_force(
+        &self,
+        model: &Model,
+        t: f64,
+        load_factor: f64,
+        out: &mut [f64],
+    ) -> Result<(), FemError> {
+        out.iter_mut().for_each(|x| *x = 0.0);
+        let kin = model.kinematics(t);
+        for (o, g) in out.iter_mut().zip(&self.gravity_fixed) {
+            *o += g;
+        }
+        let grav = model
+            .analysis
+            .gravity
+            .map(Vector3::from)
+            .unwrap_or_else(Vector3::zeros);
+        // Carried masses: f = M·(g − a_ref) in nodal axes.
+        if !self.carried_mass.is_empty() {
+            let carried = model.carried_by();
+            for (ei, m) in &self.carried_mass {
+                let map = &self.maps[*ei];
+                let mut w = Vec::with_capacity(map.dofs.len());
+                for &(node, d) in &map.dofs {
+                    let (lin, ang) = match carried[node] {
+                        Some((ci, cn)) => {
+                            let r = model.carriers[ci].reference(&cn, t);
+                            (grav - r.acceleration, -r.angular_acceleration)
+                        }
+                        None => (grav, Vector3::zeros()),
+                    };
+                    w.push(kinematic_vector(&kin[node], d, &lin, &ang));
+                }
+                let f = m * nalgebra::DVector::from_vec(w);
+                scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);
+            }
+        }
+        let mut gi = 0;
+        for l in &model.loads {
+            match l {
+                Load::Nodal {
+                    node,
+                    dof,
+                    value,
+                    series,
+                } => {
+                    let f = value * series.value(t);
+                    for (e, c) in self.dofmap.terms(*node, dof.index()) {
+                        out[e] += c * f;
+                    }
+                }
+                Load::GroundMotion { series, scale, .. } => {
+                    let ag = scale * series.value(t);
+                    for (o, r) in out.iter_mut().zip(&self.ground_unit[gi]) {
+                        *o += r * ag;
+                    }
+                    // Carried masses ride on the moving ground too.
+                    gi += 1;
+                }
+                Load::MovingForce(mf) => self.add_moving_force(mf, t, out),
+            }
+        }
+        if load_factor != 1.0 {
+            out.iter_mut().for_each(|x| *x *= load_factor);
+        }
+        if let Some(i) = out.iter().position(|x| !x.is_finite()) {
+            let (n, d) = self.dofmap.dof_of(i);
+            return Err(FemError::NonFinite(format!(
+                "external load at {} is not finite at t = {t} s",
+                model.dof_name(n, d)
+            )));
+        }
+        Ok(())
+    }
+
+    fn add_moving_force(&self, mf: &MovingForce, t: f64, out: &mut [f64]) {
+        let Some((k, xi)) = mf.locate(t) else {
+            return;
+        };
+        let (a, b) = mf.segments[k];
+        let (xa, xb) = mf.ends[k];
+        let f = MovingForce::nodal_forces(mf.force, xa, xb, xi);
+        for (node, fv, mv) in [(a, f.force_i, f.moment_i), (b, f.force_j, f.moment_j)] {
+            for d in 0..3 {
+                for (e, c) in self.dofmap.terms(node, d) {
+                    out[e] += c * fv[d];
+                }
+                for (e, c) in self.dofmap.terms(node, d + 3) {
+                    out[e] += c * mv[d];
+                }
+            }
+        }
+    }
+
+    /// Commits every variable element.
+    pub fn commit(&self, model: &mut Model) {
+        for &ei in &self.variable {
+            model.elements[ei].element.commit();
+        }
+    }
+
+    /// Reverts every variable element.
+    pub fn revert(&self, model: &mut Model) {
+        for &ei in &self.variable {
+            model.elements[ei].element.revert();
+        }
+    }
+
+    /// Indices of the variable elements.
+    pub fn variable_elements(&self) -> &[usize] {
+        &self.variable
+    }
+
+    /// Element DOF values of element `ei` from an equation vector (for recorders).
+    pub fn element_values(&self, ei: usize, q: &[f64]) -> Vec<f64> {
+        let mut v = Vec::new();
+        self.gather(ei, q, &mut v);
+        v
+    }
+
+    /// Total dissipated energy reported by elements (J).
+    pub fn dissipated_energy(&self, model: &Model) -> f64 {
+        self.variable
+            .iter()
+            .map(|&ei| model.elements[ei].element.dissipated_energy())
+            .sum()
+    }
+}
+
+#[inline]
+fn col_major(ab: usize, n: usize) -> usize {
+    // ab = a·n + b  →  column-major index of (a, b) = b·n + a.
+    let (a, b) = (ab / n, ab % n);
+    b * n + a
+}
+
+fn scatter_dense(map: &DofMap, dofs: &[(usize, usize)], k: &DMatrix<f64>, out: &mut CscMatrix) {
+    for (b, &(nb, db)) in dofs.iter().enumerate() {
+        for (eb, cb) in map.terms(nb, db) {
+            for (a, &(na, da)) in dofs.iter().enumerate() {
+                let v = k[(a, b)];
+                if v == 0.0 {
+                    continue;
+                }
+                for (ea, ca) in map.terms(na, da) {
+                    if let Some(p) = out.position(ea, eb) {
+                        out.values[p] += ca * cb * v;
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn scatter_vec(map: &DofMap, dofs: &[(usize, usize)], f: &[f64], out: &mut [f64]) {
+    for (a, &(n, d)) in dofs.iter().enumerate() {
+        if f[a] == 0.0 {
+            continue;
+        }
+        for (e, c) in map.terms(n, d) {
+            out[e] += c * f[a];
+        }
+    }
+}
+
+fn check_finite(m: &DMatrix<f64>, id: u64, kind: &str, what: &str) -> Result<(), FemError> {
+    if m.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(FemError::NonFinite(format!(
+            "element {id} ({kind}) returned a non-finite {what}"
+        )))
+    }
+}
+
+fn element_error(id: u64, kind: &str, e: ElementError) -> FemError {
+    match e {
+        ElementError::NonFinite { what } => {
+            FemError::NonFinite(format!("element {id} ({kind}): {what}"))
+        }
+        ElementError::Invalid(m) => FemError::Element {
+            id,
+            kind: kind.to_string(),
+            message: m,
+        },
+    }
+}

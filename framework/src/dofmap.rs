@@ -1,0 +1,233 @@
+//! Equation numbering: which nodal DOFs are unknowns, and how constrained DOFs follow them.
+//!
+//! Each nodal DOF is one of: *free* (it has an equation), *fixed* (held at zero), *slave*
+//! (a linear combination of other DOFs' equations through a rigid link) or *inactive* (no
+//! element uses it; it gets no equation, so a node used only in translations — the wheel
+//! node B — does not leave singular rotations behind). The map is stored flat, CSR-like:
+//! for nodal DOF `6·node + d` the equations and coefficients `u = Σ c_k·q_{eq_k}`.
+//!
+//! Rigid links are eliminated by transformation: `u_s = u_m + θ_m × r`, `θ_s = θ_m`, with
+//! `r` the offset from master to slave in the nodes' axes (a slave shares its master's
+//! frame). A master that is itself a slave is resolved recursively; a cycle is an error.
+
+use crate::dof::DofSet;
+use crate::element::NodeKinematics;
+use crate::error::FemError;
+use crate::model::Model;
+
+/// Equation numbering with constraints.
+#[derive(Debug, Clone)]
+pub struct DofMap {
+    /// Number of equations (unknowns).
+    pub neq: usize,
+    start: Vec<u32>,
+    eqs: Vec<u32>,
+    coefs: Vec<f64>,
+    /// For each equation, the nodal DOF (node·6 + d) it belongs to.
+    pub eq_dof: Vec<usize>,
+    /// DOFs that have an equation or follow one, per node.
+    pub active: Vec<DofSet>,
+}
+
+impl DofMap {
+    /// Numbers the equations of `model` given node kinematics at t = 0 (for link offsets).
+    pub fn new(model: &Model, kin: &[NodeKinematics]) -> Result<DofMap, FemError> {
+        let nn = model.nodes.len();
+        // Which DOFs do elements use?
+        let mut used = vec![DofSet::NONE; nn];
+        for e in &model.elements {
+            for nd in e.element.connectivity() {
+                used[nd.node] = used[nd.node].union(nd.dofs);
+            }
+        }
+        // Slaves' used DOFs make their masters' DOFs used (translations need rotations).
+        let mut slave_of: Vec<Option<(usize, DofSet)>> = vec![None; nn];
+        for l in &model.links {
+            if let Some((m, _)) = slave_of[l.slave] {
+                if m != l.master {
+                    return Err(FemError::input(
+                        format!("{}: link -> {}", model.origin, model.nodes[l.slave].id),
+                        "a node can be the slave of only one master",
+                    ));
+                }
+            }
+            slave_of[l.slave] = Some((l.master, l.dofs));
+        }
+        // Propagate usage along chains (bounded by the number of links).
+        for _ in 0..=model.links.len() {
+            let mut changed = false;
+            for l in &model.links {
+                let u = used[l.slave];
+                let constrained_used = DofSet::from_bits(u.bits() & l.dofs.bits());
+                if constrained_used.is_empty() {
+                    continue;
+                }
+                let mut need = DofSet::NONE;
+                for d in constrained_used.iter() {
+                    need = need.with(d);
+                    if d.index() < 3 {
+                        need = need.union(DofSet::ROTATIONS);
+                    }
+                }
+                let nu = used[l.master].union(need);
+                if nu != used[l.master] {
+                    used[l.master] = nu;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        // Number the free DOFs.
+        let mut eq_of = vec![u32::MAX; nn * 6];
+        let mut eq_dof = Vec::new();
+        for (i, n) in model.nodes.iter().enumerate() {
+            let constrained = slave_of[i].map(|(_, d)| d).unwrap_or(DofSet::NONE);
+            for d in used[i].iter() {
+                if n.fixed.contains(d) || constrained.contains(d) {
+                    continue;
+                }
+                eq_of[i * 6 + d.index()] = eq_dof.len() as u32;
+                eq_dof.push(i * 6 + d.index());
+            }
+        }
+        // Terms of every DOF, resolving slaves recursively.
+        let mut terms: Vec<Option<Vec<(u32, f64)>>> = vec![None; nn * 6];
+        let mut visiting = vec![false; nn];
+        fn resolve(
+            node: usize,
+            model: &Model,
+            kin: &[NodeKinematics],
+            slave_of: &[Option<(usize, DofSet)>],
+            eq_of: &[u32],
+            terms: &mut Vec<Option<Vec<(u32, f64)>>>,
+            visiting: &mut Vec<bool>,
+        ) -> Result<(), FemError> {
+            if terms[node * 6].is_some() {
+                return Ok(());
+            }
+            if visiting[node] {
+                return Err(FemError::input(
+                    format!("{}: node {}", model.origin, model.nodes[node].id),
+                    "rigid links form a cycle; a master cannot follow its own slave",
+                ));
+            }
+            visiting[node] = true;
+            let mut out: Vec<Vec<(u32, f64)>> = vec![Vec::new(); 6];
+            let link = slave_of[node];
+            if let Some((m, _)) = link {
+                resolve(m, model, kin, slave_of, eq_of, terms, visiting)?;
+            }
+            for (d, o) in out.iter_mut().enumerate() {
+                let k = node * 6 + d;
+                let constrained = link.map(|(_, s)| s.bits() & (1 << d) != 0).unwrap_or(false);
+                if !constrained {
+                    if eq_of[k] != u32::MAX {
+                        o.push((eq_of[k], 1.0));
+                    }
+                    continue;
+                }
+                let (m, _) = link.expect("constrained implies a link");
+                // Offset from master to slave in the (shared) nodal axes.
+                let r = kin[m].frame.transpose() * (kin[node].position - kin[m].position);
+                let mt = |dd: usize| terms[m * 6 + dd].clone().unwrap_or_default();
+                let add = |src: Vec<(u32, f64)>, c: f64, o: &mut Vec<(u32, f64)>| {
+                    if c == 0.0 {
+                        return;
+                    }
+                    for (e, v) in src {
+                        o.push((e, v * c));
+                    }
+                };
+                add(mt(d), 1.0, o);
+                // (θ × r): x = θy·rz − θz·ry, y = θz·rx − θx·rz, z = θx·ry − θy·rx.
+                match d {
+                    0 => {
+                        add(mt(4), r.z, o);
+                        add(mt(5), -r.y, o);
+                    }
+                    1 => {
+                        add(mt(5), r.x, o);
+                        add(mt(3), -r.z, o);
+                    }
+                    2 => {
+                        add(mt(3), r.y, o);
+                        add(mt(4), -r.x, o);
+                    }
+                    _ => {}
+                }
+                // Merge duplicate equations.
+                o.sort_by_key(|t| t.0);
+                let mut merged: Vec<(u32, f64)> = Vec::with_capacity(o.len());
+                for &(e, v) in o.iter() {
+                    match merged.last_mut() {
+                        Some(last) if last.0 == e => last.1 += v,
+                        _ => merged.push((e, v)),
+                    }
+                }
+                merged.retain(|t| t.1 != 0.0);
+                *o = merged;
+            }
+            for (d, o) in out.into_iter().enumerate() {
+                terms[node * 6 + d] = Some(o);
+            }
+            visiting[node] = false;
+            Ok(())
+        }
+        for i in 0..nn {
+            resolve(i, model, kin, &slave_of, &eq_of, &mut terms, &mut visiting)?;
+        }
+        let mut start = Vec::with_capacity(nn * 6 + 1);
+        let mut eqs = Vec::new();
+        let mut coefs = Vec::new();
+        start.push(0);
+        for t in terms {
+            for (e, c) in t.unwrap_or_default() {
+                eqs.push(e);
+                coefs.push(c);
+            }
+            start.push(eqs.len() as u32);
+        }
+        Ok(DofMap {
+            neq: eq_dof.len(),
+            start,
+            eqs,
+            coefs,
+            eq_dof,
+            active: used,
+        })
+    }
+
+    /// The equations and coefficients nodal DOF `d` of node `node` depends on.
+    pub fn terms(&self, node: usize, d: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let k = node * 6 + d;
+        let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
+        self.eqs[a..b]
+            .iter()
+            .zip(&self.coefs[a..b])
+            .map(|(e, c)| (*e as usize, *c))
+    }
+
+    /// The equation of nodal DOF `(node, d)` if it is free (not fixed, slave or inactive).
+    pub fn equation(&self, node: usize, d: usize) -> Option<usize> {
+        let k = node * 6 + d;
+        let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
+        if b == a + 1 && self.eq_dof[self.eqs[a] as usize] == k {
+            Some(self.eqs[a] as usize)
+        } else {
+            None
+        }
+    }
+
+    /// Value of nodal DOF `(node, d)` given the equation vector `q`.
+    pub fn value(&self, q: &[f64], node: usize, d: usize) -> f64 {
+        self.terms(node, d).map(|(e, c)| c * q[e]).sum()
+    }
+
+    /// Node index and DOF index of equation `eq`.
+    pub fn dof_of(&self, eq: usize) -> (usize, usize) {
+        let k = self.eq_dof[eq];
+        (k / 6, k % 6)
+    }
+}

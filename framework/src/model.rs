@@ -1,0 +1,736 @@
+//! The model: nodes, rigid links, elements, loads, carriers and recorders, and the typed
+//! builder that makes one.
+//!
+//! A [`Model`] is what the solvers run. It is built either from a model file
+//! ([`crate::modelfile`]) or in Rust code with a [`ModelBuilder`]; both go through the same
+//! path (element entries are JSON maps handed to the registry), so the same model built
+//! either way gives identical results. Elements may add internal nodes while being built
+//! (the wheel node B of the moving axle). Validation that needs the whole model (missing
+//! nodes, duplicate ids, non-finite coordinates) happens here and names the place.
+
+use crate::dof::DofSet;
+use crate::element::{Element, NodeKinematics};
+use crate::error::FemError;
+use crate::loads::Load;
+use crate::moving::{CarriedNode, Carrier};
+use crate::recorder::RecorderSpec;
+use crate::registry::{self, BuildContext, ElementSpec};
+use nalgebra::{Matrix3, Vector3};
+use serde::{Deserialize, Serialize};
+use std::any::Any;
+use std::collections::HashMap;
+use std::sync::Arc;
+
+/// A node: a user id, a reference position and the DOFs held fixed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Node {
+    /// User id (unique in the model).
+    pub id: u64,
+    /// Reference position in global X-Y-Z (m) at t = 0.
+    pub position: Vector3<f64>,
+    /// DOFs held at zero.
+    pub fixed: DofSet,
+    /// Whether an element owns this node (not written in model files).
+    pub internal: bool,
+}
+
+/// A rigid link: the slave's DOFs follow the master's as a rigid body,
+/// `u_s = u_m + θ_m × (x_s − x_m)`, `θ_s = θ_m` (small rotations), eliminated by
+/// transformation when equations are numbered (never by penalty).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidLink {
+    /// Master node index.
+    pub master: usize,
+    /// Slave node index.
+    pub slave: usize,
+    /// Which of the slave's DOFs are constrained (the others stay free).
+    pub dofs: DofSet,
+}
+
+/// One element of the model with its user id and where it came from.
+pub struct ElementEntry {
+    /// User id.
+    pub id: u64,
+    /// The element.
+    pub element: Box<dyn Element>,
+    /// Where it was defined, for messages.
+    pub origin: String,
+}
+
+/// Kind of analysis a model asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum AnalysisKind {
+    /// Static equilibrium in load steps.
+    Static,
+    /// Direct time integration.
+    #[default]
+    Transient,
+    /// Lowest natural frequencies and modes.
+    Modal,
+}
+
+/// Time integrator of a transient analysis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorKind {
+    /// Newmark-β with the user's β and γ (default average acceleration, β = ¼, γ = ½).
+    #[default]
+    Newmark,
+    /// Hilber–Hughes–Taylor α (`alpha` in [0, 1/3], numerical damping of high modes).
+    Hht,
+    /// Chung–Hulbert generalized-α, set by the high-frequency spectral radius `rho_inf`.
+    GeneralizedAlpha,
+}
+
+/// Newton–Raphson variant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum NewtonKind {
+    /// Refactor the tangent every iteration.
+    #[default]
+    Full,
+    /// Factor once per step and reuse it for the step's iterations.
+    Modified,
+    /// Reuse the factor across steps while it keeps converging; refactor when it does not.
+    Initial,
+}
+
+/// Newton–Raphson settings (`[analysis.newton]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NewtonSettings {
+    /// Relative tolerance on the residual force and the displacement increment.
+    pub tol: f64,
+    /// Absolute tolerance on the residual force (N).
+    pub abs_tol: f64,
+    /// Absolute tolerance on the displacement increment (m).
+    pub disp_tol: f64,
+    /// Iterations before a step is declared not converged.
+    pub max_iter: usize,
+    /// Full, modified or initial-tangent Newton.
+    pub kind: NewtonKind,
+    /// How many times a failing step is halved before the run stops.
+    pub max_cuts: usize,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        NewtonSettings {
+            tol: 1e-8,
+            abs_tol: 1e-6,
+            disp_tol: 1e-12,
+            max_iter: 25,
+            kind: NewtonKind::Full,
+            max_cuts: 4,
+        }
+    }
+}
+
+/// Rayleigh damping `C = alpha·M + beta·K` (K the constant stiffness).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Rayleigh {
+    /// Mass-proportional coefficient (1/s).
+    pub alpha: f64,
+    /// Stiffness-proportional coefficient (s).
+    pub beta: f64,
+}
+
+/// The `[analysis]` table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AnalysisSpec {
+    /// `"static"`, `"transient"` or `"modal"`.
+    pub kind: AnalysisKind,
+    /// Time step (s).
+    pub dt: f64,
+    /// Duration of a transient (s).
+    pub duration: f64,
+    /// Time integrator.
+    pub integrator: IntegratorKind,
+    /// Newmark β.
+    pub beta: f64,
+    /// Newmark γ.
+    pub gamma: f64,
+    /// HHT α (0 ≤ α ≤ 1/3; 0 is the trapezoidal rule).
+    pub alpha: f64,
+    /// Generalized-α spectral radius at infinite frequency (0 ≤ ρ∞ ≤ 1).
+    pub rho_inf: f64,
+    /// Gravitational acceleration vector in global axes (m/s²), e.g. `[0, 0, -9.81]`.
+    pub gravity: Option<[f64; 3]>,
+    /// Solve static equilibrium under the t = 0 loads (gravity, the t = 0 pseudo-loads)
+    /// before a transient.
+    pub initial_static: bool,
+    /// Load steps of a static analysis.
+    pub steps: usize,
+    /// Number of modes of a modal analysis.
+    pub modes: usize,
+    /// Newton–Raphson settings.
+    pub newton: NewtonSettings,
+    /// Rayleigh damping.
+    pub rayleigh: Option<Rayleigh>,
+    /// Record every n-th step.
+    pub record_every: usize,
+}
+
+impl Default for AnalysisSpec {
+    fn default() -> Self {
+        AnalysisSpec {
+            kind: AnalysisKind::Transient,
+            dt: 0.01,
+            duration: 1.0,
+            integrator: IntegratorKind::Newmark,
+            beta: 0.25,
+            gamma: 0.5,
+            alpha: 0.05,
+            rho_inf: 0.8,
+            gravity: None,
+            initial_static: true,
+            steps: 1,
+            modes: 3,
+            newton: NewtonSettings::default(),
+            rayleigh: None,
+            record_every: 1,
+        }
+    }
+}
+
+impl AnalysisSpec {
+    /// Checks ranges; `origin` names the file.
+    pub fn validate(&self, origin: &str) -> Result<(), FemError> {
+        let o = format!("{origin}: [analysis]");
+        let pos = |v: f64, k: &str| -> Result<(), FemError> {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(FemError::input(
+                    &o,
+                    format!("`{k}` must be a positive number (got {v})"),
+                ))
+            }
+        };
+        if self.kind == AnalysisKind::Transient {
+            pos(self.dt, "dt")?;
+            pos(self.duration, "duration")?;
+            if !(self.gamma >= 0.5 && self.beta > 0.0 && self.beta.is_finite()) {
+                return Err(FemError::input(
+                    &o,
+                    format!(
+                        "Newmark needs gamma >= 0.5 and beta > 0 (got beta = {}, gamma = {}); average acceleration is beta = 0.25, gamma = 0.5",
+                        self.beta, self.gamma
+                    ),
+                ));
+            }
+            if !(0.0..=1.0 / 3.0 + 1e-12).contains(&self.alpha) {
+                return Err(FemError::input(&o, "`alpha` (HHT) must lie in [0, 1/3]"));
+            }
+            if !(0.0..=1.0).contains(&self.rho_inf) {
+                return Err(FemError::input(&o, "`rho_inf` must lie in [0, 1]"));
+            }
+        }
+        if self.kind == AnalysisKind::Modal && self.modes == 0 {
+            return Err(FemError::input(&o, "`modes` must be at least 1"));
+        }
+        if let Some(g) = self.gravity {
+            if g.iter().any(|x| !x.is_finite()) {
+                return Err(FemError::input(
+                    &o,
+                    "`gravity` must be three finite numbers (m/s²)",
+                ));
+            }
+        }
+        let n = &self.newton;
+        if !(n.tol > 0.0 && n.abs_tol >= 0.0 && n.max_iter > 0) {
+            return Err(FemError::input(
+                &o,
+                "[analysis.newton]: `tol` must be > 0, `abs_tol` >= 0 and `max_iter` >= 1",
+            ));
+        }
+        if self.steps == 0 || self.record_every == 0 {
+            return Err(FemError::input(
+                &o,
+                "`steps` and `record_every` must be at least 1",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A finished model, ready for a solver.
+pub struct Model {
+    /// Name of the file (or builder) it came from, for messages.
+    pub origin: String,
+    /// Nodes, indexed by node index.
+    pub nodes: Vec<Node>,
+    /// Node user id → index.
+    pub node_index: HashMap<u64, usize>,
+    /// Rigid links.
+    pub links: Vec<RigidLink>,
+    /// Elements.
+    pub elements: Vec<ElementEntry>,
+    /// Loads.
+    pub loads: Vec<Load>,
+    /// Moving reference frames.
+    pub carriers: Vec<Carrier>,
+    /// Recorders.
+    pub recorders: Vec<RecorderSpec>,
+    /// Analysis settings.
+    pub analysis: AnalysisSpec,
+    /// Plugins the model file asked for (paths), already loaded.
+    pub plugins: Vec<String>,
+}
+
+impl Model {
+    /// Index of the node with user id `id`.
+    pub fn node(&self, id: u64) -> Option<usize> {
+        self.node_index.get(&id).copied()
+    }
+
+    /// Node kinematics at time `t`: reference positions and axes, following the carriers.
+    pub fn kinematics(&self, t: f64) -> Vec<NodeKinematics> {
+        let mut k: Vec<NodeKinematics> = self
+            .nodes
+            .iter()
+            .map(|n| NodeKinematics::fixed(n.position))
+            .collect();
+        for c in &self.carriers {
+            for cn in &c.nodes {
+                let r = c.reference(cn, t);
+                k[cn.node] = NodeKinematics {
+                    position: r.position,
+                    frame: r.point.frame,
+                    carried: true,
+                };
+            }
+        }
+        k
+    }
+
+    /// For each node, the carrier and carried-node record that carries it, if any.
+    pub fn carried_by(&self) -> Vec<Option<(usize, CarriedNode)>> {
+        let mut v = vec![None; self.nodes.len()];
+        for (ci, c) in self.carriers.iter().enumerate() {
+            for cn in &c.nodes {
+                v[cn.node] = Some((ci, *cn));
+            }
+        }
+        v
+    }
+
+    /// A human name for DOF `dof` of node index `node` (`"node 12 uz"`).
+    pub fn dof_name(&self, node: usize, dof: usize) -> String {
+        let d = crate::dof::Dof::from_index(dof)
+            .map(|d| d.name())
+            .unwrap_or("?");
+        match self.nodes.get(node) {
+            Some(n) if n.internal => format!("internal node {} {d}", n.id),
+            Some(n) => format!("node {} {d}", n.id),
+            None => format!("node #{node} {d}"),
+        }
+    }
+}
+
+/// Shared resources elements may ask for while being built (a track, profiles).
+pub type Resources = HashMap<String, Arc<dyn Any + Send + Sync>>;
+
+/// Builds a [`Model`] step by step, in Rust code or from a model file.
+pub struct ModelBuilder {
+    origin: String,
+    nodes: Vec<Node>,
+    node_index: HashMap<u64, usize>,
+    links: Vec<(u64, u64, DofSet, String)>,
+    element_specs: Vec<ElementSpec>,
+    loads: Vec<crate::loads::LoadSpec>,
+    carriers: Vec<CarrierSpec>,
+    recorders: Vec<RecorderSpec>,
+    analysis: AnalysisSpec,
+    resources: Resources,
+    plugins: Vec<String>,
+    errors: Vec<FemError>,
+}
+
+/// A carrier before its node ids are resolved.
+#[derive(Debug, Clone)]
+pub struct CarrierSpec {
+    /// The carrier, with `nodes` empty.
+    pub carrier: Carrier,
+    /// Node ids with their station offsets and wheel-frame offsets.
+    pub nodes: Vec<(u64, f64, f64, f64)>,
+}
+
+impl ModelBuilder {
+    /// An empty model; `origin` names it in messages (a file name, or `"builder"`).
+    pub fn new(origin: impl Into<String>) -> Self {
+        ModelBuilder {
+            origin: origin.into(),
+            nodes: Vec::new(),
+            node_index: HashMap::new(),
+            links: Vec::new(),
+            element_specs: Vec::new(),
+            loads: Vec::new(),
+            carriers: Vec::new(),
+            recorders: Vec::new(),
+            analysis: AnalysisSpec::default(),
+            resources: HashMap::new(),
+            plugins: Vec::new(),
+            errors: Vec::new(),
+        }
+    }
+
+    /// Name used in messages.
+    pub fn origin(&self) -> &str {
+        &self.origin
+    }
+
+    /// Adds a node at `xyz` (m) with no fixity. Duplicate ids and non-finite coordinates
+    /// are reported when the model is built.
+    pub fn node(&mut self, id: u64, xyz: [f64; 3]) -> &mut Self {
+        self.node_fixed(id, xyz, DofSet::NONE)
+    }
+
+    /// Adds a node with the given fixed DOFs.
+    pub fn node_fixed(&mut self, id: u64, xyz: [f64; 3], fixed: DofSet) -> &mut Self {
+        let place = format!("{}: node {id}", self.origin);
+        if self.node_index.contains_key(&id) {
+            self.errors.push(FemError::input(
+                place,
+                "duplicate node id; every node needs its own id",
+            ));
+            return self;
+        }
+        if xyz.iter().any(|v| !v.is_finite()) {
+            self.errors.push(FemError::input(
+                place,
+                format!("`xyz` = {xyz:?} is not finite; give three finite coordinates in m"),
+            ));
+            return self;
+        }
+        self.node_index.insert(id, self.nodes.len());
+        self.nodes.push(Node {
+            id,
+            position: Vector3::from(xyz),
+            fixed,
+            internal: false,
+        });
+        self
+    }
+
+    /// Fixes more DOFs of an existing node.
+    pub fn fix(&mut self, id: u64, dofs: DofSet) -> &mut Self {
+        match self.node_index.get(&id) {
+            Some(&i) => self.nodes[i].fixed = self.nodes[i].fixed.union(dofs),
+            None => self.errors.push(FemError::input(
+                format!("{}: fix", self.origin),
+                format!("node {id} does not exist; define it before fixing it"),
+            )),
+        }
+        self
+    }
+
+    /// Whether a node id exists.
+    pub fn has_node(&self, id: u64) -> bool {
+        self.node_index.contains_key(&id)
+    }
+
+    /// Reference position of a node id, if it exists.
+    pub fn node_position(&self, id: u64) -> Option<Vector3<f64>> {
+        self.node_index.get(&id).map(|&i| self.nodes[i].position)
+    }
+
+    /// The largest node id so far (0 if none), for generators that add nodes.
+    pub fn max_node_id(&self) -> u64 {
+        self.nodes.iter().map(|n| n.id).max().unwrap_or(0)
+    }
+
+    /// The largest element id so far (0 if none).
+    pub fn max_element_id(&self) -> u64 {
+        self.element_specs.iter().map(|e| e.id).max().unwrap_or(0)
+    }
+
+    /// Adds an element of registered type `kind` with parameters `params` (any serde
+    /// struct or JSON object with the kind's keys).
+    pub fn element<P: Serialize>(
+        &mut self,
+        kind: &str,
+        id: u64,
+        nodes: &[u64],
+        params: &P,
+    ) -> &mut Self {
+        let origin = format!("{}: element {id} ({kind})", self.origin);
+        match serde_json::to_value(params) {
+            Ok(serde_json::Value::Object(map)) => self.element_spec(ElementSpec {
+                id,
+                kind: kind.to_string(),
+                nodes: nodes.to_vec(),
+                params: map,
+                origin,
+            }),
+            Ok(serde_json::Value::Null) => self.element_spec(ElementSpec {
+                id,
+                kind: kind.to_string(),
+                nodes: nodes.to_vec(),
+                params: serde_json::Map::new(),
+                origin,
+            }),
+            Ok(_) | Err(_) => {
+                self.errors.push(FemError::input(
+                    origin,
+                    "parameters must serialise to a table of keys",
+                ));
+                self
+            }
+        }
+    }
+
+    /// Adds an element from a ready spec (the model-file path).
+    pub fn element_spec(&mut self, spec: ElementSpec) -> &mut Self {
+        self.element_specs.push(spec);
+        self
+    }
+
+    /// Adds a rigid link: `slave` follows `master` on `dofs`.
+    pub fn rigid_link(&mut self, master: u64, slave: u64, dofs: DofSet) -> &mut Self {
+        let origin = format!("{}: link {master} -> {slave}", self.origin);
+        self.links.push((master, slave, dofs, origin));
+        self
+    }
+
+    /// Adds a load.
+    pub fn load(&mut self, load: crate::loads::LoadSpec) -> &mut Self {
+        self.loads.push(load);
+        self
+    }
+
+    /// Adds a carrier (moving reference frame) with its nodes given by user id:
+    /// `(id, station offset, lateral offset, vertical offset)` in m.
+    pub fn carrier(&mut self, carrier: Carrier, nodes: Vec<(u64, f64, f64, f64)>) -> &mut Self {
+        self.carriers.push(CarrierSpec { carrier, nodes });
+        self
+    }
+
+    /// Adds a recorder.
+    pub fn recorder(&mut self, r: RecorderSpec) -> &mut Self {
+        self.recorders.push(r);
+        self
+    }
+
+    /// Sets the analysis.
+    pub fn analysis(&mut self, a: AnalysisSpec) -> &mut Self {
+        self.analysis = a;
+        self
+    }
+
+    /// The analysis settings so far.
+    pub fn analysis_mut(&mut self) -> &mut AnalysisSpec {
+        &mut self.analysis
+    }
+
+    /// Makes a shared resource available to element factories under `name`.
+    pub fn resource(&mut self, name: &str, r: Arc<dyn Any + Send + Sync>) -> &mut Self {
+        self.resources.insert(name.to_string(), r);
+        self
+    }
+
+    /// Records a plugin path the model uses (it must already be loaded).
+    pub fn plugin(&mut self, path: &str) -> &mut Self {
+        self.plugins.push(path.to_string());
+        self
+    }
+
+    /// Records an error found by a generator or a model-file section.
+    pub fn error(&mut self, e: FemError) -> &mut Self {
+        self.errors.push(e);
+        self
+    }
+
+    /// Resolves ids, builds every element through the registry and checks the whole.
+    /// The first problem found is returned.
+    pub fn build(self) -> Result<Model, FemError> {
+        let ModelBuilder {
+            origin,
+            nodes,
+            node_index,
+            links,
+            element_specs,
+            loads,
+            carriers,
+            recorders,
+            analysis,
+            resources,
+            plugins,
+            errors,
+        } = self;
+        if let Some(e) = errors.into_iter().next() {
+            return Err(e);
+        }
+        analysis.validate(&origin)?;
+        // Carriers first: internal nodes inherit them.
+        let mut carried: Vec<Option<(usize, CarriedNode)>> = vec![None; nodes.len()];
+        let mut carrier_list = Vec::new();
+        for (ci, cs) in carriers.into_iter().enumerate() {
+            let mut c = cs.carrier;
+            for (id, ds, lat, vert) in cs.nodes {
+                let Some(&ni) = node_index.get(&id) else {
+                    return Err(FemError::input(
+                        format!("{origin}: carrier `{}`", c.name),
+                        format!(
+                            "node {id} does not exist; define it or remove it from the carrier"
+                        ),
+                    ));
+                };
+                if !(ds.is_finite() && lat.is_finite() && vert.is_finite()) {
+                    return Err(FemError::input(
+                        format!("{origin}: carrier `{}`", c.name),
+                        format!("offsets of node {id} are not finite"),
+                    ));
+                }
+                let cn = CarriedNode {
+                    node: ni,
+                    station_offset: ds,
+                    lateral: lat,
+                    vertical: vert,
+                };
+                carried[ni] = Some((ci, cn));
+                c.nodes.push(cn);
+            }
+            carrier_list.push(c);
+        }
+        let mut ctx = Ctx {
+            nodes,
+            node_index,
+            carried,
+            resources,
+        };
+        let mut elements = Vec::with_capacity(element_specs.len());
+        let mut seen_ids = HashMap::new();
+        for spec in element_specs {
+            if let Some(prev) = seen_ids.insert(spec.id, spec.origin.clone()) {
+                return Err(FemError::input(
+                    &spec.origin,
+                    format!(
+                        "duplicate element id {} (also {prev}); give each element its own id",
+                        spec.id
+                    ),
+                ));
+            }
+            for nid in &spec.nodes {
+                if !ctx.node_index.contains_key(nid) {
+                    return Err(FemError::input(
+                        &spec.origin,
+                        format!("node {nid} does not exist; define it in a [[node]] table or fix the id"),
+                    ));
+                }
+            }
+            let element = registry::build(&spec, &mut ctx)?;
+            elements.push(ElementEntry {
+                id: spec.id,
+                element,
+                origin: spec.origin,
+            });
+        }
+        let Ctx {
+            nodes,
+            node_index,
+            carried,
+            ..
+        } = ctx;
+        // Internal nodes that inherited a carrier.
+        for (ni, c) in carried.iter().enumerate() {
+            if let Some((ci, cn)) = c {
+                if !carrier_list[*ci].nodes.iter().any(|x| x.node == ni) {
+                    carrier_list[*ci].nodes.push(*cn);
+                }
+            }
+        }
+        let mut link_list = Vec::new();
+        for (m, s, dofs, lorigin) in links {
+            let (Some(&mi), Some(&si)) = (node_index.get(&m), node_index.get(&s)) else {
+                let missing = if node_index.contains_key(&m) { s } else { m };
+                return Err(FemError::input(
+                    lorigin,
+                    format!("node {missing} does not exist; define it or fix the link"),
+                ));
+            };
+            if mi == si {
+                return Err(FemError::input(
+                    lorigin,
+                    "a node cannot be linked to itself",
+                ));
+            }
+            link_list.push(RigidLink {
+                master: mi,
+                slave: si,
+                dofs,
+            });
+        }
+        let mut model = Model {
+            origin,
+            nodes,
+            node_index,
+            links: link_list,
+            elements,
+            loads: Vec::new(),
+            carriers: carrier_list,
+            recorders: Vec::new(),
+            analysis,
+            plugins,
+        };
+        for l in loads {
+            let load = l.resolve(&model)?;
+            model.loads.push(load);
+        }
+        for r in &recorders {
+            r.validate(&model)?;
+        }
+        model.recorders = recorders;
+        Ok(model)
+    }
+}
+
+struct Ctx {
+    nodes: Vec<Node>,
+    node_index: HashMap<u64, usize>,
+    carried: Vec<Option<(usize, CarriedNode)>>,
+    resources: Resources,
+}
+
+impl BuildContext for Ctx {
+    fn node_index(&self, id: u64) -> Option<usize> {
+        self.node_index.get(&id).copied()
+    }
+    fn node_position(&self, index: usize) -> Vector3<f64> {
+        self.nodes[index].position
+    }
+    fn add_internal_node(&mut self, position: Vector3<f64>, like: Option<usize>) -> usize {
+        let id = self
+            .nodes
+            .iter()
+            .map(|n| n.id)
+            .max()
+            .unwrap_or(0)
+            .max(1 << 40)
+            + 1;
+        let idx = self.nodes.len();
+        self.node_index.insert(id, idx);
+        self.nodes.push(Node {
+            id,
+            position,
+            fixed: DofSet::NONE,
+            internal: true,
+        });
+        let inherited = like
+            .and_then(|l| self.carried[l])
+            .map(|(ci, cn)| (ci, CarriedNode { node: idx, ..cn }));
+        self.carried.push(inherited);
+        idx
+    }
+    fn resource(&self, name: &str) -> Option<Arc<dyn Any + Send + Sync>> {
+        self.resources.get(name).cloned()
+    }
+}
+
+/// The frame of node `i` as a 3×3 rotation (identity when not carried).
+pub fn node_frame(k: &[NodeKinematics], i: usize) -> Matrix3<f64> {
+    k[i].frame
+}

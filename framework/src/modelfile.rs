@@ -1,0 +1,311 @@
+//! Model files: TOML or JSON (the same structure), read into a [`ModelBuilder`].
+//!
+//! Top-level keys: `[analysis]`, `[[node]]`, `[[element]]`, `[[link]]`, `[[load]]`,
+//! `[[recorder]]`, `plugins`, and any section registered by a [`ModelSection`] (the rail
+//! toolkit adds `[track]` and `[[vehicle]]`). Every key is documented in
+//! `docs/model-format.md`. Errors are one line naming the file, the place (line and column
+//! for syntax errors, the table and index otherwise) and the fix.
+
+use crate::dof::DofSet;
+use crate::error::{nearest, FemError};
+use crate::loads::LoadSpec;
+use crate::model::{AnalysisSpec, ModelBuilder};
+use crate::recorder::RecorderSpec;
+use crate::registry::ElementSpec;
+use serde::Deserialize;
+use serde_json::{Map, Value};
+use std::path::Path;
+
+/// A top-level model-file section handled outside the framework (e.g. `[track]`).
+pub struct ModelSection {
+    /// The key (`"track"`).
+    pub key: &'static str,
+    /// One-line description for the documentation.
+    pub description: &'static str,
+    /// Order in which sections are applied (lower first; nodes and elements are at 0).
+    pub order: i32,
+    /// Applies the section's value to the builder. `origin` is `"file.toml: [key]"`.
+    pub apply: fn(&Value, &str, &mut ModelBuilder) -> Result<(), FemError>,
+}
+
+inventory::collect!(ModelSection);
+
+const CORE_KEYS: [&str; 7] = [
+    "analysis", "node", "element", "link", "load", "recorder", "plugins",
+];
+
+/// Reads a model file (`.toml` or `.json`, by extension) into a builder. Plugins named in
+/// the file are loaded (see [`crate::plugin`]) before elements are built.
+pub fn read(path: &Path) -> Result<ModelBuilder, FemError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| FemError::input(&name, format!("cannot read the model file: {e}")))?;
+    let is_json = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let value = if is_json {
+        parse_json(&text, &name)?
+    } else {
+        parse_toml(&text, &name)?
+    };
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    from_value(&value, &name, &base)
+}
+
+/// Parses TOML text into a JSON value, refusing NaN and infinity with their key path.
+pub fn parse_toml(text: &str, name: &str) -> Result<Value, FemError> {
+    let t: toml::Table = toml::from_str(text).map_err(|e| {
+        let (line, col) = e.span().map(|s| line_col(text, s.start)).unwrap_or((0, 0));
+        FemError::input(
+            format!("{name}:{line}:{col}"),
+            format!(
+                "TOML syntax error: {}",
+                e.message().trim().replace('\n', " ")
+            ),
+        )
+    })?;
+    let tv = toml::Value::Table(t);
+    if let Some(p) = non_finite_toml(&tv, "") {
+        return Err(FemError::input(
+            name,
+            format!("`{p}` is not a finite number; give a finite value in SI units"),
+        ));
+    }
+    serde_json::to_value(&tv).map_err(|e| FemError::input(name, format!("unsupported value: {e}")))
+}
+
+/// Parses JSON text, reporting line and column of syntax errors.
+pub fn parse_json(text: &str, name: &str) -> Result<Value, FemError> {
+    serde_json::from_str(text).map_err(|e| {
+        FemError::input(
+            format!("{name}:{}:{}", e.line(), e.column()),
+            format!("JSON syntax error: {e}"),
+        )
+    })
+}
+
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+fn non_finite_toml(v: &toml::Value, path: &str) -> Option<String> {
+    match v {
+        toml::Value::Float(f) if !f.is_finite() => Some(path.to_string()),
+        toml::Value::Table(t) => t.iter().find_map(|(k, x)| {
+            non_finite_toml(
+                x,
+                &if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                },
+            )
+        }),
+        toml::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, x)| non_finite_toml(x, &format!("{path}[{i}]"))),
+        _ => None,
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Fix {
+    Word(String),
+    List(Vec<String>),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct NodeEntry {
+    id: u64,
+    xyz: [f64; 3],
+    #[serde(default)]
+    fix: Option<Fix>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LinkEntry {
+    master: u64,
+    slave: u64,
+    #[serde(default)]
+    dofs: Option<Fix>,
+}
+
+fn parse_dofs(f: &Option<Fix>, default: DofSet, origin: &str) -> Result<DofSet, FemError> {
+    let names: Vec<String> = match f {
+        None => return Ok(default),
+        Some(Fix::Word(w)) => vec![w.clone()],
+        Some(Fix::List(l)) => l.clone(),
+    };
+    DofSet::parse_names(&names).map_err(|bad| {
+        FemError::input(
+            origin,
+            format!("`{bad}` is not a DOF; use ux, uy, uz, rx, ry, rz, or \"all\""),
+        )
+    })
+}
+
+fn entries<'a>(
+    root: &'a Map<String, Value>,
+    key: &str,
+    name: &str,
+) -> Result<Vec<&'a Value>, FemError> {
+    match root.get(key) {
+        None => Ok(Vec::new()),
+        Some(Value::Array(a)) => Ok(a.iter().collect()),
+        Some(v @ Value::Object(_)) => Ok(vec![v]),
+        Some(_) => Err(FemError::input(
+            name,
+            format!("`{key}` must be an array of tables (`[[{key}]]`)"),
+        )),
+    }
+}
+
+fn de<T: serde::de::DeserializeOwned>(v: &Value, origin: &str) -> Result<T, FemError> {
+    T::deserialize(v).map_err(|e| FemError::input(origin, e.to_string()))
+}
+
+/// Builds from an already-parsed value (`base` resolves relative file paths, e.g. plugins).
+pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder, FemError> {
+    let Value::Object(root) = value else {
+        return Err(FemError::input(
+            name,
+            "the model file must be a table of sections",
+        ));
+    };
+    let sections: Vec<&ModelSection> = inventory::iter::<ModelSection>.into_iter().collect();
+    let mut valid: Vec<&str> = CORE_KEYS.to_vec();
+    valid.extend(sections.iter().map(|s| s.key));
+    for k in root.keys() {
+        if !valid.contains(&k.as_str()) {
+            let hint = nearest(k, &valid)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err(FemError::input(
+                name,
+                format!(
+                    "unknown top-level key `{k}`{hint}; valid keys: {}",
+                    valid.join(", ")
+                ),
+            ));
+        }
+    }
+    let mut b = ModelBuilder::new(name);
+    if let Some(p) = root.get("plugins") {
+        let list: Vec<String> = de(p, &format!("{name}: plugins"))?;
+        for rel in list {
+            let path = base.join(&rel);
+            crate::plugin::load(&path)?;
+            b.plugin(&path.display().to_string());
+        }
+    }
+    if let Some(a) = root.get("analysis") {
+        let spec: AnalysisSpec = de(a, &format!("{name}: [analysis]"))?;
+        b.analysis(spec);
+    }
+    for (i, v) in entries(root, "node", name)?.into_iter().enumerate() {
+        let o = format!("{name}: node[{i}]");
+        let n: NodeEntry = de(v, &o)?;
+        let fixed = parse_dofs(&n.fix, DofSet::NONE, &o)?;
+        b.node_fixed(n.id, n.xyz, fixed);
+    }
+    let mut ordered: Vec<&&ModelSection> = sections.iter().collect();
+    ordered.sort_by_key(|s| s.order);
+    for s in ordered.iter().filter(|s| s.order < 0) {
+        if let Some(v) = root.get(s.key) {
+            (s.apply)(v, &format!("{name}: [{}]", s.key), &mut b)?;
+        }
+    }
+    for (i, v) in entries(root, "element", name)?.into_iter().enumerate() {
+        let mut o = format!("{name}: element[{i}]");
+        let Value::Object(map) = v else {
+            return Err(FemError::input(o, "must be a table"));
+        };
+        let mut params = map.clone();
+        let kind =
+            match params.remove("type") {
+                Some(Value::String(s)) => s,
+                _ => return Err(FemError::input(
+                    o,
+                    "missing `type` (the registered element name; `railfem elements` lists them)",
+                )),
+            };
+        let id = match params.remove("id") {
+            Some(Value::Number(n)) if n.as_u64().is_some() => n.as_u64().unwrap_or(0),
+            _ => {
+                return Err(FemError::input(
+                    o,
+                    "missing or invalid `id` (a non-negative integer)",
+                ))
+            }
+        };
+        o = format!("{name}: element[{i}] (id {id}, {kind})");
+        let nodes: Vec<u64> = match params.remove("nodes") {
+            Some(v) => de(&v, &o)?,
+            None => return Err(FemError::input(o, "missing `nodes` (a list of node ids)")),
+        };
+        b.element_spec(ElementSpec {
+            id,
+            kind,
+            nodes,
+            params,
+            origin: o,
+        });
+    }
+    for (i, v) in entries(root, "link", name)?.into_iter().enumerate() {
+        let o = format!("{name}: link[{i}]");
+        let l: LinkEntry = de(v, &o)?;
+        let dofs = parse_dofs(&l.dofs, DofSet::ALL, &o)?;
+        b.rigid_link(l.master, l.slave, dofs);
+    }
+    for s in ordered.iter().filter(|s| s.order >= 0) {
+        if let Some(v) = root.get(s.key) {
+            (s.apply)(v, &format!("{name}: [{}]", s.key), &mut b)?;
+        }
+    }
+    for (i, v) in entries(root, "load", name)?.into_iter().enumerate() {
+        let l: LoadSpec = de(v, &format!("{name}: load[{i}]"))?;
+        b.load(l);
+    }
+    for (i, v) in entries(root, "recorder", name)?.into_iter().enumerate() {
+        let r: RecorderSpec = de(v, &format!("{name}: recorder[{i}]"))?;
+        b.recorder(r);
+    }
+    Ok(b)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn toml_syntax_error_has_line_and_column() {
+        let e = parse_toml("a = 1\nb = = 2\n", "m.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("m.toml:2:"), "{e}");
+        assert!(!e.contains('\n'));
+    }
+
+    #[test]
+    fn nan_is_refused_with_its_key() {
+        let e = parse_toml("[[node]]\nid = 1\nxyz = [0.0, nan, 0.0]\n", "m.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("node[0].xyz[1]"), "{e}");
+    }
+
+    #[test]
+    fn json_syntax_error_has_line() {
+        let e = parse_json("{\n \"node\": [\n}", "m.json")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("m.json:3:"), "{e}");
+    }
+}

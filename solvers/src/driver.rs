@@ -1,0 +1,689 @@
+//! The analysis driver: static (Newton in load steps), transient (generalized-α family with
+//! Newton–Raphson each step and automatic step cutting) and the hooks recorders use.
+//!
+//! Data flows one way: the model's elements are evaluated by the assembler, the driver
+//! solves and updates the trial state, commits on convergence and hands the committed state
+//! to the recorders. Per step: move the carriers and let elements re-pick nodes
+//! (`advance`), form the external force, predict, iterate (residual, tangent, solve,
+//! update), commit.
+//!
+//! What a scene does not need it does not pay for: a model without nonlinear elements takes
+//! one solve per step with the factor of `K_eff` kept while `Δt` is unchanged; modified and
+//! initial-tangent Newton keep factors across iterations or steps; tiny systems (a vehicle
+//! on a rigid track) use a dense factorization.
+
+use crate::dense::DenseLu;
+use crate::integrator::Integrator;
+use crate::linear::{solver_for, LinearSolver, SolverError};
+use railfem_framework::assembly::Assembler;
+use railfem_framework::error::FemError;
+use railfem_framework::model::{AnalysisKind, Model, NewtonKind};
+use railfem_framework::recorder::Recorders;
+use railfem_framework::sparse::CscMatrix;
+use std::path::Path;
+use std::time::Instant;
+
+/// Systems up to this many equations are factored densely.
+pub const DENSE_LIMIT: usize = 200;
+
+/// The committed state of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    /// Time (s).
+    pub t: f64,
+    /// Displacements (equation vector; m, rad).
+    pub q: Vec<f64>,
+    /// Velocities.
+    pub v: Vec<f64>,
+    /// Accelerations.
+    pub a: Vec<f64>,
+    /// Internal force at the state.
+    pub f_int: Vec<f64>,
+    /// External force at the state.
+    pub f_ext: Vec<f64>,
+}
+
+/// Wall-clock time spent per phase (s).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Timings {
+    /// Element state determination and assembly of forces and tangents.
+    pub assembly: f64,
+    /// Numeric (and symbolic) factorization.
+    pub factor: f64,
+    /// Triangular solves.
+    pub solve: f64,
+    /// External loads, carriers and element `advance` (contact search happens here and in
+    /// `update`).
+    pub loads: f64,
+}
+
+/// What one step took.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StepReport {
+    /// Newton iterations (solves) over all sub-steps.
+    pub iterations: usize,
+    /// How many times the step was halved.
+    pub cuts: usize,
+    /// Final residual norm (N).
+    pub residual: f64,
+}
+
+/// Totals of a run.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct RunSummary {
+    /// Steps taken (not counting sub-steps from cutting).
+    pub steps: usize,
+    /// Newton iterations (linear solves).
+    pub iterations: usize,
+    /// Step halvings.
+    pub cuts: usize,
+    /// Numeric factorizations performed.
+    pub factorizations: usize,
+    /// Symbolic analyses performed.
+    pub symbolic: usize,
+    /// Number of equations.
+    pub equations: usize,
+    /// Wall time of the whole run (s).
+    pub wall: f64,
+    /// Per-phase times.
+    pub timings: Timings,
+}
+
+/// Why one attempt at a step failed (it may be retried with a smaller step).
+#[derive(Debug)]
+enum Attempt {
+    /// Newton did not converge: the largest residual and where.
+    NotConverged {
+        residual: f64,
+        dof: String,
+        iterations: usize,
+    },
+    /// A hard error: stop at once.
+    Fatal(FemError),
+}
+
+impl From<FemError> for Attempt {
+    fn from(e: FemError) -> Self {
+        Attempt::Fatal(e)
+    }
+}
+
+/// Runs a model.
+pub struct Driver {
+    /// The model (owned: elements are updated in place).
+    pub model: Model,
+    /// The assembler.
+    pub asm: Assembler,
+    /// The committed state.
+    pub state: State,
+    /// The integrator.
+    pub integrator: Integrator,
+    solver: Box<dyn LinearSolver>,
+    k_eff: CscMatrix,
+    /// `(dt, pattern id)` the current factor belongs to, when it is still valid.
+    factored: Option<(f64, u64)>,
+    /// Totals.
+    pub summary: RunSummary,
+    initialized: bool,
+}
+
+fn norm(x: &[f64]) -> f64 {
+    x.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
+
+impl Driver {
+    /// Numbers equations, assembles constant parts and picks a linear solver.
+    pub fn new(mut model: Model) -> Result<Driver, FemError> {
+        let asm = Assembler::new(&mut model)?;
+        let n = asm.neq();
+        if n == 0 {
+            return Err(FemError::input(
+                &model.origin,
+                "the model has no free DOF (every DOF is fixed or unused); free some DOFs or add elements",
+            ));
+        }
+        let solver: Box<dyn LinearSolver> = if n <= DENSE_LIMIT {
+            Box::new(DenseLu::default())
+        } else {
+            solver_for(asm.symmetric())
+        };
+        let integrator = Integrator::from_spec(&model.analysis);
+        let k_eff = asm.k_const.zeros_like();
+        Ok(Driver {
+            state: State {
+                t: 0.0,
+                q: vec![0.0; n],
+                v: vec![0.0; n],
+                a: vec![0.0; n],
+                f_int: vec![0.0; n],
+                f_ext: vec![0.0; n],
+            },
+            summary: RunSummary {
+                equations: n,
+                ..Default::default()
+            },
+            model,
+            asm,
+            integrator,
+            solver,
+            k_eff,
+            factored: None,
+            initialized: false,
+        })
+    }
+
+    /// Number of equations.
+    pub fn neq(&self) -> usize {
+        self.asm.neq()
+    }
+
+    fn singular(&self, e: SolverError) -> FemError {
+        match e {
+            SolverError::Singular { equation } => {
+                let (n, d) = self
+                    .asm
+                    .dofmap
+                    .dof_of(equation.min(self.neq().saturating_sub(1)));
+                FemError::Singular(format!(
+                    "{}: no stiffness at {} (equation {equation}); fix that DOF, connect it to an element, or add a spring",
+                    self.model.origin,
+                    self.model.dof_name(n, d)
+                ))
+            }
+            SolverError::Failed(m) => FemError::Singular(format!("{}: {m}", self.model.origin)),
+        }
+    }
+
+    fn factor(&mut self, dt: f64) -> Result<(), FemError> {
+        let t0 = Instant::now();
+        let r = self.solver.factor(&self.k_eff);
+        self.summary.timings.factor += t0.elapsed().as_secs_f64();
+        r.map_err(|e| self.singular(e))?;
+        self.factored = Some((dt, self.k_eff.pattern_id));
+        Ok(())
+    }
+
+    fn solve(&mut self, b: &mut [f64]) -> Result<(), FemError> {
+        let t0 = Instant::now();
+        let r = self.solver.solve_in_place(b);
+        self.summary.timings.solve += t0.elapsed().as_secs_f64();
+        r.map_err(|e| self.singular(e))?;
+        if let Some(i) = b.iter().position(|x| !x.is_finite()) {
+            let (n, d) = self.asm.dofmap.dof_of(i);
+            return Err(FemError::NonFinite(format!(
+                "the solution is not finite at {} (t = {} s); the model is singular or unstable there",
+                self.model.dof_name(n, d),
+                self.state.t
+            )));
+        }
+        Ok(())
+    }
+
+    fn largest(&self, r: &[f64]) -> (f64, String) {
+        let (i, v) = r.iter().enumerate().fold((0, 0.0f64), |acc, (i, x)| {
+            if x.abs() > acc.1 {
+                (i, x.abs())
+            } else {
+                acc
+            }
+        });
+        let (n, d) = self.asm.dofmap.dof_of(i.min(self.neq().saturating_sub(1)));
+        (v, self.model.dof_name(n, d))
+    }
+
+    /// Static equilibrium at time `t` under the loads of that time, in `steps` equal load
+    /// increments, Newton–Raphson in each. Elements are committed at each converged
+    /// increment. Velocities and accelerations are left at zero.
+    pub fn static_solve(&mut self, t: f64, steps: usize) -> Result<usize, FemError> {
+        let n = self.neq();
+        let tl = Instant::now();
+        self.asm.advance(&mut self.model, t, 0.0)?;
+        let mut f_full = vec![0.0; n];
+        self.asm.external_force(&self.model, t, 1.0, &mut f_full)?;
+        self.summary.timings.loads += tl.elapsed().as_secs_f64();
+        let settings = self.model.analysis.newton;
+        let zero = vec![0.0; n];
+        let mut total_iters = 0;
+        let mut r = vec![0.0; n];
+        let mut f_int = vec![0.0; n];
+        let linear = self.asm.variable_elements().is_empty();
+        for k in 1..=steps {
+            let lam = k as f64 / steps as f64;
+            let mut converged = false;
+            for it in 0..=settings.max_iter {
+                let ta = Instant::now();
+                self.asm.update(
+                    &mut self.model,
+                    &self.state.q,
+                    &zero,
+                    &zero,
+                    t,
+                    0.0,
+                    &mut f_int,
+                    true,
+                )?;
+                for i in 0..n {
+                    r[i] = lam * f_full[i] - f_int[i];
+                }
+                self.summary.timings.assembly += ta.elapsed().as_secs_f64();
+                let rn = norm(&r);
+                let reference = (lam * norm(&f_full)).max(norm(&f_int));
+                if it > 0 && rn <= settings.tol * reference + settings.abs_tol {
+                    converged = true;
+                    break;
+                }
+                if it == settings.max_iter {
+                    break;
+                }
+                if !(linear && it > 0) {
+                    self.asm.effective(1.0, 0.0, 0.0, &mut self.k_eff);
+                    self.factor(0.0)?;
+                    self.summary.factorizations += 1;
+                }
+                let mut dq = r.clone();
+                self.solve(&mut dq)?;
+                total_iters += 1;
+                for i in 0..n {
+                    self.state.q[i] += dq[i];
+                }
+                if linear {
+                    // One exact solve; re-evaluate once to confirm.
+                    continue;
+                }
+            }
+            if !converged {
+                let (v, dof) = self.largest(&r);
+                return Err(FemError::Convergence(format!(
+                    "{}: static load step {k} of {steps} (t = {t} s) did not converge in {} iterations; largest residual {v:.3e} at {dof}; try more `steps` or check the supports",
+                    self.model.origin, settings.max_iter
+                )));
+            }
+            self.asm.commit(&mut self.model);
+        }
+        self.state.t = t;
+        self.state.f_int = f_int;
+        self.state.f_ext = f_full;
+        self.factored = None;
+        self.summary.iterations += total_iters;
+        Ok(total_iters)
+    }
+
+    /// Prepares a transient: the initial static equilibrium (if asked for and there are
+    /// loads at t = 0) and the initial acceleration `M·a₀ = f_ext(0) − C·v₀ − f_int(u₀)`
+    /// (DOFs without mass get `a₀ = 0`).
+    pub fn initialize(&mut self) -> Result<(), FemError> {
+        let n = self.neq();
+        let t = self.state.t;
+        self.asm.advance(&mut self.model, t, 0.0)?;
+        let mut f = vec![0.0; n];
+        self.asm.external_force(&self.model, t, 1.0, &mut f)?;
+        if self.model.analysis.initial_static && norm(&f) > 0.0 && norm(&self.state.q) == 0.0 {
+            self.static_solve(t, 1)?;
+        }
+        let mut f_int = vec![0.0; n];
+        let (q, v, a) = (
+            self.state.q.clone(),
+            self.state.v.clone(),
+            self.state.a.clone(),
+        );
+        self.asm
+            .update(&mut self.model, &q, &v, &a, t, 0.0, &mut f_int, false)?;
+        let mut rhs = f.clone();
+        for i in 0..n {
+            rhs[i] -= f_int[i];
+        }
+        let mut cv = vec![0.0; n];
+        self.asm.damping_times_add(&v, &mut cv);
+        for i in 0..n {
+            rhs[i] -= cv[i];
+        }
+        // Mass matrix with unit diagonal on massless equations.
+        let mut m = self.asm.m_const.zeros_like();
+        m.set_combination(&[(1.0, &self.asm.m_const), (1.0, &self.asm.m_var)]);
+        let mut massless = vec![true; n];
+        for j in 0..n {
+            for p in m.col_ptr[j]..m.col_ptr[j + 1] {
+                if m.values[p] != 0.0 {
+                    massless[j] = false;
+                }
+            }
+        }
+        for j in 0..n {
+            if massless[j] {
+                if let Some(p) = m.position(j, j) {
+                    m.values[p] = 1.0;
+                }
+                rhs[j] = 0.0;
+            }
+        }
+        let mut solver: Box<dyn LinearSolver> = if n <= DENSE_LIMIT {
+            Box::new(DenseLu::default())
+        } else {
+            solver_for(true)
+        };
+        solver.factor(&m).map_err(|e| self.singular(e))?;
+        solver
+            .solve_in_place(&mut rhs)
+            .map_err(|e| self.singular(e))?;
+        self.state.a = rhs;
+        self.state.f_int = f_int;
+        self.state.f_ext = f;
+        self.asm.commit(&mut self.model);
+        self.initialized = true;
+        Ok(())
+    }
+
+    /// One attempt at a step of length `dt` from the committed state.
+    fn attempt(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
+        let n = self.neq();
+        let ig = self.integrator;
+        let s0 = &self.state;
+        let t1 = s0.t + dt;
+        let tl = Instant::now();
+        self.asm.advance(&mut self.model, t1, dt)?;
+        let mut f_ext = vec![0.0; n];
+        self.asm.external_force(&self.model, t1, 1.0, &mut f_ext)?;
+        self.summary.timings.loads += tl.elapsed().as_secs_f64();
+        let s0 = self.state.clone();
+        let (af, am) = (ig.alpha_f, ig.alpha_m);
+        let settings = self.model.analysis.newton;
+        let linear = self.asm.variable_elements().is_empty();
+        let (ck, cc, cm) = ig.effective(dt);
+        let mut q = s0.q.clone();
+        let mut v = vec![0.0; n];
+        let mut a = vec![0.0; n];
+        let mut f_int = vec![0.0; n];
+        let mut r = vec![0.0; n];
+        let mut work = vec![0.0; n];
+        let mut iters = 0;
+        let mut disp_ok = false;
+        let f_ref_ext: Vec<f64> = (0..n)
+            .map(|i| (1.0 - af) * f_ext[i] + af * s0.f_ext[i])
+            .collect();
+        for it in 0..=settings.max_iter {
+            for i in 0..n {
+                let (vi, ai) = ig.kinematics(dt, q[i] - s0.q[i], s0.v[i], s0.a[i]);
+                v[i] = vi;
+                a[i] = ai;
+            }
+            let ta = Instant::now();
+            let need_tangent = !linear
+                && match settings.kind {
+                    NewtonKind::Full => true,
+                    NewtonKind::Modified => it == 0,
+                    NewtonKind::Initial => self.factored.is_none(),
+                };
+            self.asm.update(
+                &mut self.model,
+                &q,
+                &v,
+                &a,
+                t1,
+                dt,
+                &mut f_int,
+                need_tangent || it == 0,
+            )?;
+            // Residual at the intermediate times.
+            for i in 0..n {
+                work[i] = (1.0 - am) * a[i] + am * s0.a[i];
+            }
+            let mut inertia = vec![0.0; n];
+            self.asm.mass_times(&work, &mut inertia);
+            for i in 0..n {
+                work[i] = (1.0 - af) * v[i] + af * s0.v[i];
+            }
+            let mut damp = vec![0.0; n];
+            self.asm.damping_times_add(&work, &mut damp);
+            for i in 0..n {
+                r[i] = f_ref_ext[i]
+                    - inertia[i]
+                    - damp[i]
+                    - ((1.0 - af) * f_int[i] + af * s0.f_int[i]);
+            }
+            self.summary.timings.assembly += ta.elapsed().as_secs_f64();
+            let rn = norm(&r);
+            let reference = norm(&f_ref_ext).max(norm(&f_int)).max(norm(&inertia));
+            let force_ok = rn <= settings.tol * reference + settings.abs_tol;
+            if it > 0 && (linear || (force_ok && disp_ok)) {
+                return Ok((
+                    State {
+                        t: t1,
+                        q,
+                        v,
+                        a,
+                        f_int,
+                        f_ext,
+                    },
+                    iters,
+                    rn,
+                ));
+            }
+            if it == settings.max_iter {
+                let (val, dof) = self.largest(&r);
+                return Err(Attempt::NotConverged {
+                    residual: val,
+                    dof,
+                    iterations: iters,
+                });
+            }
+            if !rn.is_finite() {
+                return Err(Attempt::Fatal(FemError::NonFinite(format!(
+                    "residual is not finite at t = {t1} s"
+                ))));
+            }
+            // Factor when needed.
+            let valid = self.factored == Some((dt, self.asm.k_const.pattern_id));
+            let refactor = match (linear, settings.kind) {
+                (true, _) => !valid,
+                (false, NewtonKind::Full) => true,
+                (false, NewtonKind::Modified) => it == 0 || !valid,
+                (false, NewtonKind::Initial) => !valid,
+            };
+            if refactor {
+                let ta = Instant::now();
+                self.asm.effective(ck, cm, cc, &mut self.k_eff);
+                self.summary.timings.assembly += ta.elapsed().as_secs_f64();
+                self.factor(dt)?;
+                self.summary.factorizations += 1;
+            }
+            let mut dq = r.clone();
+            self.solve(&mut dq)?;
+            iters += 1;
+            let dn = norm(&dq);
+            for i in 0..n {
+                q[i] += dq[i];
+            }
+            disp_ok = dn <= settings.tol * norm(&q) + settings.disp_tol;
+        }
+        unreachable!("the loop returns")
+    }
+
+    /// Advances one step of length `dt`, halving it up to `max_cuts` times when Newton does
+    /// not converge. On final failure the committed state is the last converged one.
+    pub fn step(&mut self, dt: f64) -> Result<StepReport, FemError> {
+        if !self.initialized {
+            self.initialize()?;
+        }
+        let max_cuts = self.model.analysis.newton.max_cuts;
+        let mut report = StepReport::default();
+        self.substep(dt, 0, max_cuts, &mut report)?;
+        self.summary.steps += 1;
+        self.summary.iterations += report.iterations;
+        self.summary.cuts += report.cuts;
+        Ok(report)
+    }
+
+    fn substep(
+        &mut self,
+        dt: f64,
+        depth: usize,
+        max_cuts: usize,
+        rep: &mut StepReport,
+    ) -> Result<(), FemError> {
+        match self.attempt(dt) {
+            Ok((s, it, res)) => {
+                self.asm.commit(&mut self.model);
+                self.state = s;
+                rep.iterations += it;
+                rep.residual = res;
+                Ok(())
+            }
+            Err(Attempt::Fatal(e)) => {
+                self.asm.revert(&mut self.model);
+                Err(e)
+            }
+            Err(Attempt::NotConverged {
+                residual,
+                dof,
+                iterations,
+            }) => {
+                self.asm.revert(&mut self.model);
+                self.factored = None;
+                rep.iterations += iterations;
+                if depth >= max_cuts {
+                    return Err(FemError::Convergence(format!(
+                        "{}: step at t = {:.6} s did not converge after {depth} halvings (dt down to {dt:.3e} s); largest residual {residual:.3e} at {dof}; the last converged state is t = {:.6} s",
+                        self.model.origin,
+                        self.state.t + dt,
+                        self.state.t
+                    )));
+                }
+                rep.cuts += 1;
+                self.substep(dt / 2.0, depth + 1, max_cuts, rep)?;
+                self.substep(dt / 2.0, depth + 1, max_cuts, rep)
+            }
+        }
+    }
+
+    /// Kinetic energy `½·vᵀ·M·v` (J).
+    pub fn kinetic_energy(&self) -> f64 {
+        let mut mv = vec![0.0; self.neq()];
+        self.asm.mass_times(&self.state.v, &mut mv);
+        0.5 * mv
+            .iter()
+            .zip(&self.state.v)
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
+    }
+
+    /// Strain energy of the linear elements `½·qᵀ·K·q` (J).
+    pub fn linear_strain_energy(&self) -> f64 {
+        let mut kq = vec![0.0; self.neq()];
+        self.asm.k_const.mul_vec(&self.state.q, &mut kq);
+        0.5 * kq
+            .iter()
+            .zip(&self.state.q)
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
+    }
+
+    /// Value of nodal DOF `dof` (0..6) of node user id `node` in the committed state.
+    pub fn node_value(&self, node: u64, dof: usize) -> Option<f64> {
+        let i = self.model.node(node)?;
+        Some(self.asm.dofmap.value(&self.state.q, i, dof))
+    }
+
+    /// Writes the committed state (every active nodal DOF) as CSV: `node,dof,disp,vel,acc`.
+    pub fn write_state(&self, path: &Path) -> Result<(), FemError> {
+        let mut s = String::from("node,dof,disp,vel,acc\n");
+        for (i, nd) in self.model.nodes.iter().enumerate() {
+            for d in self.asm.dofmap.active[i].iter() {
+                let k = d.index();
+                s.push_str(&format!(
+                    "{},{},{:.12e},{:.12e},{:.12e}\n",
+                    nd.id,
+                    d.name(),
+                    self.asm.dofmap.value(&self.state.q, i, k),
+                    self.asm.dofmap.value(&self.state.v, i, k),
+                    self.asm.dofmap.value(&self.state.a, i, k)
+                ));
+            }
+        }
+        std::fs::write(path, s).map_err(|e| FemError::output(path, e))
+    }
+
+    /// Runs the model's analysis, writing its recorders into `out` (if given).
+    /// `progress` is called with the fraction done after each step.
+    pub fn run(
+        &mut self,
+        out: Option<&Path>,
+        progress: &mut dyn FnMut(f64),
+    ) -> Result<RunSummary, FemError> {
+        let start = Instant::now();
+        let spec = self.model.analysis.clone();
+        let mut rec = match out {
+            Some(dir) => Some(Recorders::open(&self.model, dir)?),
+            None => None,
+        };
+        match spec.kind {
+            AnalysisKind::Static => {
+                self.static_solve(0.0, spec.steps)?;
+                if let Some(r) = rec.as_mut() {
+                    r.record(
+                        &self.model,
+                        &self.asm,
+                        0.0,
+                        &self.state.q,
+                        &self.state.v,
+                        &self.state.a,
+                    )?;
+                }
+                progress(1.0);
+            }
+            AnalysisKind::Transient => {
+                self.initialize()?;
+                if let Some(r) = rec.as_mut() {
+                    r.record(
+                        &self.model,
+                        &self.asm,
+                        0.0,
+                        &self.state.q,
+                        &self.state.v,
+                        &self.state.a,
+                    )?;
+                }
+                let nsteps = (spec.duration / spec.dt - 1e-9).ceil().max(1.0) as usize;
+                for k in 1..=nsteps {
+                    let dt = if k == nsteps {
+                        (spec.duration - self.state.t).max(spec.dt * 1e-9)
+                    } else {
+                        spec.dt
+                    };
+                    if let Err(e) = self.step(dt) {
+                        if let (Some(r), Some(dir)) = (rec.as_mut(), out) {
+                            let _ = r.finish();
+                            let _ = self.write_state(&dir.join("last_converged_state.csv"));
+                        }
+                        return Err(e);
+                    }
+                    if k % spec.record_every == 0 || k == nsteps {
+                        if let Some(r) = rec.as_mut() {
+                            r.record(
+                                &self.model,
+                                &self.asm,
+                                self.state.t,
+                                &self.state.q,
+                                &self.state.v,
+                                &self.state.a,
+                            )?;
+                        }
+                    }
+                    progress(k as f64 / nsteps as f64);
+                }
+            }
+            AnalysisKind::Modal => {
+                return Err(FemError::input(
+                    &self.model.origin,
+                    "modal analysis is run with `railfem modal` or Driver::modes",
+                ));
+            }
+        }
+        if let Some(r) = rec.as_mut() {
+            r.finish()?;
+        }
+        let st = self.solver.stats();
+        self.summary.symbolic = st.symbolic;
+        self.summary.wall = start.elapsed().as_secs_f64();
+        Ok(self.summary)
+    }
+}

@@ -1,0 +1,92 @@
+//! Time integrators of the generalized-α family: Newmark-β, HHT-α and Chung–Hulbert
+//! generalized-α, as one set of four coefficients.
+//!
+//! The balance is enforced at the intermediate times `n+1−α_m` (inertia) and `n+1−α_f`
+//! (damping, internal and external forces):
+//!
+//! `M·a_{n+1−α_m} + C·v_{n+1−α_f} + f_int,{n+1−α_f} = f_ext,{n+1−α_f}`,
+//!
+//! with `x_{n+1−α} = (1−α)·x_{n+1} + α·x_n` (forces of a nonlinear element averaged the same
+//! way) and Newmark's updates `u_{n+1} = u_n + Δt·v_n + Δt²·((½−β)·a_n + β·a_{n+1})`,
+//! `v_{n+1} = v_n + Δt·((1−γ)·a_n + γ·a_{n+1})`. With `α_m = α_f = 0` this is Newmark's
+//! method, which in incremental form is the paper's Eqs. 3–4: the out-of-balance force
+//! `ΔF = F_ext(n+1) − F_M(n) − F_C(n) − F_K(n) − F_rigid` is removed by
+//! `M·ä + C·ḋ + K·Δd` with the current matrices.
+
+use railfem_framework::model::{AnalysisSpec, IntegratorKind};
+
+/// The four coefficients of a generalized-α integrator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Integrator {
+    /// Newmark β.
+    pub beta: f64,
+    /// Newmark γ.
+    pub gamma: f64,
+    /// Weight of the old step in the inertia term.
+    pub alpha_m: f64,
+    /// Weight of the old step in the force terms.
+    pub alpha_f: f64,
+}
+
+impl Integrator {
+    /// Newmark-β with the given β and γ.
+    pub fn newmark(beta: f64, gamma: f64) -> Self {
+        Integrator {
+            beta,
+            gamma,
+            alpha_m: 0.0,
+            alpha_f: 0.0,
+        }
+    }
+
+    /// Hilber–Hughes–Taylor with `α ∈ [0, 1/3]` (Hilber's α = −α here):
+    /// `γ = ½ + α`, `β = ¼·(1 + α)²`.
+    pub fn hht(alpha: f64) -> Self {
+        Integrator {
+            beta: 0.25 * (1.0 + alpha).powi(2),
+            gamma: 0.5 + alpha,
+            alpha_m: 0.0,
+            alpha_f: alpha,
+        }
+    }
+
+    /// Chung–Hulbert generalized-α with high-frequency spectral radius `ρ∞ ∈ [0, 1]`:
+    /// `α_m = (2ρ∞ − 1)/(ρ∞ + 1)`, `α_f = ρ∞/(ρ∞ + 1)`, `γ = ½ − α_m + α_f`,
+    /// `β = ¼·(1 − α_m + α_f)²`.
+    pub fn generalized_alpha(rho_inf: f64) -> Self {
+        let am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0);
+        let af = rho_inf / (rho_inf + 1.0);
+        Integrator {
+            beta: 0.25 * (1.0 - am + af).powi(2),
+            gamma: 0.5 - am + af,
+            alpha_m: am,
+            alpha_f: af,
+        }
+    }
+
+    /// The integrator an `[analysis]` table asks for.
+    pub fn from_spec(a: &AnalysisSpec) -> Self {
+        match a.integrator {
+            IntegratorKind::Newmark => Integrator::newmark(a.beta, a.gamma),
+            IntegratorKind::Hht => Integrator::hht(a.alpha),
+            IntegratorKind::GeneralizedAlpha => Integrator::generalized_alpha(a.rho_inf),
+        }
+    }
+
+    /// Coefficients `(c_K, c_C, c_M)` of the effective tangent
+    /// `K_eff = c_K·K + c_C·C + c_M·M` for step `dt`.
+    pub fn effective(&self, dt: f64) -> (f64, f64, f64) {
+        let ck = 1.0 - self.alpha_f;
+        let cc = (1.0 - self.alpha_f) * self.gamma / (self.beta * dt);
+        let cm = (1.0 - self.alpha_m) / (self.beta * dt * dt);
+        (ck, cc, cm)
+    }
+
+    /// Acceleration and velocity at `n+1` from the displacement increment `Δu = u − u_n`.
+    #[inline]
+    pub fn kinematics(&self, dt: f64, du: f64, vn: f64, an: f64) -> (f64, f64) {
+        let a = du / (self.beta * dt * dt) - vn / (self.beta * dt) - (0.5 / self.beta - 1.0) * an;
+        let v = vn + dt * ((1.0 - self.gamma) * an + self.gamma * a);
+        (v, a)
+    }
+}
