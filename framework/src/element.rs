@@ -104,6 +104,8 @@ pub struct NodeKinematics {
     pub frame: Matrix3<f64>,
     /// Whether the node is carried by a moving reference frame.
     pub carried: bool,
+    /// Station along the carrier's path (m), for a carried node.
+    pub station: Option<f64>,
 }
 
 impl NodeKinematics {
@@ -113,6 +115,7 @@ impl NodeKinematics {
             position,
             frame: Matrix3::identity(),
             carried: false,
+            station: None,
         }
     }
 }

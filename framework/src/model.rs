@@ -301,6 +301,7 @@ impl Model {
                     position: r.position,
                     frame: r.point.frame,
                     carried: true,
+                    station: Some(r.point.station),
                 };
             }
         }
@@ -601,6 +602,7 @@ impl ModelBuilder {
             node_index,
             carried,
             resources,
+            carriers: carrier_list.clone(),
         };
         let mut elements = Vec::with_capacity(element_specs.len());
         let mut seen_ids = HashMap::new();
@@ -693,6 +695,7 @@ struct Ctx {
     node_index: HashMap<u64, usize>,
     carried: Vec<Option<(usize, CarriedNode)>>,
     resources: Resources,
+    carriers: Vec<Carrier>,
 }
 
 impl BuildContext for Ctx {
@@ -719,9 +722,23 @@ impl BuildContext for Ctx {
             fixed: DofSet::NONE,
             internal: true,
         });
-        let inherited = like
-            .and_then(|l| self.carried[l])
-            .map(|(ci, cn)| (ci, CarriedNode { node: idx, ..cn }));
+        // An internal node rides with `like` at the same station, offset in the wheel
+        // frame by its position relative to `like` at t = 0.
+        let like_pos = like.map(|l| self.nodes[l].position);
+        let inherited = like.and_then(|l| self.carried[l]).map(|(ci, cn)| {
+            let c = &self.carriers[ci];
+            let frame = c.path.at(c.station(0.0) + cn.station_offset).frame;
+            let d = position - like_pos.unwrap_or(position);
+            (
+                ci,
+                CarriedNode {
+                    node: idx,
+                    lateral: cn.lateral + frame.column(0).dot(&d),
+                    vertical: cn.vertical + frame.column(1).dot(&d),
+                    ..cn
+                },
+            )
+        });
         self.carried.push(inherited);
         idx
     }
