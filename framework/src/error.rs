@@ -96,7 +96,11 @@ pub fn nearest_n<'a>(word: &str, candidates: &[&'a str], n: usize) -> Vec<&'a st
         .map(|c| {
             let d = edit_distance(word, c);
             // A prefix or substring match is as good as one edit.
-            let d = if c.contains(word) || word.contains(c) { d.min(1) } else { d };
+            let d = if c.contains(word) || word.contains(c) {
+                d.min(1)
+            } else {
+                d
+            };
             (d, *c)
         })
         .filter(|(d, c)| *d <= (c.len().max(word.len()) / 2).max(2))
@@ -113,7 +117,10 @@ mod tests {
     fn distances() {
         assert_eq!(edit_distance("kitten", "sitting"), 3);
         assert_eq!(edit_distance("", "abc"), 3);
-        assert_eq!(nearest("beam3", &["beam3d", "mass", "spring_damper"]), Some("beam3d"));
+        assert_eq!(
+            nearest("beam3", &["beam3d", "mass", "spring_damper"]),
+            Some("beam3d")
+        );
         assert_eq!(nearest("zzzzzzzz", &["beam3d", "mass"]), None);
     }
 }

@@ -13,6 +13,7 @@ pub mod dof;
 pub mod element;
 pub mod error;
 pub mod moving;
+pub mod plot;
 pub mod registry;
 pub mod sparse;
 

@@ -257,13 +257,19 @@ pub fn register(kind: ElementKind) -> Result<(), FemError> {
             kind.name
         )));
     }
-    dynamic().lock().unwrap_or_else(|e| e.into_inner()).push(kind);
+    dynamic()
+        .lock()
+        .unwrap_or_else(|e| e.into_inner())
+        .push(kind);
     Ok(())
 }
 
 /// Every registered kind, static ones first, sorted by name within each source.
 pub fn kinds() -> Vec<ElementKind> {
-    let mut v: Vec<ElementKind> = inventory::iter::<ElementKind>.into_iter().copied().collect();
+    let mut v: Vec<ElementKind> = inventory::iter::<ElementKind>
+        .into_iter()
+        .copied()
+        .collect();
     v.sort_by_key(|k| k.name);
     let mut d = dynamic().lock().unwrap_or_else(|e| e.into_inner()).clone();
     d.sort_by_key(|k| k.name);
