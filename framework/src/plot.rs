@@ -225,7 +225,7 @@ impl Figure {
                     };
                     // Split into runs of finite points.
                     let mut run: Vec<String> = Vec::new();
-                    let mut flush = |run: &mut Vec<String>, s: &mut String| {
+                    let flush = |run: &mut Vec<String>, s: &mut String| {
                         if run.len() > 1 {
                             let _ = writeln!(
                                 s,
@@ -331,7 +331,7 @@ fn tick_label(v: f64, ticks: &[f64]) -> String {
         1.0
     };
     let big = ticks.iter().fold(0.0f64, |m, t| m.max(t.abs()));
-    if big >= 1e6 || big < 1e-3 {
+    if !(1e-3..1e6).contains(&big) {
         return format!("{v:.2e}");
     }
     let decimals = (-(step.log10().floor()) + 1.0).max(0.0) as usize;
