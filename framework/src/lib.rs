@@ -18,6 +18,7 @@ pub mod loads;
 pub mod model;
 pub mod modelfile;
 pub mod moving;
+pub mod plot;
 pub mod plugin;
 pub mod recorder;
 pub mod registry;
