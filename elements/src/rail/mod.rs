@@ -4,6 +4,8 @@
 pub mod alignment;
 pub mod cant;
 pub mod contact_law;
+pub mod hertz_spring;
 pub mod profiles;
 pub mod rail_point;
 pub mod theory;
+pub mod track_model;

@@ -1,0 +1,299 @@
+//! The track model generator: two rails as `beam3d` elements along a canted alignment, on
+//! discrete supports, plus the lookup a moving wheel uses to find the rail element under it.
+//!
+//! Rails are meshed at stations common to both rails (segment joints are always nodes, the
+//! rest evenly at about `element_length`). A rail's beam line is the top centre of its
+//! head, at `±rail_offset` along the wheel frame's axis 1 (in the canted plane), so the
+//! outer rail is raised by the cant. The default offset `G/2 + 36 mm` puts the gauge faces
+//! of 60E1 heads (14 mm below the top) `G` apart. Supports:
+//!
+//! - `rigid`: rail nodes fixed, no beam elements at all — the wheels roll on the exact
+//!   alignment and the scene pays nothing for the rails (the validation of Section 4);
+//! - `discrete`: a grounded `spring_damper` (vertical, lateral, longitudinal and rotational
+//!   springs in the wheel frame, with dampers) every `spacing` metres of track.
+//!
+//! Node ids of rail `r` are `first_id[r] + i` for station `i`, consecutive, so that a
+//! moving wheel can re-pick its nodes by index in O(log n) ([`TrackModel::locate`]).
+
+use super::cant::Track;
+use railfem_framework::error::FemError;
+use railfem_framework::model::ModelBuilder;
+use railfem_framework::moving::Path;
+use railfem_framework::DofSet;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// Section and material of a rail (SI units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RailSection {
+    /// Young's modulus (Pa).
+    #[serde(rename = "E")]
+    pub e: f64,
+    /// Shear modulus (Pa).
+    #[serde(rename = "G")]
+    pub g: f64,
+    /// Area (m²).
+    #[serde(rename = "A")]
+    pub a: f64,
+    /// Second moment for vertical bending (m⁴).
+    pub i_vertical: f64,
+    /// Second moment for lateral bending (m⁴).
+    pub i_lateral: f64,
+    /// Torsion constant (m⁴).
+    #[serde(rename = "J")]
+    pub j: f64,
+    /// Density (kg/m³).
+    pub rho: f64,
+}
+
+impl RailSection {
+    /// 60E1 (UIC60): E = 2.1e11 Pa, A = 7.686e-3 m², I_vertical = 3.038e-5 m⁴,
+    /// I_lateral = 5.123e-6 m⁴, 60.21 kg/m (ρ = 60.21/A), G = 8.1e10 Pa; J = 2.0e-6 m⁴
+    /// is an estimate of the Saint-Venant constant (not in the spec).
+    pub fn uic60() -> Self {
+        RailSection {
+            e: 2.1e11,
+            g: 8.1e10,
+            a: 7.686e-3,
+            i_vertical: 3.038e-5,
+            i_lateral: 5.123e-6,
+            j: 2.0e-6,
+            rho: 60.21 / 7.686e-3,
+        }
+    }
+}
+
+/// How the rails are supported.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum RailSupport {
+    /// Rails fixed in space: no rail DOFs, no rail elements.
+    Rigid,
+    /// Grounded spring-dampers at a spacing.
+    Discrete {
+        /// Support spacing along the track (m); supports sit at the mesh node nearest to
+        /// each multiple of the spacing.
+        spacing: f64,
+        /// Springs `[lateral (axis 1), vertical (axis 2), longitudinal (axis 3), roll, yaw?, …]`
+        /// as six values in the wheel frame: `[k1, k2, k3, kr1, kr2, kr3]` (N/m, N·m/rad).
+        k: [f64; 6],
+        /// Dampers, same order (N·s/m, N·m·s/rad).
+        #[serde(default)]
+        c: [f64; 6],
+    },
+}
+
+/// Mesh settings of the `[track]` table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackMesh {
+    /// Target rail element length (m).
+    #[serde(default = "default_element_length")]
+    pub element_length: f64,
+    /// Lateral offset of each rail's beam line from the centre line (m); default
+    /// `G/2 + 0.036`.
+    #[serde(default)]
+    pub rail_offset: Option<f64>,
+    /// Rail section (default 60E1).
+    #[serde(default = "RailSection::uic60")]
+    pub rail: RailSection,
+    /// Supports (default rigid).
+    #[serde(default = "default_support")]
+    pub support: RailSupport,
+    /// Mesh only stations in `[from, to]` (m); default the whole track.
+    #[serde(default)]
+    pub window: Option<[f64; 2]>,
+}
+
+fn default_element_length() -> f64 {
+    0.6
+}
+
+fn default_support() -> RailSupport {
+    RailSupport::Rigid
+}
+
+impl Default for TrackMesh {
+    fn default() -> Self {
+        TrackMesh {
+            element_length: 0.6,
+            rail_offset: None,
+            rail: RailSection::uic60(),
+            support: RailSupport::Rigid,
+            window: None,
+        }
+    }
+}
+
+/// One rail of the mesh.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RailLine {
+    /// Signed lateral offset along axis 1 (m): positive = left rail.
+    pub offset: f64,
+    /// Node id of station 0; node `i` has id `first_id + i`.
+    pub first_id: u64,
+}
+
+/// The generated track: geometry, stations and rails. Shared with the elements that ride
+/// on it (as the model resource `"track"`).
+#[derive(Debug, Clone)]
+pub struct TrackModel {
+    /// The track geometry (alignment and cant).
+    pub track: Arc<Track>,
+    /// Stations of the rail nodes (m), increasing.
+    pub stations: Vec<f64>,
+    /// Left rail (index 0) and right rail (index 1).
+    pub rails: [RailLine; 2],
+    /// Whether rails are rigid (no DOFs).
+    pub rigid: bool,
+}
+
+impl TrackModel {
+    /// The rail element under station `s` and the local coordinate `ξ ∈ [0, 1]`; O(log n).
+    /// A station exactly on a node belongs to the element that starts there (the last
+    /// node to the last element). `None` off the mesh.
+    pub fn locate(&self, s: f64) -> Option<(usize, f64)> {
+        let st = &self.stations;
+        let n = st.len();
+        if n < 2 || !(st[0]..=st[n - 1]).contains(&s) {
+            return None;
+        }
+        let e = (st.partition_point(|x| *x <= s)).clamp(1, n - 1) - 1;
+        let xi = (s - st[e]) / (st[e + 1] - st[e]);
+        Some((e, xi.clamp(0.0, 1.0)))
+    }
+
+    /// Reference position of rail `r` at station `s` (m), global.
+    pub fn rail_position(&self, r: usize, s: f64) -> nalgebra::Vector3<f64> {
+        let p = self.track.at(s);
+        p.position + p.frame.column(0) * self.rails[r].offset
+    }
+}
+
+/// Mesh stations on `[a, b]`: every segment joint inside, the rest evenly at about `h`.
+pub fn mesh_stations(track: &Track, a: f64, b: f64, h: f64) -> Vec<f64> {
+    let mut cuts = vec![a];
+    let mut s0 = 0.0;
+    for seg in track.alignment.segments() {
+        s0 += seg.length();
+        if s0 > a + 1e-9 && s0 < b - 1e-9 {
+            cuts.push(s0);
+        }
+    }
+    cuts.push(b);
+    let mut out = vec![a];
+    for w in cuts.windows(2) {
+        let n = ((w[1] - w[0]) / h).ceil().max(1.0) as usize;
+        for i in 1..=n {
+            out.push(w[0] + (w[1] - w[0]) * i as f64 / n as f64);
+        }
+    }
+    out
+}
+
+/// Generates the rails of `track` into `b` and registers the resource `"track"`. Node ids
+/// start above every id already in the builder; element ids likewise.
+pub fn generate(b: &mut ModelBuilder, track: Arc<Track>, mesh: &TrackMesh) -> Result<Arc<TrackModel>, FemError> {
+    let origin = format!("{}: [track]", b.origin());
+    let h = mesh.element_length;
+    if !(h.is_finite() && h > 0.0) {
+        return Err(FemError::input(&origin, format!("element_length = {h}; give a length > 0 m")));
+    }
+    let len = track.length();
+    let [from, to] = mesh.window.unwrap_or([0.0, len]);
+    if !(from.is_finite() && to.is_finite() && to > from) {
+        return Err(FemError::input(&origin, "window must be [from, to] with from < to (m)"));
+    }
+    let stations = mesh_stations(&track, from, to, h);
+    let offset = mesh.rail_offset.unwrap_or(track.gauge / 2.0 + 0.036);
+    if !(offset.is_finite() && offset > 0.0) {
+        return Err(FemError::input(&origin, "rail_offset must be > 0 m"));
+    }
+    let rigid = matches!(mesh.support, RailSupport::Rigid);
+    let n = stations.len() as u64;
+    let base = (b.max_node_id() / 1000 + 1) * 1000;
+    let rails = [
+        RailLine {
+            offset,
+            first_id: base,
+        },
+        RailLine {
+            offset: -offset,
+            first_id: base + n,
+        },
+    ];
+    let model = TrackModel {
+        track: track.clone(),
+        stations,
+        rails,
+        rigid,
+    };
+    let fix = if rigid { DofSet::ALL } else { DofSet::NONE };
+    for (r, rail) in model.rails.iter().enumerate() {
+        for (i, &s) in model.stations.iter().enumerate() {
+            let p = model.rail_position(r, s);
+            b.node_fixed(rail.first_id + i as u64, [p.x, p.y, p.z], fix);
+        }
+    }
+    if !rigid {
+        let sec = mesh.rail;
+        let mut eid = (b.max_element_id() / 1000 + 1) * 1000;
+        for (r, rail) in model.rails.iter().enumerate() {
+            for i in 0..model.stations.len() - 1 {
+                let sm = 0.5 * (model.stations[i] + model.stations[i + 1]);
+                let up = track.at(sm).frame.column(1).into_owned();
+                eid += 1;
+                b.element(
+                    "beam3d",
+                    eid,
+                    &[rail.first_id + i as u64, rail.first_id + i as u64 + 1],
+                    &serde_json::json!({
+                        "E": sec.e, "G": sec.g, "A": sec.a,
+                        "Iz": sec.i_vertical, "Iy": sec.i_lateral, "J": sec.j,
+                        "rho": sec.rho, "orient": [up.x, up.y, up.z],
+                    }),
+                );
+            }
+            let _ = r;
+        }
+        if let RailSupport::Discrete { spacing, k, c } = &mesh.support {
+            if !(spacing.is_finite() && *spacing > 0.0) {
+                return Err(FemError::input(&origin, "support spacing must be > 0 m"));
+            }
+            let mut next = (from / spacing).ceil() * spacing;
+            let mut picks = Vec::new();
+            while next <= to + 1e-9 {
+                let i = model
+                    .stations
+                    .partition_point(|x| *x < next)
+                    .min(model.stations.len() - 1);
+                let i = if i > 0 && (model.stations[i] - next).abs() > (model.stations[i - 1] - next).abs() {
+                    i - 1
+                } else {
+                    i
+                };
+                if picks.last() != Some(&i) {
+                    picks.push(i);
+                }
+                next += spacing;
+            }
+            for rail in &model.rails {
+                for &i in &picks {
+                    let f = track.at(model.stations[i]).frame;
+                    let rows: Vec<[f64; 3]> = (0..3).map(|c| [f[(0, c)], f[(1, c)], f[(2, c)]]).collect();
+                    eid += 1;
+                    b.element(
+                        "spring_damper",
+                        eid,
+                        &[rail.first_id + i as u64],
+                        &serde_json::json!({"k": k, "c": c, "axes": [rows[0], rows[1]]}),
+                    );
+                }
+            }
+        }
+    }
+    let model = Arc::new(model);
+    b.resource("track", model.clone());
+    Ok(model)
+}
