@@ -464,21 +464,6 @@ impl Beam3d {
     }
 }
 
-fn check_trial(trial: &TrialState, n: usize) -> Result<(), ElementError> {
-    if trial.disp.len() != n {
-        return Err(ElementError::Invalid(format!(
-            "trial displacement has {} entries, the element has {n} DOFs",
-            trial.disp.len()
-        )));
-    }
-    if trial.disp.iter().any(|v| !v.is_finite()) {
-        return Err(ElementError::NonFinite {
-            what: "trial displacement".into(),
-        });
-    }
-    Ok(())
-}
-
 impl Element for Beam3d {
     fn kind(&self) -> &str {
         "beam3d"
@@ -504,7 +489,7 @@ impl Element for Beam3d {
     }
 
     fn update(&mut self, trial: &TrialState) -> Result<(), ElementError> {
-        check_trial(trial, 12)?;
+        support::check_trial(trial, 12)?;
         self.u = SVector::from_column_slice(trial.disp);
         Ok(())
     }
@@ -647,6 +632,22 @@ pub(crate) mod support {
                 })
             })
             .collect()
+    }
+
+    /// Checks that a trial state has `n` finite displacements.
+    pub(crate) fn check_trial(trial: &TrialState, n: usize) -> Result<(), ElementError> {
+        if trial.disp.len() != n {
+            return Err(ElementError::Invalid(format!(
+                "trial displacement has {} entries, the element has {n} DOFs",
+                trial.disp.len()
+            )));
+        }
+        if trial.disp.iter().any(|v| !v.is_finite()) {
+            return Err(ElementError::NonFinite {
+                what: "trial displacement".into(),
+            });
+        }
+        Ok(())
     }
 
     /// A [`BuildContext`] over a list of points; node `i` has user id `i + 1`.
