@@ -1,1 +1,537 @@
-//! spring_damper element (in progress).
+//! `spring_damper`: six uncoupled linear springs and dashpots between two nodes (or one
+//! node and the ground) acting in a local frame — the zero-length link used for rail pads,
+//! fasteners, ballast and vehicle suspensions.
+//!
+//! What does not live here: nonlinear or hysteretic springs (see the plugin example), and
+//! moment arms between distinct node positions (the element is *zero-length*: it connects
+//! the DOFs of its nodes directly, wherever the nodes are).
+//!
+//! # Formulation
+//!
+//! With `R` the rotation whose rows are the local axes in nodal axes, the relative motion
+//! in local axes is `δ = R₆·(u_J − u_I)` (`R₆ = diag(R, R)` acting on translations and
+//! rotations; `u_I = 0` for the grounded one-node variant) and the element force in local
+//! axes is `f = K·δ + C·δ̇` with `K = diag(k)`, `C = diag(c)`. Node J receives
+//! `R₆ᵀ·f` as resisting force and node I its negative, so the nodal stiffness is
+//! `[[K_g, −K_g], [−K_g, K_g]]` with `K_g = R₆ᵀ·K·R₆` (and the same for `C`).
+//!
+//! **Objectivity.** A rigid translation gives `δ = 0`. A rigid rotation `θ` about a point
+//! gives equal rotations at both nodes (no rotational spring force) but
+//! `u_J − u_I = θ × (x_J − x_I)`, which loads the translational springs unless the nodes
+//! coincide. The element therefore declares itself objective only when its two nodes
+//! coincide (within 1e-9 of the coordinate scale); a grounded spring is never objective.
+//! Both nodes must have the same axes (ordinary nodes: global X-Y-Z).
+
+use crate::beam3d::support;
+use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
+use railfem_framework::element::{
+    Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, TrialState,
+};
+use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
+use railfem_framework::{serde_json, FemError};
+
+railfem_framework::element_params! {
+    /// Model-file keys of `spring_damper` (SI units).
+    pub struct SpringDamperParams {
+        /// Spring stiffnesses [ux, uy, uz, rx, ry, rz] in local axes (N/m for translations, N·m/rad for rotations), each ≥ 0.
+        k: [f64; 6] ["N/m, N*m/rad"],
+        /// Dashpot coefficients [ux, uy, uz, rx, ry, rz] in local axes (N·s/m, N·m·s/rad), each ≥ 0.
+        c: [f64; 6] ["N*s/m, N*m*s/rad"] = [0.0; 6],
+        /// Local axes as rows in nodal axes: [] = the node's axes; [[x], [y]] (z = x × y, y made orthogonal to x); or [[x], [y], [z]] with z along x × y.
+        axes: Vec<[f64; 3]> ["-"] = Vec::<[f64; 3]>::new(),
+    }
+}
+
+/// The local frame of a spring from its `axes` key: `R` with rows local x, y, z in nodal
+/// axes (orthonormal, right-handed). Rows: none → identity; `[x, y]` → `x̂ = x/|x|`,
+/// `ẑ = x × y/|x × y|`, `ŷ = ẑ × x̂` (Gram–Schmidt); `[x, y, z]` → as for two rows, and
+/// `z` must point along `x × y` (within 1e-6 in angle). Errors say what is wrong.
+pub fn spring_axes(rows: &[[f64; 3]]) -> Result<Matrix3<f64>, String> {
+    if rows.is_empty() {
+        return Ok(Matrix3::identity());
+    }
+    if !(2..=3).contains(&rows.len()) {
+        return Err(format!(
+            "`axes` has {} rows; give [] (node axes), [[x], [y]] or [[x], [y], [z]]",
+            rows.len()
+        ));
+    }
+    let x = Vector3::from(rows[0]);
+    let y = Vector3::from(rows[1]);
+    if x.norm() == 0.0 {
+        return Err("`axes`: the local x row is zero; give a direction".into());
+    }
+    let xh = x.normalize();
+    let z = xh.cross(&y);
+    if y.norm() == 0.0 || z.norm() < 1e-6 * y.norm() {
+        return Err(
+            "`axes`: the local y row is zero or parallel to x; give a direction across x".into(),
+        );
+    }
+    let zh = z.normalize();
+    if rows.len() == 3 {
+        let z3 = Vector3::from(rows[2]);
+        if z3.norm() == 0.0 || z3.normalize().dot(&zh) < 1.0 - 1e-12 {
+            return Err(
+                "`axes`: the third row is not along x × y (a right-handed triad); correct it or give only [[x], [y]]".into(),
+            );
+        }
+    }
+    let yh = zh.cross(&xh);
+    Ok(Matrix3::from_rows(&[
+        xh.transpose(),
+        yh.transpose(),
+        zh.transpose(),
+    ]))
+}
+
+/// `R₆ᵀ·diag(d)·R₆` with `R₆ = diag(R, R)`: a diagonal local 6×6 matrix in nodal axes,
+/// summed as `Σ d_i·(e_i·e_iᵀ)` so that it is exactly symmetric in floating point.
+fn to_nodal(r: &Matrix3<f64>, d: &[f64; 6]) -> Matrix6<f64> {
+    let mut out = Matrix6::zeros();
+    for b in 0..2 {
+        for i in 0..3 {
+            for p in 0..3 {
+                for q in 0..3 {
+                    out[(3 * b + p, 3 * b + q)] += d[3 * b + i] * (r[(i, p)] * r[(i, q)]);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The `spring_damper` element. See the module documentation.
+#[derive(Debug, Clone)]
+pub struct SpringDamper {
+    params: SpringDamperParams,
+    conn: Vec<NodeDofs>,
+    axes: Matrix3<f64>,
+    kg: Matrix6<f64>,
+    cg: Matrix6<f64>,
+    coincident: bool,
+    /// Relative displacement `u_J − u_I` (or `u` grounded), nodal axes (m, rad).
+    rel: Vector6<f64>,
+    /// Relative velocity (m/s, rad/s).
+    rel_v: Vector6<f64>,
+}
+
+impl SpringDamper {
+    /// Builds the element on `nodes` (one index: grounded; two: I, J) at reference
+    /// positions `pos` (m). Validates the keys; errors are [`FemError::Input`] at `origin`.
+    pub fn new(
+        params: SpringDamperParams,
+        nodes: &[usize],
+        pos: &[Vector3<f64>],
+        origin: &str,
+    ) -> Result<SpringDamper, FemError> {
+        let bad = |m: String| FemError::input(origin, format!("spring_damper: {m}"));
+        if !(1..=2).contains(&nodes.len()) || pos.len() != nodes.len() {
+            return Err(bad(format!(
+                "`nodes` has {} ids; give one (grounded) or two (I, J)",
+                nodes.len()
+            )));
+        }
+        for (key, vals) in [("k", &params.k), ("c", &params.c)] {
+            if let Some((i, v)) = vals
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
+            {
+                return Err(bad(format!(
+                    "`{key}`[{i}] = {v} must be ≥ 0 and finite (0 leaves that direction free)"
+                )));
+            }
+        }
+        let axes = spring_axes(&params.axes).map_err(bad)?;
+        let coincident = pos.len() == 2 && {
+            let scale = pos[0].norm().max(pos[1].norm()).max(1.0);
+            (pos[1] - pos[0]).norm() <= 1e-9 * scale
+        };
+        Ok(SpringDamper {
+            kg: to_nodal(&axes, &params.k),
+            cg: to_nodal(&axes, &params.c),
+            conn: nodes.iter().map(|&n| NodeDofs::all(n)).collect(),
+            axes,
+            coincident,
+            params,
+            rel: Vector6::zeros(),
+            rel_v: Vector6::zeros(),
+        })
+    }
+
+    /// Whether the element is grounded (one node).
+    pub fn grounded(&self) -> bool {
+        self.conn.len() == 1
+    }
+
+    /// Local axes `R` (rows = local x, y, z in nodal axes).
+    pub fn axes(&self) -> &Matrix3<f64> {
+        &self.axes
+    }
+
+    /// Element force in local axes at the trial state, `f = K·δ + C·δ̇`
+    /// (N for translations, N·m for rotations); positive when node J moves (or turns)
+    /// along the positive local axis relative to node I (tension positive).
+    pub fn local_force(&self) -> Vector6<f64> {
+        let mut out = Vector6::zeros();
+        for b in 0..2 {
+            let d = self.axes * self.rel.fixed_rows::<3>(3 * b);
+            let dv = self.axes * self.rel_v.fixed_rows::<3>(3 * b);
+            for i in 0..3 {
+                out[3 * b + i] = self.params.k[3 * b + i] * d[i] + self.params.c[3 * b + i] * dv[i];
+            }
+        }
+        out
+    }
+
+    /// Writes `[[g, −g], [−g, g]]` (two nodes) or `g` (grounded) into `out`.
+    fn fill(&self, g: &Matrix6<f64>, out: &mut DMatrix<f64>) {
+        if self.grounded() {
+            out.fixed_view_mut::<6, 6>(0, 0).copy_from(g);
+        } else {
+            out.fixed_view_mut::<6, 6>(0, 0).copy_from(g);
+            out.fixed_view_mut::<6, 6>(6, 6).copy_from(g);
+            out.fixed_view_mut::<6, 6>(0, 6).copy_from(&(-g));
+            out.fixed_view_mut::<6, 6>(6, 0).copy_from(&(-g));
+        }
+    }
+}
+
+/// Relative motion `x_J − x_I` of a 6- or 12-entry element vector (zero if the slice is
+/// empty, as a static analysis may pass no velocities).
+fn relative(x: &[f64], grounded: bool) -> Vector6<f64> {
+    match (x.len(), grounded) {
+        (6, true) => Vector6::from_column_slice(x),
+        (12, false) => Vector6::from_column_slice(&x[6..]) - Vector6::from_column_slice(&x[..6]),
+        _ => Vector6::zeros(),
+    }
+}
+
+impl Element for SpringDamper {
+    fn kind(&self) -> &str {
+        "spring_damper"
+    }
+
+    fn connectivity(&self) -> &[NodeDofs] {
+        &self.conn
+    }
+
+    fn properties(&self) -> ElementProperties {
+        ElementProperties {
+            linear: true,
+            constant_mass: true,
+            constant_damping: true,
+            has_mass: false,
+            has_damping: self.params.c.iter().any(|&c| c > 0.0),
+            symmetric: true,
+            connectivity_may_change: false,
+            objective: self.coincident,
+            declared_mass: None,
+        }
+    }
+
+    fn update(&mut self, trial: &TrialState) -> Result<(), ElementError> {
+        let n = 6 * self.conn.len();
+        support::check_trial(trial, n)?;
+        self.rel = relative(trial.disp, self.grounded());
+        self.rel_v = relative(trial.vel, self.grounded());
+        Ok(())
+    }
+
+    fn resisting_force(&self, f: &mut [f64]) {
+        let fj = self.kg * self.rel;
+        if self.grounded() {
+            f.copy_from_slice(fj.as_slice());
+        } else {
+            for i in 0..6 {
+                f[i] = -fj[i];
+                f[6 + i] = fj[i];
+            }
+        }
+    }
+
+    fn tangent_stiffness(&self, k: &mut DMatrix<f64>) {
+        self.fill(&self.kg, k);
+    }
+
+    fn damping(&self, c: &mut DMatrix<f64>) {
+        self.fill(&self.cg, c);
+    }
+
+    fn output_names(&self) -> Vec<String> {
+        ["fx", "fy", "fz", "mx", "my", "mz"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
+    fn outputs(&self, out: &mut Vec<f64>) {
+        out.extend_from_slice(self.local_force().as_slice());
+    }
+
+    fn parameters(&self) -> serde_json::Value {
+        serde_json::to_value(&self.params).unwrap_or(serde_json::Value::Null)
+    }
+}
+
+/// Factory of `spring_damper`: one node (grounded) or two (I, J).
+fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Element>, FemError> {
+    let p: SpringDamperParams = spec.parse()?;
+    let n = support::resolve_nodes(
+        spec,
+        ctx,
+        &[1, 2],
+        "spring_damper",
+        "one node to ground, or nodes I and J",
+    )?;
+    let pos: Vec<Vector3<f64>> = n.iter().map(|&i| ctx.node_position(i)).collect();
+    Ok(Box::new(SpringDamper::new(p, &n, &pos, &spec.origin)?))
+}
+
+/// Conformance samples: coincident nodes with rotated axes and dashpots (objective), a
+/// grounded spring, and a spring between distinct points (not objective).
+fn samples() -> Vec<Sample> {
+    let cases: [(&str, Vec<[f64; 3]>, serde_json::Value); 3] = [
+        (
+            "coincident nodes, rotated axes, damped",
+            vec![[1.0, 2.0, 0.5], [1.0, 2.0, 0.5]],
+            serde_json::json!({"k": [1e8, 2e8, 3e8, 1e5, 2e5, 3e5],
+                               "c": [1e4, 0.0, 3e4, 10.0, 0.0, 30.0],
+                               "axes": [[1.0, 1.0, 0.0], [-1.0, 1.0, 0.3]]}),
+        ),
+        (
+            "grounded",
+            vec![[0.0, 0.0, 0.0]],
+            serde_json::json!({"k": [5e7, 5e7, 2e8, 0.0, 0.0, 0.0], "c": [0.0, 0.0, 1e5, 0.0, 0.0, 0.0]}),
+        ),
+        (
+            "distinct points",
+            vec![[0.0, 0.0, 0.0], [0.0, 0.0, 0.2]],
+            serde_json::json!({"k": [1e7, 1e7, 1e9, 1e4, 1e4, 1e4]}),
+        ),
+    ];
+    cases
+        .into_iter()
+        .enumerate()
+        .filter_map(|(i, (name, pts, params))| {
+            let pos: Vec<Vector3<f64>> = pts.iter().map(|&p| p.into()).collect();
+            let ids: Vec<u64> = (1..=pos.len() as u64).collect();
+            let mut ctx = support::PointContext::new(&pos);
+            let element = build(&support::spec("spring_damper", &ids, params), &mut ctx).ok()?;
+            Some(Sample {
+                name: name.to_string(),
+                element,
+                nodes: pos.iter().map(|p| NodeKinematics::fixed(*p)).collect(),
+                disp: support::pseudo_random_state(300 + i as u64, pos.len(), 1e-3, 1e-3),
+                vel: support::pseudo_random_state(400 + i as u64, pos.len(), 1e-2, 1e-2),
+                fd_step: 1e-6,
+                committed_disp: None,
+            })
+        })
+        .collect()
+}
+
+railfem_framework::inventory::submit! {
+    ElementKind {
+        name: "spring_damper",
+        description: "six uncoupled linear springs and dashpots in a local frame (zero-length; 1 node grounded or 2 nodes)",
+        params: <SpringDamperParams as Params>::docs,
+        build,
+        samples,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::support::{spec, PointContext};
+    use super::*;
+
+    const K: [f64; 6] = [1e8, 2e8, 3e8, 1e5, 2e5, 3e5];
+    const C: [f64; 6] = [1e4, 2e4, 0.0, 10.0, 0.0, 30.0];
+
+    fn build_at(pts: &[[f64; 3]], p: serde_json::Value) -> Result<Box<dyn Element>, FemError> {
+        let pos: Vec<Vector3<f64>> = pts.iter().map(|&x| x.into()).collect();
+        let ids: Vec<u64> = (1..=pos.len() as u64).collect();
+        build(
+            &spec("spring_damper", &ids, p),
+            &mut PointContext::new(&pos),
+        )
+    }
+
+    fn err(pts: &[[f64; 3]], p: serde_json::Value) -> String {
+        match build_at(pts, p) {
+            Ok(_) => panic!("expected an error"),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    fn set(e: &mut dyn Element, disp: &[f64], vel: &[f64]) {
+        let acc = vec![0.0; disp.len()];
+        let t = TrialState {
+            time: 0.0,
+            dt: 0.0,
+            disp,
+            vel,
+            acc: &acc,
+        };
+        e.update(&t).unwrap();
+    }
+
+    /// Local axes: x along (1, 1, 0)/√2, y = (−1, 1, 0.3) made orthogonal to x, z = x × y.
+    fn rotated() -> (Box<dyn Element>, Matrix3<f64>) {
+        let rows = [[1.0, 1.0, 0.0], [-1.0, 1.0, 0.3]];
+        let p = serde_json::json!({"k": K, "c": C, "axes": rows});
+        (
+            build_at(&[[0.5; 3], [0.5; 3]], p).unwrap(),
+            spring_axes(&rows).unwrap(),
+        )
+    }
+
+    /// Moving node J by `s` along local axis `i` (translation or rotation) stretches only
+    /// spring `i`: the resisting force at J is `k_i·s` along that axis (in nodal axes) and
+    /// at I its negative. A random relative motion gives `Σ k_i·(e_i·δ)·e_i`. Exact up to
+    /// rounding of the rotation (1e-12 relative).
+    #[test]
+    fn force_is_k_times_stretch_along_local_axes() {
+        let (mut e, r) = rotated();
+        for i in 0..6 {
+            let ax = r.row(i % 3).transpose();
+            let s = 1e-3;
+            let mut d = vec![0.0; 12];
+            for j in 0..3 {
+                d[6 + 3 * (i / 3) + j] = s * ax[j];
+            }
+            set(e.as_mut(), &d, &[]);
+            let mut f = vec![0.0; 12];
+            e.resisting_force(&mut f);
+            for j in 0..3 {
+                let want = K[i] * s * ax[j];
+                let (fi, fj) = (f[3 * (i / 3) + j], f[6 + 3 * (i / 3) + j]);
+                assert!(
+                    (fj - want).abs() <= 1e-12 * K[i] * s,
+                    "dof {i}: {fj} vs {want}"
+                );
+                assert!((fi + want).abs() <= 1e-12 * K[i] * s);
+                // nothing in the other group
+                assert!(f[3 * (1 - i / 3) + j].abs() + f[6 + 3 * (1 - i / 3) + j].abs() == 0.0);
+            }
+            let mut out = Vec::new();
+            e.outputs(&mut out);
+            assert!((out[i] - K[i] * s).abs() <= 1e-12 * K[i] * s);
+        }
+        // Random state: K·u with the assembled tangent equals the resisting force.
+        let d = support::pseudo_random_state(7, 2, 1e-3, 1e-3);
+        set(e.as_mut(), &d, &[]);
+        let mut f = vec![0.0; 12];
+        e.resisting_force(&mut f);
+        let mut k = DMatrix::zeros(12, 12);
+        e.tangent_stiffness(&mut k);
+        let ku = &k * nalgebra::DVector::from_column_slice(&d);
+        for i in 0..12 {
+            assert!((ku[i] - f[i]).abs() <= 1e-9 * ku.amax());
+        }
+        for b in 0..2 {
+            let dl = r
+                * (Vector3::from_column_slice(&d[6 + 3 * b..9 + 3 * b])
+                    - Vector3::from_column_slice(&d[3 * b..3 + 3 * b]));
+            let mut sum = Vector3::zeros();
+            for i in 0..3 {
+                sum += r.row(i).transpose() * K[3 * b + i] * dl[i];
+            }
+            for j in 0..3 {
+                assert!((f[6 + 3 * b + j] - sum[j]).abs() <= 1e-12 * ku.amax());
+            }
+            assert!(sum.norm() > 0.0);
+        }
+    }
+
+    /// The damping matrix has the same structure with `c`: `C·v` at node J is
+    /// `Σ c_i·(e_i·δ̇)·e_i`; outputs add the dashpot force `c_i·(e_i·δ̇)` to the spring force.
+    #[test]
+    fn damping_matrix_and_dashpot_output() {
+        let (mut e, r) = rotated();
+        assert!(e.properties().has_damping && e.properties().objective);
+        let mut c = DMatrix::zeros(12, 12);
+        e.damping(&mut c);
+        assert!((&c - c.transpose()).amax() == 0.0);
+        let v = support::pseudo_random_state(11, 2, 1e-2, 1e-2);
+        let cv = &c * nalgebra::DVector::from_column_slice(&v);
+        let mut out = Vec::new();
+        set(e.as_mut(), &[0.0; 12], &v);
+        e.outputs(&mut out);
+        for b in 0..2 {
+            let dv = r
+                * (Vector3::from_column_slice(&v[6 + 3 * b..9 + 3 * b])
+                    - Vector3::from_column_slice(&v[3 * b..3 + 3 * b]));
+            let mut want = Vector3::zeros();
+            for i in 0..3 {
+                want += r.row(i).transpose() * C[3 * b + i] * dv[i];
+                assert!((out[3 * b + i] - C[3 * b + i] * dv[i]).abs() <= 1e-12 * 1e4 * 1e-1);
+            }
+            for j in 0..3 {
+                assert!((cv[6 + 3 * b + j] - want[j]).abs() <= 1e-12 * cv.amax());
+                assert!((cv[3 * b + j] + want[j]).abs() <= 1e-12 * cv.amax());
+            }
+        }
+    }
+
+    #[test]
+    fn grounded_variant_and_objectivity_flags() {
+        let mut g = build_at(&[[1.0, 2.0, 3.0]], serde_json::json!({"k": K})).unwrap();
+        assert_eq!(g.ndof(), 6);
+        assert!(!g.properties().objective && !g.properties().has_damping);
+        let d = [1e-3, -2e-3, 3e-3, 1e-4, 2e-4, -3e-4];
+        set(g.as_mut(), &d, &[]);
+        let mut f = vec![0.0; 6];
+        g.resisting_force(&mut f);
+        for i in 0..6 {
+            assert!((f[i] - K[i] * d[i]).abs() <= 1e-12 * K[i] * d[i].abs());
+        }
+        let apart = build_at(&[[0.0; 3], [0.0, 0.0, 1.0]], serde_json::json!({"k": K})).unwrap();
+        assert!(!apart.properties().objective && apart.properties().linear);
+    }
+
+    #[test]
+    fn bad_input_is_refused_with_the_key_named() {
+        let two = [[0.0; 3], [0.0; 3]];
+        let mut k = K;
+        k[4] = -1.0;
+        let e = err(&two, serde_json::json!({"k": k}));
+        assert!(e.contains("`k`[4]"), "{e}");
+        let e = err(
+            &two,
+            serde_json::json!({"k": K, "c": [0.0, 0.0, -3.0, 0.0, 0.0, 0.0]}),
+        );
+        assert!(e.contains("`c`[2]"), "{e}");
+        for axes in [
+            serde_json::json!([[1.0, 0.0, 0.0]]),
+            serde_json::json!([[0.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+            serde_json::json!([[1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]),
+            serde_json::json!([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, -1.0]]),
+        ] {
+            let e = err(&two, serde_json::json!({"k": K, "axes": axes}));
+            assert!(e.contains("`axes`"), "{e}");
+        }
+        let e = err(&[[0.0; 3]; 3], serde_json::json!({"k": K}));
+        assert!(e.contains("`nodes`"), "{e}");
+        let e = err(&two, serde_json::json!({"c": C}));
+        assert!(e.contains("`k`"), "{e}");
+        // A right-handed third row is accepted.
+        build_at(
+            &two,
+            serde_json::json!({"k": K, "axes": [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]}),
+        )
+        .unwrap();
+    }
+
+    #[test]
+    fn registered_with_samples() {
+        let k = railfem_framework::registry::find("spring_damper").expect("registered");
+        let s = (k.samples)();
+        assert_eq!(s.len(), 3);
+        for x in &s {
+            assert_eq!(x.disp.len(), x.element.ndof());
+        }
+    }
+}
