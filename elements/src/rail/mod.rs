@@ -2,5 +2,6 @@
 //! moving wheel-axle element, vehicles and the simple theory of the paper's Section 3.
 
 pub mod alignment;
+pub mod contact_geometry;
 pub mod profiles;
 pub mod theory;
