@@ -3,6 +3,7 @@
 
 pub mod alignment;
 pub mod cant;
+pub mod contact_geometry;
 pub mod contact_law;
 pub mod hertz_spring;
 pub mod profiles;
