@@ -92,7 +92,7 @@ macro_rules! element_params {
     (@key $field:ident) => { stringify!($field) };
     (@key $field:ident $key:literal) => { $key };
     (@default) => { None };
-    (@default $d:expr) => { Some(serde_json::json!($d)) };
+    (@default $d:expr) => { Some($crate::serde_json::json!($d)) };
     (@doc) => { "" };
     (@doc $first:literal $($rest:literal)*) => { $first.trim() };
 }

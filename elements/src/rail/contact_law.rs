@@ -239,11 +239,23 @@ mod tests {
     fn open_and_stick() {
         let l = law(SlidingTangent::Symmetric);
         let w = -Vector3::y();
-        let st = l.evaluate(1e-6, &w, &Matrix3::zeros(), &Vector3::new(1e-5, 0.0, 0.0), &anchor());
+        let st = l.evaluate(
+            1e-6,
+            &w,
+            &Matrix3::zeros(),
+            &Vector3::new(1e-5, 0.0, 0.0),
+            &anchor(),
+        );
         assert_eq!(st.mode, Mode::Open);
         assert_eq!(st.phi, Vector3::zeros());
         let g = -1e-5;
-        let st = l.evaluate(g, &w, &Matrix3::zeros(), &Vector3::new(1e-6, 0.0, 2e-6), &anchor());
+        let st = l.evaluate(
+            g,
+            &w,
+            &Matrix3::zeros(),
+            &Vector3::new(1e-6, 0.0, 2e-6),
+            &anchor(),
+        );
         assert_eq!(st.mode, Mode::Stick);
         assert!((st.f_n - 1e4).abs() < 1e-9);
         assert!((st.f_u - 1e3).abs() < 1e-9);
@@ -272,8 +284,12 @@ mod tests {
             e[j] = h;
             let gp = g + w.dot(&e);
             let gm = g - w.dot(&e);
-            let p = lc.evaluate(gp, &w, &Matrix3::zeros(), &(delta + e), &anchor()).phi;
-            let m = lc.evaluate(gm, &w, &Matrix3::zeros(), &(delta - e), &anchor()).phi;
+            let p = lc
+                .evaluate(gp, &w, &Matrix3::zeros(), &(delta + e), &anchor())
+                .phi;
+            let m = lc
+                .evaluate(gm, &w, &Matrix3::zeros(), &(delta - e), &anchor())
+                .phi;
             fd.set_column(j, &((p - m) / (2.0 * h)));
         }
         assert!((fd - st.d).norm() / st.d.norm() < 1e-6, "{fd} vs {}", st.d);

@@ -134,7 +134,11 @@ mod tests {
     /// `b = 3.03e7`, `c = 1/3` gives `k2 ≈ 1.24e9 N/m` at 68.7 kN.
     #[test]
     fn hertz_closed_form() {
-        let s = HertzSpring { a: 0.0, b: 3.03e7, c: 1.0 / 3.0 };
+        let s = HertzSpring {
+            a: 0.0,
+            b: 3.03e7,
+            c: 1.0 / 3.0,
+        };
         let k = s.stiffness_at(68.7e3);
         assert!((k - 1.241e9).abs() / 1.241e9 < 2e-3, "{k}");
         let d = s.approach(68.7e3);
@@ -147,7 +151,11 @@ mod tests {
     /// (central differences) — the law the element uses is self-consistent.
     #[test]
     fn general_law_inverts_and_differentiates() {
-        let s = HertzSpring { a: 1e7, b: 3.03e7, c: 1.0 / 3.0 };
+        let s = HertzSpring {
+            a: 1e7,
+            b: 3.03e7,
+            c: 1.0 / 3.0,
+        };
         for f in [10.0, 1e3, 5e4, 2e5] {
             let d = s.approach(f);
             let (ff, k) = s.force(d);
@@ -158,7 +166,11 @@ mod tests {
         }
         // Quadrature vs the exact integral for c = 1 is not smooth-free; check c = 0.5,
         // a = b: δ(f) = ∫ dx/(a(1+√x)) = (2/a)(√f − ln(1+√f)).
-        let s = HertzSpring { a: 2.0, b: 2.0, c: 0.5 };
+        let s = HertzSpring {
+            a: 2.0,
+            b: 2.0,
+            c: 0.5,
+        };
         let f: f64 = 9.0;
         let exact = (2.0 / 2.0) * (f.sqrt() - (1.0 + f.sqrt()).ln());
         assert!((s.approach(f) - exact).abs() / exact < 1e-9);

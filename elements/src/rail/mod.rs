@@ -6,6 +6,7 @@ pub mod cant;
 pub mod contact_geometry;
 pub mod contact_law;
 pub mod hertz_spring;
+pub mod moving_axle;
 pub mod profiles;
 pub mod rail_point;
 pub mod theory;

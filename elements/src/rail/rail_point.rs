@@ -20,13 +20,23 @@ use nalgebra::{Matrix3, SMatrix};
 /// Hermite functions `[N1, N2, N3, N4]` at `ξ` on a beam of length `l` (m).
 pub fn hermite(xi: f64, l: f64) -> [f64; 4] {
     let (x2, x3) = (xi * xi, xi * xi * xi);
-    [1.0 - 3.0 * x2 + 2.0 * x3, l * (xi - 2.0 * x2 + x3), 3.0 * x2 - 2.0 * x3, l * (x3 - x2)]
+    [
+        1.0 - 3.0 * x2 + 2.0 * x3,
+        l * (xi - 2.0 * x2 + x3),
+        3.0 * x2 - 2.0 * x3,
+        l * (x3 - x2),
+    ]
 }
 
 /// Derivatives `d/dx` of the Hermite functions at `ξ` (1/m for N1, N3; 1 for N2, N4).
 pub fn hermite_slope(xi: f64, l: f64) -> [f64; 4] {
     let x2 = xi * xi;
-    [(-6.0 * xi + 6.0 * x2) / l, 1.0 - 4.0 * xi + 3.0 * x2, (6.0 * xi - 6.0 * x2) / l, 3.0 * x2 - 2.0 * xi]
+    [
+        (-6.0 * xi + 6.0 * x2) / l,
+        1.0 - 4.0 * xi + 3.0 * x2,
+        (6.0 * xi - 6.0 * x2) / l,
+        3.0 * x2 - 2.0 * xi,
+    ]
 }
 
 /// The 6×12 matrix mapping `(u_I, θ_I, u_J, θ_J)` to `(u_C, θ_C)`, all in global axes,
@@ -80,7 +90,11 @@ pub fn rail_point_matrix(xi: f64, l: f64, axes: &Matrix3<f64>) -> SMatrix<f64, 6
 /// helper, y = z × x, using global Z as the reference unless the beam is vertical.
 pub fn beam_axes(xi: &nalgebra::Vector3<f64>, xj: &nalgebra::Vector3<f64>) -> Matrix3<f64> {
     let ex = (xj - xi).normalize();
-    let refv = if ex.z.abs() < 0.9 { nalgebra::Vector3::z() } else { nalgebra::Vector3::x() };
+    let refv = if ex.z.abs() < 0.9 {
+        nalgebra::Vector3::z()
+    } else {
+        nalgebra::Vector3::x()
+    };
     let ey = refv.cross(&ex).normalize();
     let ez = ex.cross(&ey);
     Matrix3::from_columns(&[ex, ey, ez])
@@ -91,7 +105,13 @@ mod tests {
     use super::*;
     use nalgebra::{SVector, Vector3};
 
-    fn rigid(xi_pos: Vector3<f64>, xj_pos: Vector3<f64>, c: Vector3<f64>, t: Vector3<f64>, th: Vector3<f64>) -> SVector<f64, 12> {
+    fn rigid(
+        xi_pos: Vector3<f64>,
+        xj_pos: Vector3<f64>,
+        c: Vector3<f64>,
+        t: Vector3<f64>,
+        th: Vector3<f64>,
+    ) -> SVector<f64, 12> {
         let ui = t + th.cross(&(xi_pos - c));
         let uj = t + th.cross(&(xj_pos - c));
         let mut q = SVector::<f64, 12>::zeros();
@@ -119,7 +139,10 @@ mod tests {
             let out = rail_point_matrix(xi, l, &axes) * q;
             let p = xi_pos + (xj_pos - xi_pos) * xi;
             let expect_u = tr + th.cross(&(p - c));
-            assert!((out.fixed_rows::<3>(0) - expect_u).norm() < 1e-15, "ξ = {xi}");
+            assert!(
+                (out.fixed_rows::<3>(0) - expect_u).norm() < 1e-15,
+                "ξ = {xi}"
+            );
             assert!((out.fixed_rows::<3>(3) - th).norm() < 1e-15, "ξ = {xi}");
         }
     }

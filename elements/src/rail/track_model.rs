@@ -194,16 +194,26 @@ pub fn mesh_stations(track: &Track, a: f64, b: f64, h: f64) -> Vec<f64> {
 
 /// Generates the rails of `track` into `b` and registers the resource `"track"`. Node ids
 /// start above every id already in the builder; element ids likewise.
-pub fn generate(b: &mut ModelBuilder, track: Arc<Track>, mesh: &TrackMesh) -> Result<Arc<TrackModel>, FemError> {
+pub fn generate(
+    b: &mut ModelBuilder,
+    track: Arc<Track>,
+    mesh: &TrackMesh,
+) -> Result<Arc<TrackModel>, FemError> {
     let origin = format!("{}: [track]", b.origin());
     let h = mesh.element_length;
     if !(h.is_finite() && h > 0.0) {
-        return Err(FemError::input(&origin, format!("element_length = {h}; give a length > 0 m")));
+        return Err(FemError::input(
+            &origin,
+            format!("element_length = {h}; give a length > 0 m"),
+        ));
     }
     let len = track.length();
     let [from, to] = mesh.window.unwrap_or([0.0, len]);
     if !(from.is_finite() && to.is_finite() && to > from) {
-        return Err(FemError::input(&origin, "window must be [from, to] with from < to (m)"));
+        return Err(FemError::input(
+            &origin,
+            "window must be [from, to] with from < to (m)",
+        ));
     }
     let stations = mesh_stations(&track, from, to, h);
     let offset = mesh.rail_offset.unwrap_or(track.gauge / 2.0 + 0.036);
@@ -268,7 +278,9 @@ pub fn generate(b: &mut ModelBuilder, track: Arc<Track>, mesh: &TrackMesh) -> Re
                     .stations
                     .partition_point(|x| *x < next)
                     .min(model.stations.len() - 1);
-                let i = if i > 0 && (model.stations[i] - next).abs() > (model.stations[i - 1] - next).abs() {
+                let i = if i > 0
+                    && (model.stations[i] - next).abs() > (model.stations[i - 1] - next).abs()
+                {
                     i - 1
                 } else {
                     i
@@ -281,7 +293,8 @@ pub fn generate(b: &mut ModelBuilder, track: Arc<Track>, mesh: &TrackMesh) -> Re
             for rail in &model.rails {
                 for &i in &picks {
                     let f = track.at(model.stations[i]).frame;
-                    let rows: Vec<[f64; 3]> = (0..3).map(|c| [f[(0, c)], f[(1, c)], f[(2, c)]]).collect();
+                    let rows: Vec<[f64; 3]> =
+                        (0..3).map(|c| [f[(0, c)], f[(1, c)], f[(2, c)]]).collect();
                     eid += 1;
                     b.element(
                         "spring_damper",
