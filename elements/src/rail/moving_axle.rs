@@ -152,6 +152,8 @@ pub struct MovingAxle {
     force: Vec<f64>,
     tangent: DMatrix<f64>,
     points: Vec<(usize, PointState, f64, f64)>,
+    /// Contact angle of each point (rad): between the contact normal and axis 2.
+    angles: Vec<f64>,
     spring_force: Vector3<f64>,
     contact_force: Vector3<f64>,
     deltas: Vec<Vector3<f64>>,
@@ -345,6 +347,7 @@ impl MovingAxle {
             force: vec![0.0; 21],
             tangent: DMatrix::zeros(21, 21),
             points: Vec::new(),
+            angles: Vec::new(),
             spring_force: Vector3::zeros(),
             contact_force: Vector3::zeros(),
             deltas: vec![Vector3::zeros(); n],
@@ -489,6 +492,7 @@ impl MovingAxle {
         }
         // Contact.
         self.points.clear();
+        self.angles.clear();
         self.contact_force = Vector3::zeros();
         let n = set.rail_nodes.len();
         // Relative displacements of every rail node (needed for anchors even when open).
@@ -541,12 +545,9 @@ impl MovingAxle {
             self.contact_force += st.phi;
             self.points
                 .push((kx, st, set.rail_nodes[kx].x, cp.point.x + set.wheel_shift.x));
+            // Contact angle: between the normal and axis 2 (0 on a flat tread).
+            self.angles.push(cp.normal.x.abs().atan2(-cp.normal.y));
         }
-        self.points.sort_by(|a, b| {
-            b.1.f_n
-                .partial_cmp(&a.1.f_n)
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
     }
 }
 
@@ -639,6 +640,8 @@ impl Element for MovingAxle {
             "n_stick",
             "n_slide",
             "spring_f2",
+            "max_contact_angle",
+            "min_contact_angle",
         ]
         .iter()
         .map(|s| s.to_string())
@@ -682,9 +685,13 @@ impl Element for MovingAxle {
             n_stick as f64,
             n_slide as f64,
             self.spring_force.y,
+            self.angles.iter().copied().fold(f64::NAN, f64::max),
+            self.angles.iter().copied().fold(f64::NAN, f64::min),
         ]);
+        let mut order: Vec<usize> = (0..self.points.len()).collect();
+        order.sort_by(|a, b| self.points[*b].1.f_n.total_cmp(&self.points[*a].1.f_n));
         for i in 0..3 {
-            match self.points.get(i) {
+            match order.get(i).map(|&k| &self.points[k]) {
                 Some((_, st, yr, yw)) => out.extend_from_slice(&[*yr, *yw, st.f_n, st.mode.code()]),
                 None => out.extend_from_slice(&[f64::NAN, f64::NAN, 0.0, 0.0]),
             }
@@ -903,12 +910,7 @@ pub fn sample_states(tangent: SlidingTangent) -> Vec<Sample> {
     out.push(mk("separated", press(-1e-3, 0.0), None, &params));
     // Two-point contact: shift the wheelset towards the flange side (−e1 for the left wheel)
     // until the flange root touches the gauge corner.
-    out.push(mk(
-        "two-point contact",
-        press(-3.2e-4, 5.5e-3),
-        None,
-        &params,
-    ));
+    out.push(mk("two-point contact", press(-6e-4, 7e-3), None, &params));
     out
 }
 
@@ -1007,15 +1009,11 @@ mod geometry_tests {
         let mut o = Vec::new();
         s.element.outputs(&mut o);
         let names = s.element.output_names();
-        let ys: Vec<f64> = (1..=3)
-            .map(|i| {
-                o[names
-                    .iter()
-                    .position(|n| *n == format!("p{i}_rail_y"))
-                    .unwrap()]
-            })
-            .collect();
-        assert!(ys.iter().any(|y| *y < -0.02), "no flange contact: {ys:?}");
+        let at = |k: &str| o[names.iter().position(|n| n == k).unwrap()];
+        // S1002's flange face is a 70° line; its tread slope is a few degrees.
+        let (hi, lo) = (at("max_contact_angle"), at("min_contact_angle"));
+        assert!(hi > 1.0, "no flange contact: max angle {hi}");
+        assert!(lo < 0.2, "no tread contact: min angle {lo}");
         let n = o[names.iter().position(|n| n == "n_contact").unwrap()];
         assert!(n >= 4.0);
     }
