@@ -15,6 +15,9 @@ USAGE:
   railfem run MODEL [--out DIR] [--plugin PATH]...   run a model file (TOML or JSON)
   railfem check MODEL [--plugin PATH]...             validate a model file without running
   railfem elements [--plugin PATH]...                list registered element kinds and keys
+  railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
+                [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick]
+                                                     the paper's curved-track validation (Fig. 6)
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -159,9 +162,76 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
             }
             Ok(0)
         }
+        "curve" => curve(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
         )),
     }
+}
+
+/// `railfem curve`: the paper's Section 4 case, FE against theory.
+fn curve(a: &Args) -> Result<i32, FemError> {
+    let mut case = crate::curve::CurveCase::default();
+    if let Some(v) = a.num("radius")? {
+        case.radius = v;
+    }
+    if let Some(v) = a.num("ct")? {
+        case.ct = v;
+    }
+    if let Some(v) = a.num("speed")? {
+        case.speed = v;
+    }
+    if let Some(v) = a.num("mu")? {
+        case.mu = v;
+    }
+    if let Some(v) = a.num("dt")? {
+        case.dt = v;
+    }
+    if let Some(v) = a.num("penalty")? {
+        case.penalty = v;
+    }
+    if let Some(v) = a.num("duration")? {
+        case.duration = v;
+    }
+    if let Some(l) = a.opt("lengths") {
+        let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
+        if v.len() != 5 || v.iter().any(|x| !(x.is_finite() && *x > 0.0)) {
+            return Err(FemError::input(
+                "command line",
+                format!("--lengths {l}: give five positive lengths in m, comma-separated"),
+            ));
+        }
+        case.lengths = [v[0], v[1], v[2], v[3], v[4]];
+    }
+    if a.flags.iter().any(|f| f == "quick") {
+        case.lengths = [60.0, 300.0, 700.0, 300.0, 60.0];
+    }
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/curve"));
+    let mut last = 0;
+    let quiet = a.flags.iter().any(|f| f == "quiet");
+    let r = crate::curve::run(&case, Some(&out), &mut |f| {
+        let pct = (f * 100.0) as usize;
+        if !quiet && pct / 5 != last / 5 {
+            last = pct;
+            eprint!("\r[{:<20}] {pct:>3}%", "#".repeat(pct / 5));
+        }
+    })?;
+    if !quiet {
+        eprintln!();
+    }
+    println!(
+        "curve: R = {} m, Ct = {} m, V = {} m/s, mu = {}, dt = {} s: {} steps, {} Newton iterations, {:.2} s",
+        case.radius, case.ct, case.speed, case.mu, case.dt, r.steps, r.iterations, r.wall
+    );
+    println!(
+        "on the arc: largest relative difference FE vs statics: normal {:.3e}, shear {:.3e}; FE vs Eq. 25 as printed: normal {:.3e}",
+        r.max_rel_normal_statics, r.max_rel_shear, r.max_rel_normal_printed
+    );
+    println!(
+        "contact spacing used by the statics: {:.4} m; results in {}",
+        r.contact_spacing,
+        out.display()
+    );
+    Ok(0)
 }

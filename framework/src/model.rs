@@ -356,8 +356,9 @@ pub struct ModelBuilder {
 pub struct CarrierSpec {
     /// The carrier, with `nodes` empty.
     pub carrier: Carrier,
-    /// Node ids with their station offsets and wheel-frame offsets.
-    pub nodes: Vec<(u64, f64, f64, f64)>,
+    /// Node ids with their station offsets and wheel-frame offsets
+    /// `[lateral, vertical, longitudinal]` (m).
+    pub nodes: Vec<(u64, f64, [f64; 3])>,
 }
 
 impl ModelBuilder {
@@ -504,8 +505,8 @@ impl ModelBuilder {
     }
 
     /// Adds a carrier (moving reference frame) with its nodes given by user id:
-    /// `(id, station offset, lateral offset, vertical offset)` in m.
-    pub fn carrier(&mut self, carrier: Carrier, nodes: Vec<(u64, f64, f64, f64)>) -> &mut Self {
+    /// `(id, station offset, [lateral, vertical, longitudinal] offsets)` in m.
+    pub fn carrier(&mut self, carrier: Carrier, nodes: Vec<(u64, f64, [f64; 3])>) -> &mut Self {
         self.carriers.push(CarrierSpec { carrier, nodes });
         self
     }
@@ -571,7 +572,7 @@ impl ModelBuilder {
         let mut carrier_list = Vec::new();
         for (ci, cs) in carriers.into_iter().enumerate() {
             let mut c = cs.carrier;
-            for (id, ds, lat, vert) in cs.nodes {
+            for (id, ds, [lat, vert, long]) in cs.nodes {
                 let Some(&ni) = node_index.get(&id) else {
                     return Err(FemError::input(
                         format!("{origin}: carrier `{}`", c.name),
@@ -580,7 +581,7 @@ impl ModelBuilder {
                         ),
                     ));
                 };
-                if !(ds.is_finite() && lat.is_finite() && vert.is_finite()) {
+                if !(ds.is_finite() && lat.is_finite() && vert.is_finite() && long.is_finite()) {
                     return Err(FemError::input(
                         format!("{origin}: carrier `{}`", c.name),
                         format!("offsets of node {id} are not finite"),
@@ -591,6 +592,7 @@ impl ModelBuilder {
                     station_offset: ds,
                     lateral: lat,
                     vertical: vert,
+                    longitudinal: long,
                 };
                 carried[ni] = Some((ci, cn));
                 c.nodes.push(cn);
@@ -735,6 +737,7 @@ impl BuildContext for Ctx {
                     node: idx,
                     lateral: cn.lateral + frame.column(0).dot(&d),
                     vertical: cn.vertical + frame.column(1).dot(&d),
+                    longitudinal: cn.longitudinal + frame.column(2).dot(&d),
                     ..cn
                 },
             )

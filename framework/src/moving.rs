@@ -63,6 +63,9 @@ pub struct CarriedNode {
     pub lateral: f64,
     /// Offset along wheel-frame axis 2 (m, up from the rail-top plane).
     pub vertical: f64,
+    /// Offset along wheel-frame axis 3 (m, forwards) at the node's station: lets a slave
+    /// share its master's frame while sitting elsewhere on the rigid body.
+    pub longitudinal: f64,
 }
 
 /// A moving reference frame: prescribed motion `s(t) = s0 + v·t + ½·a·t²` along a path.
@@ -109,7 +112,7 @@ impl Carrier {
     /// Reference motion of a carried node at time `t`.
     ///
     /// The point rides on the centre line at station `s = s(t) + Δs`, offset by
-    /// `lateral·e1 + vertical·e2` in the wheel frame. Its acceleration is that of the
+    /// `lateral·e1 + vertical·e2 + longitudinal·e3` in the wheel frame. Its acceleration is that of the
     /// centre-line point: `a·t̂ + v²κ·n̂` with `n̂ = Z × t̂` the horizontal left normal
     /// (Eq. 5's centripetal term, signed by κ), and the frame's yaw angular acceleration
     /// `(κ·a + v²·κ')·Z`.
@@ -119,8 +122,10 @@ impl Carrier {
         let v = self.speed_at(t);
         let up = Vector3::z();
         let normal = up.cross(&p.tangent);
-        let position =
-            p.position + p.frame.column(0) * cn.lateral + p.frame.column(1) * cn.vertical;
+        let position = p.position
+            + p.frame.column(0) * cn.lateral
+            + p.frame.column(1) * cn.vertical
+            + p.frame.column(2) * cn.longitudinal;
         let acceleration = p.tangent * self.accel + normal * (v * v * p.curvature);
         let angular_acceleration = up * (p.curvature * self.accel + v * v * p.curvature_rate);
         ReferenceMotion {

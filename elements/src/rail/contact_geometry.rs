@@ -138,19 +138,38 @@ fn newton_in_bracket(
 /// the global one for nodes closer to the curve than its local radius of curvature (all
 /// contact candidates). Returns `None` only if `p` is not finite. Never panics.
 pub fn closest_point(curve: &ParametricSpline, p: Vector2<f64>) -> Option<ClosestPoint> {
+    closest_point_near(curve, p, None)
+}
+
+/// [`closest_point`] started from the spline interval `hint` (the one found for this node
+/// at the previous evaluation) instead of a scan of every segment: O(1) when the node has
+/// moved little, which is the case between Newton iterations. The window grows from the
+/// hint exactly as it grows from the scanned segment, so the result is the local distance
+/// minimum next to the hint.
+pub fn closest_point_near(
+    curve: &ParametricSpline,
+    p: Vector2<f64>,
+    hint: Option<usize>,
+) -> Option<ClosestPoint> {
     if !p.x.is_finite() || !p.y.is_finite() {
         return None;
     }
     let pts = curve.points();
     let knots = curve.knots();
     let n_seg = pts.len() - 1;
-    let (mut seg, mut seg_u, mut best_d2) = (0, 0.0, f64::INFINITY);
-    for i in 0..n_seg {
-        let (u, d2) = segment_projection(pts[i], pts[i + 1], p);
-        if d2 < best_d2 {
-            (seg, seg_u, best_d2) = (i, u, d2);
+    let (seg, seg_u) = match hint {
+        Some(h) if h < n_seg => (h, segment_projection(pts[h], pts[h + 1], p).0),
+        _ => {
+            let (mut seg, mut seg_u, mut best_d2) = (0, 0.0, f64::INFINITY);
+            for i in 0..n_seg {
+                let (u, d2) = segment_projection(pts[i], pts[i + 1], p);
+                if d2 < best_d2 {
+                    (seg, seg_u, best_d2) = (i, u, d2);
+                }
+            }
+            (seg, seg_u)
         }
-    }
+    };
     let t_seed = knots[seg] + seg_u * (knots[seg + 1] - knots[seg]);
     let (mut first, mut last) = (seg.saturating_sub(1), (seg + 1).min(n_seg - 1));
     let mut iterations = 0;
@@ -213,7 +232,17 @@ pub fn closest_point(curve: &ParametricSpline, p: Vector2<f64>) -> Option<Closes
 /// node is outside the modelled part of the wheel and cannot be a contact point). Points
 /// far from the wheel get `Some` with a large positive (or negative) gap.
 pub fn rail_node_gap(wheel: &ParametricSpline, p: Vector2<f64>) -> Option<WheelContactPoint> {
-    let cp = closest_point(wheel, p)?;
+    rail_node_gap_near(wheel, p, None)
+}
+
+/// [`rail_node_gap`] with the search started from spline interval `hint`
+/// (see [`closest_point_near`]).
+pub fn rail_node_gap_near(
+    wheel: &ParametricSpline,
+    p: Vector2<f64>,
+    hint: Option<usize>,
+) -> Option<WheelContactPoint> {
+    let cp = closest_point_near(wheel, p, hint)?;
     if cp.projection != Projection::Interior {
         return None;
     }

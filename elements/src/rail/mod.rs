@@ -11,3 +11,4 @@ pub mod profiles;
 pub mod rail_point;
 pub mod theory;
 pub mod track_model;
+pub mod vehicle;

@@ -40,9 +40,9 @@
 //! The wheel profile's origin (the tape-circle contact point) is at B, `contact_offset`
 //! from the track centre line on axis 1; the rail profile's origin (top of the head) is at
 //! C on the rail's beam line. At build time the wheel profile is shifted along axis 2 so
-//! that its smallest gap to the rail is zero: the wheel starts just touching.
+//! that its smallest gap to the rail is −1 nm: the wheel starts just touching.
 
-use super::contact_geometry::{candidate_window, rail_node_gap};
+use super::contact_geometry::{candidate_window, rail_node_gap, rail_node_gap_near};
 use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent};
 use super::hertz_spring::HertzSpring;
 use super::profiles::{Inclination, RailProfile, WheelProfile};
@@ -158,6 +158,12 @@ pub struct MovingAxle {
     contact_force: Vector3<f64>,
     deltas: Vec<Vector3<f64>>,
     frames: Vec<(Vector3<f64>, Vector3<f64>)>,
+    /// Spline interval of each rail node's last closest point (search warm start).
+    hints: Vec<Option<usize>>,
+    /// Position and gap of each rail node at its last closest-point search: the signed
+    /// distance is 1-Lipschitz, so a node whose gap exceeds how far it has moved since is
+    /// still open and needs no search.
+    last_gap: Vec<Option<(Vector2<f64>, f64)>>,
 }
 
 fn skew(r: &Vector3<f64>) -> Matrix3<f64> {
@@ -268,6 +274,9 @@ impl Setup {
             }
             shift.y -= g;
         }
+        // Start 1 nm into the rail, so that the first Newton iteration already has the
+        // contact's stiffness (a force of k·1e-9 m, 10 N at k = 1e10 N/m).
+        shift.y -= 1e-9;
         let pts = wheel.spline().points();
         let wheel_y = pts
             .iter()
@@ -352,6 +361,8 @@ impl MovingAxle {
             contact_force: Vector3::zeros(),
             deltas: vec![Vector3::zeros(); n],
             frames: vec![(Vector3::x(), Vector3::z()); n],
+            hints: vec![None; n],
+            last_gap: vec![None; n],
         }
     }
 
@@ -514,9 +525,18 @@ impl MovingAxle {
             if p.y < set.wheel_z_min - margin {
                 continue;
             }
-            let Some(cp) = rail_node_gap(set.wheel.spline(), p) else {
+            if let Some((p0, g0)) = self.last_gap[kx] {
+                if g0 - (p - p0).norm() > 0.0 {
+                    continue;
+                }
+            }
+            let Some(cp) = rail_node_gap_near(set.wheel.spline(), p, self.hints[kx]) else {
+                self.hints[kx] = None;
+                self.last_gap[kx] = None;
                 continue;
             };
+            self.hints[kx] = Some(set.wheel.spline().interval(cp.t));
+            self.last_gap[kx] = Some((p, cp.gap));
             let w3 = Vector3::new(cp.normal.x, cp.normal.y, 0.0);
             let u3 = Vector3::new(cp.tangent.x, cp.tangent.y, 0.0);
             self.frames[kx] = (u3, Vector3::z());

@@ -1,0 +1,532 @@
+//! The paper's Section 4 validation: a carriage on the five-segment curved, canted track,
+//! finite elements against the simple theory (Eqs. 21–26).
+//!
+//! [`CurveCase`] holds the inputs (radius of the arc, cant constant Ct, speed, friction,
+//! step, segment lengths); [`run`] builds the model — a rigid track (the theory assumes
+//! rigid rails) and one `sks700` carriage carried at constant speed — runs it with Newmark
+//! and Newton–Raphson, and compares every wheel's normal and shear force with both variants
+//! of the theory at the wheel's own station (radius and cant there). The comparison on the
+//! circular arc, once the entry transient has decayed, is the number the paper's Figure 6
+//! shows.
+
+use crate::elements::rail::alignment::{Alignment, Segment};
+use crate::elements::rail::cant::{Cant, Track};
+use crate::elements::rail::theory::{self, Carriage, Operation, TrackParams, Variant};
+use crate::elements::rail::track_model::{self, TrackMesh};
+use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
+use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder};
+use crate::framework::moving::Path;
+use crate::framework::FemError;
+use crate::solvers::Driver;
+use serde::{Deserialize, Serialize};
+use std::io::Write;
+use std::path::Path as FsPath;
+use std::sync::Arc;
+
+/// Inputs of one curved-track run. SI units.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct CurveCase {
+    /// Radius of the circular arc (m).
+    pub radius: f64,
+    /// Cant constant Ct (m): θ = Ct/R (Eq. 21).
+    pub ct: f64,
+    /// Speed V (m/s).
+    pub speed: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Time step (s).
+    pub dt: f64,
+    /// Segment lengths: straight, clothoid, arc, clothoid, straight (m).
+    pub lengths: [f64; 5],
+    /// Station of the carriage centre at t = 0 (m).
+    pub start: f64,
+    /// Contact penalty k = k_v (N/m).
+    pub penalty: f64,
+    /// Gravity (m/s²), also used by the theory.
+    pub gravity: f64,
+    /// Time integrator: "newmark", "hht" or "generalized_alpha".
+    pub integrator: IntegratorKind,
+    /// Generalized-α ρ∞ / HHT α.
+    pub rho_inf: f64,
+    /// Stop after this time (s); 0 = run to the end of the track.
+    pub duration: f64,
+    /// Record every n-th step.
+    pub record_every: usize,
+}
+
+impl Default for CurveCase {
+    /// The Fig. 6 case: V = 80 m/s, Ct = 200 m, arc radius 6250 m (100° over
+    /// 10 908.3078 m), μ = 0.3, dt = 0.01 s.
+    fn default() -> Self {
+        CurveCase {
+            radius: 6250.0,
+            ct: 200.0,
+            speed: 80.0,
+            mu: 0.3,
+            dt: 0.01,
+            lengths: [500.0, 2000.0, 10_908.3078, 2000.0, 800.0],
+            start: 30.0,
+            penalty: 1e10,
+            gravity: 9.81,
+            integrator: IntegratorKind::Newmark,
+            rho_inf: 0.8,
+            duration: 0.0,
+            record_every: 10,
+        }
+    }
+}
+
+/// One recorded instant.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sample {
+    /// Time (s).
+    pub t: f64,
+    /// Station of the carriage centre (m).
+    pub station: f64,
+    /// Per wheel (left, right per wheelset, front to rear): station, radius (m, inf on a
+    /// straight), cant (rad), FE normal Q (N), FE shear Y (N), contact points, sliding
+    /// points, theory normal and shear (statics), theory normal (printed Eq. 25).
+    pub wheels: Vec<WheelSample>,
+}
+
+/// One wheel at one instant.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct WheelSample {
+    /// Station of the wheel (m).
+    pub station: f64,
+    /// Radius at the wheel (m).
+    pub radius: f64,
+    /// Cant at the wheel (rad).
+    pub cant: f64,
+    /// FE normal force (N), along wheel axis 2.
+    pub q: f64,
+    /// FE shear force (N), along wheel axis 1 (towards the curve centre).
+    pub y: f64,
+    /// Contact points.
+    pub n_contact: f64,
+    /// Sliding points.
+    pub n_slide: f64,
+    /// Theory, rigid-body statics: normal (N).
+    pub q_statics: f64,
+    /// Theory, Eq. 25 as printed: normal (N).
+    pub q_printed: f64,
+    /// Theory shear (Eq. 26) (N).
+    pub y_theory: f64,
+    /// Whether the wheel is the inner one.
+    pub inner: bool,
+}
+
+/// What a run found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CurveReport {
+    /// Recorded samples.
+    pub samples: Vec<Sample>,
+    /// Largest relative difference of the FE normal force from statics on the settled arc.
+    pub max_rel_normal_statics: f64,
+    /// Largest relative difference of the FE shear force from Eq. 26 on the settled arc.
+    pub max_rel_shear: f64,
+    /// Largest relative difference of the FE normal force from the printed Eq. 25 on the arc.
+    pub max_rel_normal_printed: f64,
+    /// Lateral spacing of the inner and outer contact points used by the statics (m).
+    pub contact_spacing: f64,
+    /// Steps, Newton iterations, wall time (s).
+    pub steps: usize,
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Wall time of the run (s).
+    pub wall: f64,
+    /// First time any wheel slid (s), if any.
+    pub first_slide: Option<f64>,
+    /// First time an inner wheel's normal force reached zero (s), if any.
+    pub first_separation: Option<f64>,
+}
+
+/// The model of a case: builder, ids and the track.
+pub struct CurveModel {
+    /// The driver, ready to step.
+    pub driver: Driver,
+    /// Ids of the train.
+    pub ids: TrainIds,
+    /// The track.
+    pub track: Arc<Track>,
+    /// Element indices of the wheels in the model.
+    pub wheel_index: Vec<usize>,
+}
+
+impl CurveCase {
+    /// The alignment: the five segments, left-hand.
+    pub fn track(&self) -> Result<Track, FemError> {
+        let k = 1.0 / self.radius;
+        let [l0, l1, l2, l3, l4] = self.lengths;
+        let segs = vec![
+            Segment::Straight { length: l0 },
+            Segment::Clothoid {
+                length: l1,
+                from_curvature: 0.0,
+                to_curvature: k,
+            },
+            Segment::Arc {
+                length: l2,
+                radius: self.radius,
+                hand: crate::elements::rail::alignment::Hand::Left,
+            },
+            Segment::Clothoid {
+                length: l3,
+                from_curvature: k,
+                to_curvature: 0.0,
+            },
+            Segment::Straight { length: l4 },
+        ];
+        let al = Alignment::new(segs).map_err(|e| FemError::input("curve case", e.to_string()))?;
+        Track::new(al, Cant::FromRadius { ct: self.ct })
+            .map_err(|e| FemError::input("curve case", e.to_string()))
+    }
+
+    /// Builds the model.
+    pub fn build(&self) -> Result<CurveModel, FemError> {
+        crate::elements::link();
+        let track = Arc::new(self.track()?);
+        let mut b = ModelBuilder::new("curve case");
+        let tm = track_model::generate(&mut b, track.clone(), &TrackMesh::default())?;
+        let spec = TrainSpec {
+            name: "sks700".into(),
+            carriage: CarriageData::sks700(),
+            carriages: 1,
+            start: self.start,
+            speed: self.speed,
+            accel: 0.0,
+            wheel: serde_json::json!({
+                "mu": self.mu, "k": self.penalty, "k_v": self.penalty,
+            }),
+            first_node_id: 0,
+        };
+        let ids = build_train(&mut b, &tm, &spec)?;
+        let end = track.length() - 15.0 - self.start;
+        let duration = if self.duration > 0.0 {
+            self.duration
+        } else {
+            end / self.speed.max(1e-9)
+        };
+        b.analysis(AnalysisSpec {
+            dt: self.dt,
+            duration,
+            gravity: Some([0.0, 0.0, -self.gravity]),
+            integrator: self.integrator,
+            rho_inf: self.rho_inf,
+            alpha: (1.0 - self.rho_inf) / (1.0 + self.rho_inf),
+            record_every: self.record_every.max(1),
+            ..Default::default()
+        });
+        let model = b.build()?;
+        let wheel_index = ids
+            .wheels
+            .iter()
+            .map(|id| {
+                model
+                    .elements
+                    .iter()
+                    .position(|e| e.id == *id)
+                    .expect("wheel exists")
+            })
+            .collect();
+        let driver = Driver::new(model)?;
+        Ok(CurveModel {
+            driver,
+            ids,
+            track,
+            wheel_index,
+        })
+    }
+}
+
+fn output(d: &Driver, ei: usize, names: &[String], key: &str, buf: &mut Vec<f64>) -> f64 {
+    buf.clear();
+    d.model.elements[ei].element.outputs(buf);
+    names
+        .iter()
+        .position(|n| n == key)
+        .map_or(f64::NAN, |i| buf[i])
+}
+
+/// Runs a case; writes `curve.csv`, `curve.svg` and `case.json` into `out` when given.
+pub fn run(
+    case: &CurveCase,
+    out: Option<&FsPath>,
+    progress: &mut dyn FnMut(f64),
+) -> Result<CurveReport, FemError> {
+    let start = std::time::Instant::now();
+    let mut m = case.build()?;
+    let d = &mut m.driver;
+    d.initialize()?;
+    let names = d.model.elements[m.wheel_index[0]].element.output_names();
+    let carriage = Carriage::sks700_standin_with_gravity(case.gravity);
+    let n_w = m.wheel_index.len();
+    let mut buf = Vec::new();
+    // Contact spacing from the initial (straight, symmetric) state: force-weighted lateral
+    // positions of the contact points on the two rails.
+    let tm_offset = m.track.gauge / 2.0 + 0.036;
+    let mut spacing_sum = 0.0;
+    for (k, &ei) in m.wheel_index.iter().enumerate() {
+        let y = output(d, ei, &names, "p1_rail_y", &mut buf);
+        let _ = k;
+        spacing_sum += tm_offset + if y.is_finite() { y } else { 0.0 };
+    }
+    let spacing = 2.0 * spacing_sum / n_w as f64;
+    let tp_statics = TrackParams {
+        gauge: spacing,
+        gravity: case.gravity,
+    };
+    let tp_printed = TrackParams {
+        gauge: 1.435,
+        gravity: case.gravity,
+    };
+    let op = Operation {
+        speed: case.speed,
+        cant_constant: case.ct,
+        mu: case.mu,
+    };
+    let spec = d.model.analysis.clone();
+    let nsteps = (spec.duration / spec.dt).ceil() as usize;
+    let mut samples = Vec::new();
+    let (mut rel_q, mut rel_y, mut rel_p) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut first_slide, mut first_sep) = (None, None);
+    let l = case.lengths;
+    let arc = (l[0] + l[1], l[0] + l[1] + l[2]);
+    for k in 1..=nsteps {
+        d.step(spec.dt)?;
+        let t = d.state.t;
+        let mut wheels = Vec::with_capacity(n_w);
+        for (w, &ei) in m.wheel_index.iter().enumerate() {
+            let s = output(d, ei, &names, "station", &mut buf);
+            let q = output(d, ei, &names, "Q", &mut buf);
+            let y = output(d, ei, &names, "Y", &mut buf);
+            let nc = output(d, ei, &names, "n_contact", &mut buf);
+            let ns = output(d, ei, &names, "n_slide", &mut buf);
+            let p = m.track.at(s);
+            let radius = if p.curvature.abs() > 1e-12 {
+                1.0 / p.curvature.abs()
+            } else {
+                f64::INFINITY
+            };
+            let inner = (w % 2 == 0) == (p.curvature >= 0.0);
+            let st = theory::evaluate(
+                &carriage,
+                &tp_statics,
+                &op_at(&op, &p, case),
+                radius,
+                Variant::Statics,
+            );
+            let pr = theory::evaluate(
+                &carriage,
+                &tp_printed,
+                &op_at(&op, &p, case),
+                radius,
+                Variant::Printed,
+            );
+            let (qs, ys, qp) = match (st, pr) {
+                (Ok(a), Ok(b)) => (
+                    if inner {
+                        a.normal_inner
+                    } else {
+                        a.normal_outer
+                    },
+                    a.shear,
+                    if inner {
+                        b.normal_inner
+                    } else {
+                        b.normal_outer
+                    },
+                ),
+                _ => (f64::NAN, f64::NAN, f64::NAN),
+            };
+            if ns > 0.0 && first_slide.is_none() {
+                first_slide = Some(t);
+            }
+            if inner && q <= 0.0 && first_sep.is_none() {
+                first_sep = Some(t);
+            }
+            // Settled arc: every wheel at least 200 m into the arc.
+            if s > arc.0 + 200.0 && s < arc.1 {
+                rel_q = rel_q.max((q - qs).abs() / qs.abs());
+                rel_p = rel_p.max((q - qp).abs() / qp.abs());
+                rel_y = rel_y.max((y - ys).abs() / ys.abs().max(1e-9 * qs.abs()));
+            }
+            wheels.push(WheelSample {
+                station: s,
+                radius,
+                cant: p.cant,
+                q,
+                y,
+                n_contact: nc,
+                n_slide: ns,
+                q_statics: qs,
+                q_printed: qp,
+                y_theory: ys,
+                inner,
+            });
+        }
+        if k % spec.record_every == 0 || k == nsteps {
+            samples.push(Sample {
+                t,
+                station: case.start + case.speed * t,
+                wheels,
+            });
+        }
+        progress(k as f64 / nsteps as f64);
+    }
+    let report = CurveReport {
+        samples,
+        max_rel_normal_statics: rel_q,
+        max_rel_shear: rel_y,
+        max_rel_normal_printed: rel_p,
+        contact_spacing: spacing,
+        steps: d.summary.steps,
+        iterations: d.summary.iterations,
+        wall: start.elapsed().as_secs_f64(),
+        first_slide,
+        first_separation: first_sep,
+    };
+    if let Some(dir) = out {
+        write_outputs(case, &report, dir)?;
+    }
+    Ok(report)
+}
+
+fn op_at(op: &Operation, _p: &crate::framework::moving::PathPoint, _case: &CurveCase) -> Operation {
+    *op
+}
+
+/// Writes `curve.csv` (one row per recorded step), `curve.svg` and `case.json`.
+pub fn write_outputs(case: &CurveCase, r: &CurveReport, dir: &FsPath) -> Result<(), FemError> {
+    std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
+    let path = dir.join("curve.csv");
+    let f = std::fs::File::create(&path).map_err(|e| FemError::output(&path, e))?;
+    let mut w = std::io::BufWriter::new(f);
+    let n = r.samples.first().map_or(0, |s| s.wheels.len());
+    let mut header = vec!["time".to_string(), "station".to_string()];
+    for i in 0..n {
+        let side = if i % 2 == 0 { "L" } else { "R" };
+        let ax = i / 2 + 1;
+        for c in [
+            "station",
+            "radius",
+            "cant",
+            "Q_fe",
+            "Y_fe",
+            "n_contact",
+            "n_slide",
+            "Q_statics",
+            "Q_printed",
+            "Y_theory",
+        ] {
+            header.push(format!("w{ax}{side}_{c}"));
+        }
+    }
+    let io = |e: std::io::Error| FemError::output(&path, e);
+    writeln!(w, "{}", header.join(",")).map_err(io)?;
+    for s in &r.samples {
+        let mut row = format!("{:.4},{:.4}", s.t, s.station);
+        for x in &s.wheels {
+            row.push_str(&format!(
+                ",{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{:.6e},{:.6e},{:.6e}",
+                x.station,
+                x.radius,
+                x.cant,
+                x.q,
+                x.y,
+                x.n_contact,
+                x.n_slide,
+                x.q_statics,
+                x.q_printed,
+                x.y_theory
+            ));
+        }
+        writeln!(w, "{row}").map_err(io)?;
+    }
+    w.flush().map_err(io)?;
+    let json = serde_json::to_string_pretty(case).unwrap_or_default();
+    std::fs::write(dir.join("case.json"), json)
+        .map_err(|e| FemError::output(dir.join("case.json"), e))?;
+    plot(r, &dir.join("curve.svg"))?;
+    Ok(())
+}
+
+fn plot(r: &CurveReport, path: &FsPath) -> Result<(), FemError> {
+    use crate::framework::plot::{Figure, Panel, Series, Style};
+    let t: Vec<f64> = r.samples.iter().map(|s| s.t).collect();
+    let col = |f: &dyn Fn(&WheelSample) -> f64, w: usize| -> Vec<f64> {
+        r.samples.iter().map(|s| f(&s.wheels[w]) / 1e3).collect()
+    };
+    let normal = Panel::new("Normal contact force, wheelset 1", "time (s)", "force (kN)")
+        .with(Series::new(
+            "FE, inner (left) wheel",
+            t.clone(),
+            col(&|w| w.q, 0),
+            Style::Line,
+            "#1f77b4",
+        ))
+        .with(Series::new(
+            "FE, outer (right) wheel",
+            t.clone(),
+            col(&|w| w.q, 1),
+            Style::Line,
+            "#d62728",
+        ))
+        .with(Series::new(
+            "statics, inner",
+            t.clone(),
+            col(&|w| w.q_statics, 0),
+            Style::Dashed,
+            "#17becf",
+        ))
+        .with(Series::new(
+            "statics, outer",
+            t.clone(),
+            col(&|w| w.q_statics, 1),
+            Style::Dashed,
+            "#ff7f0e",
+        ))
+        .with(Series::new(
+            "Eq. 25 as printed, inner",
+            t.clone(),
+            col(&|w| w.q_printed, 0),
+            Style::Dashed,
+            "#7f7f7f",
+        ))
+        .with(Series::new(
+            "Eq. 25 as printed, outer",
+            t.clone(),
+            col(&|w| w.q_printed, 1),
+            Style::Dashed,
+            "#bcbd22",
+        ));
+    let shear = Panel::new(
+        "Shear (lateral) contact force, wheelset 1",
+        "time (s)",
+        "force (kN)",
+    )
+    .with(Series::new(
+        "FE, inner wheel",
+        t.clone(),
+        col(&|w| w.y, 0),
+        Style::Line,
+        "#1f77b4",
+    ))
+    .with(Series::new(
+        "FE, outer wheel",
+        t.clone(),
+        col(&|w| w.y, 1),
+        Style::Line,
+        "#d62728",
+    ))
+    .with(Series::new(
+        "theory (Eq. 26)",
+        t.clone(),
+        col(&|w| w.y_theory, 0),
+        Style::Dashed,
+        "#2ca02c",
+    ));
+    let fig = Figure::new().with(normal).with(shear);
+    fig.write_svg(path).map_err(|e| FemError::output(path, e))
+}
