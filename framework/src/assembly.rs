@@ -77,6 +77,14 @@ pub struct Assembler {
     /// `−M·r` per ground-motion load, constant part.
     ground_unit: Vec<Vec<f64>>,
     symmetric: bool,
+    /// Node kinematics at `kin_time` (fixed nodes never change; carried ones are updated).
+    kin: Vec<NodeKinematics>,
+    kin_time: f64,
+    /// Carried nodes: (carrier, record); `slot_of[node]` indexes it (u32::MAX: not carried).
+    carried: Vec<(usize, crate::moving::CarriedNode)>,
+    slot_of: Vec<u32>,
+    /// Reference motion of each carried node at `kin_time`.
+    motions: Vec<crate::moving::ReferenceMotion>,
     /// Work counters.
     pub stats: AssemblyStats,
 }
@@ -125,8 +133,21 @@ impl Assembler {
             gravity_fixed: vec![0.0; n],
             ground_unit: Vec::new(),
             symmetric: true,
+            kin: kin.clone(),
+            kin_time: 0.0,
+            carried: Vec::new(),
+            slot_of: vec![u32::MAX; model.nodes.len()],
+            motions: Vec::new(),
             stats: AssemblyStats::default(),
         };
+        for (ci, c) in model.carriers.iter().enumerate() {
+            for cn in &c.nodes {
+                a.slot_of[cn.node] = a.carried.len() as u32;
+                a.carried.push((ci, *cn));
+            }
+        }
+        a.kin_time = f64::NAN;
+        a.set_time(model, 0.0);
         a.build(model, &kin)?;
         Ok(a)
     }
@@ -366,15 +387,53 @@ impl Assembler {
         Ok(())
     }
 
+    /// Moves the carried nodes' reference positions and frames to time `t` (only the
+    /// carried nodes: a track's rail nodes never move).
+    fn set_time(&mut self, model: &Model, t: f64) {
+        if self.kin_time == t {
+            return;
+        }
+        self.motions.clear();
+        for &(ci, cn) in &self.carried {
+            let r = model.carriers[ci].reference(&cn, t);
+            self.kin[cn.node] = NodeKinematics {
+                position: r.position,
+                frame: r.point.frame,
+                carried: true,
+                station: Some(r.point.station),
+            };
+            self.motions.push(r);
+        }
+        self.kin_time = t;
+    }
+
+    /// Node kinematics at the last time set (positions and frames).
+    pub fn kinematics(&self) -> &[NodeKinematics] {
+        &self.kin
+    }
+
     /// Starts a step at time `t`: moves carried frames, lets elements advance (re-pick
     /// nodes), rebuilds the pattern if any connectivity changed, re-forms variable masses.
     /// Returns whether the pattern was rebuilt.
     pub fn advance(&mut self, model: &mut Model, t: f64, dt: f64) -> Result<bool, FemError> {
-        let kin = model.kinematics(t);
+        self.set_time(model, t);
+        let kin = std::mem::take(&mut self.kin);
+        let r = self.advance_with(model, &kin, t, dt);
+        self.kin = kin;
+        r
+    }
+
+    fn advance_with(
+        &mut self,
+        model: &mut Model,
+        kin: &[NodeKinematics],
+        t: f64,
+        dt: f64,
+    ) -> Result<bool, FemError> {
         let ctx = StepContext {
             time: t,
             dt,
-            nodes: &kin,
+            nodes: kin,
         };
         let mut changed = false;
         for &ei in &self.variable {
@@ -410,7 +469,7 @@ impl Assembler {
                     }
                 }
             }
-            self.build(model, &kin)?;
+            self.build(model, kin)?;
         }
         // Variable masses and damping of this step.
         self.m_var.values.iter_mut().for_each(|v| *v = 0.0);
@@ -539,14 +598,14 @@ impl Assembler {
     /// pseudo-loads of carried masses, ground motion and moving forces. `load_factor`
     /// scales everything (static load stepping).
     pub fn external_force(
-        &self,
+        &mut self,
         model: &Model,
         t: f64,
         load_factor: f64,
         out: &mut [f64],
     ) -> Result<(), FemError> {
+        self.set_time(model, t);
         out.iter_mut().for_each(|x| *x = 0.0);
-        let kin = model.kinematics(t);
         for (o, g) in out.iter_mut().zip(&self.gravity_fixed) {
             *o += g;
         }
@@ -556,24 +615,21 @@ impl Assembler {
             .map(Vector3::from)
             .unwrap_or_else(Vector3::zeros);
         // Carried masses: f = M·(g − a_ref) in nodal axes.
-        if !self.carried_mass.is_empty() {
-            let carried = model.carried_by();
-            for (ei, m) in &self.carried_mass {
-                let map = &self.maps[*ei];
-                let mut w = Vec::with_capacity(map.dofs.len());
-                for &(node, d) in &map.dofs {
-                    let (lin, ang) = match carried[node] {
-                        Some((ci, cn)) => {
-                            let r = model.carriers[ci].reference(&cn, t);
-                            (grav - r.acceleration, -r.angular_acceleration)
-                        }
-                        None => (grav, Vector3::zeros()),
-                    };
-                    w.push(kinematic_vector(&kin[node], d, &lin, &ang));
-                }
-                let f = m * nalgebra::DVector::from_vec(w);
-                scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);
+        for (ei, m) in &self.carried_mass {
+            let map = &self.maps[*ei];
+            let mut w = Vec::with_capacity(map.dofs.len());
+            for &(node, d) in &map.dofs {
+                let slot = self.slot_of[node];
+                let (lin, ang) = if slot == u32::MAX {
+                    (grav, Vector3::zeros())
+                } else {
+                    let r = &self.motions[slot as usize];
+                    (grav - r.acceleration, -r.angular_acceleration)
+                };
+                w.push(kinematic_vector(&self.kin[node], d, &lin, &ang));
             }
+            let f = m * nalgebra::DVector::from_vec(w);
+            scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);
         }
         let mut gi = 0;
         for l in &model.loads {

@@ -534,6 +534,11 @@ impl ModelBuilder {
         self
     }
 
+    /// A shared resource registered under `name`, if any.
+    pub fn resource_get(&self, name: &str) -> Option<Arc<dyn Any + Send + Sync>> {
+        self.resources.get(name).cloned()
+    }
+
     /// Records a plugin path the model uses (it must already be loaded).
     pub fn plugin(&mut self, path: &str) -> &mut Self {
         self.plugins.push(path.to_string());
