@@ -1,1 +1,4 @@
 //! railfem solvers.
+
+pub mod linear;
+pub mod modal;
