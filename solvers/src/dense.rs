@@ -21,7 +21,7 @@ impl LinearSolver for DenseLu {
         let n = a.n;
         if self.lu.nrows() != n {
             self.lu = DMatrix::zeros(n, n);
-            self.stats.symbolic += 1;
+            self.stats.symbolic_analyses += 1;
         } else {
             self.lu.fill(0.0);
         }
@@ -71,7 +71,7 @@ impl LinearSolver for DenseLu {
                 }
             }
         }
-        self.stats.numeric += 1;
+        self.stats.numeric_factorizations += 1;
         Ok(())
     }
 

@@ -682,7 +682,7 @@ impl Driver {
             r.finish()?;
         }
         let st = self.solver.stats();
-        self.summary.symbolic = st.symbolic;
+        self.summary.symbolic = st.symbolic_analyses;
         self.summary.wall = start.elapsed().as_secs_f64();
         Ok(self.summary)
     }

@@ -1,6 +1,6 @@
 //! railfem-solvers: linear solvers, time integrators and the analysis driver.
 //!
-//! What lives here: sparse and dense linear solvers ([`linear`], [`dense`]), the
+//! What lives here: sparse and dense linear solvers ([`linear`], [`dense`]), modal analysis ([`modal`]), the
 //! generalized-α family of integrators ([`integrator`]) and the driver that runs static and
 //! transient analyses with Newton–Raphson and step cutting ([`driver`]). What does not:
 //! elements (railfem-elements) and the model itself (railfem-framework).
@@ -9,5 +9,6 @@ pub mod dense;
 pub mod driver;
 pub mod integrator;
 pub mod linear;
+pub mod modal;
 
 pub use driver::{Driver, RunSummary, State, StepReport};
