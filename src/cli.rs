@@ -18,6 +18,8 @@ USAGE:
   railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
                 [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick]
                                                      the paper's curved-track validation (Fig. 6)
+  railfem critical-radius --criterion sliding|separation --speed V --ct CT --mu MU
+                [--clothoid L] [--dt DT]             critical radius, FE vs theory (Figs. 7, 9)
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -163,6 +165,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
             Ok(0)
         }
         "curve" => curve(a),
+        "critical-radius" => critical(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
@@ -233,5 +236,33 @@ fn curve(a: &Args) -> Result<i32, FemError> {
         r.contact_spacing,
         out.display()
     );
+    Ok(0)
+}
+
+/// `railfem critical-radius`: one point of the paper's Figure 7 or 9.
+fn critical(a: &Args) -> Result<i32, FemError> {
+    use crate::critical::{run, CriticalCase, Criterion};
+    let criterion = match a.opt("criterion").unwrap_or("sliding") {
+        "sliding" => Criterion::Sliding,
+        "separation" => Criterion::Separation,
+        o => return Err(FemError::input("command line", format!("--criterion {o}: use sliding or separation"))),
+    };
+    let case = CriticalCase {
+        criterion,
+        speed: a.num("speed")?.unwrap_or(120.0),
+        ct: a.num("ct")?.unwrap_or(200.0),
+        mu: a.num("mu")?.unwrap_or(0.3),
+        clothoid: a.num("clothoid")?.unwrap_or(2000.0),
+        dt: a.num("dt")?.unwrap_or(0.01),
+    };
+    let r = run(&case)?;
+    let f = |x: Option<f64>| x.map_or("not reached".to_string(), |v| format!("{v:.1} m"));
+    println!(
+        "{:?}: V = {} m/s, Ct = {} m, mu = {}: FE {} (gross sliding {}), theory (statics) {}, Eq. 25 as printed {}",
+        case.criterion, case.speed, case.ct, case.mu, f(r.fe), f(r.fe_gross), f(r.theory), f(r.theory_printed)
+    );
+    if let (Some(fe), Some(th)) = (r.fe, r.theory) {
+        println!("relative difference FE vs theory: {:.3e}", (fe - th).abs() / th);
+    }
     Ok(0)
 }

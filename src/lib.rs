@@ -11,6 +11,7 @@ pub use railfem_framework as framework;
 pub use railfem_solvers as solvers;
 
 pub mod cli;
+pub mod critical;
 pub mod curve;
 
 /// Loads a model file, building every element through the registry.
