@@ -4,4 +4,5 @@
 pub mod alignment;
 pub mod cant;
 pub mod profiles;
+pub mod railline;
 pub mod theory;
