@@ -48,6 +48,20 @@ impl Series {
     }
 }
 
+/// Where a panel's legend box goes (inside the plot frame).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Corner {
+    /// Top right (the default).
+    #[default]
+    TopRight,
+    /// Top left.
+    TopLeft,
+    /// Bottom right.
+    BottomRight,
+    /// Bottom left.
+    BottomLeft,
+}
+
 /// One plot area with its axes.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Panel {
@@ -59,6 +73,8 @@ pub struct Panel {
     pub y_label: String,
     /// The series drawn, in order (later ones on top).
     pub series: Vec<Series>,
+    /// Corner of the legend box.
+    pub legend: Corner,
 }
 
 impl Panel {
@@ -69,6 +85,7 @@ impl Panel {
             x_label: x_label.to_string(),
             y_label: y_label.to_string(),
             series: Vec::new(),
+            legend: Corner::TopRight,
         }
     }
 
@@ -247,7 +264,7 @@ impl Figure {
                 }
             }
         }
-        // Legend, top right inside the frame.
+        // Legend, in the chosen corner inside the frame.
         let labelled: Vec<&Series> = p.series.iter().filter(|r| !r.label.is_empty()).collect();
         if !labelled.is_empty() {
             let longest = labelled
@@ -257,7 +274,14 @@ impl Figure {
                 .unwrap_or(0);
             let w = 40.0 + 7.0 * longest as f64;
             let h = 8.0 + 16.0 * labelled.len() as f64;
-            let (lx, ly) = (x1 - w - 8.0, y0 + 8.0);
+            let lx = match p.legend {
+                Corner::TopRight | Corner::BottomRight => x1 - w - 8.0,
+                Corner::TopLeft | Corner::BottomLeft => x0 + 8.0,
+            };
+            let ly = match p.legend {
+                Corner::TopRight | Corner::TopLeft => y0 + 8.0,
+                Corner::BottomRight | Corner::BottomLeft => y1 - h - 8.0,
+            };
             let _ = writeln!(
                 s,
                 r#"<rect x="{lx:.1}" y="{ly:.1}" width="{w:.1}" height="{h:.1}" fill="white" fill-opacity="0.85" stroke="gray"/>"#

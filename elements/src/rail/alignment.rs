@@ -189,6 +189,9 @@ pub enum AlignmentError {
     /// Bad cant data.
     #[error("track: cant: {0}")]
     Cant(String),
+    /// Bad mesh data (node stations of a rail lookup).
+    #[error("track: {0}")]
+    Mesh(String),
     /// Bad element length for meshing.
     #[error("track: element length {0} must be a finite number > 0 m")]
     ElementLength(f64),

@@ -402,4 +402,35 @@ mod tests {
         let spec: TrackSpec = railfem_framework::serde_json::from_str(both).unwrap();
         assert!(spec.build().unwrap_err().to_string().contains("not both"));
     }
+
+    #[test]
+    fn carrier_on_track_accelerates_towards_the_centre() {
+        use railfem_framework::moving::{CarriedNode, Carrier};
+        for hand in [Hand::Left, Hand::Right] {
+            let track = Track::new(
+                Alignment::paper_hand(6250.0, hand),
+                Cant::FromRadius { ct: 200.0 },
+            )
+            .unwrap();
+            let c = Carrier {
+                name: "car".into(),
+                path: std::sync::Arc::new(track.clone()),
+                start: 7000.0,
+                speed: 80.0,
+                accel: 0.0,
+                nodes: vec![],
+            };
+            let node = CarriedNode {
+                node: 0,
+                station_offset: 0.0,
+                lateral: 0.0,
+                vertical: 0.0,
+            };
+            let m = c.reference(&node, 0.0);
+            // Centripetal v²/R towards the centre: the centre is at position + R·(Z × t)·sign(κ).
+            let p = track.at(7000.0);
+            let to_centre = Vector3::z().cross(&p.tangent) * hand.sign();
+            assert!((m.acceleration - to_centre * 80.0 * 80.0 / 6250.0).norm() < 1e-12);
+        }
+    }
 }
