@@ -125,6 +125,8 @@ pub struct Driver {
     /// Totals.
     pub summary: RunSummary,
     initialized: bool,
+    /// Print each Newton iteration's residual to stderr (`RAILFEM_TRACE=1`).
+    pub trace: bool,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -169,6 +171,7 @@ impl Driver {
             k_eff,
             factored: None,
             initialized: false,
+            trace: std::env::var_os("RAILFEM_TRACE").is_some(),
         })
     }
 
@@ -397,6 +400,13 @@ impl Driver {
         let mut work = vec![0.0; n];
         let mut iters = 0;
         let mut disp_ok = false;
+        // Backtracking: when a full Newton step raises the residual (an active set that
+        // cycles — contact points entering and leaving, stick and slide flipping), go back
+        // along the step by halves before solving again.
+        let mut q_prev = s0.q.clone();
+        let mut dq_prev: Vec<f64> = Vec::new();
+        let mut rn_prev = f64::INFINITY;
+        let mut halvings = 0;
         let f_ref_ext: Vec<f64> = (0..n)
             .map(|i| (1.0 - af) * f_ext[i] + af * s0.f_ext[i])
             .collect();
@@ -444,6 +454,13 @@ impl Driver {
             let rn = norm(&r);
             let reference = norm(&f_ref_ext).max(norm(&f_int)).max(norm(&inertia));
             let force_ok = rn <= settings.tol * reference + settings.abs_tol;
+            if self.trace {
+                let (v, dof) = self.largest(&r);
+                eprintln!(
+                    "t = {t1:.6} s, dt = {dt:.3e} s, iteration {it}: |R| = {rn:.3e} N (tolerance {:.3e}), largest {v:.3e} at {dof}",
+                    settings.tol * reference + settings.abs_tol
+                );
+            }
             if it > 0 && (linear || (force_ok && disp_ok)) {
                 return Ok((
                     State {
@@ -457,6 +474,20 @@ impl Driver {
                     iters,
                     rn,
                 ));
+            }
+            if !linear
+                && it >= 2
+                && it < settings.max_iter
+                && rn > rn_prev
+                && halvings < 3
+                && !dq_prev.is_empty()
+            {
+                halvings += 1;
+                for i in 0..n {
+                    dq_prev[i] *= 0.5;
+                    q[i] = q_prev[i] + dq_prev[i];
+                }
+                continue;
             }
             if it == settings.max_iter {
                 let (val, dof) = self.largest(&r);
@@ -490,9 +521,13 @@ impl Driver {
             self.solve(&mut dq)?;
             iters += 1;
             let dn = norm(&dq);
+            q_prev.copy_from_slice(&q);
             for i in 0..n {
                 q[i] += dq[i];
             }
+            dq_prev = dq;
+            rn_prev = rn;
+            halvings = 0;
             disp_ok = dn <= settings.tol * norm(&q) + settings.disp_tol;
         }
         unreachable!("the loop returns")
