@@ -15,6 +15,10 @@ USAGE:
   railfem run MODEL [--out DIR] [--plugin PATH]...   run a model file (TOML or JSON)
   railfem check MODEL [--plugin PATH]...             validate a model file without running
   railfem elements [--plugin PATH]...                list registered element kinds and keys
+  railfem conformance [--plugin PATH]... [--element NAME]
+                                                     run the conformance kit on every kind
+                                                     (or those whose name contains NAME);
+                                                     exit 1 if a check fails
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -159,9 +163,26 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
             }
             Ok(0)
         }
+        "conformance" => conformance(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
         )),
     }
+}
+
+/// `railfem conformance`: prints the kit's table; exit code 1 if any check failed.
+fn conformance(a: &Args) -> Result<i32, FemError> {
+    let report = crate::framework::conformance::check_all(a.opt("element"));
+    if report.results.is_empty() {
+        return Err(FemError::input(
+            "command line",
+            format!(
+                "no registered element type matches `{}`; run `railfem elements`",
+                a.opt("element").unwrap_or("")
+            ),
+        ));
+    }
+    print!("{}", report.table());
+    Ok(if report.passed() { 0 } else { 1 })
 }

@@ -264,7 +264,7 @@ pub fn load(path: &Path) -> Result<(), FemError> {
     let lib = unsafe { Library::new(&canon) }.map_err(|e| {
         FemError::Plugin(format!(
             "{shown}: not a loadable shared library ({}); give the path of a railfem plugin built as a cdylib",
-            one_line(&e.to_string())
+            one_line(&error_chain(&e))
         ))
     })?;
     let result = register_from(&lib, path);
@@ -283,6 +283,19 @@ pub fn load(path: &Path) -> Result<(), FemError> {
             Err(e)
         }
     }
+}
+
+/// An error and its sources, joined with ": " (libloading's `Display` alone says only
+/// "dlopen failed"; the loader's reason is the source).
+fn error_chain(e: &dyn std::error::Error) -> String {
+    let mut s = e.to_string();
+    let mut cur = e.source();
+    while let Some(c) = cur {
+        s.push_str(": ");
+        s.push_str(&c.to_string());
+        cur = c.source();
+    }
+    s
 }
 
 fn one_line(s: &str) -> String {
@@ -642,6 +655,66 @@ mod tests {
         s.magic = *b"NOTRAIL!";
         let m = check_stamp(Path::new("q.so"), &s).unwrap_err().to_string();
         assert!(m.contains("q.so") && m.contains("not a railfem"), "{m}");
+    }
+
+    /// An element that panics in `update` once `armed`.
+    struct Bomb {
+        nodes: [NodeDofs; 1],
+    }
+
+    impl Element for Bomb {
+        fn kind(&self) -> &str {
+            "bomb"
+        }
+        fn connectivity(&self) -> &[NodeDofs] {
+            &self.nodes
+        }
+        fn properties(&self) -> ElementProperties {
+            ElementProperties::default()
+        }
+        fn update(&mut self, t: &TrialState) -> Result<(), ElementError> {
+            if t.disp[0] > 1.0 {
+                panic!("displacement too large");
+            }
+            Ok(())
+        }
+        fn resisting_force(&self, f: &mut [f64]) {
+            f[0] = 1.0;
+        }
+        fn tangent_stiffness(&self, k: &mut DMatrix<f64>) {
+            k[(0, 0)] = 1.0;
+        }
+    }
+
+    #[test]
+    fn guard_turns_a_panic_into_an_error_and_poisons() {
+        let mut g = guard::Guarded::new(Box::new(Bomb {
+            nodes: [NodeDofs::all(0)],
+        }));
+        let t = |d: f64| [d, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let z = [0.0; 6];
+        let ok = t(0.5);
+        fn st<'a>(u: &'a [f64; 6], z: &'a [f64; 6]) -> TrialState<'a> {
+            TrialState {
+                time: 0.0,
+                dt: 0.0,
+                disp: u,
+                vel: z,
+                acc: z,
+            }
+        }
+        assert!(g.update(&st(&ok, &z)).is_ok());
+        let mut f = [0.0; 6];
+        g.resisting_force(&mut f);
+        assert_eq!(f[0], 1.0);
+        let bad = t(2.0);
+        let e = g.update(&st(&bad, &z)).unwrap_err().to_string();
+        assert!(e.contains("panic in plugin element `bomb` (update)"), "{e}");
+        assert!(e.contains("displacement too large"), "{e}");
+        // Poisoned from now on: errors and NaN, never a second panic.
+        assert!(g.update(&st(&ok, &z)).is_err());
+        g.resisting_force(&mut f);
+        assert!(f.iter().all(|x| x.is_nan()));
     }
 
     #[test]

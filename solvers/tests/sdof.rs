@@ -102,7 +102,10 @@ fn newmark_period_and_energy() {
         let e = 0.5 * m * d.state.v[0].powi(2) + 0.5 * k * u * u;
         worst_e = worst_e.max((e - e0).abs() / e0);
     }
-    assert!(worst_u < 1e-6, "displacement vs discrete closed form: {worst_u:e}");
+    assert!(
+        worst_u < 1e-6,
+        "displacement vs discrete closed form: {worst_u:e}"
+    );
     assert!(worst_e < 1e-10, "energy drift: {worst_e:e}");
     // One factorization for the whole linear run.
     assert_eq!(d.summary.factorizations, 1);

@@ -94,10 +94,16 @@ impl HystereticSpring {
             ));
         };
         if !(params.k > 0.0 && params.k.is_finite()) {
-            return bad(format!("`k` = {} must be a positive stiffness (N/m)", params.k));
+            return bad(format!(
+                "`k` = {} must be a positive stiffness (N/m)",
+                params.k
+            ));
         }
         if !(params.fy > 0.0 && params.fy.is_finite()) {
-            return bad(format!("`fy` = {} must be a positive yield force (N)", params.fy));
+            return bad(format!(
+                "`fy` = {} must be a positive yield force (N)",
+                params.fy
+            ));
         }
         if !(0.0..1.0).contains(&params.alpha) {
             return bad(format!(
@@ -259,12 +265,19 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
     let p: HystereticParams = spec.parse()?;
     let mut idx = Vec::new();
     for id in &spec.nodes {
-        idx.push(ctx.node_index(*id).ok_or_else(|| {
-            FemError::input(&spec.origin, format!("node {id} does not exist"))
-        })?);
+        idx.push(
+            ctx.node_index(*id).ok_or_else(|| {
+                FemError::input(&spec.origin, format!("node {id} does not exist"))
+            })?,
+        );
     }
     let pos: Vec<Vector3<f64>> = idx.iter().map(|&i| ctx.node_position(i)).collect();
-    Ok(Box::new(HystereticSpring::new(p, &idx, &pos, &spec.origin)?))
+    Ok(Box::new(HystereticSpring::new(
+        p,
+        &idx,
+        &pos,
+        &spec.origin,
+    )?))
 }
 
 /// Sample parameters: k = 1 MN/m, fy = 1 kN (yield deformation 1 mm), α = 0.1.
@@ -321,7 +334,8 @@ fn samples() -> Vec<Sample> {
 /// The element kind this plugin exports.
 pub const HYSTERETIC_SPRING: ElementKind = ElementKind {
     name: "hysteretic_spring",
-    description: "uniaxial bilinear spring with kinematic hardening on one DOF (2 nodes or grounded)",
+    description:
+        "uniaxial bilinear spring with kinematic hardening on one DOF (2 nodes or grounded)",
     params: <HystereticParams as Params>::docs,
     build,
     samples,
@@ -340,9 +354,8 @@ mod tests {
         let bad: Vec<_> = r.iter().filter(|x| !x.passed()).collect();
         assert!(bad.is_empty(), "{bad:#?}");
         // The two-node samples are objective; the grounded one is not.
-        assert!(r
-            .iter()
-            .any(|x| x.check == "rigid_body" && x.outcome == railfem_framework::conformance::Outcome::Pass));
+        assert!(r.iter().any(|x| x.check == "rigid_body"
+            && x.outcome == railfem_framework::conformance::Outcome::Pass));
     }
 
     #[test]
@@ -380,7 +393,10 @@ mod tests {
         let f3 = at(3.0 * uy, &mut s);
         assert!((f3 - (a * k * 3.0 * uy + (1.0 - a) * fy)).abs() < 1e-9 * fy);
         let f1 = at(1.5 * uy, &mut s);
-        assert!((f1 - (f3 - 1.5 * uy * k)).abs() < 1e-9 * fy, "elastic unloading");
+        assert!(
+            (f1 - (f3 - 1.5 * uy * k)).abs() < 1e-9 * fy,
+            "elastic unloading"
+        );
         let fm = at(-3.0 * uy, &mut s);
         assert!((fm - (-a * k * 3.0 * uy - (1.0 - a) * fy)).abs() < 1e-9 * fy);
         // Dissipation: fy·Σ|Δδ_p|; δ_p = δ − F/k on the bounding lines.
