@@ -177,10 +177,14 @@ fn conformance(a: &Args) -> Result<i32, FemError> {
     if report.results.is_empty() {
         return Err(FemError::input(
             "command line",
-            format!(
-                "no registered element type matches `{}`; run `railfem elements`",
-                a.opt("element").unwrap_or("")
-            ),
+            match a.opt("element") {
+                Some(f) => {
+                    format!("no registered element type matches `{f}`; run `railfem elements`")
+                }
+                None => {
+                    "no element types are registered; load a plugin with --plugin PATH".to_string()
+                }
+            },
         ));
     }
     print!("{}", report.table());
