@@ -20,6 +20,10 @@ USAGE:
                                                      the paper's curved-track validation (Fig. 6)
   railfem critical-radius --criterion sliding|separation --speed V --ct CT --mu MU
                 [--clothoid L] [--dt DT]             critical radius, FE vs theory (Figs. 7, 9)
+  railfem conformance [--plugin PATH]... [--element NAME]
+                                                     run the conformance kit on every kind
+                                                     (or those whose name contains NAME);
+                                                     exit 1 if a check fails
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -166,6 +170,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         }
         "curve" => curve(a),
         "critical-radius" => critical(a),
+        "conformance" => conformance(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
@@ -241,11 +246,16 @@ fn curve(a: &Args) -> Result<i32, FemError> {
 
 /// `railfem critical-radius`: one point of the paper's Figure 7 or 9.
 fn critical(a: &Args) -> Result<i32, FemError> {
-    use crate::critical::{run, CriticalCase, Criterion};
+    use crate::critical::{run, Criterion, CriticalCase};
     let criterion = match a.opt("criterion").unwrap_or("sliding") {
         "sliding" => Criterion::Sliding,
         "separation" => Criterion::Separation,
-        o => return Err(FemError::input("command line", format!("--criterion {o}: use sliding or separation"))),
+        o => {
+            return Err(FemError::input(
+                "command line",
+                format!("--criterion {o}: use sliding or separation"),
+            ))
+        }
     };
     let case = CriticalCase {
         criterion,
@@ -262,7 +272,30 @@ fn critical(a: &Args) -> Result<i32, FemError> {
         case.criterion, case.speed, case.ct, case.mu, f(r.fe), f(r.fe_gross), f(r.theory), f(r.theory_printed)
     );
     if let (Some(fe), Some(th)) = (r.fe, r.theory) {
-        println!("relative difference FE vs theory: {:.3e}", (fe - th).abs() / th);
+        println!(
+            "relative difference FE vs theory: {:.3e}",
+            (fe - th).abs() / th
+        );
     }
     Ok(0)
+}
+
+/// `railfem conformance`: prints the kit's table; exit code 1 if any check failed.
+fn conformance(a: &Args) -> Result<i32, FemError> {
+    let report = crate::framework::conformance::check_all(a.opt("element"));
+    if report.results.is_empty() {
+        return Err(FemError::input(
+            "command line",
+            match a.opt("element") {
+                Some(f) => {
+                    format!("no registered element type matches `{f}`; run `railfem elements`")
+                }
+                None => {
+                    "no element types are registered; load a plugin with --plugin PATH".to_string()
+                }
+            },
+        ));
+    }
+    print!("{}", report.table());
+    Ok(if report.passed() { 0 } else { 1 })
 }

@@ -20,7 +20,8 @@
 
 use crate::curve::CurveCase;
 use crate::elements::rail::theory::{
-    self, Carriage, CriticalRadius, Operation, RadiusBracket, SlidingDirection, TrackParams, Variant, WheelSide,
+    self, Carriage, CriticalRadius, Operation, RadiusBracket, SlidingDirection, TrackParams,
+    Variant, WheelSide,
 };
 use crate::framework::moving::Path;
 use crate::framework::FemError;
@@ -89,16 +90,42 @@ pub fn theory_radius(case: &CriticalCase, spacing: f64, g: f64) -> (Option<f64>,
         r_max: 1e6,
         samples: 4000,
     };
-    let st = TrackParams { gauge: spacing, gravity: g };
-    let pr = TrackParams { gauge: 1.435, gravity: g };
+    let st = TrackParams {
+        gauge: spacing,
+        gravity: g,
+    };
+    let pr = TrackParams {
+        gauge: 1.435,
+        gravity: g,
+    };
     match case.criterion {
         Criterion::Sliding => (
-            found(theory::critical_radius_sliding(&carriage, &st, &op, SlidingDirection::Outwards, &bracket)),
+            found(theory::critical_radius_sliding(
+                &carriage,
+                &st,
+                &op,
+                SlidingDirection::Outwards,
+                &bracket,
+            )),
             None,
         ),
         Criterion::Separation => (
-            found(theory::critical_radius_separation(&carriage, &st, &op, Variant::Statics, WheelSide::Inner, &bracket)),
-            found(theory::critical_radius_separation(&carriage, &pr, &op, Variant::Printed, WheelSide::Inner, &bracket)),
+            found(theory::critical_radius_separation(
+                &carriage,
+                &st,
+                &op,
+                Variant::Statics,
+                WheelSide::Inner,
+                &bracket,
+            )),
+            found(theory::critical_radius_separation(
+                &carriage,
+                &pr,
+                &op,
+                Variant::Printed,
+                WheelSide::Inner,
+                &bracket,
+            )),
         ),
     }
 }
@@ -136,7 +163,13 @@ pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
     d.initialize()?;
     let names = d.model.elements[m.wheel_index[0]].element.output_names();
     let idx = |k: &str| names.iter().position(|n| n == k).unwrap_or(0);
-    let (iq, iy, ist, inc, ins) = (idx("Q"), idx("Y"), idx("station"), idx("n_contact"), idx("n_slide"));
+    let (iq, iy, ist, inc, ins) = (
+        idx("Q"),
+        idx("Y"),
+        idx("station"),
+        idx("n_contact"),
+        idx("n_slide"),
+    );
     let spec = d.model.analysis.clone();
     let nsteps = (spec.duration / spec.dt).ceil() as usize;
     let radius_at = |s: f64| {

@@ -580,6 +580,7 @@ fn samples() -> Vec<Sample> {
                 vel: support::pseudo_random_state(200 + i as u64, 2, 1e-2, 1e-2),
                 fd_step: 1e-6,
                 committed_disp: None,
+                rebuild: None,
             })
         })
         .collect()

@@ -327,6 +327,7 @@ fn samples() -> Vec<Sample> {
                 vel: support::pseudo_random_state(400 + i as u64, pos.len(), 1e-2, 1e-2),
                 fd_step: 1e-6,
                 committed_disp: None,
+                rebuild: None,
             })
         })
         .collect()

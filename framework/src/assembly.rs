@@ -503,6 +503,7 @@ impl Assembler {
 
     /// Updates every variable element to the trial state `(q, v, a)` at time `t`, and
     /// forms `f_int` (resisting force of all elements) and `k_var`.
+    #[allow(clippy::too_many_arguments)]
     pub fn update(
         &mut self,
         model: &mut Model,

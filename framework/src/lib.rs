@@ -1,7 +1,8 @@
 //! railfem-framework: the generic core of the railfem finite element code.
 //!
 //! What lives here: DOFs and the model ([`dof`], [`model`]), the element contract
-//! ([`element`]), the registry and plugins ([`registry`], [`plugin`]), equation numbering
+//! ([`element`]), the registry, plugins and conformance kit ([`registry`], [`plugin`],
+//! [`conformance`]), equation numbering
 //! with constraints ([`dofmap`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
 //! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]) and
 //! recorders ([`recorder`]). What does not: concrete elements (railfem-elements) and
@@ -10,6 +11,7 @@
 //! Units are SI throughout: m, kg, s, N, rad.
 
 pub mod assembly;
+pub mod conformance;
 pub mod dof;
 pub mod dofmap;
 pub mod element;

@@ -51,6 +51,7 @@ fn one() -> f64 {
     1.0
 }
 
+#[allow(clippy::derivable_impls)]
 impl Default for TimeSeries {
     fn default() -> Self {
         TimeSeries::Constant

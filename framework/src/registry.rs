@@ -221,7 +221,14 @@ pub struct Sample {
     /// Actions to take before the check: commit the state at `disp` first, so that the
     /// sample sits on a committed history (a stick anchor, a plastic strain).
     pub committed_disp: Option<Vec<f64>>,
+    /// Rebuilds the sample's element from parameters (the serde check), for kinds whose
+    /// factory needs model context the kit cannot supply (internal nodes, a track). `None`:
+    /// the kit calls the kind's factory.
+    pub rebuild: Option<Rebuild>,
 }
+
+/// Rebuilds a sample element from its `parameters()`.
+pub type Rebuild = fn(&serde_json::Value) -> Result<Box<dyn Element>, FemError>;
 
 /// Generates the conformance samples of a kind.
 pub type SampleGenerator = fn() -> Vec<Sample>;

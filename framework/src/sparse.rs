@@ -99,6 +99,7 @@ impl CscMatrix {
     }
 
     /// `y += alpha·A·x`.
+    #[allow(clippy::needless_range_loop)]
     pub fn mul_vec_add(&self, alpha: f64, x: &[f64], y: &mut [f64]) {
         for j in 0..self.n {
             let xj = alpha * x[j];

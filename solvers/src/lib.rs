@@ -5,6 +5,9 @@
 //! transient analyses with Newton–Raphson and step cutting ([`driver`]). What does not:
 //! elements (railfem-elements) and the model itself (railfem-framework).
 
+// Index loops mirror the formulas of the dense kernels and the driver (rustc 1.95 clippy).
+#![allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
+
 pub mod dense;
 pub mod driver;
 pub mod integrator;

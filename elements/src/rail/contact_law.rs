@@ -200,7 +200,10 @@ impl PenaltyLaw {
             ),
             Mode::Stick => (*anchor, 0.0),
             Mode::Slide => {
-                let slip = st.s_u - st.f_u / self.k;
+                // Slip measured from the anchor passed in, so that committing twice moves
+                // the anchor once: k·u·(Δ − Δ_a') = f_u afterwards.
+                let s_u = anchor.u.dot(&(delta - anchor.delta));
+                let slip = s_u - st.f_u / self.k;
                 (
                     Anchor {
                         delta: anchor.delta + anchor.u * slip,

@@ -42,7 +42,7 @@
 //! C on the rail's beam line. At build time the wheel profile is shifted along axis 2 so
 //! that its smallest gap to the rail is −1 nm: the wheel starts just touching.
 
-use super::contact_geometry::{candidate_window, rail_node_gap, rail_node_gap_near};
+use super::contact_geometry::{candidate_window, rail_node_gap};
 use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent};
 use super::hertz_spring::HertzSpring;
 use super::profiles::{Inclination, RailProfile, WheelProfile};
@@ -158,8 +158,6 @@ pub struct MovingAxle {
     contact_force: Vector3<f64>,
     deltas: Vec<Vector3<f64>>,
     frames: Vec<(Vector3<f64>, Vector3<f64>)>,
-    /// Spline interval of each rail node's last closest point (search warm start).
-    hints: Vec<Option<usize>>,
     /// Position and gap of each rail node at its last closest-point search: the signed
     /// distance is 1-Lipschitz, so a node whose gap exceeds how far it has moved since is
     /// still open and needs no search.
@@ -361,7 +359,6 @@ impl MovingAxle {
             contact_force: Vector3::zeros(),
             deltas: vec![Vector3::zeros(); n],
             frames: vec![(Vector3::x(), Vector3::z()); n],
-            hints: vec![None; n],
             last_gap: vec![None; n],
         }
     }
@@ -530,12 +527,10 @@ impl MovingAxle {
                     continue;
                 }
             }
-            let Some(cp) = rail_node_gap_near(set.wheel.spline(), p, self.hints[kx]) else {
-                self.hints[kx] = None;
+            let Some(cp) = rail_node_gap(set.wheel.spline(), p) else {
                 self.last_gap[kx] = None;
                 continue;
             };
-            self.hints[kx] = Some(set.wheel.spline().interval(cp.t));
             self.last_gap[kx] = Some((p, cp.gap));
             let w3 = Vector3::new(cp.normal.x, cp.normal.y, 0.0);
             let u3 = Vector3::new(cp.tangent.x, cp.tangent.y, 0.0);
@@ -677,11 +672,8 @@ impl Element for MovingAxle {
     fn outputs(&self, out: &mut Vec<f64>) {
         let f = self.contact_force;
         let q = f.y;
-        let yq = if q > 0.0 {
-            f.x.abs() / q
-        } else {
-            f64::INFINITY
-        };
+        // Y/Q of a wheel that carries no load is reported as 0 (n_contact says it is off).
+        let yq = if q > 0.0 { f.x.abs() / q } else { 0.0 };
         let q0 = self.committed.static_load;
         let dqq = if q0 > 0.0 { (q0 - q) / q0 } else { 0.0 };
         let n_stick = self
@@ -705,15 +697,15 @@ impl Element for MovingAxle {
             n_stick as f64,
             n_slide as f64,
             self.spring_force.y,
-            self.angles.iter().copied().fold(f64::NAN, f64::max),
-            self.angles.iter().copied().fold(f64::NAN, f64::min),
+            self.angles.iter().copied().fold(0.0, f64::max),
+            self.angles.iter().copied().reduce(f64::min).unwrap_or(0.0),
         ]);
         let mut order: Vec<usize> = (0..self.points.len()).collect();
         order.sort_by(|a, b| self.points[*b].1.f_n.total_cmp(&self.points[*a].1.f_n));
         for i in 0..3 {
             match order.get(i).map(|&k| &self.points[k]) {
                 Some((_, st, yr, yw)) => out.extend_from_slice(&[*yr, *yw, st.f_n, st.mode.code()]),
-                None => out.extend_from_slice(&[f64::NAN, f64::NAN, 0.0, 0.0]),
+                None => out.extend_from_slice(&[0.0, 0.0, 0.0, 0.0]),
             }
         }
     }
@@ -826,11 +818,12 @@ fn sample_wheel(
 
 /// Sample states of a wheel on a short straight track with flexible rails: stick, slide,
 /// separated and two-point (tread + flange) contact. Public for the element's tests.
-pub fn sample_states(tangent: SlidingTangent) -> Vec<Sample> {
+/// The sample track, rails and wheel nodes: (track model, node kinematics, rail offset).
+fn sample_scene() -> (Arc<TrackModel>, Vec<NodeKinematics>, f64) {
     use super::alignment::Alignment;
     use super::cant::{Cant, Track};
-    let track = Track::new(Alignment::straight(10.0), Cant::none()).expect("straight track");
-    let track = Arc::new(track);
+    let track =
+        Arc::new(Track::new(Alignment::straight(10.0), Cant::none()).expect("straight track"));
     let stations = vec![2.0, 2.6, 3.2];
     let offset = track.gauge / 2.0 + 0.036;
     let tm = Arc::new(TrackModel {
@@ -851,27 +844,44 @@ pub fn sample_states(tangent: SlidingTangent) -> Vec<Sample> {
     let s = 2.45;
     let p = track.at(s);
     let mut nodes = Vec::new();
-    // Rails: indices 0..6.
     for r in 0..2 {
         for st in &stations {
             nodes.push(NodeKinematics::fixed(tm.rail_position(r, *st)));
         }
     }
-    let r0 = 0.43;
-    let xk = p.position + p.frame.column(1) * r0;
+    let xk = p.position + p.frame.column(1) * 0.43;
     let xb = p.position + p.frame.column(0) * 0.75;
     nodes.push(NodeKinematics {
         position: xk,
         frame: p.frame,
         carried: true,
         station: Some(s),
-    }); // 6: K
+    });
     nodes.push(NodeKinematics {
         position: xb,
         frame: p.frame,
         carried: true,
         station: Some(s),
-    }); // 7: B
+    });
+    (tm, nodes, offset)
+}
+
+/// Rebuilds a sample wheel from its parameters (the conformance kit's serde check).
+fn rebuild_sample(params: &serde_json::Value) -> Result<Box<dyn Element>, FemError> {
+    let spec = ElementSpec {
+        id: 1,
+        kind: "moving_axle".into(),
+        nodes: vec![1],
+        params: params.as_object().cloned().unwrap_or_default(),
+        origin: "conformance sample".into(),
+    };
+    let p: MovingAxleParams = spec.parse()?;
+    let (tm, nodes, offset) = sample_scene();
+    Ok(Box::new(sample_wheel(&p, &tm, &nodes, offset)))
+}
+
+pub fn sample_states(tangent: SlidingTangent) -> Vec<Sample> {
+    let (tm, nodes, offset) = sample_scene();
     let mut params: MovingAxleParams = ElementSpec {
         id: 1,
         kind: "moving_axle".into(),
@@ -919,6 +929,7 @@ pub fn sample_states(tangent: SlidingTangent) -> Vec<Sample> {
             disp,
             fd_step: 1e-4,
             committed_disp: committed,
+            rebuild: Some(rebuild_sample),
         };
     out.push(mk("stick", press(3e-5, 1e-7), None, &params));
     out.push(mk(

@@ -1,0 +1,361 @@
+//! Dynamic plugins end to end: the example plugin `railfem-plugin-hysteretic` is built as a
+//! cdylib by cargo from inside the test, loaded through a model file's `plugins` key, and
+//! driven around a force-controlled hysteresis loop compared point by point with the closed
+//! form; broken and foreign libraries are refused with clear messages; the CLI loads
+//! plugins, refuses corrupt ones with exit code 2, and runs the conformance kit on them.
+
+use railfem::framework::plugin::{self, PluginAbi};
+use railfem::framework::{registry, FemError};
+use railfem::solvers::Driver;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+/// Builds the plugin once per test binary with the profile of this test binary's directory
+/// (`target/debug` → `dev`, `target/release` → `release`) into the same target directory,
+/// and returns the path of the shared library.
+fn plugin_lib() -> &'static Path {
+    static LIB: OnceLock<PathBuf> = OnceLock::new();
+    LIB.get_or_init(|| {
+        let exe = std::env::current_exe().expect("test executable path");
+        // target/<profile>/deps/plugins-<hash>
+        let profile_dir = exe
+            .parent()
+            .and_then(Path::parent)
+            .expect("target/<profile>/deps layout")
+            .to_path_buf();
+        let target_dir = profile_dir.parent().expect("target dir").to_path_buf();
+        let profile = match profile_dir.file_name().and_then(|n| n.to_str()) {
+            Some("debug") => "dev".to_string(),
+            Some(other) => other.to_string(),
+            None => "dev".to_string(),
+        };
+        let status = Command::new(env!("CARGO"))
+            .args([
+                "build",
+                "--quiet",
+                "-p",
+                "railfem-plugin-hysteretic",
+                "--profile",
+            ])
+            .arg(&profile)
+            .arg("--target-dir")
+            .arg(&target_dir)
+            .arg("--manifest-path")
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml"))
+            .status()
+            .expect("cargo runs");
+        assert!(status.success(), "building the plugin failed");
+        let lib = profile_dir.join(format!(
+            "{}railfem_plugin_hysteretic{}",
+            std::env::consts::DLL_PREFIX,
+            std::env::consts::DLL_SUFFIX
+        ));
+        assert!(lib.exists(), "{} missing", lib.display());
+        lib
+    })
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("plugins")
+        .join(name);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A file of pseudo-random bytes with a shared-library name.
+fn corrupt_lib() -> PathBuf {
+    let p = tmp("corrupt").join("libcorrupt_plugin.so");
+    let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+    let bytes: Vec<u8> = (0..4096)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 24) as u8
+        })
+        .collect();
+    std::fs::write(&p, bytes).unwrap();
+    p
+}
+
+const K: f64 = 2.0e6;
+const FY: f64 = 1.5e3;
+const ALPHA: f64 = 0.05;
+/// Force reversal points (N) of the load path, at t = 1, 2, 3, 4 s; linear in between.
+const PEAKS: [f64; 4] = [2.0 * FY, -2.5 * FY, 3.0 * FY, -FY];
+
+fn model_text(plugin: Option<&Path>) -> String {
+    let plugins = plugin
+        .map(|p| format!("plugins = [{:?}]\n", p.display().to_string()))
+        .unwrap_or_default();
+    let pts: Vec<String> = std::iter::once("[0.0, 0.0]".to_string())
+        .chain(
+            PEAKS
+                .iter()
+                .enumerate()
+                .map(|(i, f)| format!("[{}.0, {f:e}]", i + 1)),
+        )
+        .collect();
+    format!(
+        r#"{plugins}
+[analysis]
+kind = "static"
+steps = 1
+[analysis.newton]
+tol = 1e-12
+abs_tol = 0.0
+
+[[node]]
+id = 1
+xyz = [0.0, 0.0, 0.0]
+fix = "all"
+
+[[node]]
+id = 2
+xyz = [1.0, 0.0, 0.0]
+fix = ["uy", "uz", "rx", "ry", "rz"]
+
+[[element]]
+type = "hysteretic_spring"
+id = 1
+nodes = [1, 2]
+dof = "ux"
+k = {K:e}
+fy = {FY:e}
+alpha = {ALPHA}
+
+[[load]]
+type = "nodal"
+node = 2
+dof = "ux"
+value = 1.0
+series = {{ type = "table", points = [{}] }}
+"#,
+        pts.join(", ")
+    )
+}
+
+/// The applied force at time `t` (N): piecewise linear through 0 and [`PEAKS`].
+fn applied(t: f64) -> f64 {
+    let k = (t.floor() as usize).min(3);
+    let f0 = if k == 0 { 0.0 } else { PEAKS[k - 1] };
+    f0 + (PEAKS[k] - f0) * (t - k as f64)
+}
+
+/// Closed-form displacement of the bilinear kinematic-hardening spring under the force
+/// path, at time `t`.
+///
+/// Derivation. Plastic states satisfy `|F − β| = fy` with `F = k(u − u_p)`,
+/// `β = H·u_p`, `H = αk/(1 − α)`; eliminating `u_p` gives the bounding lines
+/// `F = αk·u ± (1 − α)·fy`, so on a plastic branch `u = (F ∓ (1 − α)fy)/(αk)`. Inside the
+/// elastic range `dF = k·du`. The elastic range is `|F − β| ≤ fy`, `2fy` wide: from the
+/// origin the first yield is at `|F| = fy`; after a reversal at `(u_r, F_r)` from a plastic
+/// state on the line of sign `s`, the spring unloads elastically, `u = u_r + (F − F_r)/k`,
+/// until `F = F_r − 2s·fy`, where that elastic line meets the opposite bounding line
+/// (`F_r + k·Δu = αk(u_r + Δu) − s(1 − α)fy` ⇔ `Δu = −2s·fy/k`), and then follows it.
+/// Every peak of [`PEAKS`] lies beyond the previous elastic range, so each reversal starts
+/// from a plastic state and these two rules give the whole path.
+fn closed_form(t: f64) -> f64 {
+    let f = applied(t);
+    let line = |f: f64, s: f64| (f - s * (1.0 - ALPHA) * FY) / (ALPHA * K);
+    let seg = (t.ceil() as usize).clamp(1, 4) - 1;
+    if seg == 0 {
+        return if f.abs() <= FY {
+            f / K
+        } else {
+            line(f, f.signum())
+        };
+    }
+    // Reversal at the end of the previous segment, on the line of that peak's sign.
+    let fr = PEAKS[seg - 1];
+    let s = fr.signum();
+    let ur = line(fr, s);
+    if s * (fr - f) <= 2.0 * FY {
+        ur + (f - fr) / K
+    } else {
+        line(f, -s)
+    }
+}
+
+/// Force-controlled cycles through the model file: at every 1/40 s of the load path the
+/// static equilibrium from the last committed state matches the closed form to 1e-9 (the
+/// Newton iterations on a piecewise-linear law end exactly on the right branch, so only
+/// round-off remains), and the element's force equals the applied force.
+#[test]
+fn hysteresis_loop_matches_the_closed_form() {
+    let dir = tmp("loop");
+    let model = dir.join("loop.toml");
+    std::fs::write(&model, model_text(Some(plugin_lib()))).unwrap();
+    let m = railfem::load_model(&model).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(m.plugins.len(), 1);
+    let mut d = Driver::new(m).unwrap();
+    let uy = FY / K;
+    let mut worst_u: f64 = 0.0;
+    let mut worst_f: f64 = 0.0;
+    let mut yielded_back = false;
+    for i in 1..=160 {
+        let t = i as f64 / 40.0;
+        d.static_solve(t, 1)
+            .unwrap_or_else(|e| panic!("t = {t}: {e}"));
+        let u = d.node_value(2, 0).unwrap();
+        let exact = closed_form(t);
+        worst_u = worst_u.max((u - exact).abs() / exact.abs().max(uy));
+        let mut out = Vec::new();
+        d.model.elements[0].element.outputs(&mut out);
+        let f = applied(t);
+        worst_f = worst_f.max((out[0] - f).abs() / f.abs().max(FY));
+        if t > 2.0 && t < 3.0 && out[2] < 0.0 {
+            yielded_back = true;
+        }
+    }
+    assert!(yielded_back, "the loop never yielded in reverse");
+    assert!(worst_u < 1e-9, "displacement vs closed form: {worst_u:e}");
+    assert!(
+        worst_f < 1e-9,
+        "element force vs applied force: {worst_f:e}"
+    );
+    // The dissipated energy after the full path: fy·Σ|Δu_p| with u_p = u − F/k at the
+    // reversal points and the end (each branch is monotone in u_p).
+    let up = |t: f64| closed_form(t) - applied(t) / K;
+    let mut total = 0.0;
+    let mut prev = 0.0;
+    for t in [1.0, 2.0, 3.0, 4.0] {
+        total += FY * (up(t) - prev).abs();
+        prev = up(t);
+    }
+    let dissipated = d.model.elements[0].element.dissipated_energy();
+    assert!(
+        (dissipated - total).abs() < 1e-9 * total,
+        "{dissipated} vs {total}"
+    );
+}
+
+/// Loading the same file again is a no-op, and the loaded kind passes the conformance kit
+/// through the plugin boundary (every call goes through the panic guard).
+#[test]
+fn loaded_plugin_is_registered_once_and_conforms() {
+    plugin::load(plugin_lib()).unwrap();
+    plugin::load(plugin_lib()).unwrap();
+    let n = registry::kinds()
+        .iter()
+        .filter(|k| k.name == "hysteretic_spring")
+        .count();
+    assert_eq!(n, 1);
+    let report = railfem::framework::conformance::check_all(Some("hysteretic_spring"));
+    assert!(report.passed(), "{}", report.table());
+    assert!(report.results.len() >= 8 * 4, "{}", report.table());
+}
+
+/// Random bytes with a `.so` name are refused with the path in a one-line message.
+#[test]
+fn corrupt_library_is_refused_with_its_path() {
+    let p = corrupt_lib();
+    let e = plugin::load(&p).unwrap_err();
+    let m = e.to_string();
+    assert!(matches!(e, FemError::Plugin(_)), "{e:?}");
+    assert!(m.contains(&p.display().to_string()), "{m}");
+    assert!(m.contains("not a loadable shared library"), "{m}");
+    assert!(!m.contains('\n'), "{m}");
+}
+
+/// A library without the stamp (here: the C library) is not a railfem plugin.
+#[test]
+fn library_without_stamp_is_refused() {
+    let libm = ["/lib/x86_64-linux-gnu/libm.so.6", "/usr/lib/libm.so.6"]
+        .iter()
+        .map(Path::new)
+        .find(|p| p.exists());
+    let Some(libm) = libm else { return };
+    let m = plugin::load(libm).unwrap_err().to_string();
+    assert!(m.contains("not a railfem plugin"), "{m}");
+    assert!(m.contains("RAILFEM_PLUGIN_ABI"), "{m}");
+}
+
+/// A forged stamp (another compiler, another framework version) is refused with what the
+/// plugin was built with, what this railfem is, and what to rebuild with.
+#[test]
+fn mismatched_stamp_is_refused_with_a_clear_message() {
+    let mut forged = PluginAbi::CURRENT;
+    forged.rustc_version = plugin::fixed("rustc 1.70.0 (90c541806 2023-05-31)");
+    forged.framework_version = plugin::fixed("0.0.1");
+    let p = Path::new("/plugins/libold.so");
+    let m = plugin::check_stamp(p, &forged).unwrap_err().to_string();
+    let host = PluginAbi::CURRENT;
+    assert!(
+        m.starts_with("plugin: /plugins/libold.so: built with framework 0.0.1 / rustc 1.70.0"),
+        "{m}"
+    );
+    assert!(
+        m.contains(&format!(
+            "but this railfem is framework {} / {}",
+            host.framework_version(),
+            host.rustc_version()
+        )),
+        "{m}"
+    );
+    assert!(m.contains("rebuild the plugin with"), "{m}");
+    let mut other_target = PluginAbi::CURRENT;
+    other_target.target = plugin::fixed("riscv64gc-unknown-linux-gnu");
+    assert!(plugin::check_stamp(p, &other_target).is_err());
+    assert!(plugin::check_stamp(p, &PluginAbi::CURRENT).is_ok());
+}
+
+fn railfem() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_railfem"))
+}
+
+/// `railfem run MODEL --plugin PATH` runs a model whose element type only the plugin
+/// provides; a corrupt plugin exits 2 with one line on stderr naming the file.
+#[test]
+fn cli_loads_plugins_and_refuses_corrupt_ones() {
+    let dir = tmp("cli");
+    let model = dir.join("cli.toml");
+    std::fs::write(&model, model_text(None)).unwrap();
+    let out = railfem()
+        .arg("run")
+        .arg(&model)
+        .arg("--plugin")
+        .arg(plugin_lib())
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+
+    let bad = corrupt_lib();
+    let out = railfem()
+        .arg("run")
+        .arg(&model)
+        .arg("--plugin")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains(&bad.display().to_string()), "{err}");
+}
+
+/// `railfem conformance --plugin PATH --element NAME` prints the table and exits 0.
+#[test]
+fn cli_conformance_runs_the_kit_on_a_plugin() {
+    let out = railfem()
+        .arg("conformance")
+        .arg("--plugin")
+        .arg(plugin_lib())
+        .arg("--element")
+        .arg("hysteretic")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert!(text.contains("hysteretic_spring / yielding"), "{text}");
+    assert!(text.contains("0 failed"), "{text}");
+}
