@@ -277,6 +277,20 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             (fe - th).abs() / th
         );
     }
+    if let Some(c) = r.outer_contact {
+        println!(
+            "statics about the FE's outer contact point (y = {:.4} m, z = {:.4} m): {}",
+            c[0],
+            c[1],
+            f(r.theory_at_contact)
+        );
+        if let (Some(fe), Some(th)) = (r.fe, r.theory_at_contact) {
+            println!(
+                "relative difference FE vs statics about that point: {:.3e}",
+                (fe - th).abs() / th
+            );
+        }
+    }
     Ok(0)
 }
 

@@ -67,6 +67,13 @@ pub struct CriticalResult {
     pub theory_printed: Option<f64>,
     /// Radius of the arc the run went into (m).
     pub arc_radius: f64,
+    /// Separation: statics about the FE's outer contact point at the onset (m): the
+    /// overturning radius of a rigid carriage pivoting on the contact points the FE found
+    /// (after sliding, on the flanges).
+    pub theory_at_contact: Option<f64>,
+    /// The outer wheels' contact point at the onset, wheel frame relative to the centre
+    /// line at rail-top level (lateral, vertical) (m).
+    pub outer_contact: Option<[f64; 2]>,
 }
 
 fn found(c: Result<CriticalRadius, theory::TheoryError>) -> Option<f64> {
@@ -170,6 +177,7 @@ pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
         idx("n_contact"),
         idx("n_slide"),
     );
+    let (icy, icz) = (idx("contact_y"), idx("contact_z"));
     let spec = d.model.analysis.clone();
     let nsteps = (spec.duration / spec.dt).ceil() as usize;
     let radius_at = |s: f64| {
@@ -186,6 +194,8 @@ pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
         theory: theory_r,
         theory_printed: printed_r,
         arc_radius,
+        theory_at_contact: None,
+        outer_contact: None,
     };
     let mut buf = Vec::new();
     // Linear interpolation of the onset between the last two steps.
@@ -201,6 +211,7 @@ pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
         }
         let (mut sy, mut sq, mut all_slide, mut s_mean) = (0.0, 0.0, true, 0.0);
         let mut worst_inner = (f64::INFINITY, 0.0);
+        let mut outer = (0.0, 0.0, 0.0);
         for (w, &ei) in m.wheel_index.iter().enumerate() {
             buf.clear();
             d.model.elements[ei].element.outputs(&mut buf);
@@ -213,6 +224,13 @@ pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
             // Left wheels (even index) are inner on the left-hand curve.
             if w % 2 == 0 && buf[iq] < worst_inner.0 {
                 worst_inner = (buf[iq], buf[ist]);
+            }
+            if w % 2 == 1 {
+                outer = (
+                    outer.0 + buf[icy] * buf[iq],
+                    outer.1 + buf[icz] * buf[iq],
+                    outer.2 + buf[iq],
+                );
             }
         }
         s_mean /= m.wheel_index.len() as f64;
@@ -242,6 +260,11 @@ pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
                         _ => s,
                     };
                     res.fe = Some(radius_at(s_on));
+                    if outer.2 > 0.0 {
+                        let (yo, zo) = (outer.0 / outer.2, outer.1 / outer.2);
+                        res.outer_contact = Some([yo, zo]);
+                        res.theory_at_contact = separation_about(case, yo, zo, g);
+                    }
                     break;
                 }
                 prev = Some((q, s, 0.0));
@@ -249,4 +272,46 @@ pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
         }
     }
     Ok(res)
+}
+
+/// Overturning radius of the rigid carriage pivoting on an outer contact point at
+/// `(y_o, z_o)` (wheel frame, relative to the centre line at rail-top level, m): with the
+/// inner wheels unloaded, moments about the outer contact line give
+/// `−y_o·ΣF2_i − Σ(H_i − z_o)·F1_i = 0` (Eqs. 22–23 for F1, F2; bodies on the centre line
+/// at heights H_i). With `y_o = −b/2`, `z_o = 0` this is the statics variant of Eq. 25 with
+/// the inner force set to zero. Found by bisection on R (θ = Ct/R follows R).
+pub fn separation_about(case: &CriticalCase, y_o: f64, z_o: f64, g: f64) -> Option<f64> {
+    let carriage = Carriage::sks700_standin_with_gravity(g);
+    let f = |r: f64| {
+        let theta = case.ct / r;
+        carriage.bodies.iter().fold(0.0, |acc, b| {
+            let (f1, f2) = theory::body_forces(b.weight, theta, 1.0 / r, case.speed, g);
+            acc - y_o * f2 - (b.cg_height - z_o) * f1
+        })
+    };
+    // Scan down from a straight-like radius for the first sign change, then bisect.
+    let (mut hi, mut lo) = (1e6, 1e6);
+    let f_hi = f(hi);
+    while lo > case.ct.max(10.0) {
+        lo = hi * 0.97;
+        if f(lo).signum() != f_hi.signum() {
+            break;
+        }
+        hi = lo;
+    }
+    if f(lo).signum() == f_hi.signum() {
+        return None;
+    }
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid).signum() == f_hi.signum() {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+        if (hi - lo) < 1e-10 * hi {
+            break;
+        }
+    }
+    Some(0.5 * (lo + hi))
 }

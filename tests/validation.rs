@@ -68,3 +68,31 @@ fn fig7_sliding_radius_matches_theory() {
         );
     }
 }
+
+/// Fig. 9 point (Ct = 200 m, V = 220 m/s, μ = 0.3): the carriage first slides outwards
+/// onto its flanges, then the inner wheels unload. The radius where the FE's inner normal
+/// force reaches zero equals, within 1 %, the overturning radius of the rigid carriage
+/// pivoting on the outer contact point the FE found (statics: the moment of the body
+/// forces about that point vanishes). The printed Eq. 25 predicts about half the radius.
+#[test]
+fn fig9_separation_radius_matches_statics_about_the_contact() {
+    let case = CriticalCase {
+        criterion: Criterion::Separation,
+        speed: 220.0,
+        ct: 200.0,
+        mu: 0.3,
+        clothoid: 2000.0,
+        dt: 0.01,
+    };
+    let r = critical::run(&case).expect("runs");
+    let fe = r.fe.expect("the inner wheel separates");
+    let th = r
+        .theory_at_contact
+        .expect("statics about the contact point");
+    assert!((fe - th).abs() / th < 1e-2, "FE {fe} vs statics {th}");
+    let printed = r.theory_printed.expect("printed Eq. 25 radius");
+    assert!(printed < 0.6 * fe, "printed {printed} vs FE {fe}");
+    // The contact moved onto the outer flange: inwards of the tread position (−0.75 m).
+    let c = r.outer_contact.expect("outer contact");
+    assert!(c[0] > -0.745, "outer contact at {c:?}");
+}

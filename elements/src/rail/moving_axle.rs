@@ -154,6 +154,9 @@ pub struct MovingAxle {
     points: Vec<(usize, PointState, f64, f64)>,
     /// Contact angle of each point (rad): between the contact normal and axis 2.
     angles: Vec<f64>,
+    /// Position of each contact point in the wheel frame relative to the track centre line
+    /// at rail-top level: (lateral, vertical) (m).
+    positions: Vec<Vector2<f64>>,
     spring_force: Vector3<f64>,
     contact_force: Vector3<f64>,
     deltas: Vec<Vector3<f64>>,
@@ -355,6 +358,7 @@ impl MovingAxle {
             tangent: DMatrix::zeros(21, 21),
             points: Vec::new(),
             angles: Vec::new(),
+            positions: Vec::new(),
             spring_force: Vector3::zeros(),
             contact_force: Vector3::zeros(),
             deltas: vec![Vector3::zeros(); n],
@@ -501,6 +505,7 @@ impl MovingAxle {
         // Contact.
         self.points.clear();
         self.angles.clear();
+        self.positions.clear();
         self.contact_force = Vector3::zeros();
         let n = set.rail_nodes.len();
         // Relative displacements of every rail node (needed for anchors even when open).
@@ -562,6 +567,11 @@ impl MovingAxle {
                 .push((kx, st, set.rail_nodes[kx].x, cp.point.x + set.wheel_shift.x));
             // Contact angle: between the normal and axis 2 (0 on a flat tread).
             self.angles.push(cp.normal.x.abs().atan2(-cp.normal.y));
+            let side = if set.rail == 0 { 1.0 } else { -1.0 };
+            self.positions.push(Vector2::new(
+                side * set.params.contact_offset + self.r_cb.x + set.rail_nodes[kx].x,
+                self.r_cb.y + set.rail_nodes[kx].y,
+            ));
         }
     }
 }
@@ -657,6 +667,8 @@ impl Element for MovingAxle {
             "spring_f2",
             "max_contact_angle",
             "min_contact_angle",
+            "contact_y",
+            "contact_z",
         ]
         .iter()
         .map(|s| s.to_string())
@@ -700,6 +712,18 @@ impl Element for MovingAxle {
             self.angles.iter().copied().fold(0.0, f64::max),
             self.angles.iter().copied().reduce(f64::min).unwrap_or(0.0),
         ]);
+        // Resultant contact position: normal-force-weighted mean of the contact points.
+        let fsum: f64 = self.points.iter().map(|p| p.1.f_n).sum();
+        let c = if fsum > 0.0 {
+            self.points
+                .iter()
+                .zip(&self.positions)
+                .fold(Vector2::zeros(), |acc, (p, x)| acc + x * p.1.f_n)
+                / fsum
+        } else {
+            Vector2::zeros()
+        };
+        out.extend_from_slice(&[c.x, c.y]);
         let mut order: Vec<usize> = (0..self.points.len()).collect();
         order.sort_by(|a, b| self.points[*b].1.f_n.total_cmp(&self.points[*a].1.f_n));
         for i in 0..3 {
