@@ -19,3 +19,6 @@ pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework:
     elements::link();
     framework::modelfile::read(path)?.build()
 }
+
+#[doc = include_str!("../docs/custom-element.md")]
+pub mod custom_element_tutorial {}
