@@ -5,10 +5,12 @@
 //!
 //! * [`SparseCholesky`] — `A = L·Lᵀ` (or `L·D·Lᵀ`) for symmetric matrices, reading only the
 //!   lower triangle. The fill-reducing ordering (AMD) and the symbolic factorization are
-//!   computed once per sparsity pattern ([`CscMatrix::pattern_id`]); the lower-triangle index
-//!   arrays, the gather list that copies values out of the full matrix, the factor value
-//!   buffer `L` and the scratch memory are all kept and re-used, so a refactorization with
-//!   new values and the same pattern performs no heap allocation.
+//!   computed once per sparsity pattern ([`CscMatrix::pattern_id`]). At the same time the
+//!   pattern of the PERMUTED triangle `P·A·Pᵀ` that faer's numeric kernel reads is built,
+//!   with a gather list into the caller's `values`; each refactorization is then one gather
+//!   pass plus faer's raw simplicial/supernodal numeric kernel, into a kept factor buffer
+//!   with kept scratch memory — no heap allocation, and no per-call permutation (faer's
+//!   `SymbolicCholesky::factorize_numeric_llt` re-permutes the matrix on every call).
 //! * [`SparseLu`] — `P·A·Q = L·U` with partial row pivoting for unsymmetric matrices (for
 //!   example a tangent with friction). The column ordering (COLAMD) and the symbolic
 //!   analysis are kept per pattern; faer's numeric LU storage is re-used (it grows but never
@@ -35,8 +37,8 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LdltRef, LltRef, SymbolicCholesky,
-    SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky, simplicial, supernodal, CholeskySymbolicParams, LdltRef, LltRef,
+    SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
 };
 use faer::sparse::linalg::lu::{
     factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu,
@@ -222,49 +224,66 @@ fn ensure_mem(buf: &mut MemBuffer, cap: &mut StackReq, req: StackReq) -> Result<
     Ok(())
 }
 
-/// Per-pattern cache of the lower triangle of a symmetric [`CscMatrix`].
-struct LowerPattern {
+/// Per-pattern cache of the lower triangle of a symmetric [`CscMatrix`], either as is (for
+/// the symbolic analysis) or already permuted by the fill-reducing ordering into the
+/// triangle faer's numeric kernel reads (for every numeric factorization).
+struct TrianglePattern {
     pattern_id: u64,
     n: usize,
     full_nnz: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    /// Position in the full matrix's `values` of each lower-triangle entry.
+    /// Position in the full matrix's `values` of each stored entry.
     gather: Vec<usize>,
-    /// Lower-triangle values, refreshed every factorization.
+    /// Values, refreshed every factorization through `gather`.
     values: Vec<f64>,
 }
 
-impl LowerPattern {
-    fn build(a: &CscMatrix) -> LowerPattern {
+impl TrianglePattern {
+    /// The entries `(i, j)`, `i >= j`, of `a`, renumbered `(inv[i], inv[j])` and stored in
+    /// the `upper` or lower triangle, rows sorted in each column.
+    fn build(a: &CscMatrix, inv: Option<&[usize]>, upper: bool) -> TrianglePattern {
         let n = a.n;
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::new();
-        let mut gather = Vec::new();
-        col_ptr.push(0);
+        let map = |i: usize| inv.map_or(i, |inv| inv[i]);
+        let mut entries = Vec::new(); // (column, row, source position)
         for j in 0..n {
             for p in a.col_ptr[j]..a.col_ptr[j + 1] {
-                if a.row_idx[p] >= j {
-                    row_idx.push(a.row_idx[p]);
-                    gather.push(p);
+                let i = a.row_idx[p];
+                if i >= j {
+                    let (r, c) = (map(i), map(j));
+                    let (r, c) = if (r < c) == upper { (r, c) } else { (c, r) };
+                    entries.push((c, r, p));
                 }
             }
-            col_ptr.push(row_idx.len());
         }
-        let values = vec![0.0; row_idx.len()];
-        LowerPattern {
+        entries.sort_unstable();
+        let mut col_ptr = vec![0; n + 1];
+        for &(c, _, _) in &entries {
+            col_ptr[c + 1] += 1;
+        }
+        for j in 0..n {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        TrianglePattern {
             pattern_id: a.pattern_id,
             n,
             full_nnz: a.row_idx.len(),
             col_ptr,
-            row_idx,
-            gather,
-            values,
+            row_idx: entries.iter().map(|e| e.1).collect(),
+            gather: entries.iter().map(|e| e.2).collect(),
+            values: vec![0.0; entries.len()],
         }
     }
 
     fn symbolic(&self) -> SymbolicSparseColMatRef<'_, usize> {
         SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx)
+    }
+
+    /// Refreshes `values` from `a` (same pattern).
+    fn gather(&mut self, a: &CscMatrix) {
+        for (v, &p) in self.values.iter_mut().zip(&self.gather) {
+            *v = a.values[p];
+        }
     }
 }
 
@@ -276,7 +295,7 @@ pub struct SparseCholesky {
     kind: CholeskyKind,
     layout: Layout,
     par: Par,
-    pattern: Option<LowerPattern>,
+    pattern: Option<TrianglePattern>,
     symbolic: Option<SymbolicCholesky<usize>>,
     l_values: Vec<f64>,
     factor_mem: MemBuffer,
@@ -368,7 +387,7 @@ impl SparseCholesky {
     fn analyse(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
         self.reset();
         validate_pattern(a)?;
-        let lower = LowerPattern::build(a);
+        let lower = TrianglePattern::build(a, None, false);
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: self.layout.threshold(),
             ..Default::default()
@@ -380,19 +399,42 @@ impl SparseCholesky {
             params,
         )
         .map_err(|e| SolverError::Failed(format!("symbolic Cholesky: {e:?}")))?;
-        let req = match self.kind {
-            CholeskyKind::Llt => {
-                symbolic.factorize_numeric_llt_scratch::<f64>(self.par, Default::default())
-            }
-            CholeskyKind::Ldlt => {
-                symbolic.factorize_numeric_ldlt_scratch::<f64>(self.par, Default::default())
-            }
+        // The numeric kernels read P·A·Pᵀ in the upper (simplicial) or lower (supernodal)
+        // triangle. faer's `SymbolicCholesky::factorize_numeric_*` would permute A into
+        // scratch on every call; the permuted pattern and its gather list are built here
+        // once instead, and the raw kernels are called directly.
+        let (upper, req) = match (symbolic.raw(), self.kind) {
+            (SymbolicCholeskyRaw::Simplicial(_), CholeskyKind::Llt) => (
+                true,
+                simplicial::factorize_simplicial_numeric_llt_scratch::<usize, f64>(a.n),
+            ),
+            (SymbolicCholeskyRaw::Simplicial(_), CholeskyKind::Ldlt) => (
+                true,
+                simplicial::factorize_simplicial_numeric_ldlt_scratch::<usize, f64>(a.n),
+            ),
+            (SymbolicCholeskyRaw::Supernodal(sn), CholeskyKind::Llt) => (
+                false,
+                supernodal::factorize_supernodal_numeric_llt_scratch::<usize, f64>(
+                    sn,
+                    self.par,
+                    Default::default(),
+                ),
+            ),
+            (SymbolicCholeskyRaw::Supernodal(sn), CholeskyKind::Ldlt) => (
+                false,
+                supernodal::factorize_supernodal_numeric_ldlt_scratch::<usize, f64>(
+                    sn,
+                    self.par,
+                    Default::default(),
+                ),
+            ),
         };
+        let permuted = TrianglePattern::build(a, symbolic.perm().map(|p| p.arrays().1), upper);
         self.factor_mem_cap = StackReq::empty();
         ensure_mem(&mut self.factor_mem, &mut self.factor_mem_cap, req)?;
         self.l_values.clear();
         self.l_values.resize(symbolic.len_val(), 0.0);
-        self.pattern = Some(lower);
+        self.pattern = Some(permuted);
         self.symbolic = Some(symbolic);
         self.stats.symbolic_analyses += 1;
         Ok(())
@@ -422,44 +464,68 @@ impl LinearSolver for SparseCholesky {
         if !reuse {
             self.analyse(a)?;
         }
-        let (Some(lower), Some(symbolic)) = (self.pattern.as_mut(), self.symbolic.as_ref()) else {
+        let (Some(permuted), Some(symbolic)) = (self.pattern.as_mut(), self.symbolic.as_ref())
+        else {
             return Err(SolverError::Failed("no symbolic factorization".into()));
         };
         // the whole matrix is checked (a NaN in the unread upper triangle still means a
-        // broken assembly), then the lower triangle is gathered
+        // broken assembly), then P·A·Pᵀ is gathered
         if let Some(p) = a.values.iter().position(|x| !x.is_finite()) {
             return Err(non_finite_error(a, p));
         }
-        for (v, &p) in lower.values.iter_mut().zip(&lower.gather) {
-            *v = a.values[p];
-        }
-        let mat = SparseColMatRef::new(lower.symbolic(), &lower.values);
+        permuted.gather(a);
+        let mat = SparseColMatRef::new(permuted.symbolic(), &permuted.values);
         let stack = MemStack::new(&mut self.factor_mem);
-        let result = match self.kind {
-            CholeskyKind::Llt => symbolic
-                .factorize_numeric_llt::<f64>(
-                    &mut self.l_values,
+        let l = &mut self.l_values[..];
+        let result = match (symbolic.raw(), self.kind) {
+            (SymbolicCholeskyRaw::Simplicial(sym), CholeskyKind::Llt) => {
+                simplicial::factorize_simplicial_numeric_llt::<usize, f64>(
+                    l,
                     mat,
-                    Side::Lower,
                     LltRegularization::default(),
-                    self.par,
+                    sym,
                     stack,
-                    Default::default(),
                 )
                 .map(|_| ())
-                .map_err(|LltError::NonPositivePivot { index }| index),
-            CholeskyKind::Ldlt => symbolic
-                .factorize_numeric_ldlt::<f64>(
-                    &mut self.l_values,
+                .map_err(|LltError::NonPositivePivot { index }| index)
+            }
+            (SymbolicCholeskyRaw::Simplicial(sym), CholeskyKind::Ldlt) => {
+                simplicial::factorize_simplicial_numeric_ldlt::<usize, f64>(
+                    l,
                     mat,
-                    Side::Lower,
                     LdltRegularization::default(),
+                    sym,
+                    stack,
+                )
+                .map(|_| ())
+                .map_err(|LdltError::ZeroPivot { index }| index)
+            }
+            (SymbolicCholeskyRaw::Supernodal(sym), CholeskyKind::Llt) => {
+                supernodal::factorize_supernodal_numeric_llt::<usize, f64>(
+                    l,
+                    mat,
+                    LltRegularization::default(),
+                    sym,
                     self.par,
                     stack,
                     Default::default(),
                 )
                 .map(|_| ())
-                .map_err(|LdltError::ZeroPivot { index }| index),
+                .map_err(|LltError::NonPositivePivot { index }| index)
+            }
+            (SymbolicCholeskyRaw::Supernodal(sym), CholeskyKind::Ldlt) => {
+                supernodal::factorize_supernodal_numeric_ldlt::<usize, f64>(
+                    l,
+                    mat,
+                    LdltRegularization::default(),
+                    sym,
+                    self.par,
+                    stack,
+                    Default::default(),
+                )
+                .map(|_| ())
+                .map_err(|LdltError::ZeroPivot { index }| index)
+            }
         };
         if let Err(index) = result {
             return Err(SolverError::Singular {
