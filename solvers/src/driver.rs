@@ -620,7 +620,7 @@ impl Driver {
                 self.static_solve(0.0, spec.steps)?;
                 if let Some(r) = rec.as_mut() {
                     r.record(
-                        &self.model,
+                        &mut self.model,
                         &self.asm,
                         0.0,
                         &self.state.q,
@@ -634,7 +634,7 @@ impl Driver {
                 self.initialize()?;
                 if let Some(r) = rec.as_mut() {
                     r.record(
-                        &self.model,
+                        &mut self.model,
                         &self.asm,
                         0.0,
                         &self.state.q,
@@ -659,7 +659,7 @@ impl Driver {
                     if k % spec.record_every == 0 || k == nsteps {
                         if let Some(r) = rec.as_mut() {
                             r.record(
-                                &self.model,
+                                &mut self.model,
                                 &self.asm,
                                 self.state.t,
                                 &self.state.q,
