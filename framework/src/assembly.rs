@@ -708,6 +708,42 @@ impl Assembler {
         &self.variable
     }
 
+    /// Brings element `ei` to the state `(q, v, a)` at time `t` if it is a constant
+    /// element. Constant elements are never updated while the driver iterates (their
+    /// matrices are cached), so their own state — and hence their reported outputs, such
+    /// as a beam's end forces — would otherwise stay at the reference state. Recorders call
+    /// this before reading an element's outputs; variable elements are left alone (they
+    /// already hold the converged state).
+    pub fn refresh_constant(
+        &self,
+        model: &mut Model,
+        ei: usize,
+        t: f64,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+    ) -> Result<(), FemError> {
+        if self.variable.contains(&ei) {
+            return Ok(());
+        }
+        let (ue, ve, ae) = (
+            self.element_values(ei, q),
+            self.element_values(ei, v),
+            self.element_values(ei, a),
+        );
+        let entry = &mut model.elements[ei];
+        entry
+            .element
+            .update(&TrialState {
+                time: t,
+                dt: 0.0,
+                disp: &ue,
+                vel: &ve,
+                acc: &ae,
+            })
+            .map_err(|err| element_error(entry.id, entry.element.kind(), err))
+    }
+
     /// Element DOF values of element `ei` from an equation vector (for recorders).
     pub fn element_values(&self, ei: usize, q: &[f64]) -> Vec<f64> {
         let mut v = Vec::new();

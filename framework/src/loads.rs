@@ -291,6 +291,16 @@ impl MovingForce {
 impl LoadSpec {
     /// Resolves ids against the model and checks values.
     pub fn resolve(&self, model: &Model) -> Result<Load, FemError> {
+        self.resolve_at(model, None)
+    }
+
+    /// As [`LoadSpec::resolve`]; `index` (the position among the model's loads, the
+    /// `[[load]]` table number of a model file) is named in messages as `load[i]`.
+    pub fn resolve_at(&self, model: &Model, index: Option<usize>) -> Result<Load, FemError> {
+        let place = |what: String| match index {
+            Some(i) => format!("{}: load[{i}] ({what})", model.origin),
+            None => format!("{}: {what}", model.origin),
+        };
         match self {
             LoadSpec::Nodal {
                 node,
@@ -298,9 +308,12 @@ impl LoadSpec {
                 value,
                 series,
             } => {
-                let o = format!("{}: load on node {node}", model.origin);
+                let o = place(format!("load on node {node}"));
                 let n = model.node(*node).ok_or_else(|| {
-                    FemError::input(&o, format!("node {node} does not exist; fix the id"))
+                    FemError::input(
+                        &o,
+                        format!("node {node} does not exist; define it in a [[node]] table or fix `node`"),
+                    )
                 })?;
                 let d = Dof::parse(dof).ok_or_else(|| {
                     FemError::input(
@@ -326,7 +339,7 @@ impl LoadSpec {
                 series,
                 scale,
             } => {
-                let o = format!("{}: ground_motion load", model.origin);
+                let o = place("ground_motion load".to_string());
                 let d = Vector3::from(*direction);
                 if !(d.iter().all(|v| v.is_finite()) && d.norm() > 0.0 && scale.is_finite()) {
                     return Err(FemError::input(
@@ -347,7 +360,7 @@ impl LoadSpec {
                 speed,
                 start,
             } => {
-                let o = format!("{}: moving_force load", model.origin);
+                let o = place("moving_force load".to_string());
                 if elements.is_empty() {
                     return Err(FemError::input(
                         &o,
@@ -367,7 +380,10 @@ impl LoadSpec {
                 let mut prev_end: Option<usize> = None;
                 for id in elements {
                     let Some(e) = model.elements.iter().find(|e| e.id == *id) else {
-                        return Err(FemError::input(&o, format!("element {id} does not exist")));
+                        return Err(FemError::input(
+                            &o,
+                            format!("element {id} does not exist; list the ids of existing beam elements"),
+                        ));
                     };
                     let c = e.element.connectivity();
                     if c.len() != 2 {

@@ -685,12 +685,12 @@ impl ModelBuilder {
             analysis,
             plugins,
         };
-        for l in loads {
-            let load = l.resolve(&model)?;
+        for (i, l) in loads.iter().enumerate() {
+            let load = l.resolve_at(&model, Some(i))?;
             model.loads.push(load);
         }
-        for r in &recorders {
-            r.validate(&model)?;
+        for (i, r) in recorders.iter().enumerate() {
+            r.validate_at(&model, Some(i))?;
         }
         model.recorders = recorders;
         Ok(model)

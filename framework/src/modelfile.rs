@@ -14,6 +14,7 @@ use crate::recorder::RecorderSpec;
 use crate::registry::ElementSpec;
 use serde::Deserialize;
 use serde_json::{Map, Value};
+use std::collections::HashMap;
 use std::path::Path;
 
 /// A top-level model-file section handled outside the framework (e.g. `[track]`).
@@ -209,9 +210,20 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         let spec: AnalysisSpec = de(a, &format!("{name}: [analysis]"))?;
         b.analysis(spec);
     }
+    let mut node_ids: HashMap<u64, usize> = HashMap::new();
     for (i, v) in entries(root, "node", name)?.into_iter().enumerate() {
         let o = format!("{name}: node[{i}]");
         let n: NodeEntry = de(v, &o)?;
+        // Reported here, where the table index is known (the builder only knows the id).
+        if let Some(j) = node_ids.insert(n.id, i) {
+            return Err(FemError::input(
+                o,
+                format!(
+                    "duplicate node id {} (also node[{j}]); give every node its own id",
+                    n.id
+                ),
+            ));
+        }
         let fixed = parse_dofs(&n.fix, DofSet::NONE, &o)?;
         b.node_fixed(n.id, n.xyz, fixed);
     }

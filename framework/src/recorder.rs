@@ -82,7 +82,17 @@ impl RecorderSpec {
 
     /// Checks ids and names against the model.
     pub fn validate(&self, model: &Model) -> Result<(), FemError> {
-        let o = format!("{}: recorder `{}`", model.origin, self.file());
+        self.validate_at(model, None)
+    }
+
+    /// As [`RecorderSpec::validate`]; `index` (the position among the model's recorders,
+    /// the `[[recorder]]` table number of a model file) is named in messages as
+    /// `recorder[i]`.
+    pub fn validate_at(&self, model: &Model, index: Option<usize>) -> Result<(), FemError> {
+        let o = match index {
+            Some(i) => format!("{}: recorder[{i}] (`{}`)", model.origin, self.file()),
+            None => format!("{}: recorder `{}`", model.origin, self.file()),
+        };
         let ids = self.node_ids();
         if ids.is_empty() {
             return Err(FemError::input(
@@ -100,7 +110,10 @@ impl RecorderSpec {
             RecorderSpec::Node { dofs, .. } => {
                 for id in ids {
                     if model.node(id).is_none() {
-                        return Err(FemError::input(&o, format!("node {id} does not exist")));
+                        return Err(FemError::input(
+                            &o,
+                            format!("node {id} does not exist; define it in a [[node]] table or fix the id"),
+                        ));
                     }
                 }
                 DofSet::parse_names(dofs).map_err(|bad| {
@@ -113,7 +126,10 @@ impl RecorderSpec {
             RecorderSpec::Element { outputs, .. } => {
                 for id in ids {
                     let Some(e) = model.elements.iter().find(|e| e.id == id) else {
-                        return Err(FemError::input(&o, format!("element {id} does not exist")));
+                        return Err(FemError::input(
+                            &o,
+                            format!("element {id} does not exist; define it in an [[element]] table or fix the id"),
+                        ));
                     };
                     let names = e.element.output_names();
                     for n in outputs {
@@ -215,10 +231,12 @@ impl Recorders {
         })
     }
 
-    /// Writes one row per recorder for the state `(q, v, a)` at time `t`.
+    /// Writes one row per recorder for the state `(q, v, a)` at time `t`. Recorded
+    /// constant elements are first brought to that state (see
+    /// [`Assembler::refresh_constant`]), hence `&mut Model`.
     pub fn record(
         &mut self,
-        model: &Model,
+        model: &mut Model,
         asm: &Assembler,
         t: f64,
         q: &[f64],
@@ -238,6 +256,7 @@ impl Recorders {
                     Column::Node { node, dof } => asm.dofmap.value(src, *node, *dof),
                     Column::Element { elem, output } => {
                         if cached != Some(*elem) {
+                            asm.refresh_constant(model, *elem, t, q, v, a)?;
                             self.buf.clear();
                             model.elements[*elem].element.outputs(&mut self.buf);
                             cached = Some(*elem);

@@ -118,6 +118,24 @@ impl ElementSpec {
     pub fn parse<P: Params>(&self) -> Result<P, FemError> {
         let docs = P::docs();
         let mut map = self.params.clone();
+        // Unknown keys first: a misspelt key (`Iyy`) also leaves its correct key missing,
+        // and "did you mean `Iy`?" is the useful message then.
+        for k in map.keys() {
+            if !docs.iter().any(|d| d.key == k) {
+                let names: Vec<&str> = docs.iter().map(|d| d.key).collect();
+                let near = crate::error::nearest(k, &names);
+                return Err(FemError::input(
+                    &self.origin,
+                    format!(
+                        "unknown key `{k}` for element type `{}`{}; valid keys: {}",
+                        self.kind,
+                        near.map(|n| format!(" (did you mean `{n}`?)"))
+                            .unwrap_or_default(),
+                        names.join(", ")
+                    ),
+                ));
+            }
+        }
         for d in &docs {
             if !map.contains_key(d.key) {
                 match &d.default {
@@ -134,22 +152,6 @@ impl ElementSpec {
                         ))
                     }
                 }
-            }
-        }
-        for k in map.keys() {
-            if !docs.iter().any(|d| d.key == k) {
-                let names: Vec<&str> = docs.iter().map(|d| d.key).collect();
-                let near = crate::error::nearest(k, &names);
-                return Err(FemError::input(
-                    &self.origin,
-                    format!(
-                        "unknown key `{k}` for element type `{}`{}; valid keys: {}",
-                        self.kind,
-                        near.map(|n| format!(" (did you mean `{n}`?)"))
-                            .unwrap_or_default(),
-                        names.join(", ")
-                    ),
-                ));
             }
         }
         let p: P = serde_json::from_value(serde_json::Value::Object(map)).map_err(|e| {

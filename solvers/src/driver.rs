@@ -655,7 +655,7 @@ impl Driver {
                 self.static_solve(0.0, spec.steps)?;
                 if let Some(r) = rec.as_mut() {
                     r.record(
-                        &self.model,
+                        &mut self.model,
                         &self.asm,
                         0.0,
                         &self.state.q,
@@ -669,7 +669,7 @@ impl Driver {
                 self.initialize()?;
                 if let Some(r) = rec.as_mut() {
                     r.record(
-                        &self.model,
+                        &mut self.model,
                         &self.asm,
                         0.0,
                         &self.state.q,
@@ -694,7 +694,7 @@ impl Driver {
                     if k % spec.record_every == 0 || k == nsteps {
                         if let Some(r) = rec.as_mut() {
                             r.record(
-                                &self.model,
+                                &mut self.model,
                                 &self.asm,
                                 self.state.t,
                                 &self.state.q,

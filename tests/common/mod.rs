@@ -1,0 +1,101 @@
+//! Helpers shared by the integration tests: unique temporary directories, running the
+//! `railfem` binary, reading recorder CSV files, and the closed-form moving-force series.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// A fresh, empty directory under the system temp dir, unique per process and call.
+pub fn temp_dir(name: &str) -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let k = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let d = std::env::temp_dir().join(format!("railfem-test-{}-{k}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("create temp dir");
+    d
+}
+
+/// Runs the `railfem` binary with `args`.
+pub fn railfem(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args(args)
+        .output()
+        .expect("run railfem")
+}
+
+/// A recorder CSV: header names and rows of numbers.
+pub struct Csv {
+    /// Column names (`time`, `2_uz`, …).
+    pub header: Vec<String>,
+    /// Rows of values.
+    pub rows: Vec<Vec<f64>>,
+}
+
+impl Csv {
+    /// Reads a recorder file.
+    pub fn read(path: &Path) -> Csv {
+        let text = std::fs::read_to_string(path)
+            .unwrap_or_else(|e| panic!("read {}: {e}", path.display()));
+        let mut lines = text.lines();
+        let header: Vec<String> = lines
+            .next()
+            .expect("header")
+            .split(',')
+            .map(str::to_string)
+            .collect();
+        let rows = lines
+            .map(|l| {
+                l.split(',')
+                    .map(|x| x.parse::<f64>().expect("number"))
+                    .collect()
+            })
+            .collect();
+        Csv { header, rows }
+    }
+
+    /// The values of column `name`.
+    pub fn column(&self, name: &str) -> Vec<f64> {
+        let j = self
+            .header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name} in {:?}", self.header));
+        self.rows.iter().map(|r| r[j]).collect()
+    }
+}
+
+/// Deflection `w(x, t)` (m, positive along the force) of a simply supported
+/// Euler–Bernoulli beam under a constant force `p` (N) crossing it at speed `v` (m/s),
+/// from rest, while the force is on the span (`0 ≤ v·t ≤ L`); Frýba's modal series
+/// summed over `terms` modes. Span `l` (m), bending stiffness `ei` (N·m²), mass per
+/// length `m` (kg/m), undamped.
+///
+/// Derivation. The beam obeys `EI·w'''' + m·ẅ = p·δ(x − v·t)`. With the simply supported
+/// modes `w = Σ_n q_n(t)·sin(nπx/L)` (orthogonal, `∫₀ᴸ sin² = L/2`), projecting on mode n
+/// gives `(mL/2)·q̈_n + (mL/2)·ω_n²·q_n = p·sin(nπvt/L)`, i.e.
+/// `q̈_n + ω_n²·q_n = (2p/(mL))·sin(Ω_n·t)` with `ω_n = (nπ/L)²·√(EI/m)` and
+/// `Ω_n = nπv/L = n·ω`, `ω = πv/L`. From rest (`q_n = q̇_n = 0`) the solution is the
+/// particular part plus the free vibration that cancels its initial velocity:
+/// `q_n = (2p/(mL))/(ω_n² − Ω_n²)·[sin(Ω_n·t) − (Ω_n/ω_n)·sin(ω_n·t)]`.
+/// Since `2p/(mL·ω_n²) = 2pL³/(π⁴·EI·n⁴)` and, with `α = ω/ω_1`, `Ω_n/ω_n = α/n`:
+/// `q_n = (2pL³/(π⁴EI))·1/(n⁴·(1 − α²/n²))·[sin(nωt) − (α/n)·sin(ω_n·t)]`.
+/// The truncation error after N terms is below `Σ_{n>N} 2pL³/(π⁴EI n⁴) ≈
+/// 2pL³/(3π⁴EI·N³)`, i.e. below 1e-5 of the static midspan deflection `pL³/(48EI)` for
+/// N = 50.
+pub fn fryba(x: f64, t: f64, p: f64, v: f64, l: f64, ei: f64, m: f64, terms: usize) -> f64 {
+    use std::f64::consts::PI;
+    let w = PI * v / l;
+    let w1 = (PI / l).powi(2) * (ei / m).sqrt();
+    let alpha = w / w1;
+    let scale = 2.0 * p * l.powi(3) / (PI.powi(4) * ei);
+    (1..=terms)
+        .map(|n| {
+            let nf = n as f64;
+            let wn = nf * nf * w1;
+            let amp = scale / (nf.powi(4) * (1.0 - alpha * alpha / (nf * nf)));
+            amp * ((nf * w * t).sin() - alpha / nf * (wn * t).sin()) * (nf * PI * x / l).sin()
+        })
+        .sum()
+}
