@@ -70,7 +70,7 @@ impl Default for CurveCase {
             speed: 80.0,
             mu: 0.3,
             dt: 0.01,
-            lengths: [500.0, 2000.0, 10_908.3078, 2000.0, 800.0],
+            lengths: [500.0, 2000.0, 10_908.307_8, 2000.0, 800.0],
             start: 30.0,
             penalty: 1e10,
             gravity: 9.81,

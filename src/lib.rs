@@ -6,6 +6,9 @@
 //! 2021) and [`solvers`] (linear solvers, integrators, the driver) — and holds the
 //! command-line interface ([`cli`]). Units are SI throughout: m, kg, s, N, rad.
 
+// Index loops are the clearest way to write small dense matrix algebra.
+#![allow(clippy::needless_range_loop)]
+
 pub use railfem_elements as elements;
 pub use railfem_framework as framework;
 pub use railfem_solvers as solvers;

@@ -484,7 +484,7 @@ impl Element for Beam3d {
             symmetric: true,
             connectivity_may_change: false,
             objective: true,
-            declared_mass: has_mass.then(|| self.params.rho * self.params.A * self.length),
+            declared_mass: has_mass.then_some(self.params.rho * self.params.A * self.length),
         }
     }
 

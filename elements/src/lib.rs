@@ -8,6 +8,9 @@
 //!
 //! Units are SI throughout: m, kg, s, N, rad.
 
+// Index loops are the clearest way to write small dense matrix algebra.
+#![allow(clippy::needless_range_loop)]
+
 pub mod beam3d;
 pub mod mass;
 pub mod rail;

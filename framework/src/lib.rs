@@ -10,6 +10,9 @@
 //!
 //! Units are SI throughout: m, kg, s, N, rad.
 
+// Index loops are the clearest way to write small dense matrix algebra.
+#![allow(clippy::needless_range_loop)]
+
 pub mod assembly;
 pub mod conformance;
 pub mod dof;

@@ -84,6 +84,7 @@ impl Csv {
 /// The truncation error after N terms is below `Σ_{n>N} 2pL³/(π⁴EI n⁴) ≈
 /// 2pL³/(3π⁴EI·N³)`, i.e. below 1e-5 of the static midspan deflection `pL³/(48EI)` for
 /// N = 50.
+#[allow(clippy::too_many_arguments)]
 pub fn fryba(x: f64, t: f64, p: f64, v: f64, l: f64, ei: f64, m: f64, terms: usize) -> f64 {
     use std::f64::consts::PI;
     let w = PI * v / l;

@@ -475,6 +475,7 @@ impl MovingAxle {
         Ok(changed && !self.track.rigid)
     }
 
+    #[allow(clippy::needless_range_loop)]
     fn evaluate(&mut self, q: &[f64], form_tangent: bool) {
         let set = self.setup.clone();
         self.force.iter_mut().for_each(|x| *x = 0.0);
