@@ -425,6 +425,7 @@ mod tests {
                 station_offset: 0.0,
                 lateral: 0.0,
                 vertical: 0.0,
+                longitudinal: 0.0,
             };
             let m = c.reference(&node, 0.0);
             // Centripetal v²/R towards the centre: the centre is at position + R·(Z × t)·sign(κ).
