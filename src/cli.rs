@@ -24,6 +24,8 @@ USAGE:
                                                      run the conformance kit on every kind
                                                      (or those whose name contains NAME);
                                                      exit 1 if a check fails
+  railfem track [--radius R] [--ct CT] [--out DIR]   the paper's track (default R = 6250 m,
+                                                     Ct = 200 m): track.csv and track.svg
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -171,6 +173,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "curve" => curve(a),
         "critical-radius" => critical(a),
         "conformance" => conformance(a),
+        "track" => track(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
@@ -239,6 +242,38 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     println!(
         "contact spacing used by the statics: {:.4} m; results in {}",
         r.contact_spacing,
+        out.display()
+    );
+    Ok(0)
+}
+
+/// `railfem track`: the paper's five-segment track with arc radius `--radius` (m, default
+/// 6250) and cant θ = Ct/R (`--ct` m, default 200), written as `track.csv` and `track.svg`
+/// into `--out` (default `out/track`).
+fn track(a: &Args) -> Result<i32, FemError> {
+    use crate::elements::rail::cant::Track;
+    let radius = a.num("radius")?.unwrap_or(6250.0);
+    let ct = a.num("ct")?.unwrap_or(200.0);
+    if radius <= 0.0 {
+        return Err(FemError::input(
+            "command line",
+            format!("--radius {radius}: give the arc radius in m, > 0"),
+        ));
+    }
+    if ct < 0.0 || ct / radius >= std::f64::consts::FRAC_PI_2 {
+        return Err(FemError::input(
+            "command line",
+            format!("--ct {ct}: give Ct in m, >= 0 and below R·π/2 (θ = Ct/R, Eq. 21)"),
+        ));
+    }
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/track"));
+    let t = Track::paper(radius, ct);
+    crate::elements::rail::railline::write_track_report(&t, &out)
+        .map_err(|e| FemError::output(&out, e))?;
+    println!(
+        "track: R = {radius} m, Ct = {ct} m (θ = {:.6} rad on the arc), {:.4} m long; track.csv and track.svg in {}",
+        ct / radius,
+        t.alignment.length(),
         out.display()
     );
     Ok(0)
