@@ -9,6 +9,7 @@ pub mod hertz_spring;
 pub mod moving_axle;
 pub mod profiles;
 pub mod rail_point;
+pub mod section_plot;
 pub mod sections;
 pub mod theory;
 pub mod track_model;

@@ -158,6 +158,10 @@ pub struct MovingAxle {
     contact_force: Vector3<f64>,
     deltas: Vec<Vector3<f64>>,
     frames: Vec<(Vector3<f64>, Vector3<f64>)>,
+    /// In-plane rigid motion of the wheel relative to the rail at the trial state: the
+    /// wheel's displacement at C's reference position (m, axes 1-2) and its roll relative
+    /// to the rail (rad, about axis 3). For drawing cross-sections.
+    relative: (Vector2<f64>, f64),
     /// Spline interval of each rail node's last closest point (search warm start).
     hints: Vec<Option<usize>>,
     /// Position and gap of each rail node at its last closest-point search: the signed
@@ -361,6 +365,7 @@ impl MovingAxle {
             contact_force: Vector3::zeros(),
             deltas: vec![Vector3::zeros(); n],
             frames: vec![(Vector3::x(), Vector3::z()); n],
+            relative: (Vector2::zeros(), 0.0),
             hints: vec![None; n],
             last_gap: vec![None; n],
         }
@@ -402,6 +407,15 @@ impl MovingAxle {
             self.setup.rail_nodes.clone(),
             Vector2::new(self.r_cb.x, self.r_cb.y),
         )
+    }
+
+    /// The wheel's in-plane rigid motion relative to the rail at the trial state: its
+    /// displacement at the rail point C (m, wheel-frame axes 1 and 2) and its roll relative
+    /// to the rail (rad, about axis 3, positive from axis 1 to axis 2). A wheel point at
+    /// `x` (profile plane, relative to B's reference) is displaced relative to the rail by
+    /// `d + roll·ẑ × (x − (C − B))`. For drawing cross-sections ([`super::section_plot`]).
+    pub fn relative_motion(&self) -> (Vector2<f64>, f64) {
+        self.relative
     }
 
     /// The 3×21 map of rail profile node `k` from element DOFs to `Δ_k` (wheel frame).
@@ -500,6 +514,17 @@ impl MovingAxle {
                     self.tangent[(i, j)] += kst[(i, j)];
                 }
             }
+        }
+        // Relative rigid motion of the wheel (for pictures): Δ(ρ) = Δ(0) + ω × ρ is the
+        // rail-minus-wheel displacement at ρ from C, so the wheel moves by −Δ.
+        {
+            let map = |rho: Vector3<f64>| -> Vector3<f64> {
+                let t = self.t_matrix(&rho);
+                Vector3::from_fn(|i, _| (0..21).map(|j| t[(i, j)] * qv[j]).sum())
+            };
+            let d0 = map(Vector3::zeros());
+            let d1 = map(Vector3::x());
+            self.relative = (Vector2::new(-d0.x, -d0.y), -(d1.y - d0.y));
         }
         // Contact.
         self.points.clear();
@@ -724,6 +749,10 @@ impl Element for MovingAxle {
 
     fn dissipated_energy(&self) -> f64 {
         self.committed.dissipated
+    }
+
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
 }
 

@@ -1,0 +1,260 @@
+//! Tests of the moving wheel-axle element (Ju & Ro 2021) on small models: a hand-made
+//! wheelset (axle node K with a lumped mass, carried by a `Carrier`, and two `moving_axle`
+//! wheels) on straight level track, against closed forms and conservation laws; the curved
+//! track validation's independence of the penalty; and a cross-section picture.
+//!
+//! K's DOFs are in the wheel frame: ux lateral (axis 1, to the left), uy vertical (axis 2),
+//! uz longitudinal (axis 3). The element's tangent against finite differences in every mode
+//! is tested inside `moving_axle.rs` and is not repeated here.
+
+use nalgebra::Vector3;
+use railfem::elements::rail::alignment::Alignment;
+use railfem::elements::rail::cant::{Cant, Track};
+use railfem::elements::rail::contact_law::Mode;
+use railfem::elements::rail::moving_axle::MovingAxle;
+use railfem::elements::rail::section_plot;
+use railfem::elements::rail::track_model::{self, RailSupport, TrackMesh};
+use railfem::framework::loads::{LoadSpec, TimeSeries};
+use railfem::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder};
+use railfem::framework::moving::{Carrier, Path};
+use railfem::framework::{Dof, DofSet};
+use railfem::solvers::Driver;
+use std::sync::Arc;
+
+/// Height of the axle centre K above the rail-top plane (m): the wheel radius.
+const R0: f64 = 0.43;
+/// Wheelset mass (kg) and inertias about axes 1, 2, 3 (pitch, yaw, roll), sks700 data.
+const MASS: f64 = 1850.0;
+const INERTIA: [f64; 3] = [123.0, 967.0, 967.0];
+
+/// A hand-made wheelset on a straight, level track.
+struct Setup {
+    /// Track length (m).
+    length: f64,
+    /// Station of the wheelset at t = 0 (m).
+    start: f64,
+    /// Speed (m/s).
+    speed: f64,
+    mesh: TrackMesh,
+    /// `moving_axle` keys shared by both wheels.
+    wheel: serde_json::Value,
+    /// Loads on K: (dof, value, series).
+    loads: Vec<(&'static str, f64, TimeSeries)>,
+    /// DOFs of K held fixed.
+    fix: DofSet,
+    /// Grounded springs and dashpots on K, [ux, uy, uz, rx, ry, rz] in the wheel frame.
+    spring: Option<([f64; 6], [f64; 6])>,
+    analysis: AnalysisSpec,
+}
+
+impl Default for Setup {
+    fn default() -> Self {
+        let mut analysis = AnalysisSpec::default();
+        // Tight equilibrium: the checks below go to 1e-9 of the load.
+        analysis.newton.tol = 1e-11;
+        analysis.newton.abs_tol = 1e-7;
+        analysis.newton.max_iter = 40;
+        Setup {
+            length: 40.0,
+            start: 20.0,
+            speed: 0.0,
+            mesh: TrackMesh::default(),
+            wheel: serde_json::json!({}),
+            loads: Vec::new(),
+            fix: DofSet::NONE,
+            spring: None,
+            analysis,
+        }
+    }
+}
+
+/// The built model: driver, K's node index and the wheels' element indices (left, right).
+struct Wheelset {
+    d: Driver,
+    k: usize,
+    wheels: [usize; 2],
+}
+
+const K_ID: u64 = 1;
+
+fn build(s: &Setup) -> Wheelset {
+    railfem::elements::link();
+    let track = Arc::new(Track::new(Alignment::straight(s.length), Cant::none()).unwrap());
+    let mut b = ModelBuilder::new("wheelset test");
+    let p = track.at(s.start);
+    let xk = p.position + p.frame.column(1) * R0;
+    b.node_fixed(K_ID, [xk.x, xk.y, xk.z], s.fix);
+    b.element(
+        "mass",
+        1,
+        &[K_ID],
+        &serde_json::json!({"m": MASS, "inertia": INERTIA}),
+    );
+    for (id, side) in [(2, "left"), (3, "right")] {
+        let mut w = s.wheel.as_object().cloned().unwrap_or_default();
+        w.insert("side".into(), side.into());
+        b.element("moving_axle", id, &[K_ID], &serde_json::Value::Object(w));
+    }
+    if let Some((k, c)) = s.spring {
+        b.element(
+            "spring_damper",
+            4,
+            &[K_ID],
+            &serde_json::json!({"k": k, "c": c}),
+        );
+    }
+    track_model::generate(&mut b, track.clone(), &s.mesh).unwrap();
+    b.carrier(
+        Carrier {
+            name: "wheelset".into(),
+            path: track.clone() as Arc<dyn Path>,
+            start: s.start,
+            speed: s.speed,
+            accel: 0.0,
+            nodes: Vec::new(),
+        },
+        vec![(K_ID, 0.0, [0.0, R0, 0.0])],
+    );
+    for (dof, value, series) in &s.loads {
+        b.load(LoadSpec::Nodal {
+            node: K_ID,
+            dof: dof.to_string(),
+            value: *value,
+            series: series.clone(),
+        });
+    }
+    b.analysis(s.analysis.clone());
+    let model = b.build().unwrap();
+    let k = model.node(K_ID).unwrap();
+    let idx = |id: u64| model.elements.iter().position(|e| e.id == id).unwrap();
+    let wheels = [idx(2), idx(3)];
+    let d = Driver::new(model).unwrap();
+    Wheelset { d, k, wheels }
+}
+
+impl Wheelset {
+    /// Output `key` of wheel `w` (0 left, 1 right) at the last evaluated state.
+    fn out(&self, w: usize, key: &str) -> f64 {
+        let e = &self.d.model.elements[self.wheels[w]].element;
+        let names = e.output_names();
+        let mut v = Vec::new();
+        e.outputs(&mut v);
+        v[names.iter().position(|n| n == key).unwrap()]
+    }
+
+    fn axle(&self, w: usize) -> &MovingAxle {
+        self.d.model.elements[self.wheels[w]]
+            .element
+            .as_any()
+            .and_then(|a| a.downcast_ref::<MovingAxle>())
+            .unwrap()
+    }
+
+    /// Committed value of DOF `dof` of node index `node`.
+    fn disp(&self, node: usize, dof: usize) -> f64 {
+        self.d.asm.dofmap.value(&self.d.state.q, node, dof)
+    }
+
+    fn acc(&self, node: usize, dof: usize) -> f64 {
+        self.d.asm.dofmap.value(&self.d.state.a, node, dof)
+    }
+
+    /// Node index of wheel `w`'s contact master B.
+    fn b_node(&self, w: usize) -> usize {
+        self.d.model.elements[self.wheels[w]].element.connectivity()[0].node
+    }
+
+    /// The A–B spring elongation δ = u_B − u_K − θ_K × (x_B − x_K) of wheel `w` (m, wheel
+    /// frame), from the committed displacements.
+    fn spring_delta(&self, w: usize) -> Vector3<f64> {
+        let b = self.b_node(w);
+        let ub = Vector3::from_fn(|i, _| self.disp(b, i));
+        let uk = Vector3::from_fn(|i, _| self.disp(self.k, i));
+        let th = Vector3::from_fn(|i, _| self.disp(self.k, 3 + i));
+        let kin = self.d.asm.kinematics();
+        let r = kin[self.k].frame.transpose() * (kin[b].position - kin[self.k].position);
+        ub - uk - th.cross(&r)
+    }
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+/// A piecewise-linear series through `(t, value)` points.
+fn table(points: &[(f64, f64)]) -> TimeSeries {
+    TimeSeries::Table {
+        points: points.iter().map(|&(t, v)| [t, v]).collect(),
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// 1. Vertical load on rigid rails: symmetry, equilibrium and the A–B power law.
+// ---------------------------------------------------------------------------------------
+
+/// The approach of the spring k2 = a + b·f^{1/3} at force f, in closed form:
+/// δ(f) = ∫₀^f dx/(a + b·x^{1/3}); with x = s³, dx = 3s² ds and
+/// 3s²/(a + b·s) = (3/b)·(s − α + α²/(s + α)), α = a/b:
+/// δ = (3/b)·(S²/2 − α·S + α²·ln(1 + S/α)), S = f^{1/3}.
+fn approach_c_third(a: f64, b: f64, f: f64) -> f64 {
+    let s = f.cbrt();
+    let al = a / b;
+    3.0 / b * (0.5 * s * s - al * s + al * al * (s / al).ln_1p())
+}
+
+#[test]
+fn vertical_load_halves_and_follows_the_power_law() {
+    let (a, b, c) = (1.0e5, 3.03e7, 1.0 / 3.0);
+    // Total loads on K (N): 2·(10, 30, 60, 90, 130) kN.
+    let levels = [20e3, 60e3, 120e3, 180e3, 260e3];
+    let mut pts = vec![(0.0, 0.0)];
+    for (i, p) in levels.iter().enumerate() {
+        pts.push(((i + 1) as f64, *p));
+    }
+    let mut ws = build(&Setup {
+        wheel: serde_json::json!({"a": a, "b": b, "c": c, "mu": 0.3}),
+        loads: vec![("uy", -1.0, table(&pts))],
+        ..Default::default()
+    });
+    for (i, &p) in levels.iter().enumerate() {
+        // Sub-steps from the previous level (static_solve scales from zero; one increment
+        // per call keeps the path monotone).
+        for j in 1..=4 {
+            ws.d.static_solve(i as f64 + j as f64 / 4.0, 1).unwrap();
+        }
+        let (ql, qr) = (ws.out(0, "Q"), ws.out(1, "Q"));
+        let (yl, yr) = (ws.out(0, "Y"), ws.out(1, "Y"));
+        // Equilibrium of the wheelset (K plus both B): the contact forces carry the load.
+        // Newton converges to 1e-11 of the load, so 1e-9 is a margin of 100.
+        assert!(rel(ql + qr, p) < 1e-9, "ΣQ = {} vs {p}", ql + qr);
+        // Mirror symmetry: the right wheel and rail are the exact mirror images of the
+        // left ones, so each carries half.
+        assert!(rel(ql, 0.5 * p) < 1e-9, "Q_L = {ql} vs {}", 0.5 * p);
+        assert!(rel(qr, 0.5 * p) < 1e-9, "Q_R = {qr} vs {}", 0.5 * p);
+        // Lateral components (conicity, rail inclination) cancel.
+        assert!((yl + yr).abs() < 1e-9 * p, "Y_L + Y_R = {}", yl + yr);
+        for w in 0..2 {
+            let f2 = ws.out(w, "spring_f2");
+            // B carries nothing but the spring and the contact: f2 = Q.
+            assert!(rel(f2, 0.5 * p) < 1e-9, "f2 = {f2} vs {}", 0.5 * p);
+            // The power law, from the displacements: f2 against δ2 in closed form. The
+            // element inverts a Gauss–Legendre quadrature of δ(f) (its own unit test: 1e-10),
+            // so 1e-8 in force is a margin of 100 (dδ/δ ≈ (2/3)·df/f).
+            let delta = ws.spring_delta(w);
+            let exact = approach_c_third(a, b, f2);
+            println!(
+                "P = {p:.0}: wheel {w} f2 = {f2:.6} N, δ2 = {:.9e} m, closed form δ = {exact:.9e} m",
+                delta.y
+            );
+            assert!(rel(delta.y, exact) < 1e-8, "δ2 {} vs {exact}", delta.y);
+            // a → 0 limit: Hertz f = (b(1−c)δ)^{1/(1−c)}. With α = a/b the closed form
+            // differs from it by δ·(2α/S)(1 + O(α/S)), i.e. f by ≈ 3α/S relatively.
+            let hertz = (b * (1.0 - c) * delta.y).powf(1.0 / (1.0 - c));
+            let bound = 3.5 * (a / b) / f2.cbrt();
+            assert!(
+                rel(f2, hertz) < bound,
+                "Hertz limit {hertz} vs {f2}, bound {bound}"
+            );
+        }
+    }
+}
