@@ -258,3 +258,151 @@ fn vertical_load_halves_and_follows_the_power_law() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// 2. Lateral push with friction: stick, Coulomb sliding, flange contact.
+// ---------------------------------------------------------------------------------------
+
+/// Wheel load per wheel (N), friction, and the stiffness of the loading device (N/m).
+const N_WHEEL: f64 = 50e3;
+const MU: f64 = 0.3;
+const K_DEVICE: f64 = 2.0e7;
+const TANGENT: &str = "consistent";
+
+/// A wheelset pressed down with `N_WHEEL` per wheel and pushed to the left (+axis 1)
+/// through a grounded spring `K_DEVICE` whose far end moves by d(t) = t mm: the force
+/// `K_DEVICE·(d − u)` on K is displacement-controlled, so the sliding plateau (almost zero
+/// wheelset stiffness) can be followed statically. `fix` holds DOFs of K.
+fn pushed_wheelset(fix: DofSet) -> Wheelset {
+    build(&Setup {
+        wheel: serde_json::json!({"mu": MU, "sliding_tangent": TANGENT}),
+        fix,
+        spring: Some(([K_DEVICE, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0; 6])),
+        loads: vec![
+            // Vertical load ramped over t ∈ [−1, 0], then held.
+            ("uy", -2.0 * N_WHEEL, table(&[(-1.0, 0.0), (0.0, 1.0), (100.0, 1.0)])),
+            // Device: d = t mm for t ≥ 0.
+            ("ux", K_DEVICE * 1e-3, table(&[(-1.0, 0.0), (0.0, 0.0), (100.0, 100.0)])),
+        ],
+        ..Default::default()
+    })
+}
+
+/// One state of the push.
+#[derive(Debug, Clone, Copy)]
+struct PushState {
+    u: f64,
+    h: f64,
+    y: [f64; 2],
+    q: [f64; 2],
+    n: [f64; 2],
+    slide: [f64; 2],
+    angle: [f64; 2],
+}
+
+fn push_state(ws: &Wheelset, d: f64) -> PushState {
+    let u = ws.disp(ws.k, 0);
+    let g = |k: &str| [ws.out(0, k), ws.out(1, k)];
+    PushState {
+        u,
+        h: K_DEVICE * (d - u),
+        y: g("Y"),
+        q: g("Q"),
+        n: g("n_contact"),
+        slide: g("n_slide"),
+        angle: g("max_contact_angle"),
+    }
+}
+
+/// Loads the wheelset vertically (five increments over t ∈ [−1, 0]).
+fn press(ws: &mut Wheelset) {
+    for j in 1..=5 {
+        ws.d.static_solve(-1.0 + j as f64 / 5.0, 1).unwrap();
+    }
+}
+
+/// Stick: with K's rotations held, each wheel's B is tied to K by k1 laterally and to the
+/// rigid rail by n sticking points, each an isotropic in-plane spring k (normal and
+/// tangential penalty equal; the tangent follows the normal). Laterally the wheelset is
+/// then two chains k1 + (n·k) in parallel: K_lat = Σ k1·n·k/(k1 + n·k).
+#[test]
+fn lateral_push_stick_stiffness_is_the_series_springs() {
+    let mut ws = pushed_wheelset(DofSet::ROTATIONS);
+    press(&mut ws);
+    let s0 = push_state(&ws, 0.0);
+    ws.d.static_solve(0.25, 1).unwrap();
+    let s1 = push_state(&ws, 0.25e-3);
+    assert_eq!(s1.slide, [0.0, 0.0], "still sticking");
+    assert_eq!(s1.n, s0.n, "same contact points");
+    let (k1, k) = (1.0e9, 1.0e10);
+    let expect: f64 = s1.n.iter().map(|n| k1 * n * k / (k1 + n * k)).sum();
+    let secant = (s1.h - s0.h) / (s1.u - s0.u);
+    println!("stick: n = {:?}, K_lat = {secant:.6e} N/m, closed form {expect:.6e}", s1.n);
+    // The in-plane contact stiffness is k·I up to the curvature term k·g·∇²g (relative
+    // |g|·κ ≈ 1e-6·3 m⁻¹) and the slip-frame terms (relative s·κ, smaller still); the load
+    // transfer between the wheels (rotations held) changes k2 only, which does not act
+    // laterally. 1e-4 is a wide margin over these.
+    assert!(rel(secant, expect) < 1e-4, "{secant} vs {expect}");
+    // Equilibrium: the wheels' lateral contact forces balance the device.
+    let sum = s1.y[0] + s1.y[1];
+    assert!((sum + s1.h).abs() < 1e-8 * s1.h, "ΣY = {sum}, H = {}", s1.h);
+}
+
+/// A free wheelset (roll free) pushed sideways: sticks, then every point slides at exactly
+/// μ times its normal force (resolved on the current contact normal), the lateral force
+/// stays on a plateau near μ·ΣQ while the wheelset slides, and when the flange closes a
+/// steep second contact appears and the lateral stiffness jumps.
+#[test]
+fn lateral_push_slides_at_coulomb_then_flange_closes() {
+    // The spin about the axle (rx) is held: rolling along the rail is a free motion that
+    // statics cannot fix (its stiffness is k_v times the squared millimetre offsets of the
+    // contact points from B). Roll and yaw are free.
+    let mut ws = pushed_wheelset(DofSet::of(&[Dof::Rx]));
+    press(&mut ws);
+    let mut hist = vec![push_state(&ws, 0.0)];
+    let mut sliding_steps = 0;
+    for i in 1..=64 {
+        let t = i as f64 * 0.25;
+        ws.d.static_solve(t, 1).unwrap();
+        let s = push_state(&ws, t * 1e-3);
+        println!(
+            "d {:.2} mm u {:.4} mm H {:.1} Y {:.1} {:.1} Q {:.1} {:.1} n {} {} slide {} {} angle {:.3} {:.3}",
+            t, s.u * 1e3, s.h, s.y[0], s.y[1], s.q[0], s.q[1], s.n[0], s.n[1], s.slide[0], s.slide[1], s.angle[0], s.angle[1]
+        );
+        // Equilibrium of the wheelset at every converged step.
+        assert!((s.y[0] + s.y[1] + s.h).abs() < 1e-8 * s.h.abs().max(1.0));
+        // Coulomb per sliding point, on the current frame: the force φ splits into a
+        // normal part and a part along the current tangent u (⊥ the current normal);
+        // the latter is exactly μ times the former (rounding only: 1e-12).
+        for w in 0..2 {
+            for (_, st, _, _) in ws.axle(w).contact_points() {
+                let phi = Vector3::new(st.phi.x, st.phi.y, 0.0);
+                let ft = phi.dot(&st.u);
+                let fnorm = (phi - st.u * ft).norm();
+                assert!((fnorm - st.f_n).abs() < 1e-12 * st.f_n, "normal {fnorm} vs {}", st.f_n);
+                if st.mode == Mode::Slide {
+                    assert!(
+                        (ft.abs() - MU * fnorm).abs() < 1e-12 * fnorm,
+                        "sliding point: |f_t| = {} vs μ·f_n = {}",
+                        ft.abs(),
+                        MU * fnorm
+                    );
+                } else {
+                    assert!(ft.abs() <= MU * fnorm * (1.0 + 1e-12));
+                }
+            }
+        }
+        if s.slide == s.n && s.n[0] > 0.0 && s.n[1] > 0.0 && s.angle[0] < 0.2 {
+            sliding_steps += 1;
+            // Plateau: the lateral force is μ·ΣQ up to the tilt of the contact normals
+            // (angles γ ≤ 0.1 rad: a force on the friction cone of a normal tilted by γ has
+            // Y/Q = tan(atan μ ± γ), within (1 ± 1.2·γ/μ)·μ here).
+            let qsum = s.q[0] + s.q[1];
+            let g = s.angle[0].max(s.angle[1]);
+            let r = s.h / (MU * qsum);
+            assert!((r - 1.0).abs() < 1.2 * g / MU, "H/(μΣQ) = {r}, γ = {g}");
+        }
+        hist.push(s);
+    }
+    assert!(sliding_steps >= 4, "a sliding plateau: {sliding_steps} steps");
+}

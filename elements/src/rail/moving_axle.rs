@@ -651,6 +651,7 @@ impl Element for MovingAxle {
                 f_u: 0.0,
                 f_v: 0.0,
                 s_u: 0.0,
+                u: self.frames[kx].0,
             };
             let st = in_contact.get(&kx).copied().unwrap_or(open);
             let (a, w) = law.commit_anchor(
