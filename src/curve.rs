@@ -53,6 +53,8 @@ pub struct CurveCase {
     pub duration: f64,
     /// Record every n-th step.
     pub record_every: usize,
+    /// Sliding tangent of the wheels: "symmetric" (Eq. 8, the default) or "consistent".
+    pub sliding_tangent: String,
 }
 
 impl Default for CurveCase {
@@ -73,6 +75,7 @@ impl Default for CurveCase {
             rho_inf: 0.8,
             duration: 0.0,
             record_every: 10,
+            sliding_tangent: "symmetric".into(),
         }
     }
 }
@@ -202,6 +205,7 @@ impl CurveCase {
             accel: 0.0,
             wheel: serde_json::json!({
                 "mu": self.mu, "k": self.penalty, "k_v": self.penalty,
+                "sliding_tangent": self.sliding_tangent,
             }),
             first_node_id: 0,
         };

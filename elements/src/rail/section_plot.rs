@@ -61,7 +61,12 @@ pub fn section_svg(axle: &MovingAxle, title: &str) -> (String, SectionSummary) {
     let rail: Vec<Vector2<f64>> = rail.iter().map(|p| (p + c_rel_b) * 1e3).collect();
     // Range: the rail head and the part of the wheel above it (clip the wheel to the rail's
     // lateral extent plus a margin so the flange shows).
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
     for p in rail.iter().chain(wheel.iter()) {
         x0 = x0.min(p.x);
         x1 = x1.max(p.x);
@@ -70,7 +75,8 @@ pub fn section_svg(axle: &MovingAxle, title: &str) -> (String, SectionSummary) {
     }
     // Equal scales on both axes (a true section).
     let (wx, wy) = (WIDTH - 2.0 * MARGIN, HEIGHT - 2.0 * MARGIN);
-    let scale = (wx / (x1 - x0)).min(wy / (y1 - y0));
+    // 5 % padding so nothing touches the frame.
+    let scale = (wx / (1.05 * (x1 - x0))).min(wy / (1.05 * (y1 - y0)));
     let cx = 0.5 * (x0 + x1);
     let cy = 0.5 * (y0 + y1);
     let px = |x: f64| WIDTH / 2.0 + (x - cx) * scale;
