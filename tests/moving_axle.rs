@@ -576,7 +576,10 @@ fn section_picture_of_two_point_contact() {
     let axle = ws.axle(0);
     let sum = section_plot::write_section_svg(
         axle,
-        &format!("left wheel, wheelset pushed {t:.2} mm: tread and gauge-corner contact"),
+        &format!(
+            "left wheel, wheelset moved {:.2} mm to the left: tread and gauge-corner contact",
+            ws.disp(ws.k, 0) * 1e3
+        ),
         &path,
     )
     .unwrap();

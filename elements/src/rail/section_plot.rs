@@ -2,9 +2,9 @@
 //! [`MovingAxle`] in their displaced positions at the element's current (trial) state, with
 //! the contact points marked by mode, as plain SVG (no dependencies).
 //!
-//! The picture is drawn in the wheel frame's cross-section plane (axis 1 to the right of
-//! the page when looking along the direction of travel is axis 1 to the *left* of the
-//! vehicle, so the page shows the section seen from behind the wheel), in millimetres,
+//! The picture is drawn in the wheel frame's cross-section plane with axis 1 (to the left
+//! of the direction of travel) to the right of the page and axis 2 up, i.e. as seen from
+//! ahead of the wheel looking back along the track, in millimetres,
 //! relative to B's reference position (the wheel's nominal contact point). The rail is drawn
 //! at its reference place and the wheel is moved by its rigid motion relative to the rail
 //! ([`MovingAxle::relative_motion`]): only the relative position matters for contact, and
