@@ -219,4 +219,10 @@ pub trait Element: Send + Sync {
     fn dissipated_energy(&self) -> f64 {
         0.0
     }
+
+    /// The concrete element, for callers that know its type (tests, plots of one element's
+    /// state). `None` unless the element opts in.
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        None
+    }
 }

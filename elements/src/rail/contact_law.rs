@@ -9,7 +9,9 @@
 //!
 //! - **separation** (`g ≥ 0`): no force, no stiffness (Eq. 7, `[K_local] = 0`);
 //! - **sticking**: `f_n = −k·g`, `f_u = k·s_u`, `f_v = k_v·s_v` with `s = Δ − Δ_a` resolved on
-//!   the contact frame `u` (in-plane tangent), `v = w × u` (longitudinal); the local
+//!   the contact frame `u = v × w` (the in-plane tangent at the *current* contact point, so
+//!   it turns with the normal as the point moves along the profile), `v` (longitudinal,
+//!   the anchor's, normal to the cross-section plane); the local
 //!   stiffness is `diag(k, k, k_v)` (Eq. 7);
 //! - **sliding** (`|k·s_u| > μ·f_n`): `f_u = μ·f_n·sign(s_u)`, exactly Coulomb at every
 //!   evaluation, hence at convergence. The tangent is either the symmetric matrix of
@@ -25,6 +27,11 @@
 //! distance, `k·(w·wᵀ + g·∇²g)`, so the stick tangent is exact.
 
 use nalgebra::{Matrix3, Vector3};
+
+fn skew(r: &Vector3<f64>) -> Matrix3<f64> {
+    // [r]ₓ such that [r]ₓ·x = r × x.
+    Matrix3::new(0.0, -r.z, r.y, r.z, 0.0, -r.x, -r.y, r.x, 0.0)
+}
 use serde::{Deserialize, Serialize};
 
 /// Which tangent to use for sliding points.
@@ -79,7 +86,8 @@ impl Mode {
 pub struct Anchor {
     /// Relative displacement at the anchor (m), wheel frame.
     pub delta: Vector3<f64>,
-    /// In-plane tangent `u` (unit), wheel frame.
+    /// In-plane tangent `u` (unit), wheel frame, at the last commit (for reference: the
+    /// law evaluates with the current tangent `v × w`).
     pub u: Vector3<f64>,
     /// Longitudinal direction `v` (unit), wheel frame.
     pub v: Vector3<f64>,
@@ -102,6 +110,8 @@ pub struct PointState {
     pub f_v: f64,
     /// In-plane slip from the anchor along `u` (m).
     pub s_u: f64,
+    /// The in-plane tangent `u = v × w` the point was evaluated with (unit, wheel frame).
+    pub u: Vector3<f64>,
 }
 
 impl PenaltyLaw {
@@ -125,6 +135,7 @@ impl PenaltyLaw {
                 f_u: 0.0,
                 f_v: 0.0,
                 s_u: 0.0,
+                u: anchor.v.cross(w),
             };
         }
         let k = self.k;
@@ -133,7 +144,13 @@ impl PenaltyLaw {
         let mut phi = w * (k * g);
         let mut d = (w * w.transpose() + hess * g) * k;
         let s = delta - anchor.delta;
-        let (u, v) = (anchor.u, anchor.v);
+        // The in-plane tangent follows the current normal, u = v × w, so that the friction
+        // force is tangent to the wheel at the current contact point and Coulomb holds
+        // exactly against the current normal (`f_u = μ·f_n`, both resolved on the current
+        // frame). Its derivative is ∂u/∂Δ = [v]ₓ·∂w/∂Δ = [v]ₓ·∇²g.
+        let v = anchor.v;
+        let u = v.cross(w);
+        let du = skew(&v) * hess;
         let s_u = u.dot(&s);
         let s_v = v.dot(&s);
         let f_v = self.k_v * s_v;
@@ -143,7 +160,14 @@ impl PenaltyLaw {
         let limit = self.mu * f_n;
         if trial.abs() <= limit {
             phi += u * trial;
+            // ∂(f_u·u)/∂Δ = k·u·(uᵀ + sᵀ·∂u/∂Δ) + f_u·∂u/∂Δ; the curvature terms are
+            // symmetrized for the symmetric variant (an O(f·κ) approximation).
+            let extra = u * (s.transpose() * du) * k + du * trial;
             d += u * u.transpose() * k;
+            d += match self.tangent {
+                SlidingTangent::Consistent => extra,
+                SlidingTangent::Symmetric => (extra + extra.transpose()) * 0.5,
+            };
             PointState {
                 mode: Mode::Stick,
                 phi,
@@ -152,19 +176,22 @@ impl PenaltyLaw {
                 f_u: trial,
                 f_v,
                 s_u,
+                u,
             }
         } else {
             let sgn = trial.signum();
             let f_u = limit * sgn;
             phi += u * f_u;
+            let extra = du * f_u;
             // ∂f_n/∂Δ = −k·w, so ∂f_u/∂Δ = −μ·k·sign·w.
             match self.tangent {
                 SlidingTangent::Consistent => {
-                    d += u * w.transpose() * (-self.mu * k * sgn);
+                    d += u * w.transpose() * (-self.mu * k * sgn) + extra;
                 }
                 SlidingTangent::Symmetric => {
                     d += (u * w.transpose() + w * u.transpose()) * (-self.mu * k * sgn)
-                        + u * u.transpose() * (self.mu * self.mu * k);
+                        + u * u.transpose() * (self.mu * self.mu * k)
+                        + (extra + extra.transpose()) * 0.5;
                 }
             }
             PointState {
@@ -175,6 +202,7 @@ impl PenaltyLaw {
                 f_u,
                 f_v,
                 s_u,
+                u,
             }
         }
     }
@@ -202,11 +230,12 @@ impl PenaltyLaw {
             Mode::Slide => {
                 // Slip measured from the anchor passed in, so that committing twice moves
                 // the anchor once: k·u·(Δ − Δ_a') = f_u afterwards.
-                let s_u = anchor.u.dot(&(delta - anchor.delta));
+                let s_u = st.u.dot(&(delta - anchor.delta));
                 let slip = s_u - st.f_u / self.k;
                 (
                     Anchor {
-                        delta: anchor.delta + anchor.u * slip,
+                        delta: anchor.delta + st.u * slip,
+                        u: st.u,
                         ..*anchor
                     },
                     (st.f_u * slip).abs(),

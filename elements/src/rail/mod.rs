@@ -10,6 +10,7 @@ pub mod moving_axle;
 pub mod profiles;
 pub mod rail_point;
 pub mod railline;
+pub mod section_plot;
 pub mod sections;
 pub mod theory;
 pub mod track_model;

@@ -148,6 +148,8 @@ pub struct MovingAxle {
     rail_map: SMatrix<f64, 6, 12>,
     committed: History,
     trial: History,
+    /// Whether `update` ran since the last commit or revert.
+    dirty: bool,
     // Trial results.
     force: Vec<f64>,
     tangent: DMatrix<f64>,
@@ -161,6 +163,10 @@ pub struct MovingAxle {
     contact_force: Vector3<f64>,
     deltas: Vec<Vector3<f64>>,
     frames: Vec<(Vector3<f64>, Vector3<f64>)>,
+    /// In-plane rigid motion of the wheel relative to the rail at the trial state: the
+    /// wheel's displacement at C's reference position (m, axes 1-2) and its roll relative
+    /// to the rail (rad, about axis 3). For drawing cross-sections.
+    relative: (Vector2<f64>, f64),
     /// Position and gap of each rail node at its last closest-point search: the signed
     /// distance is 1-Lipschitz, so a node whose gap exceeds how far it has moved since is
     /// still open and needs no search.
@@ -354,6 +360,7 @@ impl MovingAxle {
             rail_map: SMatrix::zeros(),
             committed: hist.clone(),
             trial: hist,
+            dirty: false,
             force: vec![0.0; 21],
             tangent: DMatrix::zeros(21, 21),
             points: Vec::new(),
@@ -363,6 +370,7 @@ impl MovingAxle {
             contact_force: Vector3::zeros(),
             deltas: vec![Vector3::zeros(); n],
             frames: vec![(Vector3::x(), Vector3::z()); n],
+            relative: (Vector2::zeros(), 0.0),
             last_gap: vec![None; n],
         }
     }
@@ -403,6 +411,15 @@ impl MovingAxle {
             self.setup.rail_nodes.clone(),
             Vector2::new(self.r_cb.x, self.r_cb.y),
         )
+    }
+
+    /// The wheel's in-plane rigid motion relative to the rail at the trial state: its
+    /// displacement at the rail point C (m, wheel-frame axes 1 and 2) and its roll relative
+    /// to the rail (rad, about axis 3, positive from axis 1 to axis 2). A wheel point at
+    /// `x` (profile plane, relative to B's reference) is displaced relative to the rail by
+    /// `d + roll·ẑ × (x − (C − B))`. For drawing cross-sections ([`super::section_plot`]).
+    pub fn relative_motion(&self) -> (Vector2<f64>, f64) {
+        self.relative
     }
 
     /// The 3×21 map of rail profile node `k` from element DOFs to `Δ_k` (wheel frame).
@@ -502,6 +519,17 @@ impl MovingAxle {
                     self.tangent[(i, j)] += kst[(i, j)];
                 }
             }
+        }
+        // Relative rigid motion of the wheel (for pictures): Δ(ρ) = Δ(0) + ω × ρ is the
+        // rail-minus-wheel displacement at ρ from C, so the wheel moves by −Δ.
+        {
+            let map = |rho: Vector3<f64>| -> Vector3<f64> {
+                let t = self.t_matrix(&rho);
+                Vector3::from_fn(|i, _| (0..21).map(|j| t[(i, j)] * qv[j]).sum())
+            };
+            let d0 = map(Vector3::zeros());
+            let d1 = map(Vector3::x());
+            self.relative = (Vector2::new(-d0.x, -d0.y), -(d1.y - d0.y));
         }
         // Contact.
         self.points.clear();
@@ -607,6 +635,7 @@ impl Element for MovingAxle {
             });
         }
         self.evaluate(trial.disp, true);
+        self.dirty = true;
         Ok(())
     }
 
@@ -619,6 +648,12 @@ impl Element for MovingAxle {
     }
 
     fn commit(&mut self) {
+        // Accept the trial state once: a second commit (or a commit after a revert) with no
+        // update in between has nothing new to accept.
+        if !self.dirty {
+            return;
+        }
+        self.dirty = false;
         let law = self.setup.law;
         let mut next = self.committed.clone();
         let in_contact: std::collections::HashMap<usize, PointState> =
@@ -632,6 +667,7 @@ impl Element for MovingAxle {
                 f_u: 0.0,
                 f_v: 0.0,
                 s_u: 0.0,
+                u: self.frames[kx].0,
             };
             let st = in_contact.get(&kx).copied().unwrap_or(open);
             let (a, w) = law.commit_anchor(
@@ -651,6 +687,7 @@ impl Element for MovingAxle {
     }
 
     fn revert(&mut self) {
+        self.dirty = false;
         self.trial = self.committed.clone();
     }
 
@@ -741,6 +778,10 @@ impl Element for MovingAxle {
 
     fn dissipated_energy(&self) -> f64 {
         self.committed.dissipated
+    }
+
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
 }
 

@@ -199,6 +199,9 @@ pub struct TrainIds {
     pub wheelset_offsets: Vec<f64>,
 }
 
+/// Stiffness of the weak spring on each wheelset's spin deviation about its axle (N·m/rad).
+pub const SPIN_STIFFNESS: f64 = 1.0e4;
+
 fn mass_params(b: &BodyData) -> serde_json::Value {
     // Wheel-frame axes: 1 lateral (pitch), 2 vertical (yaw), 3 longitudinal (roll).
     serde_json::json!({"m": b.mass, "inertia": [b.iyy, b.izz, b.ixx]})
@@ -318,6 +321,17 @@ pub fn build_train(
                 let s_ws = s_car + dw;
                 let k = add_node(b, &mut carried, s_ws, [0.0, c.wheelset.height, 0.0]);
                 elem(b, "mass", &[k], mass_params(&c.wheelset));
+                // Spin about the axle (axis 1): rolling along the rail is a free motion
+                // whose only static stiffness is k_v times the squared micrometre offsets of
+                // the contact nodes from B, so a static solve (the initial equilibrium) is
+                // singular for large penalties. A weak spring on the spin deviation makes it
+                // well posed; it is far below every other stiffness of the wheelset.
+                elem(
+                    b,
+                    "spring_damper",
+                    &[k],
+                    serde_json::json!({"k": [0.0, 0.0, 0.0, SPIN_STIFFNESS, 0.0, 0.0]}),
+                );
                 ids.wheelsets.push(k);
                 ids.wheelset_offsets.push(s_ws);
                 for lat in [c.primary_span, -c.primary_span] {
