@@ -20,6 +20,8 @@ USAGE:
                                                      the paper's curved-track validation (Fig. 6)
   railfem critical-radius --criterion sliding|separation --speed V --ct CT --mu MU
                 [--clothoid L] [--dt DT]             critical radius, FE vs theory (Figs. 7, 9)
+  railfem critical-radius --sweep --criterion C [--speeds ..] [--cts ..] [--mus ..] [--out DIR]
+                                                     a whole figure, on all cores
   railfem conformance [--plugin PATH]... [--element NAME]
                                                      run the conformance kit on every kind
                                                      (or those whose name contains NAME);
@@ -75,7 +77,7 @@ impl Args {
 }
 
 /// Options that take no value.
-const FLAGS: [&str; 4] = ["quick", "quiet", "help", "no-plot"];
+const FLAGS: [&str; 5] = ["quick", "quiet", "help", "no-plot", "sweep"];
 
 /// Parses `argv` (without the program name).
 pub fn parse(argv: &[String]) -> Result<Args, FemError> {
@@ -281,7 +283,7 @@ fn track(a: &Args) -> Result<i32, FemError> {
 
 /// `railfem critical-radius`: one point of the paper's Figure 7 or 9.
 fn critical(a: &Args) -> Result<i32, FemError> {
-    use crate::critical::{run, Criterion, CriticalCase};
+    use crate::critical::{Criterion, CriticalCase};
     let criterion = match a.opt("criterion").unwrap_or("sliding") {
         "sliding" => Criterion::Sliding,
         "separation" => Criterion::Separation,
@@ -292,6 +294,78 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             ))
         }
     };
+    if a.flags.iter().any(|f| f == "sweep") {
+        let list = |key: &str, default: &[f64]| -> Result<Vec<f64>, FemError> {
+            match a.opt(key) {
+                None => Ok(default.to_vec()),
+                Some(t) => t
+                    .split(',')
+                    .map(|x| {
+                        x.trim()
+                            .parse::<f64>()
+                            .ok()
+                            .filter(|v| v.is_finite() && *v > 0.0)
+                    })
+                    .collect::<Option<Vec<f64>>>()
+                    .ok_or_else(|| {
+                        FemError::input(
+                            "command line",
+                            format!("--{key} {t}: give positive numbers, comma-separated"),
+                        )
+                    }),
+            }
+        };
+        let speeds = list("speeds", &[100.0, 140.0, 180.0, 220.0, 260.0])?;
+        let cts = list("cts", &[200.0, 400.0, 900.0])?;
+        let mus = match criterion {
+            Criterion::Sliding => list("mus", &[0.1, 0.2, 0.3])?,
+            Criterion::Separation => list("mus", &[0.3])?,
+        };
+        let out = a
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out/critical"));
+        let quiet = a.flags.iter().any(|f| f == "quiet");
+        let progress = |f: f64| {
+            if !quiet {
+                let pct = (f * 100.0) as usize;
+                eprint!("\r[{:<20}] {pct:>3}%", "#".repeat(pct / 5));
+            }
+        };
+        let pts = crate::critical::sweep(
+            criterion,
+            &speeds,
+            &cts,
+            &mus,
+            a.num("clothoid")?.unwrap_or(2000.0),
+            a.num("dt")?.unwrap_or(0.01),
+            std::thread::available_parallelism().map_or(2, |n| n.get()),
+            &progress,
+        );
+        if !quiet {
+            eprintln!();
+        }
+        crate::critical::write_sweep(&pts, criterion, &out)?;
+        let mut worst = 0.0f64;
+        for (c, r) in &pts {
+            if let Ok(r) = r {
+                let reference = match criterion {
+                    Criterion::Sliding => r.theory,
+                    Criterion::Separation => r.theory_at_contact,
+                };
+                if let (Some(fe), Some(th)) = (r.fe, reference) {
+                    worst = worst.max((fe - th).abs() / th);
+                }
+                let _ = c;
+            }
+        }
+        println!(
+            "{} points; largest relative difference FE vs theory: {worst:.3e}; results in {}",
+            pts.len(),
+            out.display()
+        );
+        return Ok(0);
+    }
     let case = CriticalCase {
         criterion,
         speed: a.num("speed")?.unwrap_or(120.0),
@@ -300,7 +374,11 @@ fn critical(a: &Args) -> Result<i32, FemError> {
         clothoid: a.num("clothoid")?.unwrap_or(2000.0),
         dt: a.num("dt")?.unwrap_or(0.01),
     };
-    let r = run(&case)?;
+    let out = a.out.clone();
+    let r = crate::critical::run_with_sections(&case, out.as_deref())?;
+    if let Some(o) = &out {
+        println!("cross-sections at the onset written to {}", o.display());
+    }
     let f = |x: Option<f64>| x.map_or("not reached".to_string(), |v| format!("{v:.1} m"));
     println!(
         "{:?}: V = {} m/s, Ct = {} m, mu = {}: FE {} (gross sliding {}), theory (statics) {}, Eq. 25 as printed {}",

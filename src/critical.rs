@@ -139,6 +139,15 @@ pub fn theory_radius(case: &CriticalCase, spacing: f64, g: f64) -> (Option<f64>,
 
 /// Runs one point: a clothoid from a straight into an arc at 0.7 × the theory's radius.
 pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
+    run_with_sections(case, None)
+}
+
+/// [`run`], and when `sections` is given, writes cross-section pictures of the leading
+/// wheelset's two wheels at the onset (the paper's Figures 8 and 10) into that folder.
+pub fn run_with_sections(
+    case: &CriticalCase,
+    sections: Option<&std::path::Path>,
+) -> Result<CriticalResult, FemError> {
     let g = 9.81;
     let spacing = 1.507;
     let (theory_r, printed_r) = theory_radius(case, spacing, g);
@@ -243,6 +252,9 @@ pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
                         _ => s_mean,
                     };
                     res.fe = Some(radius_at(s));
+                    if let Some(dir) = sections {
+                        write_sections(d, &m.wheel_index, dir, "sliding onset")?;
+                    }
                 }
                 if res.fe_gross.is_none() && all_slide {
                     res.fe_gross = Some(radius_at(s_mean));
@@ -260,6 +272,9 @@ pub fn run(case: &CriticalCase) -> Result<CriticalResult, FemError> {
                         _ => s,
                     };
                     res.fe = Some(radius_at(s_on));
+                    if let Some(dir) = sections {
+                        write_sections(d, &m.wheel_index, dir, "inner wheel separates")?;
+                    }
                     if outer.2 > 0.0 {
                         let (yo, zo) = (outer.0 / outer.2, outer.1 / outer.2);
                         res.outer_contact = Some([yo, zo]);
@@ -314,4 +329,216 @@ pub fn separation_about(case: &CriticalCase, y_o: f64, z_o: f64, g: f64) -> Opti
         }
     }
     Some(0.5 * (lo + hi))
+}
+
+/// One point of a sweep: the case and what it found (or why it could not run).
+pub type SweepPoint = (CriticalCase, Result<CriticalResult, FemError>);
+
+/// Runs every combination of `speeds × cts × mus` on `threads` worker threads (each point
+/// a whole FE analysis); `progress` gets the fraction done. Points whose theory has no
+/// critical radius are returned with that error.
+pub fn sweep(
+    criterion: Criterion,
+    speeds: &[f64],
+    cts: &[f64],
+    mus: &[f64],
+    clothoid: f64,
+    dt: f64,
+    threads: usize,
+    progress: &(dyn Fn(f64) + Sync),
+) -> Vec<SweepPoint> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let mut cases = Vec::new();
+    for &ct in cts {
+        for &mu in mus {
+            for &speed in speeds {
+                cases.push(CriticalCase {
+                    criterion,
+                    speed,
+                    ct,
+                    mu,
+                    clothoid,
+                    dt,
+                });
+            }
+        }
+    }
+    let next = AtomicUsize::new(0);
+    let done = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<SweepPoint>>> =
+        Mutex::new((0..cases.len()).map(|_| None).collect());
+    std::thread::scope(|s| {
+        for _ in 0..threads.max(1) {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                if i >= cases.len() {
+                    break;
+                }
+                let r = run(&cases[i]);
+                if let Ok(mut v) = results.lock() {
+                    v[i] = Some((cases[i].clone(), r));
+                }
+                let k = done.fetch_add(1, Ordering::Relaxed) + 1;
+                progress(k as f64 / cases.len() as f64);
+            });
+        }
+    });
+    results
+        .into_inner()
+        .unwrap_or_default()
+        .into_iter()
+        .flatten()
+        .collect()
+}
+
+/// Writes a sweep as `critical_<criterion>.csv` and `.svg` (FE points over the theory's
+/// curves of radius against speed) into `dir`, and `cases.json` with the inputs.
+pub fn write_sweep(
+    points: &[SweepPoint],
+    criterion: Criterion,
+    dir: &std::path::Path,
+) -> Result<(), FemError> {
+    use crate::framework::plot::{Figure, Panel, Series, Style};
+    std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
+    let name = match criterion {
+        Criterion::Sliding => "sliding",
+        Criterion::Separation => "separation",
+    };
+    let mut csv = String::from(
+        "speed,ct,mu,r_fe,r_theory_statics,r_theory_at_contact,r_theory_printed,r_fe_gross_sliding,rel_diff,note\n",
+    );
+    let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.3}"));
+    for (c, r) in points {
+        match r {
+            Ok(r) => {
+                let reference = match criterion {
+                    Criterion::Sliding => r.theory,
+                    Criterion::Separation => r.theory_at_contact,
+                };
+                let rel = match (r.fe, reference) {
+                    (Some(a), Some(b)) => format!("{:.3e}", (a - b).abs() / b),
+                    _ => String::new(),
+                };
+                csv.push_str(&format!(
+                    "{},{},{},{},{},{},{},{},{},\n",
+                    c.speed,
+                    c.ct,
+                    c.mu,
+                    opt(r.fe),
+                    opt(r.theory),
+                    opt(r.theory_at_contact),
+                    opt(r.theory_printed),
+                    opt(r.fe_gross),
+                    rel
+                ));
+            }
+            Err(e) => csv.push_str(&format!(
+                "{},{},{},,,,,,,\"{}\"\n",
+                c.speed,
+                c.ct,
+                c.mu,
+                e.to_string().replace('"', "'")
+            )),
+        }
+    }
+    let path = dir.join(format!("critical_{name}.csv"));
+    std::fs::write(&path, csv).map_err(|e| FemError::output(&path, e))?;
+    let cases: Vec<&CriticalCase> = points.iter().map(|p| &p.0).collect();
+    let json = serde_json::to_string_pretty(&cases).unwrap_or_default();
+    std::fs::write(dir.join("cases.json"), json)
+        .map_err(|e| FemError::output(dir.join("cases.json"), e))?;
+    // Figure: one series pair per (Ct, μ).
+    let colors = [
+        "#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#7f7f7f",
+        "#17becf",
+    ];
+    let mut groups: Vec<(f64, f64)> = Vec::new();
+    for (c, _) in points {
+        if !groups.contains(&(c.ct, c.mu)) {
+            groups.push((c.ct, c.mu));
+        }
+    }
+    let title = match criterion {
+        Criterion::Sliding => "Critical radius for sliding (Fig. 7): FE points, theory lines",
+        Criterion::Separation => {
+            "Critical radius for inner-wheel separation (Fig. 9): FE points, statics lines"
+        }
+    };
+    let mut panel = Panel::new(title, "speed V (m/s)", "critical radius R (m)");
+    panel.legend = crate::framework::plot::Corner::TopLeft;
+    for (gi, &(ct, mu)) in groups.iter().enumerate() {
+        let color = colors[gi % colors.len()];
+        let pts: Vec<(f64, f64)> = points
+            .iter()
+            .filter(|(c, _)| c.ct == ct && c.mu == mu)
+            .filter_map(|(c, r)| r.as_ref().ok().and_then(|r| r.fe).map(|fe| (c.speed, fe)))
+            .collect();
+        let (lo, hi) = points
+            .iter()
+            .filter(|(c, _)| c.ct == ct && c.mu == mu)
+            .fold((f64::INFINITY, 0.0f64), |(a, b), (c, _)| {
+                (a.min(c.speed), b.max(c.speed))
+            });
+        let mut xs = Vec::new();
+        let mut ys = Vec::new();
+        for k in 0..=40 {
+            let v = lo + (hi - lo) * k as f64 / 40.0;
+            let case = CriticalCase {
+                criterion,
+                speed: v,
+                ct,
+                mu,
+                clothoid: 0.0,
+                dt: 0.0,
+            };
+            let (st, _) = theory_radius(&case, 1.507, 9.81);
+            xs.push(v);
+            ys.push(st.unwrap_or(f64::NAN));
+        }
+        panel = panel
+            .with(Series::new(
+                &format!("theory, Ct = {ct} m, mu = {mu}"),
+                xs,
+                ys,
+                Style::Line,
+                color,
+            ))
+            .with(Series::new(
+                &format!("FE, Ct = {ct} m, mu = {mu}"),
+                pts.iter().map(|p| p.0).collect(),
+                pts.iter().map(|p| p.1).collect(),
+                Style::Markers,
+                color,
+            ));
+    }
+    let svg = dir.join(format!("critical_{name}.svg"));
+    Figure::new()
+        .with(panel)
+        .write_svg(&svg)
+        .map_err(|e| FemError::output(&svg, e))
+}
+
+fn write_sections(
+    d: &crate::solvers::Driver,
+    wheels: &[usize],
+    dir: &std::path::Path,
+    what: &str,
+) -> Result<(), FemError> {
+    use crate::elements::rail::moving_axle::MovingAxle;
+    use crate::elements::rail::section_plot::write_section_svg;
+    std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
+    for (k, side) in [(0, "left (inner)"), (1, "right (outer)")] {
+        let Some(ei) = wheels.get(k) else { continue };
+        let e = &d.model.elements[*ei].element;
+        if let Some(axle) = e.as_any().and_then(|a| a.downcast_ref::<MovingAxle>()) {
+            let path = dir.join(format!(
+                "section_wheelset1_{}.svg",
+                if k == 0 { "left" } else { "right" }
+            ));
+            let title = format!("Wheelset 1, {side} wheel at t = {:.2} s: {what}", d.state.t);
+            write_section_svg(axle, &title, &path).map_err(|e| FemError::output(&path, e))?;
+        }
+    }
+    Ok(())
 }
