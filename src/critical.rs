@@ -337,6 +337,7 @@ pub type SweepPoint = (CriticalCase, Result<CriticalResult, FemError>);
 /// Runs every combination of `speeds × cts × mus` on `threads` worker threads (each point
 /// a whole FE analysis); `progress` gets the fraction done. Points whose theory has no
 /// critical radius are returned with that error.
+#[allow(clippy::too_many_arguments)]
 pub fn sweep(
     criterion: Criterion,
     speeds: &[f64],
