@@ -15,29 +15,8 @@
 //! These reproduce every rigid-body motion of the segment exactly (tested), which is what
 //! makes the contact forces objective.
 
+use crate::beam3d::{hermite, hermite_d as hermite_slope};
 use nalgebra::{Matrix3, SMatrix};
-
-/// Hermite functions `[N1, N2, N3, N4]` at `ξ` on a beam of length `l` (m).
-pub fn hermite(xi: f64, l: f64) -> [f64; 4] {
-    let (x2, x3) = (xi * xi, xi * xi * xi);
-    [
-        1.0 - 3.0 * x2 + 2.0 * x3,
-        l * (xi - 2.0 * x2 + x3),
-        3.0 * x2 - 2.0 * x3,
-        l * (x3 - x2),
-    ]
-}
-
-/// Derivatives `d/dx` of the Hermite functions at `ξ` (1/m for N1, N3; 1 for N2, N4).
-pub fn hermite_slope(xi: f64, l: f64) -> [f64; 4] {
-    let x2 = xi * xi;
-    [
-        (-6.0 * xi + 6.0 * x2) / l,
-        1.0 - 4.0 * xi + 3.0 * x2,
-        (6.0 * xi - 6.0 * x2) / l,
-        3.0 * x2 - 2.0 * xi,
-    ]
-}
 
 /// The 6×12 matrix mapping `(u_I, θ_I, u_J, θ_J)` to `(u_C, θ_C)`, all in global axes,
 /// for the point at `ξ` of a beam of length `l` whose local axes (columns: x along the

@@ -260,20 +260,26 @@ impl RailLookup {
     /// there (ξ = 0 exactly), except the last node (last element, ξ = 1). `None` outside
     /// `[first, last]` or for NaN.
     pub fn locate(&self, station: f64) -> Option<(usize, f64)> {
-        let (first, last) = (self.stations[0], *self.stations.last()?);
-        if !(first..=last).contains(&station) {
-            return None;
-        }
-        let e =
-            (self.stations.partition_point(|&s| s <= station) - 1).min(self.element_count() - 1);
-        let (a, b) = (self.stations[e], self.stations[e + 1]);
-        let xi = if station == b {
-            1.0
-        } else {
-            (station - a) / (b - a)
-        };
-        Some((e, xi))
+        locate_in(&self.stations, station)
     }
+}
+
+/// [`RailLookup::locate`] over a slice of node stations already known to be valid (at least
+/// two, strictly increasing): binary search, a station on a node belongs to the element that
+/// starts there, the last node to the last element with ξ = 1.
+pub fn locate_in(stations: &[f64], station: f64) -> Option<(usize, f64)> {
+    let (first, last) = (*stations.first()?, *stations.last()?);
+    if stations.len() < 2 || !(first..=last).contains(&station) {
+        return None;
+    }
+    let e = (stations.partition_point(|&s| s <= station) - 1).min(stations.len() - 2);
+    let (a, b) = (stations[e], stations[e + 1]);
+    let xi = if station == b {
+        1.0
+    } else {
+        (station - a) / (b - a)
+    };
+    Some((e, xi))
 }
 
 #[cfg(test)]

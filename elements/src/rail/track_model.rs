@@ -154,14 +154,7 @@ impl TrackModel {
     /// A station exactly on a node belongs to the element that starts there (the last
     /// node to the last element). `None` off the mesh.
     pub fn locate(&self, s: f64) -> Option<(usize, f64)> {
-        let st = &self.stations;
-        let n = st.len();
-        if n < 2 || !(st[0]..=st[n - 1]).contains(&s) {
-            return None;
-        }
-        let e = (st.partition_point(|x| *x <= s)).clamp(1, n - 1) - 1;
-        let xi = (s - st[e]) / (st[e + 1] - st[e]);
-        Some((e, xi.clamp(0.0, 1.0)))
+        super::railline::locate_in(&self.stations, s)
     }
 
     /// Reference position of rail `r` at station `s` (m), global.
