@@ -590,6 +590,55 @@ impl Driver {
         }
     }
 
+    /// The lowest `n` natural frequencies and modes of `K·φ = ω²·M·φ` about the reference
+    /// state (K the assembled tangent at zero displacement, M the mass), by subspace
+    /// iteration on the sparse factor of K ([`crate::modal`]).
+    pub fn modes(&mut self, n: usize) -> Result<crate::modal::Modes, FemError> {
+        let z = vec![0.0; self.neq()];
+        let mut f = vec![0.0; self.neq()];
+        self.asm.advance(&mut self.model, self.state.t, 0.0)?;
+        self.asm
+            .update(&mut self.model, &z, &z, &z, self.state.t, 0.0, &mut f, true)?;
+        let mut k = self.asm.k_const.zeros_like();
+        self.asm.effective(1.0, 0.0, 0.0, &mut k);
+        let mut m = self.asm.k_const.zeros_like();
+        self.asm.effective(0.0, 1.0, 0.0, &mut m);
+        crate::modal::lowest_modes(&k, &m, n, &crate::modal::ModalOptions::default()).map_err(|e| {
+            match e {
+                crate::modal::ModalError::Solver(s) => self.singular(s),
+                other => FemError::input(&self.model.origin, format!("modal analysis: {other}")),
+            }
+        })
+    }
+
+    /// Writes frequencies and mode shapes as CSV: one row per active nodal DOF, columns
+    /// `node,dof` and one per mode; a header row of frequencies (Hz) first.
+    pub fn write_modes(&self, modes: &crate::modal::Modes, path: &Path) -> Result<(), FemError> {
+        let mut s = String::from("node,dof");
+        for (i, w) in modes.omega.iter().enumerate() {
+            s.push_str(&format!(
+                ",mode{}_{:.6e}Hz",
+                i + 1,
+                w / (2.0 * std::f64::consts::PI)
+            ));
+        }
+        s.push('\n');
+        for (ni, nd) in self.model.nodes.iter().enumerate() {
+            for d in self.asm.dofmap.active[ni].iter() {
+                s.push_str(&format!("{},{}", nd.id, d.name()));
+                for j in 0..modes.omega.len() {
+                    let col: Vec<f64> = (0..self.neq()).map(|r| modes.shapes[(r, j)]).collect();
+                    s.push_str(&format!(
+                        ",{:.9e}",
+                        self.asm.dofmap.value(&col, ni, d.index())
+                    ));
+                }
+                s.push('\n');
+            }
+        }
+        std::fs::write(path, s).map_err(|e| FemError::output(path, e))
+    }
+
     /// Kinetic energy `½·vᵀ·M·v` (J).
     pub fn kinetic_energy(&self) -> f64 {
         let mut mv = vec![0.0; self.neq()];
@@ -707,10 +756,11 @@ impl Driver {
                 }
             }
             AnalysisKind::Modal => {
-                return Err(FemError::input(
-                    &self.model.origin,
-                    "modal analysis is run with `railfem modal` or Driver::modes",
-                ));
+                let modes = self.modes(spec.modes)?;
+                if let Some(dir) = out {
+                    self.write_modes(&modes, &dir.join("modes.csv"))?;
+                }
+                progress(1.0);
             }
         }
         if let Some(r) = rec.as_mut() {
