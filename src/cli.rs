@@ -16,7 +16,7 @@ USAGE:
   railfem check MODEL [--plugin PATH]...             validate a model file without running
   railfem elements [--plugin PATH]...                list registered element kinds and keys
   railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
-                [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick]
+                [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick] [--vtk EVERY]
                                                      the paper's curved-track validation (Fig. 6)
   railfem critical-radius --criterion sliding|separation --speed V --ct CT --mu MU
                 [--clothoid L] [--dt DT]             critical radius, FE vs theory (Figs. 7, 9)
@@ -206,6 +206,9 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     }
     if let Some(v) = a.num("duration")? {
         case.duration = v;
+    }
+    if let Some(v) = a.num("vtk")? {
+        case.vtk_every = v as usize;
     }
     if let Some(l) = a.opt("lengths") {
         let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();

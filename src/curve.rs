@@ -55,6 +55,8 @@ pub struct CurveCase {
     pub record_every: usize,
     /// Sliding tangent of the wheels: "symmetric" (Eq. 8) or "consistent".
     pub sliding_tangent: String,
+    /// Write ParaView output (`paraview/carriage.pvd`) every this many steps (0: none).
+    pub vtk_every: usize,
     /// Distance into the arc after which the comparison with theory starts (m): the
     /// entry transient of the suspension (≈ 1 s time constant) has decayed by then.
     pub settle: f64,
@@ -80,6 +82,7 @@ impl Default for CurveCase {
             record_every: 10,
             sliding_tangent: "symmetric".into(),
             settle: 400.0,
+            vtk_every: 0,
         }
     }
 }
@@ -309,8 +312,26 @@ pub fn run(
     let (mut first_slide, mut first_sep) = (None, None);
     let l = case.lengths;
     let arc = (l[0] + l[1], l[0] + l[1] + l[2]);
+    // ParaView: the carriage and the rails within 25 m of its car body.
+    let mut vtk = match (out, case.vtk_every) {
+        (Some(dir), n) if n > 0 => Some(crate::framework::vtk::VtkSeries::new(
+            &dir.join("paraview"),
+            "carriage",
+        )?),
+        _ => None,
+    };
+    let body = m.ids.car_bodies.first().and_then(|id| d.model.node(*id));
     for k in 1..=nsteps {
         d.step(spec.dt)?;
+        if let (Some(v), Some(b)) = (vtk.as_mut(), body) {
+            if k % case.vtk_every == 0 {
+                let kin = d.asm.kinematics();
+                let centre = kin[b].position;
+                v.write(&d.model, &d.asm, &d.state.q, d.state.t, &|i| {
+                    (kin[i].position - centre).norm() < 25.0
+                })?;
+            }
+        }
         let t = d.state.t;
         let mut wheels = Vec::with_capacity(n_w);
         for (w, &ei) in m.wheel_index.iter().enumerate() {
@@ -402,6 +423,9 @@ pub fn run(
             });
         }
         progress(k as f64 / nsteps as f64);
+    }
+    if let Some(v) = &vtk {
+        v.finish()?;
     }
     let report = CurveReport {
         samples,

@@ -28,6 +28,7 @@ pub mod plugin;
 pub mod recorder;
 pub mod registry;
 pub mod sparse;
+pub mod vtk;
 
 pub use dof::{Dof, DofSet};
 pub use element::{
