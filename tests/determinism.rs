@@ -15,7 +15,11 @@ fn two_runs_write_identical_results() {
             .arg(&out)
             .output()
             .expect("runs");
-        assert!(st.status.success(), "{}", String::from_utf8_lossy(&st.stderr));
+        assert!(
+            st.status.success(),
+            "{}",
+            String::from_utf8_lossy(&st.stderr)
+        );
         outputs.push(std::fs::read(out.join("curve.csv")).expect("curve.csv"));
     }
     assert!(outputs[0].len() > 1000);
