@@ -28,6 +28,10 @@ USAGE:
                                                      exit 1 if a check fails
   railfem track [--radius R] [--ct CT] [--out DIR]   the paper's track (default R = 6250 m,
                                                      Ct = 200 m): track.csv and track.svg
+  railfem bench [--sizes 1e4,1e5,1e6] [--steps N] [--out DIR]
+                                                     time linear transient steps of a long
+                                                     continuous beam per DOF count; writes
+                                                     bench.md and bench.csv (default out/bench)
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -176,6 +180,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "critical-radius" => critical(a),
         "conformance" => conformance(a),
         "track" => track(a),
+        "bench" => bench(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
@@ -281,6 +286,38 @@ fn track(a: &Args) -> Result<i32, FemError> {
         t.alignment.length(),
         out.display()
     );
+    Ok(0)
+}
+
+/// `railfem bench`: per DOF count in `--sizes` (default 1e4,1e5,1e6), `--steps` linear
+/// transient steps (default 20) of the benchmark beam; table on stdout, `bench.md` and
+/// `bench.csv` in `--out` (default `out/bench`).
+fn bench(a: &Args) -> Result<i32, FemError> {
+    let spec = a.opt("sizes").unwrap_or("1e4,1e5,1e6");
+    let mut sizes = Vec::new();
+    for x in spec.split(',') {
+        match x.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() && v >= 1.0 && v <= 1e9 => sizes.push(v.round() as usize),
+            _ => {
+                return Err(FemError::input(
+                    "command line",
+                    format!("--sizes {spec}: give DOF counts >= 1, comma-separated (e.g. 1e4,1e5)"),
+                ))
+            }
+        }
+    }
+    let steps = match a.num("steps")? {
+        None => 20,
+        Some(v) if v >= 1.0 && v.fract() == 0.0 => v as usize,
+        Some(v) => {
+            return Err(FemError::input(
+                "command line",
+                format!("--steps {v}: give a whole number of steps >= 1"),
+            ))
+        }
+    };
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/bench"));
+    crate::bench::run(&sizes, steps, &out)?;
     Ok(0)
 }
 

@@ -180,6 +180,12 @@ impl Driver {
         self.asm.neq()
     }
 
+    /// Work counters of the driver's linear solver (symbolic analyses, numeric
+    /// factorizations, solves, factor size).
+    pub fn solver_stats(&self) -> crate::linear::SolverStats {
+        self.solver.stats()
+    }
+
     fn singular(&self, e: SolverError) -> FemError {
         match e {
             SolverError::Singular { equation } => {
