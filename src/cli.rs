@@ -297,7 +297,7 @@ fn bench(a: &Args) -> Result<i32, FemError> {
     let mut sizes = Vec::new();
     for x in spec.split(',') {
         match x.trim().parse::<f64>() {
-            Ok(v) if v.is_finite() && v >= 1.0 && v <= 1e9 => sizes.push(v.round() as usize),
+            Ok(v) if (1.0..=1e9).contains(&v) => sizes.push(v.round() as usize),
             _ => {
                 return Err(FemError::input(
                     "command line",
