@@ -347,20 +347,8 @@ pub fn run(
                 f64::INFINITY
             };
             let inner = (w % 2 == 0) == (p.curvature >= 0.0);
-            let st = theory::evaluate(
-                &carriage,
-                &tp_statics,
-                &op_at(&op, &p, case),
-                radius,
-                Variant::Statics,
-            );
-            let pr = theory::evaluate(
-                &carriage,
-                &tp_printed,
-                &op_at(&op, &p, case),
-                radius,
-                Variant::Printed,
-            );
+            let st = theory::evaluate(&carriage, &tp_statics, &op, radius, Variant::Statics);
+            let pr = theory::evaluate(&carriage, &tp_printed, &op, radius, Variant::Printed);
             let (qs, ys, qp) = match (st, pr) {
                 (Ok(a), Ok(b)) => (
                     if inner {
@@ -444,10 +432,6 @@ pub fn run(
         write_outputs(case, &report, dir)?;
     }
     Ok(report)
-}
-
-fn op_at(op: &Operation, _p: &crate::framework::moving::PathPoint, _case: &CurveCase) -> Operation {
-    *op
 }
 
 /// Writes `curve.csv` (one row per recorded step), `curve.svg` and `case.json`.
