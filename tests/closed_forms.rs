@@ -350,6 +350,7 @@ fn equivalence_builder() -> ModelBuilder {
     b.recorder(RecorderSpec::Element {
         element: Some(1),
         elements: vec![],
+        kind: None,
         outputs: vec![],
         file: "beam1.csv".into(),
     });

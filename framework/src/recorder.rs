@@ -55,6 +55,10 @@ pub enum RecorderSpec {
         /// More element ids.
         #[serde(default)]
         elements: Vec<u64>,
+        /// Every element of this registered type (e.g. `"moving_axle"`: all wheels of all
+        /// vehicles), in model order, besides the ids above.
+        #[serde(default)]
+        kind: Option<String>,
         /// Output names to write (default: all the element reports).
         #[serde(default)]
         outputs: Vec<String>,
@@ -64,12 +68,28 @@ pub enum RecorderSpec {
 }
 
 impl RecorderSpec {
-    fn node_ids(&self) -> Vec<u64> {
+    /// The node ids (node recorder) or element ids (element recorder) the recorder names.
+    fn node_ids(&self, model: &Model) -> Vec<u64> {
         match self {
             RecorderSpec::Node { node, nodes, .. } => node.iter().chain(nodes).copied().collect(),
             RecorderSpec::Element {
-                element, elements, ..
-            } => element.iter().chain(elements).copied().collect(),
+                element,
+                elements,
+                kind,
+                ..
+            } => {
+                let mut ids: Vec<u64> = element.iter().chain(elements).copied().collect();
+                if let Some(k) = kind {
+                    ids.extend(
+                        model
+                            .elements
+                            .iter()
+                            .filter(|e| e.element.kind() == k)
+                            .map(|e| e.id),
+                    );
+                }
+                ids
+            }
         }
     }
 
@@ -93,11 +113,11 @@ impl RecorderSpec {
             Some(i) => format!("{}: recorder[{i}] (`{}`)", model.origin, self.file()),
             None => format!("{}: recorder `{}`", model.origin, self.file()),
         };
-        let ids = self.node_ids();
+        let ids = self.node_ids(model);
         if ids.is_empty() {
             return Err(FemError::input(
                 &o,
-                "names no node or element; add `node = …` / `element = …`",
+                "names no node or element; add `node = …`, `element = …` or `kind = …` (a type with elements in the model)",
             ));
         }
         if self.file().is_empty() || self.file().contains("..") {
@@ -184,7 +204,7 @@ impl Recorders {
             let quantity = match spec {
                 RecorderSpec::Node { dofs, quantity, .. } => {
                     let set = DofSet::parse_names(dofs).unwrap_or(DofSet::NONE);
-                    for id in spec.node_ids() {
+                    for id in spec.node_ids(model) {
                         let n = model.node(id).expect("validated");
                         for d in set.iter() {
                             header.push(format!("{id}_{}", d.name()));
@@ -197,7 +217,7 @@ impl Recorders {
                     *quantity
                 }
                 RecorderSpec::Element { outputs, .. } => {
-                    for id in spec.node_ids() {
+                    for id in spec.node_ids(model) {
                         let ei = model
                             .elements
                             .iter()
