@@ -77,3 +77,63 @@ fn curve_model_file_matches_statics() {
     assert!(checked >= 20, "only {checked} rows on the settled arc");
     assert!(worst < 5e-3, "normal force vs statics: {worst:e}");
 }
+
+/// A train of two coupled carriages standing on a straight, level track (static analysis
+/// under gravity): the couplers carry nothing and each of the 16 wheels carries an eighth
+/// of its carriage's weight, to 1e-9.
+#[test]
+fn two_coupled_carriages_share_their_weight() {
+    let dir = std::env::temp_dir().join(format!("railfem-train-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let model = dir.join("train.toml");
+    std::fs::write(
+        &model,
+        r#"
+[analysis]
+kind = "static"
+gravity = [0.0, 0.0, -9.81]
+
+[track]
+segments = [{type = "straight", length = 200.0}]
+support = {type = "rigid"}
+
+[[vehicle]]
+preset = "sks700"
+carriages = 2
+start = 100.0
+speed = 0.0
+
+[[recorder]]
+type = "element"
+kind = "moving_axle"
+outputs = ["Q"]
+file = "wheels.csv"
+"#,
+    )
+    .unwrap();
+    let st = Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args(["run"])
+        .arg(&model)
+        .arg("--out")
+        .arg(dir.join("out"))
+        .output()
+        .expect("runs");
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let text = std::fs::read_to_string(dir.join("out/wheels.csv")).unwrap();
+    let row: Vec<f64> = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    assert_eq!(row.len(), 1 + 16);
+    let w8 = 56_062.5 * 9.81 / 8.0;
+    for q in &row[1..] {
+        assert!((q - w8).abs() < 1e-9 * w8, "{q} vs {w8}");
+    }
+}
