@@ -200,6 +200,22 @@ impl CurveCase {
     /// Builds the model.
     pub fn build(&self) -> Result<CurveModel, FemError> {
         crate::elements::link();
+        if !(self.speed.is_finite() && self.speed > 0.0) {
+            return Err(FemError::input(
+                "curve case",
+                format!("--speed {}: give a speed > 0 m/s", self.speed),
+            ));
+        }
+        if !(self.radius.is_finite() && self.radius > 0.0 && self.ct.is_finite() && self.ct >= 0.0)
+        {
+            return Err(FemError::input(
+                "curve case",
+                format!(
+                    "--radius {} / --ct {}: give a radius > 0 m and Ct ≥ 0 m",
+                    self.radius, self.ct
+                ),
+            ));
+        }
         let track = Arc::new(self.track()?);
         let mut b = ModelBuilder::new("curve case");
         let tm = track_model::generate(&mut b, track.clone(), &TrackMesh::default())?;

@@ -306,3 +306,23 @@ fn negative_time_step_is_refused() {
         &["[analysis]", "`dt` must be a positive number", "-0.001"],
     );
 }
+
+/// Bad options of the validation commands: one line, exit code 2, never a hang or a panic.
+#[test]
+fn curve_command_refuses_bad_options() {
+    for args in [
+        vec!["curve", "--speed", "0", "--quiet"],
+        vec!["curve", "--radius", "-5", "--quiet"],
+        vec!["curve", "--dt", "0", "--quick", "--quiet"],
+        vec!["curve", "--speed", "abc"],
+        vec!["critical-radius", "--criterion", "tipping"],
+    ] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+            .args(&args)
+            .output()
+            .expect("runs");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+    }
+}
