@@ -549,13 +549,7 @@ impl LinearSolver for SparseCholesky {
             ));
         };
         let n = symbolic.nrows();
-        if b.len() != n * ncols {
-            return Err(SolverError::Failed(format!(
-                "right-hand side has length {}, expected {n}×{ncols}",
-                b.len()
-            )));
-        }
-        if ncols == 0 {
+        if !check_rhs(b.len(), n, ncols)? {
             return Ok(());
         }
         let req = symbolic.solve_in_place_scratch::<f64>(ncols, self.par);
@@ -750,13 +744,7 @@ impl LinearSolver for SparseLu {
             ));
         };
         let n = symbolic.nrows();
-        if b.len() != n * ncols {
-            return Err(SolverError::Failed(format!(
-                "right-hand side has length {}, expected {n}×{ncols}",
-                b.len()
-            )));
-        }
-        if ncols == 0 {
+        if !check_rhs(b.len(), n, ncols)? {
             return Ok(());
         }
         let req = symbolic.solve_in_place_scratch::<f64>(ncols, self.par);
@@ -781,6 +769,17 @@ impl LinearSolver for SparseLu {
     fn stats(&self) -> SolverStats {
         self.stats
     }
+}
+
+/// Checks a right-hand side of `len` values against `n` unknowns × `ncols` columns;
+/// `Ok(false)` when there is nothing to solve.
+fn check_rhs(len: usize, n: usize, ncols: usize) -> Result<bool, SolverError> {
+    if len != n * ncols {
+        return Err(SolverError::Failed(format!(
+            "right-hand side has length {len}, expected {n}×{ncols}"
+        )));
+    }
+    Ok(ncols > 0)
 }
 
 #[cfg(test)]
