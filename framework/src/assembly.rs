@@ -10,6 +10,13 @@
 //! redo its symbolic analysis. Elements with all their DOFs fixed or inactive are skipped
 //! entirely (a rigid rail costs nothing).
 //!
+//! For large models the assembler can keep variable elements *off the pattern*
+//! ([`Assembler::off_pattern`]): the global matrices then hold only the constant elements, a
+//! moving element's new connectivity never rebuilds them, and the variable elements' effective
+//! matrices are handed to the partitioned solver as triplets
+//! ([`Assembler::variable_triplets`]); their mass and damping still enter `M·a` and `C·v`
+//! element by element.
+//!
 //! Loads are formed here too because they need the masses: gravity `M·g`, the rigid-body
 //! pseudo-loads of carried masses `−M·a_ref` (Eq. 5, see [`crate::moving`]), uniform ground
 //! motion `−M·r·a_g(t)`, nodal loads and moving forces.
@@ -35,6 +42,19 @@ struct ElementMap {
     scatter: Vec<(u32, u32, f64)>,
 }
 
+/// Matrices of one variable element kept off the global pattern.
+#[derive(Debug, Clone, Default)]
+struct OffPattern {
+    /// `(element DOF, equation, coefficient)` of every equation term of the element.
+    terms: Vec<(u32, u32, f64)>,
+    /// Tangent stiffness of the current iteration.
+    k: DMatrix<f64>,
+    /// Mass of the current step, if the element has mass.
+    m: Option<DMatrix<f64>>,
+    /// Damping of the current step, if the element has damping.
+    c: Option<DMatrix<f64>>,
+}
+
 /// Counters of the work done, for benchmarks and the performance report.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct AssemblyStats {
@@ -48,6 +68,18 @@ pub struct AssemblyStats {
     pub constant_elements: usize,
     /// Elements skipped because none of their DOFs has an equation.
     pub skipped_elements: usize,
+}
+
+/// Wall-clock seconds the assembler spent, by phase (for the performance report).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct AssemblyTimes {
+    /// Variable elements' state determination: contact detection, forces, tangents.
+    pub elements: f64,
+    /// Step starts: carriers moved, elements advanced (a wheel's search for the rail
+    /// nodes under it), variable masses re-formed, patterns rebuilt.
+    pub search: f64,
+    /// Products with the constant matrices (`K·q`, `M·a`, `C·v`).
+    pub products: f64,
 }
 
 /// The assembler of one model.
@@ -87,6 +119,22 @@ pub struct Assembler {
     motions: Vec<crate::moving::ReferenceMotion>,
     /// Work counters.
     pub stats: AssemblyStats,
+    /// Time by phase.
+    pub times: AssemblyTimes,
+    /// Variable elements kept off the pattern (see the module documentation).
+    off_pattern: bool,
+    /// Off-pattern matrices, parallel to `variable`.
+    off: Vec<OffPattern>,
+    /// Position of element `ei` in `variable` (`u32::MAX`: constant).
+    var_slot: Vec<u32>,
+    /// Every constant element is symmetric: products with the constant matrices may use
+    /// the parallel gather form ([`crate::sparse::symmetric_products`]).
+    const_symmetric: bool,
+    /// Whether `m_var` / `c_var` can hold anything (else their products are skipped).
+    m_var_used: bool,
+    c_var_used: bool,
+    /// Threads for the products with the constant matrices.
+    threads: usize,
 }
 
 fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Vector3<f64>) -> f64 {
@@ -139,6 +187,25 @@ impl Assembler {
             slot_of: vec![u32::MAX; model.nodes.len()],
             motions: Vec::new(),
             stats: AssemblyStats::default(),
+            times: AssemblyTimes::default(),
+            off_pattern: false,
+            off: Vec::new(),
+            var_slot: Vec::new(),
+            const_symmetric: true,
+            m_var_used: true,
+            c_var_used: true,
+            threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        };
+        a.off_pattern = match model.analysis.solver {
+            crate::model::SolverChoice::Direct => false,
+            crate::model::SolverChoice::Partitioned => true,
+            crate::model::SolverChoice::Auto => {
+                n >= crate::model::PARTITIONED_FROM
+                    && model.elements.iter().any(|e| {
+                        let p = e.element.properties();
+                        !p.linear || p.connectivity_may_change
+                    })
+            }
         };
         for (ci, c) in model.carriers.iter().enumerate() {
             for cn in &c.nodes {
@@ -155,6 +222,22 @@ impl Assembler {
     /// Number of equations.
     pub fn neq(&self) -> usize {
         self.dofmap.neq
+    }
+
+    /// Whether variable elements are kept off the global pattern (the partitioned solver's
+    /// mode): then [`Assembler::effective`] holds only the constant elements and the variable
+    /// ones come from [`Assembler::variable_triplets`].
+    pub fn off_pattern(&self) -> bool {
+        self.off_pattern
+    }
+
+    /// Whether the constant part of the effective tangent ([`Assembler::effective`] in the
+    /// off-pattern mode) depends only on its coefficients: false when an element on fixed
+    /// connectivity has a mass or damping that changes between steps.
+    pub fn constant_part_is_constant(&self) -> bool {
+        self.mass_elems
+            .iter()
+            .all(|&ei| self.var_slot.get(ei).is_some_and(|&s| s != u32::MAX))
     }
 
     /// Whether every element declares a symmetric tangent.
@@ -183,6 +266,7 @@ impl Assembler {
         };
         let mut cols: Vec<Vec<usize>> = vec![Vec::new(); n];
         let mut eqbuf = Vec::new();
+        let mut const_symmetric = true;
         for ei in 0..ne {
             let mut map = {
                 let e = &model.elements[ei].element;
@@ -212,16 +296,21 @@ impl Assembler {
                 continue;
             }
             self.symmetric &= props.symmetric;
+            if props.linear && !props.connectivity_may_change {
+                const_symmetric &= props.symmetric;
+            }
             eqbuf.clear();
             for &(node, d) in &map.dofs {
                 eqbuf.extend(self.dofmap.terms(node, d).map(|t| t.0));
             }
             eqbuf.sort_unstable();
             eqbuf.dedup();
-            for &j in &eqbuf {
-                cols[j].extend_from_slice(&eqbuf);
-            }
             let variable = !props.linear || props.connectivity_may_change;
+            if !(variable && self.off_pattern) {
+                for &j in &eqbuf {
+                    cols[j].extend_from_slice(&eqbuf);
+                }
+            }
             if variable {
                 self.variable.push(ei);
                 stats.variable_elements += 1;
@@ -239,8 +328,25 @@ impl Assembler {
             c.dedup();
         }
         let pattern = CscMatrix::from_columns(cols);
-        // Scatter maps of variable elements.
-        for &ei in &self.variable {
+        // Scatter maps of variable elements (or their off-pattern terms).
+        self.var_slot = vec![u32::MAX; ne];
+        for (slot, &ei) in self.variable.iter().enumerate() {
+            self.var_slot[ei] = slot as u32;
+        }
+        if self.off_pattern {
+            self.off_pattern_terms();
+        }
+        self.const_symmetric = const_symmetric;
+        self.m_var_used = self
+            .mass_elems
+            .iter()
+            .any(|&ei| !self.off_pattern || self.var_slot[ei] == u32::MAX);
+        self.c_var_used = !self.off_pattern
+            && self
+                .variable
+                .iter()
+                .any(|&ei| model.elements[ei].element.properties().has_damping);
+        for &ei in self.variable.iter().filter(|_| !self.off_pattern) {
             let map = &self.maps[ei];
             let nd = map.dofs.len();
             let mut sc = Vec::new();
@@ -387,6 +493,21 @@ impl Assembler {
         Ok(())
     }
 
+    /// Equation terms of every variable element, for the off-pattern mode.
+    fn off_pattern_terms(&mut self) {
+        self.off
+            .resize_with(self.variable.len(), OffPattern::default);
+        for (slot, &ei) in self.variable.iter().enumerate() {
+            let off = &mut self.off[slot];
+            off.terms.clear();
+            for (a, &(node, d)) in self.maps[ei].dofs.iter().enumerate() {
+                for (e, c) in self.dofmap.terms(node, d) {
+                    off.terms.push((a as u32, e as u32, c));
+                }
+            }
+        }
+    }
+
     /// Moves the carried nodes' reference positions and frames to time `t` (only the
     /// carried nodes: a track's rail nodes never move).
     fn set_time(&mut self, model: &Model, t: f64) {
@@ -416,10 +537,12 @@ impl Assembler {
     /// nodes), rebuilds the pattern if any connectivity changed, re-forms variable masses.
     /// Returns whether the pattern was rebuilt.
     pub fn advance(&mut self, model: &mut Model, t: f64, dt: f64) -> Result<bool, FemError> {
+        let t0 = std::time::Instant::now();
         self.set_time(model, t);
         let kin = std::mem::take(&mut self.kin);
         let r = self.advance_with(model, &kin, t, dt);
         self.kin = kin;
+        self.times.search += t0.elapsed().as_secs_f64();
         r
     }
 
@@ -469,7 +592,22 @@ impl Assembler {
                     }
                 }
             }
-            self.build(model, kin)?;
+            if self.off_pattern {
+                // The global pattern holds only constant elements: nothing to rebuild.
+                for &ei in &self.variable {
+                    let e = &model.elements[ei].element;
+                    let mut dofs = Vec::with_capacity(e.ndof());
+                    for nd in e.connectivity() {
+                        for d in nd.dofs.iter() {
+                            dofs.push((nd.node, d.index()));
+                        }
+                    }
+                    self.maps[ei].dofs = dofs;
+                }
+                self.off_pattern_terms();
+            } else {
+                self.build(model, kin)?;
+            }
         }
         // Variable masses and damping of this step.
         self.m_var.values.iter_mut().for_each(|v| *v = 0.0);
@@ -479,15 +617,24 @@ impl Assembler {
             let nd = self.maps[ei].dofs.len();
             let mut m = DMatrix::zeros(nd, nd);
             e.element.mass(&mut m);
-            scatter_dense(&self.dofmap, &self.maps[ei].dofs, &m, &mut self.m_var);
+            let slot = self.var_slot[ei];
+            if self.off_pattern && slot != u32::MAX {
+                self.off[slot as usize].m = Some(m);
+            } else {
+                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &m, &mut self.m_var);
+            }
         }
-        for &ei in &self.variable {
+        for (slot, &ei) in self.variable.iter().enumerate() {
             let e = &model.elements[ei];
             if e.element.properties().has_damping {
                 let nd = self.maps[ei].dofs.len();
                 let mut c = DMatrix::zeros(nd, nd);
                 e.element.damping(&mut c);
-                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &c, &mut self.c_var);
+                if self.off_pattern {
+                    self.off[slot].c = Some(c);
+                } else {
+                    scatter_dense(&self.dofmap, &self.maps[ei].dofs, &c, &mut self.c_var);
+                }
             }
         }
         Ok(changed)
@@ -515,14 +662,101 @@ impl Assembler {
         f_int: &mut [f64],
         form_tangent: bool,
     ) -> Result<(), FemError> {
-        self.k_const.mul_vec(q, f_int);
-        if form_tangent {
+        let t0 = std::time::Instant::now();
+        if self.const_symmetric {
+            crate::sparse::symmetric_products(&[&self.k_const], &[q], &mut [f_int], self.threads);
+        } else {
+            self.k_const.mul_vec(q, f_int);
+        }
+        self.times.products += t0.elapsed().as_secs_f64();
+        self.update_variable(model, q, v, a, t, dt, f_int, form_tangent)
+    }
+
+    /// [`Assembler::update`] for a transient iteration that also forms the inertia and
+    /// damping forces `inertia = M·a_w` and `damping = C·v_w` (`a_w`, `v_w` the weighted
+    /// acceleration and velocity of the integrator), in one pass over the constant
+    /// matrices.
+    #[allow(clippy::too_many_arguments)]
+    pub fn update_transient(
+        &mut self,
+        model: &mut Model,
+        (q, v, a): (&[f64], &[f64], &[f64]),
+        (a_w, v_w): (&[f64], &[f64]),
+        t: f64,
+        dt: f64,
+        (f_int, inertia, damping): (&mut [f64], &mut [f64], &mut [f64]),
+        form_tangent: bool,
+    ) -> Result<(), FemError> {
+        let t0 = std::time::Instant::now();
+        if self.const_symmetric {
+            crate::sparse::symmetric_products(
+                &[&self.k_const, &self.m_const, &self.c_const],
+                &[q, a_w, v_w],
+                &mut [&mut *f_int, &mut *inertia, &mut *damping],
+                self.threads,
+            );
+        } else {
+            self.k_const.mul_vec(q, f_int);
+            self.m_const.mul_vec(a_w, inertia);
+            self.c_const.mul_vec(v_w, damping);
+        }
+        if self.m_var_used {
+            self.m_var.mul_vec_add(1.0, a_w, inertia);
+        }
+        if self.c_var_used {
+            self.c_var.mul_vec_add(1.0, v_w, damping);
+        }
+        for off in &self.off {
+            if let Some(m) = &off.m {
+                off_pattern_times(off, m, a_w, inertia);
+            }
+            if let Some(c) = &off.c {
+                off_pattern_times(off, c, v_w, damping);
+            }
+        }
+        self.times.products += t0.elapsed().as_secs_f64();
+        self.update_variable(model, q, v, a, t, dt, f_int, form_tangent)
+    }
+
+    /// Updates the variable elements and adds their resisting forces to `f_int` (and their
+    /// tangents to `k_var` or the off-pattern store).
+    #[allow(clippy::too_many_arguments)]
+    fn update_variable(
+        &mut self,
+        model: &mut Model,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        t: f64,
+        dt: f64,
+        f_int: &mut [f64],
+        form_tangent: bool,
+    ) -> Result<(), FemError> {
+        let t0 = std::time::Instant::now();
+        let r = self.update_variable_inner(model, q, v, a, t, dt, f_int, form_tangent);
+        self.times.elements += t0.elapsed().as_secs_f64();
+        r
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn update_variable_inner(
+        &mut self,
+        model: &mut Model,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        t: f64,
+        dt: f64,
+        f_int: &mut [f64],
+        form_tangent: bool,
+    ) -> Result<(), FemError> {
+        if form_tangent && !self.off_pattern {
             self.k_var.values.iter_mut().for_each(|x| *x = 0.0);
         }
         let (mut ue, mut ve, mut ae) = (Vec::new(), Vec::new(), Vec::new());
         let mut fe = Vec::new();
         let mut ke = DMatrix::zeros(0, 0);
-        for &ei in &self.variable {
+        for (slot, &ei) in self.variable.iter().enumerate() {
             self.gather(ei, q, &mut ue);
             self.gather(ei, v, &mut ve);
             self.gather(ei, a, &mut ae);
@@ -558,6 +792,9 @@ impl Assembler {
                 }
                 entry.element.tangent_stiffness(&mut ke);
                 check_finite(&ke, entry.id, entry.element.kind(), "tangent stiffness")?;
+                if self.off_pattern {
+                    self.off[slot].k.clone_from(&ke);
+                }
                 for &(p, ab, c) in &self.maps[ei].scatter {
                     self.k_var.values[p as usize] += c * ke.as_slice()[col_major(ab as usize, nd)];
                 }
@@ -569,18 +806,67 @@ impl Assembler {
     /// `out = M·x` (constant and variable mass).
     pub fn mass_times(&self, x: &[f64], out: &mut [f64]) {
         self.m_const.mul_vec(x, out);
-        if !self.mass_elems.is_empty() {
+        if self.m_var_used {
             self.m_var.mul_vec_add(1.0, x, out);
+        }
+        for off in &self.off {
+            if let Some(m) = &off.m {
+                off_pattern_times(off, m, x, out);
+            }
         }
     }
 
     /// `out += C·x` (constant and variable damping).
     pub fn damping_times_add(&self, x: &[f64], out: &mut [f64]) {
         self.c_const.mul_vec_add(1.0, x, out);
-        self.c_var.mul_vec_add(1.0, x, out);
+        if self.c_var_used {
+            self.c_var.mul_vec_add(1.0, x, out);
+        }
+        for off in &self.off {
+            if let Some(c) = &off.c {
+                off_pattern_times(off, c, x, out);
+            }
+        }
     }
 
-    /// `out = cK·(K_const + K_var) + cM·M + cC·C` on the common pattern.
+    /// Off-pattern mode: the variable elements' effective matrices
+    /// `cK·K_e + cM·M_e + cC·C_e` as `(row, column, value)` equation triplets appended to
+    /// `out` (duplicates to be summed). Empty in the direct mode, where they are inside
+    /// [`Assembler::effective`].
+    pub fn variable_triplets(&self, ck: f64, cm: f64, cc: f64, out: &mut Vec<(usize, usize, f64)>) {
+        if !self.off_pattern {
+            return;
+        }
+        for off in &self.off {
+            let nd = off
+                .terms
+                .iter()
+                .map(|t| t.0 as usize + 1)
+                .max()
+                .unwrap_or(0);
+            let mut e = DMatrix::zeros(nd, nd);
+            for (coef, mat) in [
+                (ck, Some(&off.k)),
+                (cm, off.m.as_ref()),
+                (cc, off.c.as_ref()),
+            ] {
+                if let Some(mat) = mat.filter(|m| m.nrows() == nd && coef != 0.0) {
+                    e += mat * coef;
+                }
+            }
+            for &(b, eb, cb) in &off.terms {
+                for &(a, ea, ca) in &off.terms {
+                    let v = e[(a as usize, b as usize)];
+                    if v != 0.0 {
+                        out.push((ea as usize, eb as usize, ca * cb * v));
+                    }
+                }
+            }
+        }
+    }
+
+    /// `out = cK·(K_const + K_var) + cM·M + cC·C` on the common pattern (off-pattern mode:
+    /// the constant elements and the non-moving variable masses only).
     pub fn effective(&self, ck: f64, cm: f64, cc: f64, out: &mut CscMatrix) {
         if out.pattern_id != self.k_const.pattern_id {
             *out = self.k_const.zeros_like();
@@ -757,6 +1043,19 @@ impl Assembler {
             .iter()
             .map(|&ei| model.elements[ei].element.dissipated_energy())
             .sum()
+    }
+}
+
+/// `out += A_e·x` for an off-pattern element matrix `a` over its equation terms.
+fn off_pattern_times(off: &OffPattern, a: &DMatrix<f64>, x: &[f64], out: &mut [f64]) {
+    let nd = a.nrows();
+    let mut xe = vec![0.0; nd];
+    for &(d, e, c) in &off.terms {
+        xe[d as usize] += c * x[e as usize];
+    }
+    let ye = a * nalgebra::DVector::from_vec(xe);
+    for &(d, e, c) in &off.terms {
+        out[e as usize] += c * ye[d as usize];
     }
 }
 

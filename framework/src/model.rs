@@ -96,6 +96,25 @@ pub enum NewtonKind {
     Initial,
 }
 
+/// Which linear solver the Newton iterations use (`[analysis] solver`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverChoice {
+    /// `partitioned` for large models with moving or nonlinear elements (at least
+    /// [`PARTITIONED_FROM`] equations), `direct` otherwise.
+    #[default]
+    Auto,
+    /// One sparse factorization of the whole effective tangent (variable elements inside
+    /// the global pattern; a moving element's new connectivity rebuilds the pattern).
+    Direct,
+    /// Static condensation of the constant structure in blocks, refactoring only the blocks
+    /// a moving or nonlinear element touches (`railfem_solvers::partition`).
+    Partitioned,
+}
+
+/// Equation count from which `solver = "auto"` picks the partitioned solver.
+pub const PARTITIONED_FROM: usize = 50_000;
+
 /// Newton–Raphson settings (`[analysis.newton]`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -172,6 +191,8 @@ pub struct AnalysisSpec {
     pub rayleigh: Option<Rayleigh>,
     /// Record every n-th step.
     pub record_every: usize,
+    /// Linear solver of the Newton iterations.
+    pub solver: SolverChoice,
 }
 
 impl Default for AnalysisSpec {
@@ -192,6 +213,7 @@ impl Default for AnalysisSpec {
             newton: NewtonSettings::default(),
             rayleigh: None,
             record_every: 1,
+            solver: SolverChoice::Auto,
         }
     }
 }

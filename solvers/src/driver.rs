@@ -15,6 +15,7 @@
 use crate::dense::DenseLu;
 use crate::integrator::Integrator;
 use crate::linear::{solver_for, LinearSolver, SolverError};
+use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::model::{AnalysisKind, Model, NewtonKind};
@@ -128,6 +129,12 @@ pub struct Driver {
     initialized: bool,
     /// Print each Newton iteration's residual to stderr (`RAILFEM_TRACE=1`).
     pub trace: bool,
+    /// The partitioned solver, when the assembler keeps variable elements off the pattern.
+    partition: Option<Partitioned>,
+    /// Coefficients `k_eff` holds the constant part for (partitioned mode).
+    a_key: Option<[f64; 3]>,
+    /// Variable elements' effective triplets (partitioned mode).
+    triplets: Vec<(usize, usize, f64)>,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -152,6 +159,9 @@ impl Driver {
         };
         let integrator = Integrator::from_spec(&model.analysis);
         let k_eff = asm.k_const.zeros_like();
+        let partition = asm
+            .off_pattern()
+            .then(|| Partitioned::new(asm.symmetric(), PartitionOptions::default()));
         Ok(Driver {
             state: State {
                 t: 0.0,
@@ -173,6 +183,9 @@ impl Driver {
             factored: None,
             initialized: false,
             trace: std::env::var_os("RAILFEM_TRACE").is_some(),
+            partition,
+            a_key: None,
+            triplets: Vec::new(),
         })
     }
 
@@ -204,9 +217,49 @@ impl Driver {
         }
     }
 
-    fn factor(&mut self, dt: f64) -> Result<(), FemError> {
+    /// Replaces the partitioned solver's settings (block size, threads); no effect in the
+    /// direct mode. Takes effect at the next factorization, which rebuilds every block.
+    pub fn set_partition_options(&mut self, options: PartitionOptions) {
+        if self.partition.is_some() {
+            self.partition = Some(Partitioned::new(self.asm.symmetric(), options));
+            self.factored = None;
+        }
+    }
+
+    /// Work counters and times of the partitioned solver, if the driver uses it.
+    pub fn partition_stats(&self) -> Option<PartitionStats> {
+        self.partition.as_ref().map(Partitioned::stats)
+    }
+
+    /// Forms and factors the effective tangent `cK·K + cM·M + cC·C`.
+    fn factor_tangent(&mut self, ck: f64, cm: f64, cc: f64, dt: f64) -> Result<(), FemError> {
+        let ta = Instant::now();
+        let Some(p) = self.partition.as_mut() else {
+            self.asm.effective(ck, cm, cc, &mut self.k_eff);
+            self.summary.timings.assembly += ta.elapsed().as_secs_f64();
+            let t0 = Instant::now();
+            let r = self.solver.factor(&self.k_eff);
+            self.summary.timings.factor += t0.elapsed().as_secs_f64();
+            r.map_err(|e| self.singular(e))?;
+            self.factored = Some((dt, self.k_eff.pattern_id));
+            return Ok(());
+        };
+        // The constant part changes only with the coefficients (and never if every mass is
+        // constant); the variable elements come as triplets.
+        let key = if self.asm.constant_part_is_constant() {
+            [ck, cm, cc]
+        } else {
+            [f64::NAN; 3]
+        };
+        if self.a_key != Some(key) || self.k_eff.pattern_id != self.asm.k_const.pattern_id {
+            self.asm.effective(ck, cm, cc, &mut self.k_eff);
+            self.a_key = Some(key);
+        }
+        self.triplets.clear();
+        self.asm.variable_triplets(ck, cm, cc, &mut self.triplets);
+        self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         let t0 = Instant::now();
-        let r = self.solver.factor(&self.k_eff);
+        let r = p.factor(&self.k_eff, key, &self.triplets);
         self.summary.timings.factor += t0.elapsed().as_secs_f64();
         r.map_err(|e| self.singular(e))?;
         self.factored = Some((dt, self.k_eff.pattern_id));
@@ -215,7 +268,10 @@ impl Driver {
 
     fn solve(&mut self, b: &mut [f64]) -> Result<(), FemError> {
         let t0 = Instant::now();
-        let r = self.solver.solve_in_place(b);
+        let r = match self.partition.as_mut() {
+            Some(p) => p.solve_in_place(b),
+            None => self.solver.solve_in_place(b),
+        };
         self.summary.timings.solve += t0.elapsed().as_secs_f64();
         r.map_err(|e| self.singular(e))?;
         if let Some(i) = b.iter().position(|x| !x.is_finite()) {
@@ -286,8 +342,7 @@ impl Driver {
                     break;
                 }
                 if !(linear && it > 0) {
-                    self.asm.effective(1.0, 0.0, 0.0, &mut self.k_eff);
-                    self.factor(0.0)?;
+                    self.factor_tangent(1.0, 0.0, 0.0, 0.0)?;
                     self.summary.factorizations += 1;
                 }
                 let mut dq = r.clone();
@@ -350,12 +405,20 @@ impl Driver {
         // Mass matrix with unit diagonal on massless equations.
         let mut m = self.asm.m_const.zeros_like();
         m.set_combination(&[(1.0, &self.asm.m_const), (1.0, &self.asm.m_var)]);
+        let mut variable_mass = Vec::new();
+        self.asm
+            .variable_triplets(0.0, 1.0, 0.0, &mut variable_mass);
         let mut massless = vec![true; n];
         for j in 0..n {
             for p in m.col_ptr[j]..m.col_ptr[j + 1] {
                 if m.values[p] != 0.0 {
                     massless[j] = false;
                 }
+            }
+        }
+        for &(_, j, v) in &variable_mass {
+            if v != 0.0 {
+                massless[j] = false;
             }
         }
         for j in 0..n {
@@ -366,15 +429,22 @@ impl Driver {
                 rhs[j] = 0.0;
             }
         }
-        let mut solver: Box<dyn LinearSolver> = if n <= DENSE_LIMIT {
-            Box::new(DenseLu::default())
+        if self.asm.off_pattern() {
+            let mut p = Partitioned::new(true, PartitionOptions::default());
+            p.factor(&m, [0.0, 1.0, 0.0], &variable_mass)
+                .map_err(|e| self.singular(e))?;
+            p.solve_in_place(&mut rhs).map_err(|e| self.singular(e))?;
         } else {
-            solver_for(true)
-        };
-        solver.factor(&m).map_err(|e| self.singular(e))?;
-        solver
-            .solve_in_place(&mut rhs)
-            .map_err(|e| self.singular(e))?;
+            let mut solver: Box<dyn LinearSolver> = if n <= DENSE_LIMIT {
+                Box::new(DenseLu::default())
+            } else {
+                solver_for(true)
+            };
+            solver.factor(&m).map_err(|e| self.singular(e))?;
+            solver
+                .solve_in_place(&mut rhs)
+                .map_err(|e| self.singular(e))?;
+        }
         self.state.a = rhs;
         self.state.f_int = f_int;
         self.state.f_ext = f;
@@ -404,7 +474,8 @@ impl Driver {
         let mut a = vec![0.0; n];
         let mut f_int = vec![0.0; n];
         let mut r = vec![0.0; n];
-        let mut work = vec![0.0; n];
+        let mut a_w = vec![0.0; n];
+        let mut v_w = vec![0.0; n];
         let mut inertia = vec![0.0; n];
         let mut damp = vec![0.0; n];
         let mut iters = 0;
@@ -424,6 +495,9 @@ impl Driver {
                 let (vi, ai) = ig.kinematics(dt, q[i] - s0.q[i], s0.v[i], s0.a[i]);
                 v[i] = vi;
                 a[i] = ai;
+                // The residual's inertia and damping act at the intermediate times.
+                a_w[i] = (1.0 - am) * ai + am * s0.a[i];
+                v_w[i] = (1.0 - af) * vi + af * s0.v[i];
             }
             let ta = Instant::now();
             let need_tangent = !linear
@@ -432,17 +506,9 @@ impl Driver {
                     NewtonKind::Modified => it == 0,
                     NewtonKind::Initial => self.factored.is_none(),
                 };
-            self.asm.update(
-                &mut self.model,
-                &q,
-                &v,
-                &a,
-                t1,
-                dt,
-                &mut f_int,
-                need_tangent || it == 0,
-            )?;
             if linear && it > 0 {
+                self.asm
+                    .update(&mut self.model, &q, &v, &a, t1, dt, &mut f_int, false)?;
                 // A linear model was solved exactly by the one correction: v, a and f_int
                 // are updated above; the inertia and damping products of a residual check
                 // would only confirm round-off.
@@ -461,15 +527,15 @@ impl Driver {
                 ));
             }
             // Residual at the intermediate times.
-            for i in 0..n {
-                work[i] = (1.0 - am) * a[i] + am * s0.a[i];
-            }
-            self.asm.mass_times(&work, &mut inertia);
-            for i in 0..n {
-                work[i] = (1.0 - af) * v[i] + af * s0.v[i];
-            }
-            damp.iter_mut().for_each(|x| *x = 0.0);
-            self.asm.damping_times_add(&work, &mut damp);
+            self.asm.update_transient(
+                &mut self.model,
+                (&q, &v, &a),
+                (&a_w, &v_w),
+                t1,
+                dt,
+                (&mut f_int, &mut inertia, &mut damp),
+                need_tangent || it == 0,
+            )?;
             for i in 0..n {
                 r[i] = f_ref_ext[i]
                     - inertia[i]
@@ -537,10 +603,7 @@ impl Driver {
                 (false, NewtonKind::Initial) => !valid,
             };
             if refactor {
-                let ta = Instant::now();
-                self.asm.effective(ck, cm, cc, &mut self.k_eff);
-                self.summary.timings.assembly += ta.elapsed().as_secs_f64();
-                self.factor(dt)?;
+                self.factor_tangent(ck, cm, cc, dt)?;
                 self.summary.factorizations += 1;
             }
             let mut dq = r.clone();
@@ -620,6 +683,12 @@ impl Driver {
     /// state (K the assembled tangent at zero displacement, M the mass), by subspace
     /// iteration on the sparse factor of K ([`crate::modal`]).
     pub fn modes(&mut self, n: usize) -> Result<crate::modal::Modes, FemError> {
+        if self.asm.off_pattern() {
+            return Err(FemError::input(
+                &self.model.origin,
+                "modal analysis needs the whole tangent in one matrix; set [analysis] solver = \"direct\"",
+            ));
+        }
         let z = vec![0.0; self.neq()];
         let mut f = vec![0.0; self.neq()];
         self.asm.advance(&mut self.model, self.state.t, 0.0)?;

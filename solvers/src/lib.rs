@@ -13,5 +13,6 @@ pub mod driver;
 pub mod integrator;
 pub mod linear;
 pub mod modal;
+pub mod partition;
 
 pub use driver::{Driver, RunSummary, State, StepReport};
