@@ -55,6 +55,9 @@ struct OffPattern {
     c: Option<DMatrix<f64>>,
 }
 
+/// A variable element's resisting force and (if asked for) tangent.
+type Evaluated = (Vec<f64>, Option<DMatrix<f64>>);
+
 /// Counters of the work done, for benchmarks and the performance report.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct AssemblyStats {
@@ -753,14 +756,20 @@ impl Assembler {
         if form_tangent && !self.off_pattern {
             self.k_var.values.iter_mut().for_each(|x| *x = 0.0);
         }
-        let (mut ue, mut ve, mut ae) = (Vec::new(), Vec::new(), Vec::new());
-        let mut fe = Vec::new();
-        let mut ke = DMatrix::zeros(0, 0);
-        for (slot, &ei) in self.variable.iter().enumerate() {
-            self.gather(ei, q, &mut ue);
-            self.gather(ei, v, &mut ve);
-            self.gather(ei, a, &mut ae);
-            let entry = &mut model.elements[ei];
+        // State determination of every variable element, in parallel when there are many
+        // (a train's wheels): each element only reads the trial vectors and writes itself.
+        let (dofmap, maps, slots) = (&self.dofmap, &self.maps, &self.var_slot);
+        let eval = |ei: usize,
+                    entry: &mut crate::model::ElementEntry|
+         -> Result<Evaluated, FemError> {
+            let pick = |x: &[f64]| -> Vec<f64> {
+                maps[ei]
+                    .dofs
+                    .iter()
+                    .map(|&(n, d)| dofmap.value(x, n, d))
+                    .collect()
+            };
+            let (ue, ve, ae) = (pick(q), pick(v), pick(a));
             entry
                 .element
                 .update(&TrialState {
@@ -771,10 +780,8 @@ impl Assembler {
                     acc: &ae,
                 })
                 .map_err(|err| element_error(entry.id, entry.element.kind(), err))?;
-            self.stats.element_updates += 1;
             let nd = ue.len();
-            fe.clear();
-            fe.resize(nd, 0.0);
+            let mut fe = vec![0.0; nd];
             entry.element.resisting_force(&mut fe);
             if let Some(i) = fe.iter().position(|x| !x.is_finite()) {
                 return Err(FemError::NonFinite(format!(
@@ -783,20 +790,56 @@ impl Assembler {
                     entry.element.kind()
                 )));
             }
-            scatter_vec(&self.dofmap, &self.maps[ei].dofs, &fe, f_int);
-            if form_tangent {
-                if ke.nrows() != nd {
-                    ke = DMatrix::zeros(nd, nd);
-                } else {
-                    ke.fill(0.0);
-                }
+            let ke = if form_tangent {
+                let mut ke = DMatrix::zeros(nd, nd);
                 entry.element.tangent_stiffness(&mut ke);
                 check_finite(&ke, entry.id, entry.element.kind(), "tangent stiffness")?;
-                if self.off_pattern {
-                    self.off[slot].k.clone_from(&ke);
-                }
+                Some(ke)
+            } else {
+                None
+            };
+            Ok((fe, ke))
+        };
+        let mut entries: Vec<(usize, &mut crate::model::ElementEntry)> = model
+            .elements
+            .iter_mut()
+            .enumerate()
+            .filter(|(ei, _)| slots.get(*ei).is_some_and(|&s| s != u32::MAX))
+            .collect();
+        let nt = if entries.len() >= 16 { self.threads } else { 1 };
+        let results: Vec<Result<Evaluated, FemError>> = if nt <= 1 {
+            entries.iter_mut().map(|(ei, e)| eval(*ei, e)).collect()
+        } else {
+            let chunk = entries.len().div_ceil(nt);
+            std::thread::scope(|sc| {
+                let handles: Vec<_> = entries
+                    .chunks_mut(chunk)
+                    .map(|c| {
+                        let eval = &eval;
+                        sc.spawn(move || {
+                            c.iter_mut().map(|(ei, e)| eval(*ei, e)).collect::<Vec<_>>()
+                        })
+                    })
+                    .collect();
+                handles
+                    .into_iter()
+                    .flat_map(|h| h.join().expect("element worker panicked"))
+                    .collect()
+            })
+        };
+        drop(entries);
+        self.stats.element_updates += results.len();
+        for (slot, r) in results.into_iter().enumerate() {
+            let ei = self.variable[slot];
+            let (fe, ke) = r?;
+            scatter_vec(&self.dofmap, &self.maps[ei].dofs, &fe, f_int);
+            if let Some(ke) = ke {
+                let nd = fe.len();
                 for &(p, ab, c) in &self.maps[ei].scatter {
                     self.k_var.values[p as usize] += c * ke.as_slice()[col_major(ab as usize, nd)];
+                }
+                if self.off_pattern {
+                    self.off[slot].k = ke;
                 }
             }
         }
