@@ -175,7 +175,10 @@ fn single_span_self_weight() {
     );
     assert!(w >= cf(q0, hi) * (1.0 - 1e-6) && w <= cf(q1, lo) * (1.0 + 1e-6));
     // Bearing settlement alone: q·L/(2k_b) (with or without rails).
-    assert!(w_end >= q0 * SPAN / (2.0 * K_BEARING) * 0.999 && w_end <= q1 * SPAN / (2.0 * K_BEARING) * 1.001);
+    assert!(
+        w_end >= q0 * SPAN / (2.0 * K_BEARING) * 0.999
+            && w_end <= q1 * SPAN / (2.0 * K_BEARING) * 1.001
+    );
 }
 
 /// A 200 m straight slab track meshed at 0.1 m with a fastener at every node, loaded by P
@@ -227,14 +230,20 @@ fn slab_track_matches_hetenyi() {
     let ei = s.e * s.i_vertical + 2.0 * r.e * r.i_vertical;
     let beta = (k_sub / (4.0 * ei)).powf(0.25);
     let p2 = 2.0 * P / 10.0;
-    let hetenyi = |x: f64| p2 * beta / (2.0 * k_sub) * (-beta * x).exp() * ((beta * x).cos() + (beta * x).sin());
+    let hetenyi = |x: f64| {
+        p2 * beta / (2.0 * k_sub) * (-beta * x).exp() * ((beta * x).cos() + (beta * x).sin())
+    };
     let w0 = hetenyi(0.0);
     let mut worst: f64 = 0.0;
     for di in 0..80 {
         let i = i0 + di;
         let x = tm.stations[i] - 100.0;
-        let w = -d.node_value(tm.rails[0].first_id + i as u64, Dof::Uz.index()).unwrap();
-        let w_right = -d.node_value(tm.rails[1].first_id + i as u64, Dof::Uz.index()).unwrap();
+        let w = -d
+            .node_value(tm.rails[0].first_id + i as u64, Dof::Uz.index())
+            .unwrap();
+        let w_right = -d
+            .node_value(tm.rails[1].first_id + i as u64, Dof::Uz.index())
+            .unwrap();
         // Symmetric load: both rails deflect alike.
         assert!((w - w_right).abs() < 1e-9 * w0);
         worst = worst.max((w - hetenyi(x)).abs() / w0);
@@ -244,8 +253,13 @@ fn slab_track_matches_hetenyi() {
     // The slab node under the load follows the rails to within the fastener compression.
     let slab_node = tm.slab.as_ref().unwrap().node_at(i0).unwrap();
     let ws = -d.node_value(slab_node, Dof::Uz.index()).unwrap();
-    let wr = -d.node_value(tm.rails[0].first_id + i0 as u64, Dof::Uz.index()).unwrap();
-    assert!(wr > ws && wr - ws < P / 10.0 / 1.0e11 * 1.001, "fastener: {wr} vs {ws}");
+    let wr = -d
+        .node_value(tm.rails[0].first_id + i0 as u64, Dof::Uz.index())
+        .unwrap();
+    assert!(
+        wr > ws && wr - ws < P / 10.0 / 1.0e11 * 1.001,
+        "fastener: {wr} vs {ws}"
+    );
 }
 
 /// Two spans, P at midspan of span 1. The girders are not continuous, so (a) span 1's end
@@ -281,8 +295,12 @@ fn adjacent_spans_are_independent() {
     let _ = slope_lo;
     assert!((th1 - slope_hi).abs() < 0.01 * slope_hi + tilt);
     assert!(th2 < 0.02 * th1);
-    let w1 = d.node_value(br.midspan_node(0).unwrap(), Dof::Uz.index()).unwrap();
-    let w2 = d.node_value(br.midspan_node(1).unwrap(), Dof::Uz.index()).unwrap();
+    let w1 = d
+        .node_value(br.midspan_node(0).unwrap(), Dof::Uz.index())
+        .unwrap();
+    let w2 = d
+        .node_value(br.midspan_node(1).unwrap(), Dof::Uz.index())
+        .unwrap();
     println!("midspan: span 1 {w1:.5e} m, span 2 {w2:.5e} m");
     assert!(w2.abs() < 0.01 * w1.abs());
 }
