@@ -32,6 +32,15 @@ USAGE:
                                                      time linear transient steps of a long
                                                      continuous beam per DOF count; writes
                                                      bench.md and bench.csv (default out/bench)
+  railfem train-bridge [--cars N] [--spans M] [--span L] [--element-length H | --dof N]
+                [--speed V] [--radius R] [--ct CT] [--duration T] [--dt DT]
+                [--quake FILE.csv | --quake synthetic [--seed S] [--pga G] [--quake-duration T]]
+                [--quake-out FILE.csv] [--midspans 1,2,..] [--record-every N] [--steps N]
+                [--build-only] [--out DIR]           a train of sks700 carriages over a viaduct
+                                                     of simply supported spans (default 12 cars,
+                                                     113 spans of 29.75 m): wheels.csv,
+                                                     midspan.csv, summary.csv (default
+                                                     out/train_bridge)
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -81,7 +90,7 @@ impl Args {
 }
 
 /// Options that take no value.
-const FLAGS: [&str; 5] = ["quick", "quiet", "help", "no-plot", "sweep"];
+const FLAGS: [&str; 6] = ["quick", "quiet", "help", "no-plot", "sweep", "build-only"];
 
 /// Parses `argv` (without the program name).
 pub fn parse(argv: &[String]) -> Result<Args, FemError> {
@@ -181,6 +190,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "conformance" => conformance(a),
         "track" => track(a),
         "bench" => bench(a),
+        "train-bridge" => train_bridge(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
@@ -465,4 +475,133 @@ fn conformance(a: &Args) -> Result<i32, FemError> {
     }
     print!("{}", report.table());
     Ok(if report.passed() { 0 } else { 1 })
+}
+
+/// `railfem train-bridge`: see [`crate::train_bridge`] and the usage text.
+fn train_bridge(a: &Args) -> Result<i32, FemError> {
+    use crate::train_bridge::{build, run, Quake, TrainBridgeCase};
+    let mut c = TrainBridgeCase::default();
+    let count = |key: &str| -> Result<Option<usize>, FemError> {
+        match a.num(key)? {
+            None => Ok(None),
+            Some(v) if v >= 1.0 && v.fract() == 0.0 && v < 1e9 => Ok(Some(v as usize)),
+            Some(v) => Err(FemError::input(
+                "command line",
+                format!("--{key} {v}: give a whole number ≥ 1"),
+            )),
+        }
+    };
+    if let Some(v) = count("cars")? {
+        c.cars = v;
+    }
+    if let Some(v) = count("spans")? {
+        c.spans = v;
+    }
+    if let Some(v) = a.num("span")? {
+        c.span = v;
+    }
+    if let Some(v) = a.num("element-length")? {
+        c.element_length = v;
+    }
+    c.dof_target = count("dof")?;
+    if let Some(v) = a.num("speed")? {
+        c.speed = v;
+    }
+    c.radius = a.num("radius")?;
+    if let Some(v) = a.num("ct")? {
+        c.ct = v;
+    }
+    c.duration = a.num("duration")?;
+    if let Some(v) = a.num("dt")? {
+        c.dt = v;
+    }
+    if let Some(v) = count("record-every")? {
+        c.record_every = v;
+    }
+    if let Some(v) = a.num("pier-height")? {
+        c.pier_height = v;
+    }
+    if let Some(list) = a.opt("midspans") {
+        c.midspans = list
+            .split(',')
+            .map(|x| x.trim().parse::<usize>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| {
+                FemError::input(
+                    "command line",
+                    format!("--midspans {list}: give span numbers (1-based), comma-separated"),
+                )
+            })?;
+    }
+    c.quake = match a.opt("quake") {
+        None => Quake::None,
+        Some("synthetic") => Quake::Synthetic {
+            seed: count("seed")?.unwrap_or(1) as u64,
+            pga: a.num("pga")?.unwrap_or(0.3),
+            duration: a.num("quake-duration")?.unwrap_or(30.0),
+        },
+        Some(f) => Quake::File(PathBuf::from(f)),
+    };
+    let steps = count("steps")?;
+    let out = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out/train_bridge"));
+    let mut m = build(&c)?;
+    if let (Some(q), Some(p)) = (&m.quake, a.opt("quake-out")) {
+        q.write_csv(Path::new(p))?;
+    }
+    let [tg, tb, td] = m.build_seconds;
+    println!(
+        "train-bridge: {} cars, {} spans of {} m, element length {:.4} m: {} DOF, {} elements, {} nodes; build {:.2} s (generate {:.2}, framework {:.2}, driver {:.2}); peak memory {}",
+        c.cars,
+        c.spans,
+        c.span,
+        m.element_length,
+        m.dofs,
+        m.elements,
+        m.nodes,
+        tg + tb + td,
+        tg,
+        tb,
+        td,
+        crate::bench::peak_memory_mib().map_or("n/a".into(), |v| format!("{v:.0} MiB")),
+    );
+    if let Some(q) = &m.quake {
+        let p = q.peaks();
+        println!(
+            "ground motion: {} samples over {:.2} s, peaks X {:.3} g, Y {:.3} g, Z {:.3} g",
+            q.t.len(),
+            q.t[q.t.len() - 1] - q.t[0],
+            p[0] / crate::train_bridge::G0,
+            p[1] / crate::train_bridge::G0,
+            p[2] / crate::train_bridge::G0
+        );
+    }
+    if a.flags.iter().any(|f| f == "build-only") {
+        return Ok(0);
+    }
+    let r = run(&mut m, &c, steps, Some(&out))?;
+    println!(
+        "{} steps, {} Newton iterations, {:.2} s; results in {}",
+        r.steps,
+        r.iterations,
+        r.wall,
+        out.display()
+    );
+    println!("wheel   Q_static(N)   max Y/Q   t(s)   max dQ/Q   t(s)   min Q(N)   t(s)");
+    for (i, e) in r.wheels.iter().enumerate() {
+        println!(
+            "{:<6} {:>12.1} {:>9.4} {:>6.3} {:>10.4} {:>6.3} {:>10.1} {:>6.3}",
+            r.wheel_names[i],
+            r.q_static[i],
+            e.max_yq.0,
+            e.max_yq.1,
+            e.max_dqq.0,
+            e.max_dqq.1,
+            e.min_q.0,
+            e.min_q.1
+        );
+    }
+    Ok(0)
 }

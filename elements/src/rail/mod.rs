@@ -2,6 +2,7 @@
 //! moving wheel-axle element, vehicles and the simple theory of the paper's Section 3.
 
 pub mod alignment;
+pub mod bridge;
 pub mod cant;
 pub mod contact_geometry;
 pub mod contact_law;

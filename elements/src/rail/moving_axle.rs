@@ -906,6 +906,8 @@ fn sample_scene() -> (Arc<TrackModel>, Vec<NodeKinematics>, f64) {
             },
         ],
         rigid: false,
+        slab: None,
+        bridge: None,
     });
     let s = 2.45;
     let p = track.at(s);

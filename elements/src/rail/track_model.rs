@@ -10,11 +10,15 @@
 //! - `rigid`: rail nodes fixed, no beam elements at all — the wheels roll on the exact
 //!   alignment and the scene pays nothing for the rails (the validation of Section 4);
 //! - `discrete`: a grounded `spring_damper` (vertical, lateral, longitudinal and rotational
-//!   springs in the wheel frame, with dampers) every `spacing` metres of track.
+//!   springs in the wheel frame, with dampers) every `spacing` metres of track;
+//! - `slab`: rails on fasteners on a concrete slab on the subgrade, and `bridge`: the same
+//!   slab on simply supported girders with bearings and piers ([`super::bridge`], which
+//!   also documents the numbering of those components).
 //!
 //! Node ids of rail `r` are `first_id[r] + i` for station `i`, consecutive, so that a
 //! moving wheel can re-pick its nodes by index in O(log n) ([`TrackModel::locate`]).
 
+use super::bridge::{generate_structure, picks, BridgeLayout, BridgeSpec, RailsInfo, SlabLayout, SlabTrack};
 use super::cant::Track;
 use railfem_framework::error::FemError;
 use railfem_framework::model::ModelBuilder;
@@ -82,6 +86,10 @@ pub enum RailSupport {
         #[serde(default)]
         c: [f64; 6],
     },
+    /// Rails on fasteners on a slab on the subgrade.
+    Slab(SlabTrack),
+    /// Rails on fasteners on a slab on simply supported girders, bearings and piers.
+    Bridge(BridgeSpec),
 }
 
 /// Mesh settings of the `[track]` table.
@@ -147,6 +155,10 @@ pub struct TrackModel {
     pub rails: [RailLine; 2],
     /// Whether rails are rigid (no DOFs).
     pub rigid: bool,
+    /// The slab of a slab or bridge track.
+    pub slab: Option<SlabLayout>,
+    /// The bridge: spans, girder and pier node ids.
+    pub bridge: Option<BridgeLayout>,
 }
 
 impl TrackModel {
@@ -166,6 +178,20 @@ impl TrackModel {
 
 /// Mesh stations on `[a, b]`: every segment joint inside, the rest evenly at about `h`.
 pub fn mesh_stations(track: &Track, a: f64, b: f64, h: f64) -> Vec<f64> {
+    mesh_stations_cut(track, a, b, h, &[], false)
+}
+
+/// Mesh stations on `[a, b]` cut at every segment joint and at `extra` stations; with
+/// `even`, every interval between cuts gets an even number of elements (a node at its
+/// middle — the midspan of a bridge span).
+pub fn mesh_stations_cut(
+    track: &Track,
+    a: f64,
+    b: f64,
+    h: f64,
+    extra: &[f64],
+    even: bool,
+) -> Vec<f64> {
     let mut cuts = vec![a];
     let mut s0 = 0.0;
     for seg in track.alignment.segments() {
@@ -174,10 +200,16 @@ pub fn mesh_stations(track: &Track, a: f64, b: f64, h: f64) -> Vec<f64> {
             cuts.push(s0);
         }
     }
+    cuts.extend(extra.iter().copied().filter(|s| *s > a + 1e-9 && *s < b - 1e-9));
     cuts.push(b);
+    cuts.sort_by(f64::total_cmp);
+    cuts.dedup_by(|x, y| (*x - *y).abs() < 1e-6);
     let mut out = vec![a];
     for w in cuts.windows(2) {
-        let n = ((w[1] - w[0]) / h).ceil().max(1.0) as usize;
+        let mut n = ((w[1] - w[0]) / h).ceil().max(1.0) as usize;
+        if even && n % 2 == 1 {
+            n += 1;
+        }
         for i in 1..=n {
             out.push(w[0] + (w[1] - w[0]) * i as f64 / n as f64);
         }
@@ -208,7 +240,18 @@ pub fn generate(
             "window must be [from, to] with from < to (m)",
         ));
     }
-    let stations = mesh_stations(&track, from, to, h);
+    let (extra, even) = match &mesh.support {
+        RailSupport::Bridge(br) => {
+            br.validate(&origin, from, to)?;
+            (br.joints(), true)
+        }
+        RailSupport::Slab(sl) => {
+            sl.validate(&origin)?;
+            (Vec::new(), false)
+        }
+        _ => (Vec::new(), false),
+    };
+    let stations = mesh_stations_cut(&track, from, to, h, &extra, even);
     let offset = mesh.rail_offset.unwrap_or(track.gauge / 2.0 + 0.036);
     if !(offset.is_finite() && offset > 0.0) {
         return Err(FemError::input(&origin, "rail_offset must be > 0 m"));
@@ -226,11 +269,13 @@ pub fn generate(
             first_id: base + n,
         },
     ];
-    let model = TrackModel {
+    let mut model = TrackModel {
         track: track.clone(),
         stations,
         rails,
         rigid,
+        slab: None,
+        bridge: None,
     };
     let fix = if rigid { DofSet::ALL } else { DofSet::NONE };
     for (r, rail) in model.rails.iter().enumerate() {
@@ -260,43 +305,50 @@ pub fn generate(
             }
             let _ = r;
         }
-        if let RailSupport::Discrete { spacing, k, c } = &mesh.support {
-            if !(spacing.is_finite() && *spacing > 0.0) {
-                return Err(FemError::input(&origin, "support spacing must be > 0 m"));
+        match &mesh.support {
+            RailSupport::Discrete { spacing, k, c } => {
+                if !(spacing.is_finite() && *spacing > 0.0) {
+                    return Err(FemError::input(&origin, "support spacing must be > 0 m"));
+                }
+                let picks = picks(&model.stations, *spacing);
+                for rail in &model.rails {
+                    for &i in &picks {
+                        let f = track.at(model.stations[i]).frame;
+                        let rows: Vec<[f64; 3]> =
+                            (0..3).map(|c| [f[(0, c)], f[(1, c)], f[(2, c)]]).collect();
+                        eid += 1;
+                        b.element(
+                            "spring_damper",
+                            eid,
+                            &[rail.first_id + i as u64],
+                            &serde_json::json!({"k": k, "c": c, "axes": [rows[0], rows[1]]}),
+                        );
+                    }
+                }
             }
-            let mut next = (from / spacing).ceil() * spacing;
-            let mut picks = Vec::new();
-            while next <= to + 1e-9 {
-                let i = model
-                    .stations
-                    .partition_point(|x| *x < next)
-                    .min(model.stations.len() - 1);
-                let i = if i > 0
-                    && (model.stations[i] - next).abs() > (model.stations[i - 1] - next).abs()
-                {
-                    i - 1
-                } else {
-                    i
+            RailSupport::Slab(slab) => {
+                let info = RailsInfo {
+                    track: &track,
+                    stations: &model.stations,
+                    rail_first: [model.rails[0].first_id, model.rails[1].first_id],
+                    next_node: base + 2 * n,
                 };
-                if picks.last() != Some(&i) {
-                    picks.push(i);
-                }
-                next += spacing;
+                let (layout, _) = generate_structure(b, &info, slab, None, &mut eid, &origin)?;
+                model.slab = Some(layout);
             }
-            for rail in &model.rails {
-                for &i in &picks {
-                    let f = track.at(model.stations[i]).frame;
-                    let rows: Vec<[f64; 3]> =
-                        (0..3).map(|c| [f[(0, c)], f[(1, c)], f[(2, c)]]).collect();
-                    eid += 1;
-                    b.element(
-                        "spring_damper",
-                        eid,
-                        &[rail.first_id + i as u64],
-                        &serde_json::json!({"k": k, "c": c, "axes": [rows[0], rows[1]]}),
-                    );
-                }
+            RailSupport::Bridge(br) => {
+                let info = RailsInfo {
+                    track: &track,
+                    stations: &model.stations,
+                    rail_first: [model.rails[0].first_id, model.rails[1].first_id],
+                    next_node: base + 2 * n,
+                };
+                let (layout, bl) =
+                    generate_structure(b, &info, &br.slab_track, Some(br), &mut eid, &origin)?;
+                model.slab = Some(layout);
+                model.bridge = bl;
             }
+            RailSupport::Rigid => {}
         }
     }
     let model = Arc::new(model);
