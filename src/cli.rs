@@ -32,6 +32,11 @@ USAGE:
                                                      time linear transient steps of a long
                                                      continuous beam per DOF count; writes
                                                      bench.md and bench.csv (default out/bench)
+  railfem bench --case train-bridge [--sizes 1e4,1e5,1e6] [--cars N] [--steps N] [--dt DT]
+                                                     time per Newton iteration and per step of
+                                                     the train-bridge model by phase (search,
+                                                     elements, assembly, blocks, top, solve,
+                                                     loads); writes phases.md and phases.csv
   railfem train-bridge [--cars N] [--spans M] [--span L] [--element-length H | --dof N]
                 [--speed V] [--radius R] [--ct CT] [--duration T] [--dt DT]
                 [--quake FILE.csv | --quake synthetic [--seed S] [--pga G] [--quake-duration T]]
@@ -136,7 +141,12 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
     for p in &a.plugins {
         crate::framework::plugin::load(p)?;
     }
+    let asked_help = a.flags.iter().any(|f| f == "help") || a.positional.iter().any(|p| p == "-h");
     match a.command.as_str() {
+        _ if asked_help => {
+            println!("{USAGE}");
+            Ok(0)
+        }
         "help" | "--help" | "-h" => {
             println!("{USAGE}");
             Ok(0)
@@ -303,6 +313,13 @@ fn track(a: &Args) -> Result<i32, FemError> {
 /// transient steps (default 20) of the benchmark beam; table on stdout, `bench.md` and
 /// `bench.csv` in `--out` (default `out/bench`).
 fn bench(a: &Args) -> Result<i32, FemError> {
+    let case = a.opt("case").unwrap_or("beam");
+    if !matches!(case, "beam" | "train-bridge") {
+        return Err(FemError::input(
+            "command line",
+            format!("--case {case}: use beam (linear multi-span beam) or train-bridge"),
+        ));
+    }
     let spec = a.opt("sizes").unwrap_or("1e4,1e5,1e6");
     let mut sizes = Vec::new();
     for x in spec.split(',') {
@@ -327,6 +344,30 @@ fn bench(a: &Args) -> Result<i32, FemError> {
         }
     };
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/bench"));
+    if case == "train-bridge" {
+        let cars = match a.num("cars")? {
+            None => 1,
+            Some(v) if v >= 1.0 && v.fract() == 0.0 => v as usize,
+            Some(v) => {
+                return Err(FemError::input(
+                    "command line",
+                    format!("--cars {v}: give a whole number of carriages >= 1"),
+                ))
+            }
+        };
+        let dt = match a.num("dt")? {
+            None => 5e-4,
+            Some(v) if v > 0.0 => v,
+            Some(v) => {
+                return Err(FemError::input(
+                    "command line",
+                    format!("--dt {v}: give a time step > 0 s"),
+                ))
+            }
+        };
+        crate::bench_train::run(&sizes, cars, steps, dt, &out)?;
+        return Ok(0);
+    }
     crate::bench::run(&sizes, steps, &out)?;
     Ok(0)
 }

@@ -819,12 +819,12 @@ fn partitioned_solver_reproduces_the_direct_solution() {
         "displacements differ by {:e}",
         dq / scale
     );
-    // 2316 equations in blocks of ~150: at least 10 blocks; the wheels crossed ≥ 70 rail
-    // elements (9.6 m), yet the block factorizations stay far below one per block per
-    // iteration.
+    // 2316 equations in blocks of ~150: at least 10 blocks. The wheels crossed ≥ 70 rail
+    // elements (9.6 m) and re-picked their nodes at each crossing, yet every block was
+    // factored only for the static and the transient tangents' constant parts (two keys):
+    // the wheels' rail nodes enter the top system through promotions (solves with the
+    // block's existing factor).
     assert!(stats.blocks >= 10, "{stats:?}");
-    assert!(
-        stats.block_factorizations < stats.top_factorizations * stats.blocks / 4,
-        "{stats:?}"
-    );
+    assert!(stats.block_factorizations <= 2 * stats.blocks, "{stats:?}");
+    assert!(stats.promotions >= 70, "{stats:?}");
 }

@@ -426,9 +426,24 @@ impl Assembler {
                 *c += r.alpha * m + r.beta * k;
             }
         }
-        self.k_var = pattern.zeros_like();
-        self.m_var = pattern.zeros_like();
-        self.c_var = pattern.zeros_like();
+        // Off the pattern, the variable matrices live with their elements: the global
+        // ones stay empty (at a million equations each would cost ~0.7 GB).
+        let empty = CscMatrix::from_columns(Vec::new());
+        self.k_var = if self.off_pattern {
+            empty.clone()
+        } else {
+            pattern.zeros_like()
+        };
+        self.m_var = if self.m_var_used {
+            pattern.zeros_like()
+        } else {
+            empty.clone()
+        };
+        self.c_var = if self.c_var_used {
+            pattern.zeros_like()
+        } else {
+            empty
+        };
         self.k_const = k_const;
         self.m_const = m_const;
         self.c_const = c_const;
@@ -914,14 +929,18 @@ impl Assembler {
         if out.pattern_id != self.k_const.pattern_id {
             *out = self.k_const.zeros_like();
         }
-        out.set_combination(&[
+        let terms: Vec<(f64, &CscMatrix)> = [
             (ck, &self.k_const),
             (ck, &self.k_var),
             (cm, &self.m_const),
             (cm, &self.m_var),
             (cc, &self.c_const),
             (cc, &self.c_var),
-        ]);
+        ]
+        .into_iter()
+        .filter(|(_, m)| m.n == self.k_const.n) // unused variable matrices are kept empty
+        .collect();
+        out.set_combination(&terms);
     }
 
     /// External force at time `t` (N, N·m) into `out`: nodal loads, gravity, Eq. 5

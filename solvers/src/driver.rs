@@ -404,7 +404,7 @@ impl Driver {
         }
         // Mass matrix with unit diagonal on massless equations.
         let mut m = self.asm.m_const.zeros_like();
-        m.set_combination(&[(1.0, &self.asm.m_const), (1.0, &self.asm.m_var)]);
+        self.asm.effective(0.0, 1.0, 0.0, &mut m);
         let mut variable_mass = Vec::new();
         self.asm
             .variable_triplets(0.0, 1.0, 0.0, &mut variable_mass);

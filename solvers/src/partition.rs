@@ -18,12 +18,22 @@
 //! x_{I_b} = A_{I_b I_b}⁻¹ (r_{I_b} − A_{I_b B_b} x_{B_b}).
 //! ```
 //!
-//! A block's factor and its correction `C_b = A_{B I} A_{I I}⁻¹ A_{I B}` depend only on `A` and
-//! on which of its equations are promoted: they are recomputed when that set changes (a wheel
-//! moves onto new rail nodes) or `A` does (a new `Δt`), never because `V`'s values changed. A
-//! block the train is not on keeps its base factor for the whole run. Each iteration then
-//! costs one factorization of the small top system, two triangular solves per block (in
-//! parallel) and the few block refactorizations the train's advance causes.
+//! A promoted equation does not refactor its block. With `P ⊂ I_b` promoted and `I' = I_b∖P`,
+//! the block inverse `A_II⁻¹` already knows the condensation onto `P ∪ B`: with
+//! `Z = A_II⁻¹·E_P` (`|P|` solves with the block's base factor), `G = Z_P` (the `P × P` part
+//! of `A_II⁻¹`, i.e. the inverse of the Schur complement onto `P`) and `W_P = Zᵀ·A_IB`,
+//!
+//! ```text
+//! S_PP = G⁻¹,   S_PB = G⁻¹·W_P,   S_BB = A_BB − A_BI·A_II⁻¹·A_IB + W_Pᵀ·G⁻¹·W_P,
+//! r'_P = G⁻¹·y_P,   r'_B = r_B − A_BI·y + W_Pᵀ·G⁻¹·y_P        (y = A_II⁻¹·r_I),
+//! x_I = y + Z·G⁻¹·(x_P − y_P)                                 (y = A_II⁻¹·(r_I − A_IB·x_B)),
+//! ```
+//!
+//! which follow from the block form of the inverse. A block's base factor and its base
+//! correction `A_BI·A_II⁻¹·A_IB` are made once per `A` (a new `Δt`); a wheel moving onto new
+//! rail nodes costs `|P|` triangular solves in its block, never a factorization. Each
+//! iteration then costs one factorization of the small top system and two triangular solves
+//! per block (in parallel).
 //!
 //! `A` must be symmetric positive definite on every block interior (any transient: the mass
 //! term makes it so); `V` may be unsymmetric (the top system then uses LU).
@@ -64,24 +74,26 @@ pub struct PartitionStats {
     pub base_top_equations: usize,
     /// Top equations at the last factorization (promotions included).
     pub top_equations: usize,
-    /// Block factorizations (with their condensed corrections).
+    /// Block factorizations (with their condensed corrections): once per block and `A`.
     pub block_factorizations: usize,
+    /// Promotions formed (a block's promoted set changed: `|P|` solves, no factorization).
+    pub promotions: usize,
     /// Factorizations of the top system.
     pub top_factorizations: usize,
     /// Right-hand sides solved.
     pub solves: usize,
     /// Seconds spent factoring blocks and forming their corrections.
     pub time_blocks: f64,
+    /// Seconds spent forming promotions.
+    pub time_promote: f64,
     /// Seconds spent forming and factoring the top system.
     pub time_top: f64,
     /// Seconds spent in solves.
     pub time_solve: f64,
 }
 
-/// One block's factor and condensed correction for a given set of promoted equations.
+/// One block's base factor (no promotion) and condensed correction.
 struct BlockState {
-    /// Promoted equations of the block (global, sorted).
-    promoted: Vec<usize>,
     /// Equations eliminated inside the block (global, sorted).
     interior: Vec<usize>,
     /// Top equations coupled to the interior (global, sorted).
@@ -93,27 +105,29 @@ struct BlockState {
     correction: Vec<f64>,
 }
 
+/// The condensation of a block onto its promoted equations `P` (module documentation).
+struct Promotion {
+    /// Promoted equations (global, sorted) and their local interior indices.
+    promoted: Vec<usize>,
+    local: Vec<usize>,
+    /// `Z = A_II⁻¹·E_P`, column-major `|I| × |P|`.
+    z: Vec<f64>,
+    /// `G⁻¹`, column-major `|P| × |P|`.
+    g_inv: Vec<f64>,
+    /// `W_P = Zᵀ·A_IB`, column-major `|P| × |B|`.
+    w_p: Vec<f64>,
+}
+
 struct Block {
-    /// The block's interior equations before promotion (global, sorted).
+    /// The block's interior equations (global, sorted).
     all: Vec<usize>,
     base: Option<BlockState>,
-    /// The state with promotions; `None` while the base is in use.
-    current: Option<BlockState>,
+    promotion: Option<Promotion>,
 }
 
 impl Block {
     fn state(&self) -> &BlockState {
-        self.current
-            .as_ref()
-            .or(self.base.as_ref())
-            .expect("block factored")
-    }
-
-    fn state_mut(&mut self) -> &mut BlockState {
-        match self.current {
-            Some(ref mut s) => s,
-            None => self.base.as_mut().expect("block factored"),
-        }
+        self.base.as_ref().expect("block factored")
     }
 }
 
@@ -296,7 +310,7 @@ impl Partitioned {
         self.blocks.push(Block {
             all,
             base: None,
-            current: None,
+            promotion: None,
         });
     }
 
@@ -316,7 +330,7 @@ impl Partitioned {
         if self.key != Some(key) {
             for b in &mut self.blocks {
                 b.base = None;
-                b.current = None;
+                b.promotion = None;
             }
             self.key = Some(key);
         }
@@ -342,44 +356,51 @@ impl Partitioned {
         for &(b, e) in &promoted {
             wanted[b as usize].push(e);
         }
-        // Which blocks need work.
-        let t0 = Instant::now();
-        let block_of = &self.block_of;
-        let mut jobs: Vec<(usize, Vec<usize>)> = Vec::new();
-        for (bi, (blk, want)) in self.blocks.iter_mut().zip(wanted).enumerate() {
-            if want.is_empty() {
-                blk.current = None;
-                if blk.base.is_none() {
-                    jobs.push((bi, want));
-                }
-            } else if blk.current.as_ref().map(|s| &s.promoted) != Some(&want) {
-                jobs.push((bi, want));
-            }
-        }
         let nt = threads(self.options.threads);
-        let mut work: Vec<(usize, Vec<usize>, &Vec<usize>)> = Vec::new();
-        let alls: Vec<&Vec<usize>> = self.blocks.iter().map(|b| &b.all).collect();
-        for (bi, want) in jobs {
-            work.push((bi, want, alls[bi]));
-        }
-        let results = par_each(&mut work, nt, |(_, want, all)| {
-            block_state(a, all, std::mem::take(want), block_of)
-        });
-        let done = work.len();
-        let targets: Vec<usize> = work.iter().map(|w| w.0).collect();
-        drop(work);
-        drop(alls);
+        // Base factors of blocks that have none (the first factorization, a new `A`).
+        let t0 = Instant::now();
+        let mut missing: Vec<(usize, &[usize])> = self
+            .blocks
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.base.is_none())
+            .map(|(i, b)| (i, &b.all[..]))
+            .collect();
+        let block_of = &self.block_of;
+        let results = par_each(&mut missing, nt, |(_, all)| block_state(a, all, block_of));
+        let targets: Vec<usize> = missing.iter().map(|m| m.0).collect();
+        drop(missing);
+        self.stats.block_factorizations += targets.len();
         for (bi, r) in targets.into_iter().zip(results) {
-            let st = r?;
-            let blk = &mut self.blocks[bi];
-            if st.promoted.is_empty() {
-                blk.base = Some(st);
-            } else {
-                blk.current = Some(st);
-            }
+            self.blocks[bi].base = Some(r?);
         }
-        self.stats.block_factorizations += done;
         self.stats.time_blocks += t0.elapsed().as_secs_f64();
+        // Promotions whose set changed.
+        let t0 = Instant::now();
+        let mut jobs: Vec<(&mut Block, Vec<usize>)> = self
+            .blocks
+            .iter_mut()
+            .zip(wanted)
+            .filter(|(b, want)| match (&b.promotion, want.is_empty()) {
+                (None, true) => false,
+                (Some(p), false) => p.promoted != *want,
+                _ => true,
+            })
+            .collect();
+        let changed = jobs.iter().filter(|(_, w)| !w.is_empty()).count();
+        let results = par_each(&mut jobs, nt, |(blk, want)| {
+            if want.is_empty() {
+                return Ok(None);
+            }
+            let base = blk.base.as_mut().expect("base factored above");
+            promotion(base, std::mem::take(want)).map(Some)
+        });
+        for ((blk, _), r) in jobs.iter_mut().zip(results) {
+            blk.promotion = r?;
+        }
+        drop(jobs);
+        self.stats.promotions += changed;
+        self.stats.time_promote += t0.elapsed().as_secs_f64();
 
         // The top set and system.
         let t1 = Instant::now();
@@ -398,24 +419,60 @@ impl Partitioned {
         }
         let nt_top = self.top.len();
         let mut trip: Vec<(usize, usize, f64)> = Vec::new();
-        for (k, &j) in self.top.iter().enumerate() {
+        let ti = &self.top_index;
+        // A between base top equations (promoted ones enter through their block's S).
+        for &j in &self.base_top {
+            let k = ti[j] as usize;
             for p in a.col_ptr[j]..a.col_ptr[j + 1] {
-                let r = self.top_index[a.row_idx[p]];
-                if r != NONE {
-                    trip.push((r as usize, k, a.values[p]));
+                let r = a.row_idx[p];
+                if self.block_of[r] == NONE {
+                    trip.push((ti[r] as usize, k, a.values[p]));
                 }
             }
         }
         for blk in &self.blocks {
             let st = blk.state();
             let nb = st.boundary.len();
+            // S_BB − A_BB = −C (+ W_Pᵀ·G⁻¹·W_P below).
             for (cj, &gj) in st.boundary.iter().enumerate() {
-                let tj = self.top_index[gj] as usize;
+                let tj = ti[gj] as usize;
                 for (ci, &gi) in st.boundary.iter().enumerate() {
                     let v = st.correction[ci + cj * nb];
                     if v != 0.0 {
-                        trip.push((self.top_index[gi] as usize, tj, -v));
+                        trip.push((ti[gi] as usize, tj, -v));
                     }
+                }
+            }
+            let Some(pr) = &blk.promotion else {
+                continue;
+            };
+            let np = pr.promoted.len();
+            // H = G⁻¹·W_P (|P| × |B|).
+            let mut h = vec![0.0; np * nb];
+            for j in 0..nb {
+                for k in 0..np {
+                    h[k + j * np] = (0..np)
+                        .map(|l| pr.g_inv[k + l * np] * pr.w_p[l + j * np])
+                        .sum();
+                }
+            }
+            for (k, &gk) in pr.promoted.iter().enumerate() {
+                let tk = ti[gk] as usize;
+                for (l, &gl) in pr.promoted.iter().enumerate() {
+                    trip.push((ti[gl] as usize, tk, pr.g_inv[l + k * np]));
+                }
+                for (j, &gj) in st.boundary.iter().enumerate() {
+                    let tj = ti[gj] as usize;
+                    let v = h[k + j * np];
+                    trip.push((tk, tj, v));
+                    trip.push((tj, tk, v));
+                }
+            }
+            for (cj, &gj) in st.boundary.iter().enumerate() {
+                let tj = ti[gj] as usize;
+                for (ci, &gi) in st.boundary.iter().enumerate() {
+                    let v: f64 = (0..np).map(|k| pr.w_p[k + ci * np] * h[k + cj * np]).sum();
+                    trip.push((ti[gi] as usize, tj, v));
                 }
             }
         }
@@ -462,23 +519,44 @@ impl Partitioned {
         let t0 = Instant::now();
         let nt = threads(self.options.threads);
         let rhs: &[f64] = b;
-        // Condense the interiors' right-hand sides onto their boundaries.
+        // Condense the interiors' right-hand sides onto their boundaries (and promoted
+        // equations).
         let parts = par_each(&mut self.blocks, nt, |blk| {
-            let st = blk.state_mut();
+            let Block {
+                base, promotion, ..
+            } = blk;
+            let st = base.as_mut().expect("block factored");
             let mut y: Vec<f64> = st.interior.iter().map(|&i| rhs[i]).collect();
             st.factor.solve_in_place(&mut y)?;
-            let c: Vec<f64> = st
+            let mut c: Vec<f64> = st
                 .coupling
                 .iter()
                 .map(|col| col.iter().map(|&(r, v)| v * y[r as usize]).sum())
                 .collect();
-            Ok::<_, SolverError>(c)
+            let mut u = Vec::new();
+            if let Some(pr) = promotion {
+                // r'_P = G⁻¹·y_P, and r'_B gains W_Pᵀ·G⁻¹·y_P.
+                let np = pr.promoted.len();
+                let yp: Vec<f64> = pr.local.iter().map(|&l| y[l]).collect();
+                u = (0..np)
+                    .map(|k| (0..np).map(|l| pr.g_inv[k + l * np] * yp[l]).sum())
+                    .collect();
+                for (j, cj) in c.iter_mut().enumerate() {
+                    *cj -= (0..np).map(|k| pr.w_p[k + j * np] * u[k]).sum::<f64>();
+                }
+            }
+            Ok::<_, SolverError>((c, u))
         });
         let mut xt: Vec<f64> = self.top.iter().map(|&i| b[i]).collect();
         for (blk, part) in self.blocks.iter().zip(parts) {
-            let part = part?;
-            for (&g, c) in blk.state().boundary.iter().zip(part) {
+            let (c, u) = part?;
+            for (&g, c) in blk.state().boundary.iter().zip(c) {
                 xt[self.top_index[g] as usize] -= c;
+            }
+            if let Some(pr) = &blk.promotion {
+                for (&g, u) in pr.promoted.iter().zip(u) {
+                    xt[self.top_index[g] as usize] = u;
+                }
             }
         }
         self.top_solver.solve_in_place(&mut xt)?;
@@ -486,7 +564,10 @@ impl Partitioned {
         let (top_index, rhs) = (&self.top_index, &*b);
         let xt_ref = &xt;
         let parts = par_each(&mut self.blocks, nt, |blk| {
-            let st = blk.state_mut();
+            let Block {
+                base, promotion, ..
+            } = blk;
+            let st = base.as_mut().expect("block factored");
             let mut z: Vec<f64> = st.interior.iter().map(|&i| rhs[i]).collect();
             for (col, &g) in st.coupling.iter().zip(&st.boundary) {
                 let x = xt_ref[top_index[g] as usize];
@@ -495,6 +576,25 @@ impl Partitioned {
                 }
             }
             st.factor.solve_in_place(&mut z)?;
+            if let Some(pr) = promotion {
+                // x_I = y + Z·G⁻¹·(x_P − y_P).
+                let np = pr.promoted.len();
+                let d: Vec<f64> = pr
+                    .promoted
+                    .iter()
+                    .zip(&pr.local)
+                    .map(|(&g, &l)| xt_ref[top_index[g] as usize] - z[l])
+                    .collect();
+                let ni = z.len();
+                for k in 0..np {
+                    let e: f64 = (0..np).map(|l| pr.g_inv[k + l * np] * d[l]).sum();
+                    if e != 0.0 {
+                        for (zi, zk) in z.iter_mut().zip(&pr.z[k * ni..(k + 1) * ni]) {
+                            *zi += zk * e;
+                        }
+                    }
+                }
+            }
             Ok::<_, SolverError>(z)
         });
         for (blk, z) in self.blocks.iter().zip(parts) {
@@ -511,22 +611,9 @@ impl Partitioned {
     }
 }
 
-/// Factors one block's interior (its equations `all` minus `promoted`) and forms its
-/// condensed correction.
-fn block_state(
-    a: &CscMatrix,
-    all: &[usize],
-    promoted: Vec<usize>,
-    block_of: &[u32],
-) -> Result<BlockState, SolverError> {
-    let interior: Vec<usize> = if promoted.is_empty() {
-        all.to_vec()
-    } else {
-        all.iter()
-            .copied()
-            .filter(|i| promoted.binary_search(i).is_err())
-            .collect()
-    };
+/// Factors one block's interior `all` and forms its condensed correction.
+fn block_state(a: &CscMatrix, all: &[usize], block_of: &[u32]) -> Result<BlockState, SolverError> {
+    let interior: Vec<usize> = all.to_vec();
     let local = |g: usize| interior.binary_search(&g).ok();
     // Interior pattern and the boundary rows met on the way.
     let mut cols: Vec<Vec<usize>> = Vec::with_capacity(interior.len());
@@ -544,9 +631,7 @@ fn block_state(
     }
     boundary.sort_unstable();
     boundary.dedup();
-    debug_assert!(boundary
-        .iter()
-        .all(|&r| block_of[r] == NONE || promoted.binary_search(&r).is_ok()));
+    debug_assert!(boundary.iter().all(|&r| block_of[r] == NONE));
     let mut m = CscMatrix::from_columns(cols);
     let nb = boundary.len();
     let mut coupling: Vec<Vec<(u32, f64)>> = vec![Vec::new(); nb];
@@ -591,12 +676,54 @@ fn block_state(
         }
     }
     Ok(BlockState {
-        promoted,
         interior,
         boundary,
         factor,
         coupling,
         correction,
+    })
+}
+
+/// The condensation of block `st` onto its equations `promoted` (module documentation):
+/// `|P|` solves with the base factor.
+fn promotion(st: &mut BlockState, promoted: Vec<usize>) -> Result<Promotion, SolverError> {
+    let ni = st.interior.len();
+    let np = promoted.len();
+    let local: Vec<usize> = promoted
+        .iter()
+        .map(|g| {
+            st.interior
+                .binary_search(g)
+                .map_err(|_| SolverError::Failed(format!("equation {g} is not in its block")))
+        })
+        .collect::<Result<_, _>>()?;
+    let mut z = vec![0.0; ni * np];
+    for (k, &l) in local.iter().enumerate() {
+        z[k * ni + l] = 1.0;
+    }
+    st.factor.solve_columns_in_place(&mut z, np)?;
+    let g = nalgebra::DMatrix::from_fn(np, np, |i, j| z[j * ni + local[i]]);
+    // G is a principal block of the inverse of a positive definite matrix.
+    let g_inv = g
+        .cholesky()
+        .ok_or(SolverError::Singular {
+            equation: promoted[0],
+        })?
+        .inverse();
+    let nb = st.boundary.len();
+    let mut w_p = vec![0.0; np * nb];
+    for (j, col) in st.coupling.iter().enumerate() {
+        for k in 0..np {
+            let zk = &z[k * ni..(k + 1) * ni];
+            w_p[k + j * np] = col.iter().map(|&(r, v)| v * zk[r as usize]).sum();
+        }
+    }
+    Ok(Promotion {
+        promoted,
+        local,
+        z,
+        g_inv: g_inv.as_slice().to_vec(),
+        w_p,
     })
 }
 
@@ -701,9 +828,9 @@ mod tests {
         }
         let s = p.stats();
         assert!(s.blocks >= 8, "{s:?}");
-        // The base factors are made once; later factorizations touch only the blocks the
-        // coupling moved into or out of (at most 2 per step here, plus the first pass).
-        assert!(s.block_factorizations <= s.blocks + 2 * 8, "{s:?}");
+        // The base factors are made once; the moving coupling only forms promotions.
+        assert_eq!(s.block_factorizations, s.blocks, "{s:?}");
+        assert!(s.promotions >= 8, "{s:?}");
     }
 
     #[test]

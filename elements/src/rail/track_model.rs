@@ -18,7 +18,9 @@
 //! Node ids of rail `r` are `first_id[r] + i` for station `i`, consecutive, so that a
 //! moving wheel can re-pick its nodes by index in O(log n) ([`TrackModel::locate`]).
 
-use super::bridge::{generate_structure, picks, BridgeLayout, BridgeSpec, RailsInfo, SlabLayout, SlabTrack};
+use super::bridge::{
+    generate_structure, picks, BridgeLayout, BridgeSpec, RailsInfo, SlabLayout, SlabTrack,
+};
 use super::cant::Track;
 use railfem_framework::error::FemError;
 use railfem_framework::model::ModelBuilder;
@@ -200,7 +202,12 @@ pub fn mesh_stations_cut(
             cuts.push(s0);
         }
     }
-    cuts.extend(extra.iter().copied().filter(|s| *s > a + 1e-9 && *s < b - 1e-9));
+    cuts.extend(
+        extra
+            .iter()
+            .copied()
+            .filter(|s| *s > a + 1e-9 && *s < b - 1e-9),
+    );
     cuts.push(b);
     cuts.sort_by(f64::total_cmp);
     cuts.dedup_by(|x, y| (*x - *y).abs() < 1e-6);

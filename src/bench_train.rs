@@ -1,0 +1,338 @@
+//! `railfem bench --case train-bridge`: where a Newton iteration's time goes on the
+//! train–bridge model ([`crate::train_bridge`]), at growing sizes, and the paper's full case.
+//!
+//! Each size builds the viaduct with `dof_target` equations, lets the train settle (the
+//! static preload, the initial accelerations and the first step, which factors every block
+//! for the transient tangent — timed apart as *setup*), then times `steps`
+//! steps at the paper's Δt = 0.5 ms. Per Newton iteration and per step the report splits the
+//! wall time into the phases the issue names:
+//!
+//! - *search*: carriers moved and elements advanced — each wheel finds the rail nodes under
+//!   it (`Assembler::advance`);
+//! - *elements*: state determination of the variable elements (contact detection, forces,
+//!   tangents), in parallel;
+//! - *assembly*: products with the constant matrices (`K·q`, `M·a`, `C·v`), the residual and
+//!   the variable elements' triplets;
+//! - *blocks*: the partitioned solver's block work — promotions of the rail nodes a wheel
+//!   moved onto (solves with the block's factor; blocks are refactored only for a new Δt) —
+//!   and *top*: forming and factoring the condensed top system;
+//! - *solve*: the block and top triangular solves;
+//! - *loads*: external forces (gravity, Eq. 5 pseudo-loads, ground motion).
+//!
+//! Nothing here is asserted: times depend on the machine and on what else it is doing.
+
+use crate::framework::FemError;
+use crate::train_bridge::{build, TrainBridgeCase};
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+
+/// One measured size.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PhaseRow {
+    /// Equations.
+    pub dofs: usize,
+    /// Elements and carriages.
+    pub elements: usize,
+    /// Carriages.
+    pub cars: usize,
+    /// Spans.
+    pub spans: usize,
+    /// Element length the DOF target gave (m).
+    pub element_length: f64,
+    /// Model build (s).
+    pub build: f64,
+    /// Static preload and initial acceleration (s).
+    pub setup: f64,
+    /// Steps timed and Newton iterations in them.
+    pub steps: usize,
+    /// Newton iterations in the timed steps.
+    pub iterations: usize,
+    /// Median over steps of (step time / its iterations) (s).
+    pub median_iteration: f64,
+    /// Median step time (s).
+    pub median_step: f64,
+    /// Seconds per iteration: search, elements, assembly, blocks, top, solve, loads, other.
+    pub phases: [f64; 8],
+    /// Promotions formed per step (a wheel entered new rail nodes of a block).
+    pub blocks_per_step: f64,
+    /// Block factorizations during the timed steps (zero while Δt is constant).
+    pub refactorizations: usize,
+    /// Blocks, top equations at the end.
+    pub blocks: usize,
+    /// Top-system equations at the last factorization.
+    pub top: usize,
+    /// Peak resident memory of the process after this size (MiB).
+    pub peak_mib: f64,
+}
+
+/// Names of [`PhaseRow::phases`].
+pub const PHASES: [&str; 8] = [
+    "search", "elements", "assembly", "blocks", "top", "solve", "loads", "other",
+];
+
+fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Peak resident memory of this process (MiB), from `/proc/self/status`.
+pub fn peak_mib() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|v| v.parse::<f64>().ok())
+        })
+        .map_or(f64::NAN, |kb| kb / 1024.0)
+}
+
+/// Builds and times one case.
+pub fn measure(case: &TrainBridgeCase, steps: usize) -> Result<PhaseRow, FemError> {
+    let t0 = Instant::now();
+    let mut m = build(case)?;
+    let t_build = t0.elapsed().as_secs_f64();
+    let d = &mut m.driver;
+    let t1 = Instant::now();
+    d.static_solve(0.0, 10)?;
+    d.initialize()?;
+    // The first step factors every block for the transient's constant part (once per Δt);
+    // it belongs to the set-up, not to the steady per-step cost.
+    d.step(case.dt)?;
+    let setup = t1.elapsed().as_secs_f64();
+    let (s0, a0, p0) = (
+        d.summary,
+        d.asm.times,
+        d.partition_stats().unwrap_or_default(),
+    );
+    let mut per_iter = Vec::with_capacity(steps);
+    let mut per_step = Vec::with_capacity(steps);
+    let t2 = Instant::now();
+    for _ in 0..steps {
+        let ts = Instant::now();
+        let r = d.step(case.dt)?;
+        let w = ts.elapsed().as_secs_f64();
+        per_step.push(w);
+        per_iter.push(w / r.iterations.max(1) as f64);
+    }
+    let wall = t2.elapsed().as_secs_f64();
+    let (s1, a1, p1) = (
+        d.summary,
+        d.asm.times,
+        d.partition_stats().unwrap_or_default(),
+    );
+    let iters = (s1.iterations - s0.iterations).max(1);
+    let per = |x: f64| x / iters as f64;
+    let search = a1.search - a0.search;
+    let elements = a1.elements - a0.elements;
+    let assembly = (s1.timings.assembly - s0.timings.assembly) - elements;
+    let blocks = (p1.time_blocks - p0.time_blocks) + (p1.time_promote - p0.time_promote);
+    let top = p1.time_top - p0.time_top;
+    // The direct solver's factorization (no partition) is reported as "top".
+    let factor = s1.timings.factor - s0.timings.factor;
+    let top = if p1.blocks == 0 && p1.top_factorizations == 0 {
+        factor
+    } else {
+        top.max(factor - blocks)
+    };
+    let solve = s1.timings.solve - s0.timings.solve;
+    let loads = (s1.timings.loads - s0.timings.loads) - search;
+    let other = wall - (search + elements + assembly + blocks + top + solve + loads);
+    Ok(PhaseRow {
+        dofs: m.dofs,
+        elements: m.elements,
+        cars: case.cars,
+        spans: case.spans,
+        element_length: m.element_length,
+        build: t_build,
+        setup,
+        steps,
+        iterations: iters,
+        median_iteration: median(&mut per_iter),
+        median_step: median(&mut per_step),
+        phases: [search, elements, assembly, blocks, top, solve, loads, other].map(per),
+        blocks_per_step: (p1.promotions - p0.promotions) as f64 / steps as f64,
+        refactorizations: p1.block_factorizations - p0.block_factorizations,
+        blocks: p1.blocks,
+        top: p1.top_equations,
+        peak_mib: peak_mib(),
+    })
+}
+
+/// Least-squares slope of `ln y` against `ln x`.
+pub fn growth_exponent(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    let (sx, sy) = points
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x.ln(), b + y.ln()));
+    let (mx, my) = (sx / n, sy / n);
+    let (num, den) = points.iter().fold((0.0, 0.0), |(a, b), (x, y)| {
+        let dx = x.ln() - mx;
+        (a + dx * (y.ln() - my), b + dx * dx)
+    });
+    num / den
+}
+
+/// The case of one size: `cars` carriages, and as many 29.75 m spans as the paper's
+/// 1 043 430-DOF mesh density (113 spans) gives for `dofs` equations.
+pub fn case_for(dofs: usize, cars: usize, dt: f64) -> TrainBridgeCase {
+    let per_span = 1_043_430.0 / 113.0;
+    let spans = ((dofs as f64 / per_span).round() as usize).max(1);
+    TrainBridgeCase {
+        cars,
+        spans,
+        dof_target: Some(dofs),
+        dt,
+        ..Default::default()
+    }
+}
+
+/// Runs the sizes and writes `phases.csv` and `phases.md` into `out`.
+pub fn run(
+    sizes: &[usize],
+    cars: usize,
+    steps: usize,
+    dt: f64,
+    out: &Path,
+) -> Result<Vec<PhaseRow>, FemError> {
+    std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
+    let mut rows = Vec::new();
+    println!(
+        "train-bridge benchmark: {cars} carriage(s), Δt = {dt} s, {steps} steps per size, {} threads",
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    );
+    for &n in sizes {
+        let case = case_for(n, cars, dt);
+        let r = measure(&case, steps)?;
+        println!(
+            "{:>9} DOF ({} spans, h = {:.3} m): build {:.1} s, setup {:.1} s, {:.2} iterations/step, median {:.1} ms/iteration, {:.1} ms/step, {:.1} promotions/step, {} block refactorizations, peak {:.0} MiB",
+            r.dofs,
+            r.spans,
+            r.element_length,
+            r.build,
+            r.setup,
+            r.iterations as f64 / r.steps as f64,
+            1e3 * r.median_iteration,
+            1e3 * r.median_step,
+            r.blocks_per_step,
+            r.refactorizations,
+            r.peak_mib
+        );
+        let parts: Vec<String> = PHASES
+            .iter()
+            .zip(r.phases)
+            .map(|(k, v)| format!("{k} {:.1}", 1e3 * v))
+            .collect();
+        println!("          per iteration (ms): {}", parts.join(", "));
+        rows.push(r);
+    }
+    if rows.len() >= 2 {
+        let pts: Vec<(f64, f64)> = rows
+            .iter()
+            .map(|r| (r.dofs as f64, r.median_iteration))
+            .collect();
+        println!(
+            "time per iteration grows as DOF^{:.2} (least squares over {} sizes)",
+            growth_exponent(&pts),
+            rows.len()
+        );
+    }
+    write(&rows, out)?;
+    Ok(rows)
+}
+
+fn write(rows: &[PhaseRow], out: &Path) -> Result<(), FemError> {
+    let p = out.join("phases.csv");
+    let mut f = std::fs::File::create(&p).map_err(|e| FemError::output(&p, e))?;
+    let mut head = String::from(
+        "dofs,elements,cars,spans,element_length,build_s,setup_s,steps,iterations,median_iteration_s,median_step_s",
+    );
+    for k in PHASES {
+        head.push_str(&format!(",{k}_s_per_iteration"));
+    }
+    head.push_str(",promotions_per_step,block_refactorizations,blocks,top_equations,peak_mib");
+    let mut text = head + "\n";
+    for r in rows {
+        text.push_str(&format!(
+            "{},{},{},{},{:.5},{:.3},{:.3},{},{},{:.6},{:.6}",
+            r.dofs,
+            r.elements,
+            r.cars,
+            r.spans,
+            r.element_length,
+            r.build,
+            r.setup,
+            r.steps,
+            r.iterations,
+            r.median_iteration,
+            r.median_step
+        ));
+        for v in r.phases {
+            text.push_str(&format!(",{v:.6}"));
+        }
+        text.push_str(&format!(
+            ",{:.2},{},{},{},{:.0}\n",
+            r.blocks_per_step, r.refactorizations, r.blocks, r.top, r.peak_mib
+        ));
+    }
+    f.write_all(text.as_bytes())
+        .map_err(|e| FemError::output(&p, e))?;
+    let p = out.join("phases.md");
+    let mut md =
+        String::from("| DOF | iterations/step | ms/iteration (median) | ms/step (median) |");
+    for k in PHASES {
+        md.push_str(&format!(" {k} |"));
+    }
+    md.push_str(" promotions/step | top equations | peak MiB |\n|");
+    for _ in 0..(7 + PHASES.len()) {
+        md.push_str("---:|");
+    }
+    md.push('\n');
+    for r in rows {
+        md.push_str(&format!(
+            "| {} | {:.2} | {:.1} | {:.1} |",
+            r.dofs,
+            r.iterations as f64 / r.steps as f64,
+            1e3 * r.median_iteration,
+            1e3 * r.median_step
+        ));
+        for v in r.phases {
+            md.push_str(&format!(" {:.1} |", 1e3 * v));
+        }
+        md.push_str(&format!(
+            " {:.1} | {} | {:.0} |\n",
+            r.blocks_per_step, r.top, r.peak_mib
+        ));
+    }
+    std::fs::write(&p, md).map_err(|e| FemError::output(&p, e))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn growth_exponent_of_a_power_law() {
+        let pts: Vec<(f64, f64)> = [1e4, 1e5, 1e6]
+            .iter()
+            .map(|&x: &f64| (x, 3.0 * x.powf(1.1)))
+            .collect();
+        assert!((growth_exponent(&pts) - 1.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn median_odd_and_even() {
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
+    }
+}
