@@ -56,7 +56,7 @@ fn bridge_model(spans: usize, gravity: bool) -> (ModelBuilder, Arc<TrackModel>) 
     let mut b = ModelBuilder::new("bridge test");
     let mesh = TrackMesh {
         element_length: 0.5,
-        support: RailSupport::Bridge(bridge_spec(spans)),
+        support: RailSupport::Bridge(Box::new(bridge_spec(spans))),
         ..Default::default()
     };
     let tm = track_model::generate(&mut b, track, &mesh).unwrap();
@@ -123,7 +123,7 @@ fn midspan_under_point_load(soft: bool) -> f64 {
     }
     let mesh = TrackMesh {
         element_length: 0.5,
-        support: RailSupport::Bridge(spec),
+        support: RailSupport::Bridge(Box::new(spec)),
         ..Default::default()
     };
     let tm = track_model::generate(&mut b, track, &mesh).unwrap();
@@ -207,7 +207,7 @@ fn slab_track_matches_hetenyi() {
     };
     let mesh = TrackMesh {
         element_length: h,
-        support: RailSupport::Slab(slab.clone()),
+        support: RailSupport::Slab(Box::new(slab.clone())),
         ..Default::default()
     };
     let tm = track_model::generate(&mut b, track, &mesh).unwrap();

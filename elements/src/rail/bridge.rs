@@ -318,7 +318,9 @@ pub(super) fn check_section(s: &RailSection, what: &str, origin: &str) -> Result
     } else {
         Err(FemError::input(
             origin,
-            format!("`{what}`: E, G, A, i_vertical, i_lateral, J must be finite and > 0 and rho ≥ 0"),
+            format!(
+                "`{what}`: E, G, A, i_vertical, i_lateral, J must be finite and > 0 and rho ≥ 0"
+            ),
         ))
     }
 }
@@ -380,7 +382,10 @@ impl BridgeSpec {
             return Err(FemError::input(origin, "`pier_height` must be > 0 m"));
         }
         if self.pier_elements == 0 {
-            return Err(FemError::input(origin, "`pier_elements` must be at least 1"));
+            return Err(FemError::input(
+                origin,
+                "`pier_elements` must be at least 1",
+            ));
         }
         self.slab_track.validate(origin)
     }
@@ -390,7 +395,10 @@ impl BridgeSpec {
 /// vertical).
 fn spring_axes_at(track: &Track, s: f64) -> [[f64; 3]; 2] {
     let f = track.at(s).frame;
-    [[f[(0, 0)], f[(1, 0)], f[(2, 0)]], [f[(0, 1)], f[(1, 1)], f[(2, 1)]]]
+    [
+        [f[(0, 0)], f[(1, 0)], f[(2, 0)]],
+        [f[(0, 1)], f[(1, 1)], f[(2, 1)]],
+    ]
 }
 
 /// The beam parameters of a section with `orient` = the local vertical.
@@ -420,7 +428,9 @@ pub(super) fn picks(stations: &[f64], spacing: f64) -> Vec<usize> {
         if next > to + 1e-9 {
             break;
         }
-        let i = stations.partition_point(|x| *x < next).min(stations.len() - 1);
+        let i = stations
+            .partition_point(|x| *x < next)
+            .min(stations.len() - 1);
         let i = if i > 0 && (stations[i] - next).abs() > (stations[i - 1] - next).abs() {
             i - 1
         } else {
@@ -505,7 +515,11 @@ pub(super) fn generate_structure(
     // Slab and girder elements.
     for g in &layout.segments {
         for i in g.first..g.last {
-            let up = track.at(0.5 * (st[i] + st[i + 1])).frame.column(1).into_owned();
+            let up = track
+                .at(0.5 * (st[i] + st[i + 1]))
+                .frame
+                .column(1)
+                .into_owned();
             let up = [up.x, up.y, up.z];
             let nodes = [g.node(i), g.node(i + 1)];
             *eid += 1;
@@ -521,7 +535,9 @@ pub(super) fn generate_structure(
     let anchor_first = next_node;
     next_node += 2 * fasteners.len() as u64;
     for (p, &i) in fasteners.iter().enumerate() {
-        let master = layout.node_at(i).expect("every station lies on a slab segment");
+        let master = layout
+            .node_at(i)
+            .expect("every station lies on a slab segment");
         let axes = spring_axes_at(track, st[i]);
         for r in 0..2 {
             let rail = rails.rail_first[r] + i as u64;
@@ -576,11 +592,7 @@ pub(super) fn generate_structure(
         next_node += ne as u64 + 1;
         for (q, id) in ids.iter().enumerate() {
             let z = top[2] - br.pier_height * q as f64 / ne as f64;
-            let fixed = if q == ne {
-                DofSet::ALL
-            } else {
-                DofSet::NONE
-            };
+            let fixed = if q == ne { DofSet::ALL } else { DofSet::NONE };
             b.node_fixed(*id, [top[0], top[1], z], fixed);
         }
         pier_tops[j] = Some(ids[0]);
@@ -591,7 +603,10 @@ pub(super) fn generate_structure(
     let mut spans = Vec::with_capacity(br.spans);
     for (gi, g) in layout.segments.iter().enumerate() {
         let Some(k) = g.span else { continue };
-        for (end, i, kind) in [(0, g.first, &br.bearing_fixed), (1, g.last, &br.bearing_roller)] {
+        for (end, i, kind) in [
+            (0, g.first, &br.bearing_fixed),
+            (1, g.last, &br.bearing_roller),
+        ] {
             let girder = g.node(i);
             let axes = spring_axes_at(track, st[i]);
             let p = serde_json::json!({"k": kind, "c": br.bearing_c, "axes": axes});

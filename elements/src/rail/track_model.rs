@@ -18,7 +18,9 @@
 //! Node ids of rail `r` are `first_id[r] + i` for station `i`, consecutive, so that a
 //! moving wheel can re-pick its nodes by index in O(log n) ([`TrackModel::locate`]).
 
-use super::bridge::{generate_structure, picks, BridgeLayout, BridgeSpec, RailsInfo, SlabLayout, SlabTrack};
+use super::bridge::{
+    generate_structure, picks, BridgeLayout, BridgeSpec, RailsInfo, SlabLayout, SlabTrack,
+};
 use super::cant::Track;
 use railfem_framework::error::FemError;
 use railfem_framework::model::ModelBuilder;
@@ -87,9 +89,9 @@ pub enum RailSupport {
         c: [f64; 6],
     },
     /// Rails on fasteners on a slab on the subgrade.
-    Slab(SlabTrack),
+    Slab(Box<SlabTrack>),
     /// Rails on fasteners on a slab on simply supported girders, bearings and piers.
-    Bridge(BridgeSpec),
+    Bridge(Box<BridgeSpec>),
 }
 
 /// Mesh settings of the `[track]` table.
@@ -200,7 +202,12 @@ pub fn mesh_stations_cut(
             cuts.push(s0);
         }
     }
-    cuts.extend(extra.iter().copied().filter(|s| *s > a + 1e-9 && *s < b - 1e-9));
+    cuts.extend(
+        extra
+            .iter()
+            .copied()
+            .filter(|s| *s > a + 1e-9 && *s < b - 1e-9),
+    );
     cuts.push(b);
     cuts.sort_by(f64::total_cmp);
     cuts.dedup_by(|x, y| (*x - *y).abs() < 1e-6);
@@ -344,7 +351,7 @@ pub fn generate(
                     next_node: base + 2 * n,
                 };
                 let (layout, bl) =
-                    generate_structure(b, &info, &br.slab_track, Some(br), &mut eid, &origin)?;
+                    generate_structure(b, &info, &br.slab_track, Some(&**br), &mut eid, &origin)?;
                 model.slab = Some(layout);
                 model.bridge = bl;
             }
