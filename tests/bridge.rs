@@ -333,9 +333,21 @@ kind = "static"
     let d = Driver::new(model).unwrap();
     assert_eq!(d.neq(), 4380);
     for (name, text, want) in [
-        ("bad_key.toml", good.replace("span = 30,", "span = 30, spam = 1,"), "unknown field `spam`"),
-        ("bad_start.toml", good.replace("start = 30", "start = 80"), "outside the meshed track"),
-        ("bad_spans.toml", good.replace("spans = 2", "spans = 0"), "`spans` must be at least 1"),
+        (
+            "bad_key.toml",
+            good.replace("span = 30,", "span = 30, spam = 1,"),
+            "unknown field `spam`",
+        ),
+        (
+            "bad_start.toml",
+            good.replace("start = 30", "start = 80"),
+            "outside the meshed track",
+        ),
+        (
+            "bad_spans.toml",
+            good.replace("spans = 2", "spans = 0"),
+            "`spans` must be at least 1",
+        ),
     ] {
         let p = dir.join(name);
         std::fs::write(&p, text).unwrap();
