@@ -481,7 +481,7 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
     let mut b = ModelBuilder::new("train-bridge case");
     let mesh = TrackMesh {
         element_length: h,
-        support: RailSupport::Bridge(case.bridge()),
+        support: RailSupport::Bridge(Box::new(case.bridge())),
         ..Default::default()
     };
     let tm = track_model::generate(&mut b, track.clone(), &mesh)?;

@@ -56,7 +56,7 @@ fn bridge_model(spans: usize, gravity: bool) -> (ModelBuilder, Arc<TrackModel>) 
     let mut b = ModelBuilder::new("bridge test");
     let mesh = TrackMesh {
         element_length: 0.5,
-        support: RailSupport::Bridge(bridge_spec(spans)),
+        support: RailSupport::Bridge(Box::new(bridge_spec(spans))),
         ..Default::default()
     };
     let tm = track_model::generate(&mut b, track, &mesh).unwrap();
@@ -123,7 +123,7 @@ fn midspan_under_point_load(soft: bool) -> f64 {
     }
     let mesh = TrackMesh {
         element_length: 0.5,
-        support: RailSupport::Bridge(spec),
+        support: RailSupport::Bridge(Box::new(spec)),
         ..Default::default()
     };
     let tm = track_model::generate(&mut b, track, &mesh).unwrap();
@@ -207,7 +207,7 @@ fn slab_track_matches_hetenyi() {
     };
     let mesh = TrackMesh {
         element_length: h,
-        support: RailSupport::Slab(slab.clone()),
+        support: RailSupport::Slab(Box::new(slab.clone())),
         ..Default::default()
     };
     let tm = track_model::generate(&mut b, track, &mesh).unwrap();
@@ -303,4 +303,62 @@ fn adjacent_spans_are_independent() {
         .unwrap();
     println!("midspan: span 1 {w1:.5e} m, span 2 {w2:.5e} m");
     assert!(w2.abs() < 0.01 * w1.abs());
+}
+
+/// The `[track]` table of a model file with `support = {type = "bridge", …}`: 120 m
+/// straight, elements of 0.5 m, two 30 m spans from station 30, fasteners every 0.5 m.
+/// Counted by hand: 241 stations (joints at 30, 60, 90 m fall on the mesh); rails 2·241
+/// nodes; slab 241 + 3 (four segments: approach, two spans, approach, a second node at each
+/// of the three joints); anchors 2·241; one pier (the middle joint) of 4 elements, 5 nodes
+/// with the base fixed. Nodes 482 + 244 + 482 + 5 = 1213; equations 6·(482 + 244 + 4) =
+/// 4380 (anchors are rigid-link slaves). An unknown key or a bridge off the track exits 2
+/// with one line.
+#[test]
+fn model_file_bridge_counts_and_bad_keys() {
+    let dir = std::env::temp_dir().join(format!("railfem_bridge_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = r#"
+[track]
+segments = [{type = "straight", length = 120}]
+element_length = 0.5
+support = {type = "bridge", start = 30, spans = 2, span = 30, slab_track = {fastener_spacing = 0.5}}
+
+[analysis]
+kind = "static"
+"#;
+    let f = dir.join("good.toml");
+    std::fs::write(&f, good).unwrap();
+    let model = railfem::load_model(&f).expect("model");
+    assert_eq!(model.nodes.len(), 1213);
+    let d = Driver::new(model).unwrap();
+    assert_eq!(d.neq(), 4380);
+    for (name, text, want) in [
+        (
+            "bad_key.toml",
+            good.replace("span = 30,", "span = 30, spam = 1,"),
+            "unknown field `spam`",
+        ),
+        (
+            "bad_start.toml",
+            good.replace("start = 30", "start = 80"),
+            "outside the meshed track",
+        ),
+        (
+            "bad_spans.toml",
+            good.replace("spans = 2", "spans = 0"),
+            "`spans` must be at least 1",
+        ),
+    ] {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+            .arg("check")
+            .arg(&p)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{name}: {err}");
+        assert!(err.contains(name) && err.contains(want), "{name}: {err}");
+    }
 }

@@ -89,9 +89,9 @@ pub enum RailSupport {
         c: [f64; 6],
     },
     /// Rails on fasteners on a slab on the subgrade.
-    Slab(SlabTrack),
+    Slab(Box<SlabTrack>),
     /// Rails on fasteners on a slab on simply supported girders, bearings and piers.
-    Bridge(BridgeSpec),
+    Bridge(Box<BridgeSpec>),
 }
 
 /// Mesh settings of the `[track]` table.
@@ -351,7 +351,7 @@ pub fn generate(
                     next_node: base + 2 * n,
                 };
                 let (layout, bl) =
-                    generate_structure(b, &info, &br.slab_track, Some(br), &mut eid, &origin)?;
+                    generate_structure(b, &info, &br.slab_track, Some(&**br), &mut eid, &origin)?;
                 model.slab = Some(layout);
                 model.bridge = bl;
             }
