@@ -244,7 +244,7 @@ fn schemes() -> Vec<(String, Integrator, f64)> {
     s
 }
 
-/// 49 values of ω·Δt, log-spaced from 0.01 to 1000.
+/// 49 values of ω·Δt, log-spaced from 0.01 to 1e4.
 fn omega_grid() -> Vec<f64> {
     (0..=48).map(|i| 10f64.powf(-2.0 + i as f64 / 8.0)).collect()
 }
@@ -294,9 +294,12 @@ fn driver_step_is_the_amplification_matrix() {
 }
 
 /// Unconditional stability: for every scheme the spectral radius of `A` is ≤ 1 over
-/// ω·Δt ∈ [0.01, 1000] (round-off allowance 1e-10: where two eigenvalues nearly coincide
-/// on the unit circle — ρ∞ = 1 at large Ω — the computed moduli lose digits; measured
-/// excess 1.3e-12), and at ω·Δt = 1e7 it equals the scheme's ρ∞ by its closed form — ρ∞ for
+/// ω·Δt ∈ [0.01, 1e4] (round-off allowance 1e-10). For ρ∞ = 1 all three eigenvalues have
+/// modulus exactly 1 (checked in 50-digit arithmetic) and crowd onto −1 as Ω grows, where
+/// the f64 eigenvalues of a nearly defective matrix lose about half their digits, more the
+/// larger Ω (measured excess 1.8e-10 at Ω = 750, 3e-8 at 1e4): that scheme gets 1e-6,
+/// still far below any growth a step could hide (ρ = 1 + 1e-6 over 1e4 steps is 1 %),
+/// and at ω·Δt = 1e7 it equals the scheme's ρ∞ by its closed form — ρ∞ for
 /// Chung–Hulbert, (1 − α)/(1 + α) for HHT, 1 for Newmark's average acceleration. The
 /// approach to the limit is fast where the limit is a simple or double root; at ρ∞ = 0 all
 /// three eigenvalues meet at 0 (a triple root), which a perturbation of order 1/Ω² moves
@@ -308,10 +311,11 @@ fn spectral_radius_bounded_and_limit_is_rho_inf() {
         for om in omega_grid() {
             let rho = spectral_radius(&amplification(&ig, om));
             worst = worst.max(rho);
-            assert!(rho <= 1.0 + 1e-10, "{name}: ρ({om}) = {rho}");
+            let allowance = if rho_inf == 1.0 && ig.alpha_m > 0.0 { 1e-6 } else { 1e-10 };
+            assert!(rho <= 1.0 + allowance, "{name}: ρ({om}) = {rho}");
         }
         let limit = spectral_radius(&amplification(&ig, 1e7));
-        println!("{name}: max ρ over [0.01, 1000] = {worst:.12}, ρ(1e7) = {limit:.9} (closed form {rho_inf})");
+        println!("{name}: max ρ over [0.01, 1e4] = {worst:.12}, ρ(1e7) = {limit:.9} (closed form {rho_inf})");
         assert!((limit - rho_inf).abs() < 1e-4, "{name}: ρ∞ {limit} vs {rho_inf}");
     }
 }
