@@ -32,6 +32,11 @@ USAGE:
                                                      time linear transient steps of a long
                                                      continuous beam per DOF count; writes
                                                      bench.md and bench.csv (default out/bench)
+  railfem stress [--case all|sdof|beam|penalty|speed|drop|stick-slip] [--scheme S]
+                [--omega-dt W] [--penalty K] [--speed V] [--height H] [--overshoot F]
+                [--steps N] [--duration T] [--dt DT] [--out DIR]
+                                                     the numerical stress suite: one table row
+                                                     per case (docs/stability.md)
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -161,6 +166,9 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
                 s.wall,
                 out.display()
             );
+            if let Some(e) = driver.energy.as_ref().filter(|e| e.started()) {
+                println!("{}", e.summary());
+            }
             Ok(0)
         }
         "elements" => {
@@ -181,6 +189,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "conformance" => conformance(a),
         "track" => track(a),
         "bench" => bench(a),
+        "stress" => stress(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
@@ -254,6 +263,9 @@ fn curve(a: &Args) -> Result<i32, FemError> {
         r.contact_spacing,
         out.display()
     );
+    if let Some(e) = &r.energy_summary {
+        println!("{e}");
+    }
     Ok(0)
 }
 
@@ -318,6 +330,24 @@ fn bench(a: &Args) -> Result<i32, FemError> {
     };
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/bench"));
     crate::bench::run(&sizes, steps, &out)?;
+    Ok(0)
+}
+
+/// `railfem stress`: the stress suite ([`crate::stress`]); the table on stdout and, with
+/// `--out`, in `DIR/stress.md`.
+fn stress(a: &Args) -> Result<i32, FemError> {
+    let rows = crate::stress::run_cli(
+        a.opt("case"),
+        &|k| a.num(k),
+        a.opt("scheme").unwrap_or("newmark"),
+    )?;
+    let table = crate::stress::table(&rows);
+    print!("{table}");
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
+        let p = dir.join("stress.md");
+        std::fs::write(&p, &table).map_err(|e| FemError::output(&p, e))?;
+    }
     Ok(0)
 }
 

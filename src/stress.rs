@@ -178,20 +178,22 @@ pub fn sdof(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow,
 /// run of `steps` steps, so this is a check only when the run spans several periods).
 pub fn beam(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow, FemError> {
     crate::elements::link();
-    let (l, ne) = (10.0, 20usize);
-    let (e, a, iz, rho) = (2.1e11, 7.7e-3, 3.04e-5, 7850.0);
+    let (l, ne): (f64, usize) = (10.0, 20);
+    let (e, a, iz, rho): (f64, f64, f64, f64) = (2.1e11, 7.7e-3, 3.04e-5, 7850.0);
     let w1 = std::f64::consts::PI.powi(2) * (e * iz / (rho * a * l.powi(4))).sqrt();
     let dt = omega_dt / w1;
     let mut b = ModelBuilder::new("stress beam");
-    let plane = DofSet::of(&[Dof::Uz, Dof::Rx, Dof::Ry]);
+    // Bending in the x-y plane only: uz, rx, ry fixed everywhere; pinned at x = 0,
+    // on a roller at x = L.
     for i in 0..=ne {
         let x = l * i as f64 / ne as f64;
-        let mut fix = plane;
-        if i == 0 {
-            fix = fix | DofSet::of(&[Dof::Ux, Dof::Uy]);
+        let fix = if i == 0 {
+            DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry])
         } else if i == ne {
-            fix = fix | DofSet::of(&[Dof::Uy]);
-        }
+            DofSet::of(&[Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry])
+        } else {
+            DofSet::of(&[Dof::Uz, Dof::Rx, Dof::Ry])
+        };
         b.node_fixed(i as u64 + 1, [x, 0.0, 0.0], fix);
     }
     for i in 0..ne {
@@ -342,10 +344,11 @@ fn wheel_analysis(scheme_name: &str, dt: f64) -> Result<AnalysisSpec, FemError> 
     Ok(a)
 }
 
-/// The wheelset on rigid rails with contact penalty `k = k_v = penalty`, loaded suddenly by
-/// 2·50 kN on K from the unloaded contact: it bounces on the contact springs.
-/// Reference: the mean total normal force over the run against the load (the oscillation
-/// is about the static equilibrium; generalized-α ρ∞ = 0.5 damps the high modes).
+/// The wheelset on rigid rails with contact penalty `k = k_v = penalty` under 2·50 kN on K
+/// (K's vertical DOF free), preloaded statically and then stepped with Newmark's average
+/// acceleration at Δt = 1e-4 s from rest. The equilibrium is a solution of the dynamic
+/// equations, so a stable integration must stay on it whatever the contact stiffness.
+/// Reference: the largest |ΣQ − load|/load over the steps.
 pub fn penalty(penalty: f64, steps: usize) -> Result<StressRow, FemError> {
     let dt = 1e-4;
     let case = format!("wheelset on rigid rail, penalty {penalty:e} N/m, step load");
@@ -358,31 +361,31 @@ pub fn penalty(penalty: f64, steps: usize) -> Result<StressRow, FemError> {
         wheel: serde_json::json!({"k": penalty, "k_v": penalty, "mu": 0.3}),
         fix: DofSet::of(&[Dof::Ux, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]),
         loads: vec![("uy", -2.0 * N_WHEEL, TimeSeries::Constant)],
-        analysis: wheel_analysis("galpha:0.5", dt)?,
+        analysis: wheel_analysis("newmark", dt)?,
     }) {
         Ok(w) => w,
         Err(e) => return Ok(StressRow::failed(case, command, e)),
     };
-    let mut sum = 0.0;
+    let mut worst = 0.0f64;
     let mut run = || -> Result<(), FemError> {
+        ws.d.static_solve(0.0, 10)?;
         ws.d.initialize()?;
         for _ in 0..steps {
             ws.d.step(dt)?;
-            sum += ws.normal();
+            worst = worst.max((ws.normal() - 2.0 * N_WHEEL).abs() / (2.0 * N_WHEEL));
         }
         Ok(())
     };
     if let Err(e) = run() {
         return Ok(StressRow::failed(case, command, e));
     }
-    let mean = sum / steps as f64;
     Ok(StressRow {
         case,
         converged: true,
         newton_per_step: ws.d.summary.iterations as f64 / steps as f64,
         energy_error: ws.d.energy.as_ref().map_or(f64::NAN, |e| e.relative_error()),
-        force_error: (mean - 2.0 * N_WHEEL).abs() / (2.0 * N_WHEEL),
-        reference: "mean ΣQ vs load 2·50 kN".into(),
+        force_error: worst,
+        reference: "max |ΣQ − 2·50 kN|/load, at rest on the equilibrium".into(),
         failure: None,
         command,
     })
@@ -492,7 +495,15 @@ pub fn drop(height: f64, dt: f64, duration: f64) -> Result<(StressRow, DropRepor
         wheel: serde_json::json!({"mu": 0.0}),
         fix: DofSet::of(&[Dof::Ux, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]),
         loads: vec![("uy", -w, TimeSeries::Constant)],
-        analysis: wheel_analysis("newmark", dt)?,
+        analysis: {
+            // Residual floor 1e-3 N (5e-8 of the weight): at the instant of re-contact the
+            // penalty switches on inside a step and 1e-6 N is below what the contact
+            // search can resolve there (measured: 5.5e-5 N stagnation, see
+            // docs/stability.md).
+            let mut a = wheel_analysis("newmark", dt)?;
+            a.newton.abs_tol = 1e-3;
+            a
+        },
     })?;
     let steps = (duration / dt).round() as usize;
     let mut in_contact = true;
@@ -536,7 +547,7 @@ pub fn drop(height: f64, dt: f64, duration: f64) -> Result<(StressRow, DropRepor
 }
 
 /// What a stick–slip run measured.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct SlipReport {
     /// Largest `|(f_u, f_v)|/(μ·f_n)` over every contact point of every converged step.
     pub worst_ratio: f64,
@@ -544,6 +555,10 @@ pub struct SlipReport {
     pub switches: usize,
     /// Largest Newton iterations in one step.
     pub max_iterations: usize,
+    /// The step (1-based) of the last change of the sliding set.
+    pub last_switch: usize,
+    /// Number of sliding points per step (for the table and for chatter checks).
+    pub sliding: Vec<u8>,
 }
 
 /// The wheelset pressed by 2·50 kN (K's lateral, vertical DOFs and roll free, rigid rails,
@@ -580,7 +595,7 @@ pub fn stick_slip(overshoot: f64, steps: usize) -> Result<(StressRow, SlipReport
     let mut run = |rep: &mut SlipReport| -> Result<(), FemError> {
         ws.d.static_solve(0.0, 10)?;
         ws.d.initialize()?;
-        for _ in 0..steps {
+        for step in 1..=steps {
             let r = ws.d.step(dt)?;
             rep.max_iterations = rep.max_iterations.max(r.iterations);
             let mut sliding = 0;
@@ -602,7 +617,9 @@ pub fn stick_slip(overshoot: f64, steps: usize) -> Result<(StressRow, SlipReport
             }
             if sliding != last_slide {
                 rep.switches += 1;
+                rep.last_switch = step;
             }
+            rep.sliding.push(sliding as u8);
             last_slide = sliding;
         }
         Ok(())
@@ -617,8 +634,8 @@ pub fn stick_slip(overshoot: f64, steps: usize) -> Result<(StressRow, SlipReport
         energy_error: ws.d.energy.as_ref().map_or(f64::NAN, |e| e.relative_error()),
         force_error: (rep.worst_ratio - 1.0).max(0.0),
         reference: format!(
-            "max |f_t|/(μ·f_n) − 1 over all points (ratio {:.12}); {} changes of the sliding set, ≤ {} iterations/step",
-            rep.worst_ratio, rep.switches, rep.max_iterations
+            "max |f_t|/(μ·f_n) − 1 over all points (ratio {:.12}); {} changes of the sliding set, the last at step {}; ≤ {} iterations/step",
+            rep.worst_ratio, rep.switches, rep.last_switch, rep.max_iterations
         ),
         failure: None,
         command,

@@ -479,6 +479,7 @@ impl Assembler {
             let nd = self.maps[ei].dofs.len();
             let mut m = DMatrix::zeros(nd, nd);
             e.element.mass(&mut m);
+            check_finite(&m, e.id, e.element.kind(), "mass")?;
             scatter_dense(&self.dofmap, &self.maps[ei].dofs, &m, &mut self.m_var);
         }
         for &ei in &self.variable {
@@ -487,6 +488,7 @@ impl Assembler {
                 let nd = self.maps[ei].dofs.len();
                 let mut c = DMatrix::zeros(nd, nd);
                 e.element.damping(&mut c);
+                check_finite(&c, e.id, e.element.kind(), "damping")?;
                 scatter_dense(&self.dofmap, &self.maps[ei].dofs, &c, &mut self.c_var);
             }
         }
@@ -801,7 +803,7 @@ fn check_finite(m: &DMatrix<f64>, id: u64, kind: &str, what: &str) -> Result<(),
         Ok(())
     } else {
         Err(FemError::NonFinite(format!(
-            "element {id} ({kind}) returned a non-finite {what}"
+            "element {id} ({kind}) returned a non-finite {what}; the run stops here"
         )))
     }
 }
