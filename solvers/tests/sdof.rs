@@ -189,28 +189,8 @@ use railfem_solvers::integrator::Integrator;
 fn amplification(ig: &Integrator, omega_dt: f64) -> Matrix3<f64> {
     let (b, g, am, af) = (ig.beta, ig.gamma, ig.alpha_m, ig.alpha_f);
     let w2 = omega_dt * omega_dt;
-    let l = Matrix3::new(
-        w2 * (1.0 - af),
-        0.0,
-        1.0 - am,
-        1.0,
-        0.0,
-        -b,
-        0.0,
-        1.0,
-        -g,
-    );
-    let r = Matrix3::new(
-        -w2 * af,
-        0.0,
-        -am,
-        1.0,
-        1.0,
-        0.5 - b,
-        0.0,
-        1.0,
-        1.0 - g,
-    );
+    let l = Matrix3::new(w2 * (1.0 - af), 0.0, 1.0 - am, 1.0, 0.0, -b, 0.0, 1.0, -g);
+    let r = Matrix3::new(-w2 * af, 0.0, -am, 1.0, 1.0, 0.5 - b, 0.0, 1.0, 1.0 - g);
     l.try_inverse().expect("L is regular for β > 0") * r
 }
 
@@ -233,20 +213,34 @@ fn principal(a: &Matrix3<f64>) -> Option<Complex<f64>> {
 
 /// The schemes checked, with the spectral radius each has at `Ω → ∞` by its closed form.
 fn schemes() -> Vec<(String, Integrator, f64)> {
-    let mut s = vec![("Newmark average acceleration".to_string(), Integrator::newmark(0.25, 0.5), 1.0)];
+    let mut s = vec![(
+        "Newmark average acceleration".to_string(),
+        Integrator::newmark(0.25, 0.5),
+        1.0,
+    )];
     for alpha in [0.05, 0.1, 0.3] {
         // Hilber's (1 − α)/(1 + α).
-        s.push((format!("HHT α = {alpha}"), Integrator::hht(alpha), (1.0 - alpha) / (1.0 + alpha)));
+        s.push((
+            format!("HHT α = {alpha}"),
+            Integrator::hht(alpha),
+            (1.0 - alpha) / (1.0 + alpha),
+        ));
     }
     for rho in [0.0, 0.5, 0.8, 1.0] {
-        s.push((format!("generalized-α ρ∞ = {rho}"), Integrator::generalized_alpha(rho), rho));
+        s.push((
+            format!("generalized-α ρ∞ = {rho}"),
+            Integrator::generalized_alpha(rho),
+            rho,
+        ));
     }
     s
 }
 
 /// 49 values of ω·Δt, log-spaced from 0.01 to 1e4.
 fn omega_grid() -> Vec<f64> {
-    (0..=48).map(|i| 10f64.powf(-2.0 + i as f64 / 8.0)).collect()
+    (0..=48)
+        .map(|i| 10f64.powf(-2.0 + i as f64 / 8.0))
+        .collect()
 }
 
 /// The driver's one-step map is the amplification matrix: starting from each unit state
@@ -311,12 +305,19 @@ fn spectral_radius_bounded_and_limit_is_rho_inf() {
         for om in omega_grid() {
             let rho = spectral_radius(&amplification(&ig, om));
             worst = worst.max(rho);
-            let allowance = if rho_inf == 1.0 && ig.alpha_m > 0.0 { 1e-6 } else { 1e-10 };
+            let allowance = if rho_inf == 1.0 && ig.alpha_m > 0.0 {
+                1e-6
+            } else {
+                1e-10
+            };
             assert!(rho <= 1.0 + allowance, "{name}: ρ({om}) = {rho}");
         }
         let limit = spectral_radius(&amplification(&ig, 1e7));
         println!("{name}: max ρ over [0.01, 1e4] = {worst:.12}, ρ(1e7) = {limit:.9} (closed form {rho_inf})");
-        assert!((limit - rho_inf).abs() < 1e-4, "{name}: ρ∞ {limit} vs {rho_inf}");
+        assert!(
+            (limit - rho_inf).abs() < 1e-4,
+            "{name}: ρ∞ {limit} vs {rho_inf}"
+        );
     }
 }
 
@@ -344,7 +345,11 @@ fn period_error_and_damping_match_closed_forms() {
     for om in omega_grid() {
         let l = principal(&amplification(&nm, om)).expect("Newmark avg. accel. always oscillates");
         let exact = 2.0 * (om / 2.0).atan();
-        assert!((l.arg() - exact).abs() < 1e-12 * exact.max(1.0), "Ω = {om}: Ω̄ {} vs {exact}", l.arg());
+        assert!(
+            (l.arg() - exact).abs() < 1e-12 * exact.max(1.0),
+            "Ω = {om}: Ω̄ {} vs {exact}",
+            l.arg()
+        );
         assert!((l.norm() - 1.0).abs() < 1e-12, "Ω = {om}: ρ = {}", l.norm());
     }
     for (name, ig, _) in schemes() {
@@ -360,7 +365,10 @@ fn period_error_and_damping_match_closed_forms() {
             println!(
                 "{name}, Ω = {om}: ΔT/T = {period:.6e} (asymptotic {p_expect:.6e}), ξ̄ = {xi:.6e} (asymptotic {x_expect:.6e})"
             );
-            assert!((period - p_expect).abs() < 0.02 * p_expect.abs(), "{name}: ΔT/T");
+            assert!(
+                (period - p_expect).abs() < 0.02 * p_expect.abs(),
+                "{name}: ΔT/T"
+            );
             if damping_coef.abs() > 1e-12 {
                 assert!((xi - x_expect).abs() < 0.02 * x_expect.abs(), "{name}: ξ̄");
             } else {
