@@ -46,6 +46,11 @@ USAGE:
                                                      113 spans of 29.75 m): wheels.csv,
                                                      midspan.csv, summary.csv (default
                                                      out/train_bridge)
+  railfem stress [--case all|sdof|beam|penalty|speed|drop|stick-slip] [--scheme S]
+                [--omega-dt W] [--penalty K] [--speed V] [--height H] [--overshoot F]
+                [--steps N] [--duration T] [--dt DT] [--out DIR]
+                                                     the numerical stress suite: one table row
+                                                     per case (docs/stability.md)
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -180,6 +185,9 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
                 s.wall,
                 out.display()
             );
+            if let Some(e) = driver.energy.as_ref().filter(|e| e.started()) {
+                println!("{}", e.summary());
+            }
             Ok(0)
         }
         "elements" => {
@@ -201,6 +209,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "track" => track(a),
         "bench" => bench(a),
         "train-bridge" => train_bridge(a),
+        "stress" => stress(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
@@ -274,6 +283,9 @@ fn curve(a: &Args) -> Result<i32, FemError> {
         r.contact_spacing,
         out.display()
     );
+    if let Some(e) = &r.energy_summary {
+        println!("{e}");
+    }
     Ok(0)
 }
 
@@ -369,6 +381,24 @@ fn bench(a: &Args) -> Result<i32, FemError> {
         return Ok(0);
     }
     crate::bench::run(&sizes, steps, &out)?;
+    Ok(0)
+}
+
+/// `railfem stress`: the stress suite ([`crate::stress`]); the table on stdout and, with
+/// `--out`, in `DIR/stress.md`.
+fn stress(a: &Args) -> Result<i32, FemError> {
+    let rows = crate::stress::run_cli(
+        a.opt("case"),
+        &|k| a.num(k),
+        a.opt("scheme").unwrap_or("newmark"),
+    )?;
+    let table = crate::stress::table(&rows);
+    print!("{table}");
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
+        let p = dir.join("stress.md");
+        std::fs::write(&p, &table).map_err(|e| FemError::output(&p, e))?;
+    }
     Ok(0)
 }
 

@@ -154,6 +154,8 @@ pub struct CurveReport {
     pub first_slide: Option<f64>,
     /// First time an inner wheel's normal force reached zero (s), if any.
     pub first_separation: Option<f64>,
+    /// The run's energy balance as printed (see [`crate::solvers::energy`]).
+    pub energy_summary: Option<String>,
 }
 
 /// The model of a case: builder, ids and the track.
@@ -443,9 +445,15 @@ pub fn run(
         wall: start.elapsed().as_secs_f64(),
         first_slide,
         first_separation: first_sep,
+        energy_summary: d
+            .energy
+            .as_ref()
+            .filter(|e| e.started())
+            .map(|e| e.summary()),
     };
     if let Some(dir) = out {
         write_outputs(case, &report, dir)?;
+        d.write_energy(dir)?;
     }
     Ok(report)
 }

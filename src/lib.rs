@@ -19,6 +19,7 @@ pub mod cli;
 pub mod critical;
 pub mod curve;
 pub mod train_bridge;
+pub mod stress;
 
 /// Loads a model file, building every element through the registry.
 pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework::FemError> {

@@ -635,6 +635,7 @@ impl Assembler {
             let nd = self.maps[ei].dofs.len();
             let mut m = DMatrix::zeros(nd, nd);
             e.element.mass(&mut m);
+            check_finite(&m, e.id, e.element.kind(), "mass")?;
             let slot = self.var_slot[ei];
             if self.off_pattern && slot != u32::MAX {
                 self.off[slot as usize].m = Some(m);
@@ -648,6 +649,7 @@ impl Assembler {
                 let nd = self.maps[ei].dofs.len();
                 let mut c = DMatrix::zeros(nd, nd);
                 e.element.damping(&mut c);
+                check_finite(&c, e.id, e.element.kind(), "damping")?;
                 if self.off_pattern {
                     self.off[slot].c = Some(c);
                 } else {
@@ -1162,7 +1164,7 @@ fn check_finite(m: &DMatrix<f64>, id: u64, kind: &str, what: &str) -> Result<(),
         Ok(())
     } else {
         Err(FemError::NonFinite(format!(
-            "element {id} ({kind}) returned a non-finite {what}"
+            "element {id} ({kind}) returned a non-finite {what}; the run stops here"
         )))
     }
 }

@@ -13,6 +13,7 @@
 //! on a rigid track) use a dense factorization.
 
 use crate::dense::DenseLu;
+use crate::energy::EnergyLedger;
 use crate::integrator::Integrator;
 use crate::linear::{solver_for, LinearSolver, SolverError};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
@@ -135,6 +136,9 @@ pub struct Driver {
     a_key: Option<[f64; 3]>,
     /// Variable elements' effective triplets (partitioned mode).
     triplets: Vec<(usize, usize, f64)>,
+    /// The energy balance, updated after each committed step ([`crate::energy`]); `None`
+    /// skips the accounting (two matrix–vector products per step).
+    pub energy: Option<EnergyLedger>,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -186,6 +190,7 @@ impl Driver {
             partition,
             a_key: None,
             triplets: Vec::new(),
+            energy: Some(EnergyLedger::default()),
         })
     }
 
@@ -369,6 +374,10 @@ impl Driver {
         self.state.f_int = f_int;
         self.state.f_ext = f_full;
         self.factored = None;
+        // A static solve moves the state without inertia: the balance starts again.
+        if let Some(e) = self.energy.as_mut() {
+            e.reset();
+        }
         self.summary.iterations += total_iters;
         Ok(total_iters)
     }
@@ -647,6 +656,9 @@ impl Driver {
         match self.attempt(dt) {
             Ok((s, it, res)) => {
                 self.asm.commit(&mut self.model);
+                if let Some(e) = self.energy.as_mut() {
+                    e.record(&self.asm, &self.model, &self.state, &s);
+                }
                 self.state = s;
                 rep.iterations += it;
                 rep.residual = res;
@@ -756,6 +768,14 @@ impl Driver {
             .sum::<f64>()
     }
 
+    /// Writes the energy rows of the run to `dir/energy.csv` (nothing if accounting is off).
+    pub fn write_energy(&self, dir: &Path) -> Result<(), FemError> {
+        match &self.energy {
+            Some(e) => e.write_csv(&dir.join("energy.csv")),
+            None => Ok(()),
+        }
+    }
+
     /// Value of nodal DOF `dof` (0..6) of node user id `node` in the committed state.
     pub fn node_value(&self, node: u64, dof: usize) -> Option<f64> {
         let i = self.model.node(node)?;
@@ -832,6 +852,7 @@ impl Driver {
                         if let (Some(r), Some(dir)) = (rec.as_mut(), out) {
                             let _ = r.finish();
                             let _ = self.write_state(&dir.join("last_converged_state.csv"));
+                            let _ = self.write_energy(dir);
                         }
                         return Err(e);
                     }
@@ -860,6 +881,9 @@ impl Driver {
         }
         if let Some(r) = rec.as_mut() {
             r.finish()?;
+        }
+        if let (Some(dir), AnalysisKind::Transient) = (out, spec.kind) {
+            self.write_energy(dir)?;
         }
         let st = self.solver.stats();
         self.summary.symbolic = st.symbolic_analyses;

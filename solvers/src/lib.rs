@@ -1,7 +1,8 @@
 //! railfem-solvers: linear solvers, time integrators and the analysis driver.
 //!
 //! What lives here: sparse and dense linear solvers ([`linear`], [`dense`]), modal analysis ([`modal`]), the
-//! generalized-α family of integrators ([`integrator`]) and the driver that runs static and
+//! generalized-α family of integrators ([`integrator`]), the energy balance of a run
+//! ([`energy`]) and the driver that runs static and
 //! transient analyses with Newton–Raphson and step cutting ([`driver`]). What does not:
 //! elements (railfem-elements) and the model itself (railfem-framework).
 
@@ -10,6 +11,7 @@
 
 pub mod dense;
 pub mod driver;
+pub mod energy;
 pub mod integrator;
 pub mod linear;
 pub mod modal;

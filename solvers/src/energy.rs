@@ -1,0 +1,227 @@
+//! Energy accounting of a transient run: the [`EnergyLedger`] the driver updates after each
+//! committed step, its per-step rows (`energy.csv`) and the short block printed at the end
+//! of a run. What does not live here: the integrator and the stepping (see
+//! [`crate::driver`]).
+//!
+//! **Balance.** Dotting the equation of motion `M·a + C·v + f_int(q) = f_ext` with `dq`
+//! and integrating from the start of the run gives
+//!
+//! `W_ext = ΔT + W_int + D_c`,
+//!
+//! with `W_ext = ∫f_extᵀ·dq`, `T = ½·vᵀ·M·v`, `W_int = ∫f_intᵀ·dq` and `D_c = ∫(C·v)ᵀ·dq`.
+//! The work of the internal forces splits into what elements store and what they dissipate
+//! themselves (friction at the contact points, plasticity), which they report
+//! ([`railfem_framework::Element::dissipated_energy`]): `W_int = U + D_f`. The ledger
+//! integrates the three works with the trapezoidal rule over each committed step,
+//! `ΔW = ½·(f_n + f_{n+1})ᵀ·(q_{n+1} − q_n)`, takes `T` from the state directly, and calls
+//! what is left the energy the *integrator* dissipated:
+//!
+//! `D_num = W_ext − ΔT − U − D_c − D_f = W_ext − ΔT − W_int − D_c`.
+//!
+//! For Newmark's average acceleration (`γ = ½`, `β = ¼`) on a linear model this residual is
+//! zero to round-off: then `q_{n+1} − q_n = ½Δt·(v_n + v_{n+1})` and
+//! `v_{n+1} − v_n = ½Δt·(a_n + a_{n+1})`, so `½·(M·a_n + M·a_{n+1})ᵀ·Δq` is exactly `ΔT`,
+//! and the equation of motion holds at both ends of the step, so the trapezoidal works of
+//! the four forces sum to zero. Schemes with numerical damping (HHT-α, generalized-α)
+//! leave a positive `D_num`. For a linear element the trapezoidal `∫f_int·dq` is exactly
+//! `½·qᵀ·K·q`; for a nonlinear one it is the strain energy to the accuracy of the rule
+//! (second order in `Δq`).
+//!
+//! Energies are relative to the state at the first recorded step (kinetic energy is shown
+//! as its current value). For carried nodes (moving frames) the DOFs are deviations from
+//! the reference motion, so `T` is the kinetic energy of that relative motion and the
+//! rigid-body pseudo-loads of Eq. 5 count as external work.
+
+use crate::driver::State;
+use railfem_framework::assembly::Assembler;
+use railfem_framework::error::FemError;
+use railfem_framework::model::Model;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// The energies after one committed step (J, relative to the ledger's start; `kinetic`
+/// is the current value).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EnergyRow {
+    /// Time (s).
+    pub t: f64,
+    /// Work of the external forces `∫f_extᵀ·dq`.
+    pub external_work: f64,
+    /// Kinetic energy `½·vᵀ·M·v`.
+    pub kinetic: f64,
+    /// Energy stored in the elements, `∫f_intᵀ·dq` minus what they dissipated.
+    pub strain: f64,
+    /// Energy dissipated by the damping matrix, `∫(C·v)ᵀ·dq`.
+    pub damping: f64,
+    /// Energy dissipated inside elements (friction), as they report it.
+    pub friction: f64,
+    /// The balance residual: energy dissipated (or, if negative, created) by the
+    /// integrator, `W_ext − ΔT − strain − damping − friction`.
+    pub integrator: f64,
+}
+
+impl EnergyRow {
+    /// The largest of the energies' magnitudes: the scale an energy error is relative to.
+    pub fn scale(&self) -> f64 {
+        [
+            self.external_work,
+            self.kinetic,
+            self.strain,
+            self.damping,
+            self.friction,
+        ]
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()))
+    }
+}
+
+/// Accumulates the energy balance of a run, one committed step at a time.
+#[derive(Debug, Clone, Default)]
+pub struct EnergyLedger {
+    started: bool,
+    /// Kinetic energy at the start.
+    kinetic0: f64,
+    /// Element-reported dissipation at the start.
+    friction0: f64,
+    /// `C·v` at the last recorded state.
+    cv_prev: Vec<f64>,
+    /// Work of the internal forces so far.
+    internal_work: f64,
+    /// Running totals (the last row).
+    now: EnergyRow,
+    /// Largest energy scale seen, for relative errors.
+    peak_scale: f64,
+    /// Largest |integrator| seen.
+    peak_residual: f64,
+    /// One row per committed step.
+    pub history: Vec<EnergyRow>,
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn kinetic(asm: &Assembler, v: &[f64], buf: &mut Vec<f64>) -> f64 {
+    buf.clear();
+    buf.resize(v.len(), 0.0);
+    asm.mass_times(v, buf);
+    0.5 * dot(buf, v)
+}
+
+fn damping_force(asm: &Assembler, v: &[f64]) -> Vec<f64> {
+    let mut cv = vec![0.0; v.len()];
+    asm.damping_times_add(v, &mut cv);
+    cv
+}
+
+impl EnergyLedger {
+    /// Forgets everything; the next [`EnergyLedger::record`] starts a new balance (the
+    /// driver calls this after a static solve, which moves the state without inertia).
+    pub fn reset(&mut self) {
+        *self = EnergyLedger::default();
+    }
+
+    /// Whether the ledger has a start state.
+    pub fn started(&self) -> bool {
+        self.started
+    }
+
+    /// Adds the step from the committed state `prev` to the committed state `next`. The
+    /// first call also takes `prev` as the start of the balance.
+    pub fn record(&mut self, asm: &Assembler, model: &Model, prev: &State, next: &State) {
+        let mut buf = Vec::new();
+        if !self.started || self.cv_prev.len() != prev.v.len() {
+            *self = EnergyLedger {
+                started: true,
+                kinetic0: kinetic(asm, &prev.v, &mut buf),
+                friction0: asm.dissipated_energy(model),
+                cv_prev: damping_force(asm, &prev.v),
+                ..Default::default()
+            };
+            self.now.t = prev.t;
+            self.now.kinetic = self.kinetic0;
+        }
+        let dq: Vec<f64> = next.q.iter().zip(&prev.q).map(|(a, b)| a - b).collect();
+        let trap = |f0: &[f64], f1: &[f64]| -> f64 {
+            0.5 * dq
+                .iter()
+                .enumerate()
+                .map(|(i, d)| (f0[i] + f1[i]) * d)
+                .sum::<f64>()
+        };
+        let cv = damping_force(asm, &next.v);
+        let r = &mut self.now;
+        r.t = next.t;
+        r.external_work += trap(&prev.f_ext, &next.f_ext);
+        self.internal_work += trap(&prev.f_int, &next.f_int);
+        r.damping += trap(&self.cv_prev, &cv);
+        r.kinetic = kinetic(asm, &next.v, &mut buf);
+        r.friction = asm.dissipated_energy(model) - self.friction0;
+        r.strain = self.internal_work - r.friction;
+        r.integrator =
+            r.external_work - (r.kinetic - self.kinetic0) - r.strain - r.damping - r.friction;
+        self.cv_prev = cv;
+        self.peak_scale = self.peak_scale.max(r.scale()).max(self.kinetic0);
+        self.peak_residual = self.peak_residual.max(r.integrator.abs());
+        self.history.push(*r);
+    }
+
+    /// The totals after the last recorded step.
+    pub fn totals(&self) -> EnergyRow {
+        self.now
+    }
+
+    /// Kinetic energy at the start of the balance (J).
+    pub fn initial_kinetic(&self) -> f64 {
+        self.kinetic0
+    }
+
+    /// Largest |integrator residual| over the run divided by the largest energy seen: the
+    /// energy error of the run (zero to round-off for a conservative scheme).
+    pub fn relative_error(&self) -> f64 {
+        if self.peak_scale > 0.0 {
+            self.peak_residual / self.peak_scale
+        } else {
+            0.0
+        }
+    }
+
+    /// The short block printed at the end of a run.
+    pub fn summary(&self) -> String {
+        let r = self.now;
+        let mut s = String::new();
+        let _ = writeln!(
+            s,
+            "energy balance over {} steps to t = {:.6} s (J): external work {:.6e}, kinetic {:.6e} (start {:.6e}), strain {:.6e}",
+            self.history.len(),
+            r.t,
+            r.external_work,
+            r.kinetic,
+            self.kinetic0,
+            r.strain
+        );
+        let _ = write!(
+            s,
+            "  dissipated: damping {:.6e}, friction {:.6e}, integrator {:.6e}; largest |integrator|/energy {:.3e}",
+            r.damping,
+            r.friction,
+            r.integrator,
+            self.relative_error()
+        );
+        s
+    }
+
+    /// Writes the rows as CSV:
+    /// `time,external_work,kinetic,strain,damping,friction,integrator` (J).
+    pub fn write_csv(&self, path: &Path) -> Result<(), FemError> {
+        let mut s = String::from("time,external_work,kinetic,strain,damping,friction,integrator\n");
+        for r in &self.history {
+            let _ = writeln!(
+                s,
+                "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
+                r.t, r.external_work, r.kinetic, r.strain, r.damping, r.friction, r.integrator
+            );
+        }
+        std::fs::write(path, s).map_err(|e| FemError::output(path, e))
+    }
+}
