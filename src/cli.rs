@@ -32,6 +32,12 @@ USAGE:
                                                      time linear transient steps of a long
                                                      continuous beam per DOF count; writes
                                                      bench.md and bench.csv (default out/bench)
+  railfem bench --export DIR [--sizes ..] [--steps N] write the benchmark model, its load
+                                                     vectors and railfem's answer per size
+                                                     (DIR/dofN) for scripts/opensees_compare.sh
+  railfem pareto [--out DIR] [--cases force,sprung,curve] [--full]
+                                                     run time against error over dt, mesh and
+                                                     integrator; pareto.csv and pareto-*.svg
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -316,6 +322,23 @@ fn bench(a: &Args) -> Result<i32, FemError> {
             ))
         }
     };
+    if let Some(dir) = a.opt("export") {
+        // One directory per size: the model, the load vectors and railfem's answer, for
+        // scripts/opensees_compare.py.
+        for &n in &sizes {
+            let sub = Path::new(dir).join(format!("dof{n}"));
+            let r = crate::bench::export(n, steps, &sub)?;
+            println!(
+                "bench export: {} equations, {} steps, first step {:.3} ms, then {:.3} ms/step; written to {}",
+                r.equations,
+                r.steps,
+                r.first_step * 1e3,
+                r.per_step * 1e3,
+                sub.display()
+            );
+        }
+        return Ok(0);
+    }
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/bench"));
     crate::bench::run(&sizes, steps, &out)?;
     Ok(0)
