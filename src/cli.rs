@@ -35,7 +35,7 @@ USAGE:
   railfem bench --export DIR [--sizes ..] [--steps N] write the benchmark model, its load
                                                      vectors and railfem's answer per size
                                                      (DIR/dofN) for scripts/opensees_compare.sh
-  railfem pareto [--out DIR] [--cases force,sprung,curve] [--full]
+  railfem pareto [--out DIR] [--cases force,sprung,curve]
                                                      run time against error over dt, mesh and
                                                      integrator; pareto.csv and pareto-*.svg
   railfem help                                       this text
@@ -187,6 +187,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "conformance" => conformance(a),
         "track" => track(a),
         "bench" => bench(a),
+        "pareto" => pareto(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
@@ -341,6 +342,20 @@ fn bench(a: &Args) -> Result<i32, FemError> {
     }
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/bench"));
     crate::bench::run(&sizes, steps, &out)?;
+    Ok(0)
+}
+
+/// `railfem pareto`: run time against error (`crate::pareto`) for `--cases` (default
+/// force,sprung,curve); `pareto.csv`, `pareto.md` and `pareto-<case>.svg` in `--out`
+/// (default `out/pareto`).
+fn pareto(a: &Args) -> Result<i32, FemError> {
+    let mut grid = crate::pareto::Grid::default();
+    if let Some(c) = a.opt("cases") {
+        grid.cases = c.split(',').map(|x| x.trim().to_string()).collect();
+    }
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/pareto"));
+    crate::pareto::run(&grid, &out)?;
+    println!("pareto: results in {}", out.display());
     Ok(0)
 }
 

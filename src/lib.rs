@@ -17,6 +17,7 @@ pub mod bench;
 pub mod cli;
 pub mod critical;
 pub mod curve;
+pub mod pareto;
 
 /// Loads a model file, building every element through the registry.
 pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework::FemError> {
