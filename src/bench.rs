@@ -423,9 +423,7 @@ pub fn export(target: usize, steps: usize, dir: &Path) -> Result<ExportRow, FemE
         let _ = writeln!(
             elems,
             "{},{},{}",
-            e.id,
-            model.nodes[c[0].node].id,
-            model.nodes[c[1].node].id
+            e.id, model.nodes[c[0].node].id, model.nodes[c[1].node].id
         );
     }
     write("elements.csv", &elems)?;
@@ -444,10 +442,7 @@ pub fn export(target: usize, steps: usize, dir: &Path) -> Result<ExportRow, FemE
     )?;
     let mut d = Driver::new(model)?;
     d.initialize()?;
-    let mon: Vec<usize> = monitors
-        .iter()
-        .filter_map(|&id| d.model.node(id))
-        .collect();
+    let mon: Vec<usize> = monitors.iter().filter_map(|&id| d.model.node(id)).collect();
     let mut loads = String::from("step,t,node,dof,value\n");
     let mut hist = String::from("step,t");
     for id in &monitors {

@@ -352,6 +352,16 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
     let mut grid = crate::pareto::Grid::default();
     if let Some(c) = a.opt("cases") {
         grid.cases = c.split(',').map(|x| x.trim().to_string()).collect();
+        if let Some(bad) = grid
+            .cases
+            .iter()
+            .find(|x| !["force", "sprung", "curve"].contains(&x.as_str()))
+        {
+            return Err(FemError::input(
+                "command line",
+                format!("--cases {c}: unknown case `{bad}`; use any of force,sprung,curve"),
+            ));
+        }
     }
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/pareto"));
     crate::pareto::run(&grid, &out)?;

@@ -186,9 +186,7 @@ pub fn sprung_reference(modes: usize, samples: usize, substeps: usize) -> Vec<f6
     let rhs = |t: f64, y: &[f64], dy: &mut [f64]| {
         let xc = SPEED * t;
         let mut wc = 0.0;
-        let shapes: Vec<f64> = (1..=n)
-            .map(|i| (i as f64 * PI * xc / SPAN).sin())
-            .collect();
+        let shapes: Vec<f64> = (1..=n).map(|i| (i as f64 * PI * xc / SPAN).sin()).collect();
         for i in 0..n {
             wc += y[i] * shapes[i];
         }
@@ -216,10 +214,9 @@ pub fn sprung_reference(modes: usize, samples: usize, substeps: usize) -> Vec<f6
         vec![0.0; m],
         vec![0.0; m],
     );
-    let mut t = 0.0;
     for s in 0..samples {
         for j in 0..substeps {
-            t = (s * substeps + j) as f64 * h;
+            let t = (s * substeps + j) as f64 * h;
             rhs(t, &y, &mut k1);
             for i in 0..m {
                 tmp[i] = y[i] + 0.5 * h * k1[i];
@@ -239,7 +236,6 @@ pub fn sprung_reference(modes: usize, samples: usize, substeps: usize) -> Vec<f6
         }
         out.push(mid(&y));
     }
-    let _ = t;
     out
 }
 
@@ -265,11 +261,7 @@ fn span(ne: usize) -> ModelBuilder {
         } else {
             plane
         };
-        b.node_fixed(
-            i as u64 + 1,
-            [SPAN * i as f64 / ne as f64, 0.0, 0.0],
-            fixed,
-        );
+        b.node_fixed(i as u64 + 1, [SPAN * i as f64 / ne as f64, 0.0, 0.0], fixed);
     }
     let p = json!({"E": E, "G": E / 2.6, "A": MASS_PER_LENGTH / RHO, "Iy": EI / E,
                    "Iz": EI / E, "J": EI / E, "rho": RHO, "mass": "consistent"});
@@ -408,7 +400,11 @@ pub fn curve_run(dt: f64, scheme: Scheme) -> Result<(f64, f64, usize), FemError>
     }
     let t0 = Instant::now();
     let r = crate::curve::run(&case, None, &mut |_| {})?;
-    Ok((t0.elapsed().as_secs_f64(), r.max_rel_normal_statics, r.steps))
+    Ok((
+        t0.elapsed().as_secs_f64(),
+        r.max_rel_normal_statics,
+        r.steps,
+    ))
 }
 
 /// The grid of one run of `railfem pareto`.
@@ -500,7 +496,10 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
                         let (wall, error, steps) = match curve_run(dt, scheme) {
                             Ok(r) => r,
                             Err(e) => {
-                                eprintln!("pareto curve: dt = {dt} s, {}: no result ({e})", scheme.name());
+                                eprintln!(
+                                    "pareto curve: dt = {dt} s, {}: no result ({e})",
+                                    scheme.name()
+                                );
                                 continue;
                             }
                         };
@@ -679,8 +678,7 @@ crate::framework::element_params! {
 #[derive(Debug, Clone)]
 pub struct SprungContact {
     params: SprungParams,
-    /// Node indices: the mass node, then the beam nodes in order.
-    mass_node: usize,
+    /// Node indices of the beam, in order (the mass node is `conn[0]`).
     beam: Vec<usize>,
     h: f64,
     conn: [NodeDofs; 3],
@@ -751,7 +749,6 @@ fn build_sprung(
     let h = (ctx.node_position(beam[1]) - ctx.node_position(beam[0])).norm();
     let mut e = SprungContact {
         params: p,
-        mass_node,
         h,
         conn: [NodeDofs {
             node: mass_node,
@@ -784,7 +781,6 @@ impl Element for SprungContact {
     }
 
     fn advance(&mut self, ctx: &StepContext) -> Result<bool, ElementError> {
-        let _ = self.mass_node;
         Ok(self.set_position(ctx.time))
     }
 

@@ -7,8 +7,7 @@
 //! - The FE moving-force run approaches Frýba's series as the mesh is refined.
 
 use railfem::pareto::{
-    force_run, period1, sprung_reference, sprung_run, Scheme, REF_MODES, REF_SAMPLES,
-    REF_SUBSTEPS,
+    force_run, period1, sprung_reference, sprung_run, Scheme, REF_MODES, REF_SAMPLES, REF_SUBSTEPS,
 };
 
 fn max_rel(a: &[f64], b: &[f64]) -> f64 {
@@ -39,7 +38,10 @@ fn sprung_mass_reference_is_converged_and_fe_approaches_it() {
     let d_modes = max_rel(&fewer_modes, &reference);
     eprintln!("reference: halved step changes it by {d_step:.3e}, half the modes by {d_modes:.3e}");
     assert!(d_step < 2e-5, "RK4 step not converged: {d_step:e}");
-    assert!(d_modes < 2e-5, "modal truncation not converged: {d_modes:e}");
+    assert!(
+        d_modes < 2e-5,
+        "modal truncation not converged: {d_modes:e}"
+    );
 
     let t1 = period1();
     let errs: Vec<f64> = [20.0, 40.0, 80.0]
