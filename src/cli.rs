@@ -51,6 +51,12 @@ USAGE:
                 [--steps N] [--duration T] [--dt DT] [--out DIR]
                                                      the numerical stress suite: one table row
                                                      per case (docs/stability.md)
+  railfem bench --export DIR [--sizes ..] [--steps N] write the benchmark model, its load
+                                                     vectors and railfem's answer per size
+                                                     (DIR/dofN) for scripts/opensees_compare.sh
+  railfem pareto [--out DIR] [--cases force,sprung,curve]
+                                                     run time against error over dt, mesh and
+                                                     integrator; pareto.csv and pareto-*.svg
   railfem help                                       this text
 
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
@@ -210,6 +216,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "bench" => bench(a),
         "train-bridge" => train_bridge(a),
         "stress" => stress(a),
+        "pareto" => pareto(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),
@@ -355,6 +362,23 @@ fn bench(a: &Args) -> Result<i32, FemError> {
             ))
         }
     };
+    if let Some(dir) = a.opt("export") {
+        // One directory per size: the model, the load vectors and railfem's answer, for
+        // scripts/opensees_compare.py.
+        for &n in &sizes {
+            let sub = Path::new(dir).join(format!("dof{n}"));
+            let r = crate::bench::export(n, steps, &sub)?;
+            println!(
+                "bench export: {} equations, {} steps, first step {:.3} ms, then {:.3} ms/step; written to {}",
+                r.equations,
+                r.steps,
+                r.first_step * 1e3,
+                r.per_step * 1e3,
+                sub.display()
+            );
+        }
+        return Ok(0);
+    }
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/bench"));
     if case == "train-bridge" {
         let cars = match a.num("cars")? {
@@ -399,6 +423,30 @@ fn stress(a: &Args) -> Result<i32, FemError> {
         let p = dir.join("stress.md");
         std::fs::write(&p, &table).map_err(|e| FemError::output(&p, e))?;
     }
+    Ok(0)
+}
+
+/// `railfem pareto`: run time against error (`crate::pareto`) for `--cases` (default
+/// force,sprung,curve); `pareto.csv`, `pareto.md` and `pareto-<case>.svg` in `--out`
+/// (default `out/pareto`).
+fn pareto(a: &Args) -> Result<i32, FemError> {
+    let mut grid = crate::pareto::Grid::default();
+    if let Some(c) = a.opt("cases") {
+        grid.cases = c.split(',').map(|x| x.trim().to_string()).collect();
+        if let Some(bad) = grid
+            .cases
+            .iter()
+            .find(|x| !["force", "sprung", "curve"].contains(&x.as_str()))
+        {
+            return Err(FemError::input(
+                "command line",
+                format!("--cases {c}: unknown case `{bad}`; use any of force,sprung,curve"),
+            ));
+        }
+    }
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/pareto"));
+    crate::pareto::run(&grid, &out)?;
+    println!("pareto: results in {}", out.display());
     Ok(0)
 }
 

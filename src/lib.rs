@@ -20,6 +20,7 @@ pub mod critical;
 pub mod curve;
 pub mod train_bridge;
 pub mod stress;
+pub mod pareto;
 
 /// Loads a model file, building every element through the registry.
 pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework::FemError> {
