@@ -94,6 +94,8 @@ pub struct TrainBridgeCase {
     /// on its penalty spring rings at ~500 Hz, far above 1/Δt) while the bridge modes, at
     /// ω·Δt < 1, keep their amplitude to second order.
     pub rho_inf: f64,
+    /// Linear solver of the Newton iterations (`auto`: partitioned from 50 000 equations).
+    pub solver: crate::framework::model::SolverChoice,
 }
 
 impl Default for TrainBridgeCase {
@@ -117,6 +119,7 @@ impl Default for TrainBridgeCase {
             pier_height: 10.0,
             gravity: 9.81,
             rho_inf: 0.5,
+            solver: Default::default(),
         }
     }
 }
@@ -524,6 +527,7 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         rho_inf: case.rho_inf,
         alpha: (1.0 - case.rho_inf) / (1.0 + case.rho_inf),
         record_every: case.record_every.max(1),
+        solver: case.solver,
         // Wheel loads are ~1e5 N and displacements ~1e-3 m: a relative 1e-6, 1e-2 N and
         // 1e-10 m end the iterations well below what the outputs resolve.
         newton: NewtonSettings {

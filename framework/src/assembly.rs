@@ -865,7 +865,11 @@ impl Assembler {
 
     /// `out = M·x` (constant and variable mass).
     pub fn mass_times(&self, x: &[f64], out: &mut [f64]) {
-        self.m_const.mul_vec(x, out);
+        if self.const_symmetric {
+            crate::sparse::symmetric_products(&[&self.m_const], &[x], &mut [out], self.threads);
+        } else {
+            self.m_const.mul_vec(x, out);
+        }
         if self.m_var_used {
             self.m_var.mul_vec_add(1.0, x, out);
         }
@@ -878,7 +882,15 @@ impl Assembler {
 
     /// `out += C·x` (constant and variable damping).
     pub fn damping_times_add(&self, x: &[f64], out: &mut [f64]) {
-        self.c_const.mul_vec_add(1.0, x, out);
+        if self.const_symmetric && self.c_const.n >= 20_000 {
+            let mut cx = vec![0.0; self.c_const.n];
+            crate::sparse::symmetric_products(&[&self.c_const], &[x], &mut [&mut cx], self.threads);
+            for (o, c) in out.iter_mut().zip(&cx) {
+                *o += c;
+            }
+        } else {
+            self.c_const.mul_vec_add(1.0, x, out);
+        }
         if self.c_var_used {
             self.c_var.mul_vec_add(1.0, x, out);
         }

@@ -131,6 +131,14 @@ impl Block {
     }
 }
 
+/// The top system of the last factorization and the storage position of each of its
+/// triplets, reused while the triplet layout is unchanged.
+struct TopCache {
+    layout: Vec<(u32, u32)>,
+    positions: Vec<usize>,
+    matrix: CscMatrix,
+}
+
 /// The partitioned solver (see the module documentation).
 pub struct Partitioned {
     options: PartitionOptions,
@@ -149,6 +157,10 @@ pub struct Partitioned {
     top_index: Vec<u32>,
     top_solver: Box<dyn LinearSolver>,
     top_factored: bool,
+    /// Whether the top solver is the dense one (small top systems).
+    top_dense: bool,
+    /// The last top system and how its triplets map onto it.
+    top_cache: Option<TopCache>,
     stats: PartitionStats,
 }
 
@@ -201,6 +213,8 @@ impl Partitioned {
             top_index: Vec::new(),
             top_solver: solver_for(symmetric),
             top_factored: false,
+            top_dense: false,
+            top_cache: None,
             stats: PartitionStats::default(),
         }
     }
@@ -479,16 +493,44 @@ impl Partitioned {
         for &(i, j, v) in variable {
             trip.push((self.top_index[i] as usize, self.top_index[j] as usize, v));
         }
-        let s = CscMatrix::from_triplets(nt_top, &trip);
-        drop(trip);
-        if nt_top <= crate::driver::DENSE_LIMIT {
-            self.top_solver = Box::new(DenseLu::default());
-        } else if self.top_solver.stats().numeric_factorizations == 0
-            && self.top_solver.stats().symbolic_analyses == 0
-        {
-            self.top_solver = solver_for(self.symmetric);
+        // Same triplet layout as last time (the usual case between promotions): refill the
+        // cached matrix through the cached positions, keeping its pattern id so the top
+        // solver also reuses its symbolic analysis.
+        let same = self.top_cache.as_ref().is_some_and(|c| {
+            c.matrix.n == nt_top
+                && c.layout.len() == trip.len()
+                && c.layout.iter().zip(&trip).all(|(&(i, j), t)| i == t.0 as u32 && j == t.1 as u32)
+        });
+        if !same {
+            let m = CscMatrix::from_triplets(nt_top, &trip);
+            let positions = trip
+                .iter()
+                .map(|&(i, j, _)| m.position(i, j).expect("entry is in the pattern"))
+                .collect();
+            let layout = trip.iter().map(|&(i, j, _)| (i as u32, j as u32)).collect();
+            self.top_cache = Some(TopCache {
+                layout,
+                positions,
+                matrix: m,
+            });
         }
-        let r = self.top_solver.factor(&s);
+        let cache = self.top_cache.as_mut().expect("set above");
+        cache.matrix.values.iter_mut().for_each(|v| *v = 0.0);
+        for (&p, t) in cache.positions.iter().zip(&trip) {
+            cache.matrix.values[p] += t.2;
+        }
+        drop(trip);
+        let s = &cache.matrix;
+        let dense = nt_top <= crate::driver::DENSE_LIMIT;
+        if dense != self.top_dense {
+            self.top_solver = if dense {
+                Box::new(DenseLu::default())
+            } else {
+                solver_for(self.symmetric)
+            };
+            self.top_dense = dense;
+        }
+        let r = self.top_solver.factor(s);
         self.stats.time_top += t1.elapsed().as_secs_f64();
         self.stats.top_equations = nt_top;
         r.map_err(|e| match e {
