@@ -326,3 +326,392 @@ fn curve_command_refuses_bad_options() {
         assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
     }
 }
+
+// ---------------------------------------------------------------------------------------
+// Track, vehicles and profiles. A rigid 30 m straight with one sks700 carriage standing
+// in the middle; each case breaks one thing. `railfem check` suffices: every mistake
+// below is caught while the model is read or built.
+// ---------------------------------------------------------------------------------------
+
+/// A valid track-and-vehicle model (`railfem check` passes on it).
+const TRAIN: &str = r#"
+[analysis]
+kind = "static"
+
+[track]
+segments = [{type = "straight", length = 30.0}]
+element_length = 0.6
+support = {type = "rigid"}
+
+[[vehicle]]
+preset = "sks700"
+carriages = 1
+start = 15.0
+speed = 0.0
+wheel = {mu = 0.3}
+"#;
+
+/// Like [`check`] for `railfem check` on `TRAIN` with `from` replaced by `to`; profile
+/// files `(name, text)` are written beside the model and `{dir}` in `to` becomes that
+/// directory. Returns the line.
+fn check_train(
+    case: &str,
+    from: &str,
+    to: &str,
+    files: &[(&str, &str)],
+    expect: &[&str],
+) -> String {
+    assert!(TRAIN.contains(from), "`{from}` not in the model");
+    let dir = temp_dir(case);
+    for (name, text) in files {
+        std::fs::write(dir.join(name), text).expect("write profile");
+    }
+    let name = format!("{case}.toml");
+    let path = dir.join(&name);
+    let to = to.replace("{dir}", dir.to_str().expect("utf-8"));
+    std::fs::write(&path, TRAIN.replacen(from, &to, 1)).expect("write model");
+    let o = railfem(&["check", path.to_str().expect("utf-8")]);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
+    assert_eq!(o.status.code(), Some(2), "{case}: exit code; stderr: {err}");
+    assert!(
+        err.ends_with('\n') && err.lines().count() == 1,
+        "{case}: stderr must be exactly one line, got {err:?}"
+    );
+    assert!(
+        !err.contains("internal error") && !err.contains("panicked"),
+        "{case}: {err}"
+    );
+    assert!(
+        err.contains(&name),
+        "{case}: the model file is not named: {err}"
+    );
+    for e in expect {
+        assert!(err.contains(e), "{case}: expected `{e}` in: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    err
+}
+
+#[test]
+fn the_unbroken_train_checks() {
+    let dir = temp_dir("train");
+    let path = dir.join("train.toml");
+    std::fs::write(&path, TRAIN).expect("write");
+    let o = railfem(&["check", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Each broken wheel profile file is named with its line and what to fix.
+#[test]
+fn bad_wheel_profile_files_are_refused() {
+    let wheel = |file: &str| format!("wheel = {{wheel_profile = \"{{dir}}/{file}\"}}");
+    let cases: [(&str, &str, &[&str]); 7] = [
+        // Three points: a not-a-knot spline needs four.
+        (
+            "few.csv",
+            "# units: mm\n-70,-30\n-60,-20\n0,0\n",
+            &["few.csv:4:", "only 3 points", "at least 4"],
+        ),
+        (
+            "nan.csv",
+            "# units: mm\n-70,-30\nnan,-20\n0,0\n30,0.3\n60,0.5\n",
+            &["nan.csv:3:", "not a finite number"],
+        ),
+        // A point with one column, then one with three.
+        (
+            "col.csv",
+            "# units: mm\n-70,-30\n-60\n0,0\n30,0.3\n60,0.5\n",
+            &["col.csv:3:", "two comma-separated numbers"],
+        ),
+        (
+            "three.csv",
+            "y_mm,z_mm\n-70,-30,1\n-60,-20,1\n0,0,1\n60,0.5,1\n",
+            &["three.csv:2:", "two comma-separated numbers"],
+        ),
+        (
+            "nounit.csv",
+            "-70,-30\n-60,-20\n0,0\n30,0.3\n60,0.5\n",
+            &["nounit.csv:1:", "unknown units", "# units: mm"],
+        ),
+        // Millimetre numbers declared as metres: a wheel 130 m wide.
+        (
+            "metres.csv",
+            "# units: m\n-70,-30\n-60,-20\n-30,-1\n0,0\n30,0.3\n60,0.5\n",
+            &["metres.csv:7:", "spans 130 m", "check the units"],
+        ),
+        // The fourth point goes back across the first segment.
+        (
+            "loop.csv",
+            "# units: mm\n-70,-30\n-60,-20\n0,0\n-65,-10\n30,0.3\n",
+            &["loop.csv:", "crosses", "without loops"],
+        ),
+    ];
+    for (file, text, expect) in cases {
+        check_train(
+            file.trim_end_matches(".csv"),
+            "wheel = {mu = 0.3}",
+            &wheel(file),
+            &[(file, text)],
+            expect,
+        );
+    }
+}
+
+#[test]
+fn bad_rail_profile_files_are_refused() {
+    let rail = |file: &str| format!("wheel = {{rail_profile = \"{{dir}}/{file}\"}}");
+    let cases: [(&str, &str, &[&str]); 3] = [
+        // y must increase from the gauge side to the field side.
+        (
+            "unsorted.csv",
+            "# units: mm\n-30,-5\n-10,-0.2\n-12,0\n10,-0.2\n30,-5\n",
+            &[
+                "unsorted.csv:4:",
+                "not strictly increasing",
+                "sort the points",
+            ],
+        ),
+        (
+            "railnan.csv",
+            "y_mm,z_mm\n-30,-5\n-10,inf\n0,0\n10,-0.2\n30,-5\n",
+            &["railnan.csv:3:", "not a finite number"],
+        ),
+        // Metre numbers declared as millimetres: a head 0.06 mm wide.
+        (
+            "tiny.csv",
+            "y_mm,z_mm\n-0.03,-0.005\n-0.01,-0.0002\n0,0\n0.01,-0.0002\n0.03,-0.005\n",
+            &["tiny.csv:6:", "check the units"],
+        ),
+    ];
+    for (file, text, expect) in cases {
+        check_train(
+            file.trim_end_matches(".csv"),
+            "wheel = {mu = 0.3}",
+            &rail(file),
+            &[(file, text)],
+            expect,
+        );
+    }
+    check_train(
+        "nofile",
+        "wheel = {mu = 0.3}",
+        "wheel = {rail_profile = \"{dir}/absent.csv\"}",
+        &[],
+        &["absent.csv", "cannot read the profile", "check the path"],
+    );
+}
+
+#[test]
+fn non_physical_track_values_are_refused() {
+    let el = "element_length = 0.6";
+    for (case, to, expect) in [
+        (
+            "gauge0",
+            "element_length = 0.6\ngauge = 0.0",
+            &["[track]", "gauge = 0", "> 0 m"][..],
+        ),
+        (
+            "gaugenan",
+            "element_length = 0.6\ngauge = nan",
+            &["track.gauge", "not a finite number"][..],
+        ),
+        (
+            "ellen",
+            "element_length = -0.6",
+            &["[track]", "element_length = -0.6", "> 0 m"][..],
+        ),
+        (
+            "ctneg",
+            "element_length = 0.6\nct = -200.0",
+            &["[track]", "Ct = -200", "≥ 0 m"][..],
+        ),
+        (
+            "railoff",
+            "element_length = 0.6\nrail_offset = 0.0",
+            &["[track]", "rail_offset", "> 0 m"][..],
+        ),
+        (
+            "trackkey",
+            "element_lenght = 0.6",
+            &[
+                "[track]",
+                "unknown field `element_lenght`",
+                "`element_length`",
+            ][..],
+        ),
+        (
+            "tracktype",
+            "element_length = \"short\"",
+            &["[track]", "invalid type: string \"short\""][..],
+        ),
+    ] {
+        check_train(case, el, to, &[], expect);
+    }
+    check_train(
+        "seglen",
+        "length = 30.0",
+        "length = 0.0",
+        &[],
+        &["[track]", "segment[0] has length 0", "> 0 m"],
+    );
+}
+
+#[test]
+fn non_physical_vehicle_values_are_refused() {
+    let at = "carriages = 1";
+    let over = |t: &str| format!("carriages = 1\ncarriage = {t}");
+    for (case, to, expect) in [
+        (
+            "negmass",
+            over("{car_body = {mass = -5.0}}"),
+            &[
+                "vehicle `train`",
+                "`carriage.car_body.mass` = -5",
+                "positive",
+            ][..],
+        ),
+        // Used to be reported by the generated `mass` element 1002, not by the key.
+        (
+            "negixx",
+            over("{bogie = {ixx = -5.0}}"),
+            &["vehicle `train`", "`carriage.bogie.ixx` = -5", "≥ 0"][..],
+        ),
+        (
+            "negk",
+            over("{primary = {kz = -1.0}}"),
+            &["vehicle `train`", "`carriage.primary.kz` = -1", "≥ 0"][..],
+        ),
+        (
+            "nanc",
+            over("{secondary = {cz = nan}}"),
+            &["vehicle[0].carriage.secondary.cz", "not a finite number"][..],
+        ),
+        // Used to be accepted: no roll stiffness, a body below the rails.
+        (
+            "span0",
+            over("{primary_span = 0.0}"),
+            &["vehicle `train`", "`carriage.primary_span` = 0", "positive"][..],
+        ),
+        (
+            "lowbody",
+            over("{car_body = {height = -1.0}}"),
+            &[
+                "vehicle `train`",
+                "`carriage.car_body.height` = -1",
+                "positive",
+            ][..],
+        ),
+        (
+            "carr0",
+            "carriages = 0".to_string(),
+            &["vehicle `train`", "`carriages` must be at least 1"][..],
+        ),
+        (
+            "vkey",
+            over("{car_bod = {height = 1.0}}"),
+            &["[vehicle][0]", "unknown field `car_bod`", "`car_body`"][..],
+        ),
+    ] {
+        check_train(case, at, &to, &[], expect);
+    }
+    check_train(
+        "nanspeed",
+        "speed = 0.0",
+        "speed = nan",
+        &[],
+        &["vehicle[0].speed", "not a finite number"],
+    );
+    // Used to name no file: the wheel's error at its first step.
+    check_train(
+        "offtrack",
+        "start = 15.0",
+        "start = 500.0",
+        &[],
+        &[
+            "vehicle `train`",
+            "`start` = 500",
+            "rail mesh covers 0.000 to 30.000 m",
+        ],
+    );
+    for (case, to, expect) in [
+        (
+            "mu",
+            "wheel = {mu = -0.3}",
+            &["moving_axle", "`mu` = -0.3", "≥ 0"][..],
+        ),
+        (
+            "wheelkey",
+            "wheel = {muu = 0.3}",
+            &["moving_axle", "unknown key `muu`", "did you mean `mu`?"][..],
+        ),
+        // Used to hang sampling 1e8 points.
+        (
+            "points",
+            "wheel = {wheel_points = 100000000}",
+            &["moving_axle", "`wheel_points` = 100000000", "at most"][..],
+        ),
+        // Used to be accepted with the wheels 4 m from their rails.
+        (
+            "offset",
+            "wheel = {contact_offset = 5.0}",
+            &["moving_axle", "no rail node lies under the wheel profile"][..],
+        ),
+    ] {
+        check_train(case, "wheel = {mu = 0.3}", to, &[], expect);
+    }
+}
+
+/// Element ids are unique across the file; nodes named by elements, recorders, links and
+/// loads must exist, also beside generated vehicle models.
+#[test]
+fn ids_in_a_train_model_are_checked() {
+    let mass = "\n[[node]]\nid = 1\nxyz = [0.0, 0.0, 5.0]\nfix = \"all\"\n[[element]]\ntype = \"mass\"\nid = 5\nnodes = [1]\nm = 1.0\n";
+    check_train(
+        "dupelem",
+        "[track]",
+        &format!(
+            "{mass}{}\n[track]",
+            mass.replace(
+                "[[node]]\nid = 1\nxyz = [0.0, 0.0, 5.0]\nfix = \"all\"\n",
+                ""
+            )
+        ),
+        &[],
+        &[
+            "element[1] (id 5, mass)",
+            "duplicate element id 5",
+            "own id",
+        ],
+    );
+    check_train(
+        "wheelnode",
+        "[track]",
+        "[[element]]\ntype = \"moving_axle\"\nid = 5\nnodes = [999]\nside = \"left\"\n\n[track]",
+        &[],
+        &[
+            "element[0] (id 5, moving_axle)",
+            "node 999 does not exist",
+            "[[node]]",
+        ],
+    );
+    check_train(
+        "recnode",
+        "[track]",
+        "[[recorder]]\ntype = \"node\"\nnode = 999\ndofs = [\"uz\"]\nfile = \"x.csv\"\n\n[track]",
+        &[],
+        &["recorder[0]", "node 999 does not exist"],
+    );
+}
+
+#[test]
+fn bad_plugins_are_refused() {
+    // A missing library, and a file that is not one; the plugin file is named.
+    check_train(
+        "noplugin",
+        "[analysis]",
+        "plugins = [\"absent.so\"]\n[analysis]",
+        &[],
+        &["absent.so", "cannot open the plugin file"],
+    );
+}

@@ -202,7 +202,10 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         let list: Vec<String> = de(p, &format!("{name}: plugins"))?;
         for rel in list {
             let path = base.join(&rel);
-            crate::plugin::load(&path)?;
+            // The plugin's own error names the library; the model file and key say where
+            // it was asked for.
+            crate::plugin::load(&path)
+                .map_err(|e| FemError::input(format!("{name}: plugins"), e.to_string()))?;
             b.plugin(&path.display().to_string());
         }
     }

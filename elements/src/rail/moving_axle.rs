@@ -173,6 +173,9 @@ pub struct MovingAxle {
     last_gap: Vec<Option<(Vector2<f64>, f64)>>,
 }
 
+/// Most points a wheel or rail profile may be sampled with (`wheel_points`, `rail_nodes`).
+pub const MAX_PROFILE_POINTS: usize = 5000;
+
 fn skew(r: &Vector3<f64>) -> Matrix3<f64> {
     // [r]ₓ such that [r]ₓ·θ = r × θ.
     Matrix3::new(0.0, -r.z, r.y, r.z, 0.0, -r.x, -r.y, r.x, 0.0)
@@ -238,6 +241,18 @@ impl Setup {
                 )))
             }
         };
+        // Sampling counts: beyond a few thousand points the profile is no more accurate
+        // (the spline error of 120 points is already below 1e-6 m) and only costs memory.
+        for (key, v) in [
+            ("wheel_points", params.wheel_points),
+            ("rail_nodes", params.rail_nodes),
+        ] {
+            if v > MAX_PROFILE_POINTS {
+                return Err(err(format!(
+                    "`{key}` = {v}; give at most {MAX_PROFILE_POINTS} points"
+                )));
+            }
+        }
         let wheel = match params.wheel_profile.to_ascii_lowercase().as_str() {
             "s1002" => WheelProfile::s1002(params.wheel_points.max(20)),
             path => WheelProfile::from_csv_file(path).map_err(|e| err(e.to_string()))?,
@@ -259,7 +274,13 @@ impl Setup {
         let c_rel_b = Vector2::new(sign * (rail_offset - params.contact_offset), 0.0);
         // Smallest gap of the rail nodes to the unshifted wheel: shift the wheel by it.
         let mut min_gap = f64::INFINITY;
+        let (wheel_lo, wheel_hi) = wheel.spline().lateral_extent();
         for p in &rail_nodes {
+            // Only nodes within the wheel's lateral reach are under it.
+            let y = c_rel_b.x + p.x;
+            if y < wheel_lo || y > wheel_hi {
+                continue;
+            }
             if let Some(c) = rail_node_gap(wheel.spline(), c_rel_b + p) {
                 min_gap = min_gap.min(c.gap);
             }

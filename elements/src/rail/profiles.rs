@@ -119,6 +119,22 @@ pub enum ProfileError {
         /// Line (or point) number of the repeat.
         line: usize,
     },
+    /// The profile read from a file is far wider or narrower than any wheel or rail head
+    /// (S1002 spans 130 mm, 60E1's head 72 mm): almost always millimetres declared as
+    /// metres or the other way round.
+    #[error("{file}:{line}: the profile spans {width} m laterally, outside the {min} m to {max} m of a wheel or rail head; fix: check the units (`# units: mm` or `# units: m`)")]
+    ImplausibleWidth {
+        /// File name.
+        file: String,
+        /// Line number of the last point.
+        line: usize,
+        /// Lateral extent max y − min y (m).
+        width: f64,
+        /// Smallest accepted extent (m).
+        min: f64,
+        /// Largest accepted extent (m).
+        max: f64,
+    },
     /// The polyline through the points crosses or folds back on itself.
     #[error("{file}:{line}: the segment ending here crosses the segment ending at line {other}; fix: list the points in order along the profile, without loops")]
     SelfIntersecting {
@@ -503,6 +519,33 @@ fn segments_intersect(a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>, d: Vect
 // CSV input
 // ---------------------------------------------------------------------------------------
 
+/// Lateral extent accepted for a profile read from a file (m): a wheel or rail head spans
+/// tens of millimetres (60E1 head 72 mm, S1002 130 mm), so 10 mm to 1 m leaves a factor of
+/// seven either side and still catches a unit slip (a factor of 1000).
+pub const CSV_WIDTH_RANGE: (f64, f64) = (0.01, 1.0);
+
+/// Refuses a profile read from `file` whose lateral extent lies outside [`CSV_WIDTH_RANGE`].
+fn check_width(points: &[Vector2<f64>], lines: &[usize], file: &str) -> Result<(), ProfileError> {
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.x), b.max(p.x))
+        });
+    let width = hi - lo;
+    let (min, max) = CSV_WIDTH_RANGE;
+    if (min..=max).contains(&width) {
+        Ok(())
+    } else {
+        Err(ProfileError::ImplausibleWidth {
+            file: file.into(),
+            line: lines.last().copied().unwrap_or(0),
+            width,
+            min,
+            max,
+        })
+    }
+}
+
 /// Length unit of a profile file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Unit {
@@ -796,6 +839,8 @@ impl WheelProfile {
     /// source in errors.
     pub fn from_csv_str(text: &str, file: &str) -> Result<Self, ProfileError> {
         let (points, lines) = read_points_csv(text, file)?;
+        validate_polyline(&points, &lines, file)?;
+        check_width(&points, &lines, file)?;
         Self::from_points_lines(points, lines, file)
     }
 
@@ -989,6 +1034,8 @@ impl RailProfile {
         inclination: Inclination,
     ) -> Result<Self, ProfileError> {
         let (points, lines) = read_points_csv(text, file)?;
+        validate_polyline(&points, &lines, file)?;
+        check_width(&points, &lines, file)?;
         Self::from_nodes_lines(points, &lines, file, inclination)
     }
 
@@ -1315,5 +1362,24 @@ mod tests {
         let e =
             WheelProfile::from_csv_str("# units: m\n0,0\n1,0\n1,0\n2,1\n", "a.csv").unwrap_err();
         assert!(matches!(e, ProfileError::RepeatedPoint { line: 4, .. }));
+        // Millimetres declared as metres: a 60 m wide rail head.
+        let e = RailProfile::from_csv_str(
+            "# units: m\n-30,-5\n-10,-0.2\n0,0\n10,-0.2\n30,-5\n",
+            "r.csv",
+            Inclination::None,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(e, ProfileError::ImplausibleWidth { line: 6, .. }),
+            "{e}"
+        );
+        assert!(e.to_string().contains("check the units"));
+        // Metres declared as millimetres: a 0.13 mm wide wheel.
+        let e = WheelProfile::from_csv_str(
+            "y_mm,z_mm\n-0.07,0.03\n-0.06,0.02\n0,0\n0.06,-0.0005\n",
+            "w.csv",
+        )
+        .unwrap_err();
+        assert!(matches!(e, ProfileError::ImplausibleWidth { .. }), "{e}");
     }
 }

@@ -207,6 +207,83 @@ fn mass_params(b: &BodyData) -> serde_json::Value {
     serde_json::json!({"m": b.mass, "inertia": [b.iyy, b.izz, b.ixx]})
 }
 
+/// Checks a train's numbers before anything is built, so that a bad value is reported
+/// under its own key (`carriage.bogie.ixx`) rather than by the `mass` or `spring_damper`
+/// element generated from it. Returns the message (the caller adds the place).
+fn validate(spec: &TrainSpec, track: &TrackModel) -> Result<(), String> {
+    let c = &spec.carriage;
+    let positive = |v: f64, key: &str| -> Result<(), String> {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            Err(format!("`{key}` = {v}; give a positive finite value"))
+        }
+    };
+    let non_negative = |v: f64, key: &str| -> Result<(), String> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(())
+        } else {
+            Err(format!("`{key}` = {v}; give a finite value ≥ 0"))
+        }
+    };
+    for (body, name) in [
+        (&c.car_body, "car_body"),
+        (&c.bogie, "bogie"),
+        (&c.wheelset, "wheelset"),
+    ] {
+        positive(body.mass, &format!("carriage.{name}.mass"))?;
+        for (v, k) in [(body.ixx, "ixx"), (body.iyy, "iyy"), (body.izz, "izz")] {
+            non_negative(v, &format!("carriage.{name}.{k}"))?;
+        }
+        // Heights are above the rail-top plane: a body at or below it is a sign error.
+        positive(body.height, &format!("carriage.{name}.height"))?;
+    }
+    for (s, name) in [(&c.primary, "primary"), (&c.secondary, "secondary")] {
+        for (v, k) in [
+            (s.kx, "kx"),
+            (s.ky, "ky"),
+            (s.kz, "kz"),
+            (s.cx, "cx"),
+            (s.cy, "cy"),
+            (s.cz, "cz"),
+        ] {
+            non_negative(v, &format!("carriage.{name}.{k}"))?;
+        }
+        positive(s.height, &format!("carriage.{name}.height"))?;
+    }
+    // A zero span puts both springs of a pair on the centre line: no roll stiffness.
+    for (v, k) in [
+        (c.semi_wheelbase, "carriage.semi_wheelbase"),
+        (c.half_bogie_distance, "carriage.half_bogie_distance"),
+        (c.primary_span, "carriage.primary_span"),
+        (c.secondary_span, "carriage.secondary_span"),
+        (c.car_length, "carriage.car_length"),
+    ] {
+        positive(v, k)?;
+    }
+    if spec.carriages == 0 {
+        return Err("`carriages` must be at least 1".into());
+    }
+    if !(spec.speed.is_finite() && spec.start.is_finite() && spec.accel.is_finite()) {
+        return Err("`speed`, `start` and `accel` must be finite".into());
+    }
+    // Every wheelset must start on the rail mesh: the front one at start + d, the rear one
+    // at start − (n − 1)·car_length − d, d = half_bogie_distance + semi_wheelbase.
+    let (Some(&lo), Some(&hi)) = (track.stations.first(), track.stations.last()) else {
+        return Err("the track has no rail mesh".into());
+    };
+    let d = c.half_bogie_distance + c.semi_wheelbase;
+    let front = spec.start + d;
+    let rear = spec.start - (spec.carriages - 1) as f64 * c.car_length - d;
+    if rear < lo || front > hi {
+        return Err(format!(
+            "`start` = {}: the wheelsets span stations {rear:.3} to {front:.3} m but the rail mesh covers {lo:.3} to {hi:.3} m; move `start` or lengthen the track",
+            spec.start
+        ));
+    }
+    Ok(())
+}
+
 /// Builds a train into `b` on `track`: nodes, links, masses, springs, wheels and the
 /// carrier. Returns the ids.
 pub fn build_train(
@@ -216,36 +293,7 @@ pub fn build_train(
 ) -> Result<TrainIds, FemError> {
     let origin = format!("{}: vehicle `{}`", b.origin(), spec.name);
     let c = &spec.carriage;
-    let check = |v: f64, what: &str| -> Result<(), FemError> {
-        if v.is_finite() && v > 0.0 {
-            Ok(())
-        } else {
-            Err(FemError::input(
-                &origin,
-                format!("`{what}` = {v}; give a positive finite value"),
-            ))
-        }
-    };
-    for (v, k) in [
-        (c.car_body.mass, "carriage.car_body.mass"),
-        (c.bogie.mass, "carriage.bogie.mass"),
-        (c.wheelset.mass, "carriage.wheelset.mass"),
-        (c.semi_wheelbase, "carriage.semi_wheelbase"),
-        (c.half_bogie_distance, "carriage.half_bogie_distance"),
-        (c.car_length, "carriage.car_length"),
-        (c.wheelset.height, "carriage.wheelset.height"),
-    ] {
-        check(v, k)?;
-    }
-    if spec.carriages == 0 {
-        return Err(FemError::input(&origin, "`carriages` must be at least 1"));
-    }
-    if !(spec.speed.is_finite() && spec.start.is_finite() && spec.accel.is_finite()) {
-        return Err(FemError::input(
-            &origin,
-            "`speed`, `start` and `accel` must be finite",
-        ));
-    }
+    validate(spec, track).map_err(|m| FemError::input(&origin, m))?;
     let mut next_node = spec.first_node_id.max((b.max_node_id() / 1000 + 1) * 1000);
     let mut next_elem = (b.max_element_id() / 1000 + 1) * 1000;
     let mut carried: Vec<(u64, f64, [f64; 3])> = Vec::new();
