@@ -18,9 +18,9 @@ pub mod bench_train;
 pub mod cli;
 pub mod critical;
 pub mod curve;
-pub mod train_bridge;
-pub mod stress;
 pub mod pareto;
+pub mod stress;
+pub mod train_bridge;
 
 /// Loads a model file, building every element through the registry.
 pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework::FemError> {

@@ -300,12 +300,10 @@ proptest! {
 /// with the closest point at the curve's start knot (t = 0) classified as interior,
 /// although the distance still decreases into the curve there: `(p − c)·τ` is 3.3 mm
 /// instead of 0, and the gap is measured along the wrong normal. A closest point must be a
-/// stationary point of the distance; 1e-9 m is far above the Newton tolerance. Ignored
-/// until `closest_point_near` looks for a minimum inside an interval whose end values of
-/// `(c − p)·c'` do not bracket one (see the report in docs/fuzzing.md); run with
-/// `cargo test --release --test contact_properties -- --ignored`.
+/// stationary point of the distance; 1e-9 m is far above the Newton tolerance.
+/// `closest_point_near` now searches inside a window segment into which the distance still
+/// falls from the best knot.
 #[test]
-#[ignore = "known failure found by fuzzing: closest point at a non-stationary start knot"]
 fn closest_point_is_stationary_on_a_coarse_wheel() {
     use nalgebra::Vector2;
     use railfem::elements::rail::contact_geometry::rail_node_gap;

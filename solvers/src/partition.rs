@@ -499,7 +499,10 @@ impl Partitioned {
         let same = self.top_cache.as_ref().is_some_and(|c| {
             c.matrix.n == nt_top
                 && c.layout.len() == trip.len()
-                && c.layout.iter().zip(&trip).all(|(&(i, j), t)| i == t.0 as u32 && j == t.1 as u32)
+                && c.layout
+                    .iter()
+                    .zip(&trip)
+                    .all(|(&(i, j), t)| i == t.0 as u32 && j == t.1 as u32)
         });
         if !same {
             let m = CscMatrix::from_triplets(nt_top, &trip);

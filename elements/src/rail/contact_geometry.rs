@@ -195,8 +195,42 @@ pub fn closest_point_near(
                 consider(t, &mut best);
             }
         }
-        let t = best.1;
-        let (f, _) = stationarity(curve, p, t);
+        let mut t = best.1;
+        let (mut f, _) = stationarity(curve, p, t);
+        // A knot at which the distance still falls into a segment of the window: that
+        // segment holds a lower point its end values did not bracket (a coarse, wiggly
+        // spline: f goes −, +, − across it). Find the first sign change from the knot's side
+        // on a fine subdivision and refine it.
+        if let Some(k) = (first..=last + 1).find(|&k| knots[k] == t) {
+            let inward = if f < 0.0 && k <= last {
+                Some((knots[k], knots[k + 1]))
+            } else if f > 0.0 && k > first {
+                Some((knots[k], knots[k - 1]))
+            } else {
+                None
+            };
+            if let Some((from, to)) = inward {
+                const PARTS: usize = 16;
+                let mut prev = (from, f);
+                for j in 1..=PARTS {
+                    let s = from + (to - from) * j as f64 / PARTS as f64;
+                    let fs = stationarity(curve, p, s).0;
+                    // Forward (f < 0 at the knot): a minimum where f turns positive;
+                    // backward (f > 0): where f, walking back, turns negative.
+                    let turned = if f < 0.0 { fs >= 0.0 } else { fs <= 0.0 };
+                    if turned {
+                        let (lo, hi) = if from < to { (prev.0, s) } else { (s, prev.0) };
+                        let (tm, it) = newton_in_bracket(curve, p, lo, hi, 0.5 * (lo + hi));
+                        iterations += it;
+                        consider(tm, &mut best);
+                        break;
+                    }
+                    prev = (s, fs);
+                }
+                t = best.1;
+                f = stationarity(curve, p, t).0;
+            }
+        }
         // Grow the window if the best is its edge knot and the distance falls outwards.
         if t == knots[first] && first > 0 && f > 0.0 {
             first -= 1;
