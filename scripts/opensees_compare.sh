@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Side-by-side run of railfem and OpenSeesPy on the linear moving-load multi-span beam of
-# `railfem bench` (see docs/perf-comparison.md).
+# `railfem bench` (see docs/performance.md, "Against OpenSees").
 #
 # Creates a venv in target/opensees-venv with openseespy and numpy (pip, PyPI), builds
 # railfem (release), exports each size with `railfem bench --export` (railfem's own timing
