@@ -46,8 +46,8 @@ USAGE:
                                                      113 spans of 29.75 m): wheels.csv,
                                                      midspan.csv, summary.csv (default
                                                      out/train_bridge)
-  railfem stress [--case all|sdof|beam|penalty|speed|drop|stick-slip] [--scheme S]
-                [--omega-dt W] [--penalty K] [--speed V] [--height H] [--overshoot F]
+  railfem stress [--case all|sdof|beam|penalty|speed|drop|stick-slip|dip] [--scheme S]
+                [--omega-dt W] [--penalty K] [--speed V] [--height H] [--depth D] [--overshoot F]
                 [--steps N] [--duration T] [--dt DT] [--out DIR]
                                                      the numerical stress suite: one table row
                                                      per case (docs/stability.md)

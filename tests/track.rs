@@ -435,6 +435,7 @@ fn rail_on_supports(load_index: usize) -> (Vec<f64>, Vec<f64>) {
             c: [0.0; 6],
         },
         window: None,
+        dips: Vec::new(),
     };
     let tm = track_model::generate(&mut b, track, &mesh).unwrap();
     let first = tm.rails[0].first_id;

@@ -490,7 +490,9 @@ impl MovingAxle {
         let w = self.frame;
         let xb = kin[self.b].position;
         self.r_bk = w.transpose() * (xb - kk.position);
-        let xc = self.track.rail_position(self.setup.rail, s);
+        // A dipped joint lowers the rail top under the wheel (a prescribed irregularity).
+        let xc = self.track.rail_position(self.setup.rail, s)
+            + w.column(1) * self.track.rail_top_height(s);
         self.r_cb = w.transpose() * (xc - xb);
         let (ni, nj) = (self.rail_node(e), self.rail_node(e + 1));
         if !self.track.rigid {
@@ -929,6 +931,7 @@ fn sample_scene() -> (Arc<TrackModel>, Vec<NodeKinematics>, f64) {
         rigid: false,
         slab: None,
         bridge: None,
+        dips: Vec::new(),
     });
     let s = 2.45;
     let p = track.at(s);

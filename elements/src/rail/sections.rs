@@ -21,7 +21,7 @@
 
 use super::alignment::SegmentSpec;
 use super::cant::TrackSpec;
-use super::track_model::{generate, RailSection, RailSupport, TrackMesh, TrackModel};
+use super::track_model::{generate, JointDip, RailSection, RailSupport, TrackMesh, TrackModel};
 use super::vehicle::{build_train, CarriageData, TrainSpec};
 use railfem_framework::error::FemError;
 use railfem_framework::model::ModelBuilder;
@@ -50,6 +50,8 @@ struct TrackSection {
     support: Option<RailSupport>,
     #[serde(default)]
     window: Option<[f64; 2]>,
+    #[serde(default)]
+    dips: Vec<JointDip>,
 }
 
 fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemError> {
@@ -71,6 +73,7 @@ fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemE
         rail: t.rail.unwrap_or(d.rail),
         support: t.support.unwrap_or(d.support),
         window: t.window,
+        dips: t.dips,
     };
     generate(b, Arc::new(track), &mesh)?;
     Ok(())
