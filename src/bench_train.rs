@@ -317,7 +317,63 @@ fn write(rows: &[PhaseRow], out: &Path) -> Result<(), FemError> {
             r.blocks_per_step, r.top, r.peak_mib
         ));
     }
-    std::fs::write(&p, md).map_err(|e| FemError::output(&p, e))
+    std::fs::write(&p, md).map_err(|e| FemError::output(&p, e))?;
+    if rows.len() >= 2 {
+        plot(rows, &out.join("phases.svg"))?;
+    }
+    Ok(())
+}
+
+/// `phases.svg`: log₁₀ of the time per iteration (total and by phase) against log₁₀ DOF,
+/// with the slope-1 line through the smallest size for reference.
+fn plot(rows: &[PhaseRow], path: &Path) -> Result<(), FemError> {
+    use crate::framework::plot::{Figure, Panel, Series, Style};
+    let x: Vec<f64> = rows.iter().map(|r| (r.dofs as f64).log10()).collect();
+    let ms = |v: f64| (1e3 * v).max(1e-3).log10();
+    let mut p = Panel::new(
+        "train–bridge: time per Newton iteration",
+        "log10 equations",
+        "log10 ms per iteration",
+    )
+    .with(Series::new(
+        "median total",
+        x.clone(),
+        rows.iter().map(|r| ms(r.median_iteration)).collect(),
+        Style::Line,
+        "#000000",
+    ));
+    let colors = [
+        "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
+    ];
+    let shown: [(usize, &str); 6] = [
+        (2, "assembly"),
+        (4, "top"),
+        (5, "solve"),
+        (7, "other"),
+        (1, "elements"),
+        (3, "blocks"),
+    ];
+    for ((k, name), color) in shown.into_iter().zip(colors) {
+        p = p.with(Series::new(
+            name,
+            x.clone(),
+            rows.iter().map(|r| ms(r.phases[k])).collect(),
+            Style::Markers,
+            color,
+        ));
+    }
+    let y0 = ms(rows[0].median_iteration);
+    p = p.with(Series::new(
+        "∝ DOF (slope 1)",
+        x.clone(),
+        x.iter().map(|xi| y0 + (xi - x[0])).collect(),
+        Style::Dashed,
+        "#7f7f7f",
+    ));
+    Figure::new()
+        .with(p)
+        .write_svg(path)
+        .map_err(|e| FemError::output(path, e))
 }
 
 #[cfg(test)]
