@@ -84,19 +84,6 @@ fn median(v: &mut [f64]) -> f64 {
     }
 }
 
-/// Peak resident memory of this process (MiB), from `/proc/self/status`.
-pub fn peak_mib() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1))
-                .and_then(|v| v.parse::<f64>().ok())
-        })
-        .map_or(f64::NAN, |kb| kb / 1024.0)
-}
-
 /// Builds and times one case.
 pub fn measure(case: &TrainBridgeCase, steps: usize) -> Result<PhaseRow, FemError> {
     let t0 = Instant::now();
@@ -165,7 +152,7 @@ pub fn measure(case: &TrainBridgeCase, steps: usize) -> Result<PhaseRow, FemErro
         refactorizations: p1.block_factorizations - p0.block_factorizations,
         blocks: p1.blocks,
         top: p1.top_equations,
-        peak_mib: peak_mib(),
+        peak_mib: crate::bench::peak_memory_mib().unwrap_or(f64::NAN),
     })
 }
 
@@ -212,7 +199,7 @@ pub fn run(
     let mut rows = Vec::new();
     println!(
         "train-bridge benchmark: {cars} carriage(s), Δt = {dt} s, {steps} steps per size, {} threads",
-        std::thread::available_parallelism().map_or(1, |n| n.get())
+        crate::framework::parallel::threads(0)
     );
     for &n in sizes {
         let case = case_for(n, cars, dt);

@@ -197,7 +197,7 @@ impl Assembler {
             const_symmetric: true,
             m_var_used: true,
             c_var_used: true,
-            threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            threads: crate::parallel::threads(0),
         };
         a.off_pattern = match model.analysis.solver {
             crate::model::SolverChoice::Direct => false,
@@ -720,20 +720,8 @@ impl Assembler {
             self.m_const.mul_vec(a_w, inertia);
             self.c_const.mul_vec(v_w, damping);
         }
-        if self.m_var_used {
-            self.m_var.mul_vec_add(1.0, a_w, inertia);
-        }
-        if self.c_var_used {
-            self.c_var.mul_vec_add(1.0, v_w, damping);
-        }
-        for off in &self.off {
-            if let Some(m) = &off.m {
-                off_pattern_times(off, m, a_w, inertia);
-            }
-            if let Some(c) = &off.c {
-                off_pattern_times(off, c, v_w, damping);
-            }
-        }
+        self.add_variable_mass(a_w, inertia);
+        self.add_variable_damping(v_w, damping);
         self.times.products += t0.elapsed().as_secs_f64();
         self.update_variable(model, q, v, a, t, dt, f_int, form_tangent)
     }
@@ -753,23 +741,6 @@ impl Assembler {
         form_tangent: bool,
     ) -> Result<(), FemError> {
         let t0 = std::time::Instant::now();
-        let r = self.update_variable_inner(model, q, v, a, t, dt, f_int, form_tangent);
-        self.times.elements += t0.elapsed().as_secs_f64();
-        r
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn update_variable_inner(
-        &mut self,
-        model: &mut Model,
-        q: &[f64],
-        v: &[f64],
-        a: &[f64],
-        t: f64,
-        dt: f64,
-        f_int: &mut [f64],
-        form_tangent: bool,
-    ) -> Result<(), FemError> {
         if form_tangent && !self.off_pattern {
             self.k_var.values.iter_mut().for_each(|x| *x = 0.0);
         }
@@ -824,26 +795,7 @@ impl Assembler {
             .filter(|(ei, _)| slots.get(*ei).is_some_and(|&s| s != u32::MAX))
             .collect();
         let nt = if entries.len() >= 16 { self.threads } else { 1 };
-        let results: Vec<Result<Evaluated, FemError>> = if nt <= 1 {
-            entries.iter_mut().map(|(ei, e)| eval(*ei, e)).collect()
-        } else {
-            let chunk = entries.len().div_ceil(nt);
-            std::thread::scope(|sc| {
-                let handles: Vec<_> = entries
-                    .chunks_mut(chunk)
-                    .map(|c| {
-                        let eval = &eval;
-                        sc.spawn(move || {
-                            c.iter_mut().map(|(ei, e)| eval(*ei, e)).collect::<Vec<_>>()
-                        })
-                    })
-                    .collect();
-                handles
-                    .into_iter()
-                    .flat_map(|h| h.join().expect("element worker panicked"))
-                    .collect()
-            })
-        };
+        let results = crate::parallel::map_mut(&mut entries, nt, |(ei, e)| eval(*ei, e));
         drop(entries);
         self.stats.element_updates += results.len();
         for (slot, r) in results.into_iter().enumerate() {
@@ -860,6 +812,7 @@ impl Assembler {
                 }
             }
         }
+        self.times.elements += t0.elapsed().as_secs_f64();
         Ok(())
     }
 
@@ -870,12 +823,29 @@ impl Assembler {
         } else {
             self.m_const.mul_vec(x, out);
         }
+        self.add_variable_mass(x, out);
+    }
+
+    /// `out += M_var·x`: masses re-formed each step, on the pattern or off it.
+    fn add_variable_mass(&self, x: &[f64], out: &mut [f64]) {
         if self.m_var_used {
             self.m_var.mul_vec_add(1.0, x, out);
         }
         for off in &self.off {
             if let Some(m) = &off.m {
                 off_pattern_times(off, m, x, out);
+            }
+        }
+    }
+
+    /// `out += C_var·x`: damping of variable elements, on the pattern or off it.
+    fn add_variable_damping(&self, x: &[f64], out: &mut [f64]) {
+        if self.c_var_used {
+            self.c_var.mul_vec_add(1.0, x, out);
+        }
+        for off in &self.off {
+            if let Some(c) = &off.c {
+                off_pattern_times(off, c, x, out);
             }
         }
     }
@@ -891,14 +861,7 @@ impl Assembler {
         } else {
             self.c_const.mul_vec_add(1.0, x, out);
         }
-        if self.c_var_used {
-            self.c_var.mul_vec_add(1.0, x, out);
-        }
-        for off in &self.off {
-            if let Some(c) = &off.c {
-                off_pattern_times(off, c, x, out);
-            }
-        }
+        self.add_variable_damping(x, out);
     }
 
     /// Off-pattern mode: the variable elements' effective matrices

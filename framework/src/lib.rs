@@ -23,6 +23,7 @@ pub mod loads;
 pub mod model;
 pub mod modelfile;
 pub mod moving;
+pub mod parallel;
 pub mod plot;
 pub mod plugin;
 pub mod recorder;

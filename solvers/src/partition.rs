@@ -40,6 +40,7 @@
 
 use crate::dense::DenseLu;
 use crate::linear::{solver_for, LinearSolver, SolverError, SparseCholesky};
+use railfem_framework::parallel::{map_mut as par_each, threads};
 use railfem_framework::sparse::CscMatrix;
 use std::time::Instant;
 
@@ -162,39 +163,6 @@ pub struct Partitioned {
     /// The last top system and how its triplets map onto it.
     top_cache: Option<TopCache>,
     stats: PartitionStats,
-}
-
-fn threads(opt: usize) -> usize {
-    if opt > 0 {
-        opt
-    } else {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    }
-}
-
-/// Runs `f` over `items` on up to `nt` threads, in contiguous chunks.
-fn par_each<T: Send, R: Send>(
-    items: &mut [T],
-    nt: usize,
-    f: impl Fn(&mut T) -> R + Sync,
-) -> Vec<R> {
-    if nt <= 1 || items.len() <= 1 {
-        return items.iter_mut().map(f).collect();
-    }
-    let chunk = items.len().div_ceil(nt);
-    std::thread::scope(|s| {
-        let handles: Vec<_> = items
-            .chunks_mut(chunk)
-            .map(|c| {
-                let f = &f;
-                s.spawn(move || c.iter_mut().map(f).collect::<Vec<R>>())
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().expect("block worker panicked"))
-            .collect()
-    })
 }
 
 impl Partitioned {
