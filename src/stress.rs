@@ -109,17 +109,11 @@ pub fn amplification(ig: &Integrator, omega_dt: f64) -> Matrix3<f64> {
     l.try_inverse().unwrap_or_else(Matrix3::zeros) * r
 }
 
-/// Free vibration of a mass `m = 1 kg` on a spring `k = 1e6 N/m` (ω = 1000 rad/s) from
-/// `u₀ = 1 mm`, `steps` steps of `Δt = omega_dt/ω`. Reference: the spring force `k·u_n`
-/// of the discrete solution `Aⁿ·x₀` (amplification matrix), relative to `k·u₀`. Also
-/// reports in `reference` the largest `(T + U)/E₀`: 1 for Newmark's average acceleration;
-/// HHT-α and generalized-α exceed it in their first steps when ω·Δt ≫ 1 (velocity
-/// overshoot, see docs/stability.md) before their spectral radius < 1 removes it.
-pub fn sdof(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow, FemError> {
+/// A mass `m` on a grounded spring `k` and dashpot `c` along ux (built-in `mass` and
+/// `spring_damper`; every other DOF fixed), run with `analysis`.
+pub fn sdof_driver(k: f64, m: f64, c: f64, analysis: AnalysisSpec) -> Result<Driver, FemError> {
     crate::elements::link();
-    let (k, m, u0): (f64, f64, f64) = (1.0e6, 1.0, 1e-3);
-    let dt = omega_dt / (k / m).sqrt();
-    let mut b = ModelBuilder::new("stress sdof");
+    let mut b = ModelBuilder::new("sdof");
     b.node_fixed(
         1,
         [0.0; 3],
@@ -135,12 +129,25 @@ pub fn sdof(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow,
         "spring_damper",
         2,
         &[1],
-        &serde_json::json!({"k": [k, 0.0, 0.0, 0.0, 0.0, 0.0]}),
+        &serde_json::json!({"k": [k, 0.0, 0.0, 0.0, 0.0, 0.0], "c": [c, 0.0, 0.0, 0.0, 0.0, 0.0]}),
     );
+    b.analysis(analysis);
+    Driver::new(b.build()?)
+}
+
+/// Free vibration of a mass `m = 1 kg` on a spring `k = 1e6 N/m` (ω = 1000 rad/s) from
+/// `u₀ = 1 mm`, `steps` steps of `Δt = omega_dt/ω`. Reference: the spring force `k·u_n`
+/// of the discrete solution `Aⁿ·x₀` (amplification matrix), relative to `k·u₀`. Also
+/// reports in `reference` the largest `(T + U)/E₀`: 1 for Newmark's average acceleration;
+/// HHT-α and generalized-α exceed it in their first steps when ω·Δt ≫ 1 (velocity
+/// overshoot, see docs/stability.md) before their spectral radius < 1 removes it.
+pub fn sdof(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow, FemError> {
+    crate::elements::link();
+    let (k, m, u0): (f64, f64, f64) = (1.0e6, 1.0, 1e-3);
+    let dt = omega_dt / (k / m).sqrt();
     let an = analysis(scheme_name, dt)?;
     let ig = integrator_of(&an);
-    b.analysis(an);
-    let mut d = Driver::new(b.build()?)?;
+    let mut d = sdof_driver(k, m, 0.0, an)?;
     d.state.q[0] = u0;
     d.initialize()?;
     let case = format!("SDOF ω·Δt = {omega_dt:e}, {scheme_name}");

@@ -19,34 +19,15 @@ use std::sync::Mutex;
 
 /// A mass `m` on a grounded spring `k` and dashpot `c` along ux (built-in elements).
 fn sdof(k: f64, m: f64, c: f64, dt: f64, kind: IntegratorKind, alpha: f64, rho: f64) -> Driver {
-    railfem::elements::link();
-    let mut b = ModelBuilder::new("energy sdof");
-    b.node_fixed(
-        1,
-        [0.0; 3],
-        DofSet::of(&[Dof::Uy, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]),
-    );
-    b.element(
-        "mass",
-        1,
-        &[1],
-        &serde_json::json!({"m": m, "inertia": [1.0, 1.0, 1.0]}),
-    );
-    b.element(
-        "spring_damper",
-        2,
-        &[1],
-        &serde_json::json!({"k": [k, 0.0, 0.0, 0.0, 0.0, 0.0], "c": [c, 0.0, 0.0, 0.0, 0.0, 0.0]}),
-    );
-    b.analysis(AnalysisSpec {
+    let analysis = AnalysisSpec {
         dt,
         integrator: kind,
         alpha,
         rho_inf: rho,
         initial_static: false,
         ..Default::default()
-    });
-    Driver::new(b.build().unwrap()).unwrap()
+    };
+    stress::sdof_driver(k, m, c, analysis).unwrap()
 }
 
 /// Undamped linear SDOF, Newmark's average acceleration, ω·Δt from 0.01 to 1000: the
