@@ -485,6 +485,7 @@ impl Element for Beam3d {
             connectivity_may_change: false,
             objective: true,
             declared_mass: has_mass.then_some(self.params.rho * self.params.A * self.length),
+            finite_rotations: false,
         }
     }
 

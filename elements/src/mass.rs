@@ -127,6 +127,7 @@ impl Element for Mass {
             connectivity_may_change: false,
             objective: true,
             declared_mass: Some(self.params.m),
+            finite_rotations: false,
         }
     }
 

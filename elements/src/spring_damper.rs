@@ -228,6 +228,7 @@ impl Element for SpringDamper {
             connectivity_may_change: false,
             objective: self.coincident,
             declared_mass: None,
+            finite_rotations: false,
         }
     }
 

@@ -75,6 +75,11 @@ pub struct ElementProperties {
     /// The translational mass the element represents (kg), if it has one; the conformance
     /// kit checks the mass matrix against it.
     pub declared_mass: Option<f64>,
+    /// The element reads the rotational DOFs of its nodes as finite rotations: total rotation
+    /// vectors whose increments the driver composes, with force and tangent conjugate to the
+    /// spatial spin (see [`crate::rotation`]). Nodes of such elements are finite-rotation
+    /// nodes for every element attached to them.
+    pub finite_rotations: bool,
 }
 
 impl Default for ElementProperties {
@@ -90,6 +95,7 @@ impl Default for ElementProperties {
             connectivity_may_change: false,
             objective: true,
             declared_mass: None,
+            finite_rotations: false,
         }
     }
 }

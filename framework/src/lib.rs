@@ -3,7 +3,7 @@
 //! What lives here: DOFs and the model ([`dof`], [`model`]), the element contract
 //! ([`element`]), the registry, plugins and conformance kit ([`registry`], [`plugin`],
 //! [`conformance`]), equation numbering
-//! with constraints ([`dofmap`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
+//! with constraints ([`dofmap`]), finite rotations ([`rotation`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
 //! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]) and
 //! recorders ([`recorder`]). What does not: concrete elements (railfem-elements) and
 //! solvers (railfem-solvers).
@@ -28,6 +28,7 @@ pub mod plot;
 pub mod plugin;
 pub mod recorder;
 pub mod registry;
+pub mod rotation;
 pub mod sparse;
 pub mod vtk;
 
