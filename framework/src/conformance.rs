@@ -45,6 +45,11 @@ pub const LIMIT_SYMMETRY: f64 = 1e-10;
 pub const LIMIT_RIGID: f64 = 1e-6;
 /// Rotation angle of the rigid-rotation check (rad).
 pub const RIGID_THETA: f64 = 1e-8;
+/// Angle of the finite rigid rotation applied to elements that declare finite rotations
+/// (rad), about the skew axis (1, −2, 0.5).
+pub const FINITE_RIGID_ANGLE: f64 = 1.0;
+/// Translation applied with it (m): large against any sample element.
+pub const FINITE_RIGID_SHIFT: [f64; 3] = [40.0, -25.0, 12.0];
 /// Mass matrix: asymmetry, negative eigenvalues and the error of the translational total
 /// against `declared_mass`, all relative (round-off of sums of a few entries).
 pub const LIMIT_MASS: f64 = 1e-12;
@@ -505,26 +510,81 @@ fn pattern(n: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Start indices (in element order) of the rotation triples an element that declares
+/// finite rotations reads as rotation vectors: nodes where it uses rx, ry and rz. Empty for
+/// every other element (its rotations are additive).
+fn rotation_slots(e: &dyn Element) -> Vec<usize> {
+    if !e.properties().finite_rotations {
+        return Vec::new();
+    }
+    let mut slots = Vec::new();
+    let mut k = 0;
+    for nd in e.connectivity() {
+        let rot = crate::dof::DofSet::ROTATIONS;
+        if nd.dofs.bits() & rot.bits() == rot.bits() {
+            let before = nd.dofs.iter().take_while(|d| d.index() < 3).count();
+            slots.push(k + before);
+        }
+        k += nd.dofs.count();
+    }
+    slots
+}
+
+/// `u` with entry `j` moved by `h`: added, or, inside a rotation triple of `slots`, the spin
+/// `h·e` composed onto the rotation vector (the driver's update, [`crate::rotation`]).
+fn perturbed(u: &[f64], j: usize, h: f64, slots: &[usize]) -> Vec<f64> {
+    let mut d = vec![0.0; u.len()];
+    d[j] = h;
+    corrected(u, &d, slots)
+}
+
+/// `u ⊕ d`: the sum, with composition on the rotation triples at `slots`.
+fn corrected(u: &[f64], d: &[f64], slots: &[usize]) -> Vec<f64> {
+    let mut out: Vec<f64> = u.iter().zip(d).map(|(a, b)| a + b).collect();
+    for &k in slots {
+        let psi = Vector3::new(u[k], u[k + 1], u[k + 2]);
+        let c = crate::rotation::compose(&psi, &Vector3::new(d[k], d[k + 1], d[k + 2]));
+        out[k..k + 3].copy_from_slice(c.as_slice());
+    }
+    out
+}
+
+/// The increment from `a` to `b`: the difference, with the incremental rotation vector
+/// `log(R_b·R_aᵀ)` on the rotation triples at `slots`.
+fn increment(a: &[f64], b: &[f64], slots: &[usize]) -> Vec<f64> {
+    let mut out: Vec<f64> = b.iter().zip(a).map(|(x, y)| x - y).collect();
+    for &k in slots {
+        let th = crate::rotation::increment(
+            &Vector3::new(a[k], a[k + 1], a[k + 2]),
+            &Vector3::new(b[k], b[k + 1], b[k + 2]),
+        );
+        out[k..k + 3].copy_from_slice(th.as_slice());
+    }
+    out
+}
+
 /// Check 1: tangent against central differences of the resisting force, reverting to the
-/// committed state between perturbations.
+/// committed state between perturbations. For an element declaring finite rotations the
+/// rotational perturbation is a spin composed onto the nodal rotation, as the driver does,
+/// so the tangent is checked as conjugate to the spatial spin (also at the strongly rotated
+/// sample states such elements provide).
 fn check_tangent(cx: &Cx) -> Result<Measured, String> {
     let mut s = cx.prepared()?;
     let e = &mut *s.element;
     let k = tangent(e);
     let n = e.ndof();
     let mut kfd = DMatrix::zeros(n, n);
-    let mut u = s.disp.clone();
+    let slots = rotation_slots(e);
     for j in 0..n {
         let h = s.fd_step * s.disp[j].abs().max(1e-3);
-        u[j] = s.disp[j] + h;
+        let u = perturbed(&s.disp, j, h, &slots);
         e.revert();
         trial(e, &u, &s.vel, &vec![0.0; n])?;
         let fp = force(e);
-        u[j] = s.disp[j] - h;
+        let u = perturbed(&s.disp, j, -h, &slots);
         e.revert();
         trial(e, &u, &s.vel, &vec![0.0; n])?;
         let fm = force(e);
-        u[j] = s.disp[j];
         for i in 0..n {
             kfd[(i, j)] = (fp[i] - fm[i]) / (2.0 * h);
         }
@@ -670,10 +730,98 @@ fn check_rigid(cx: &Cx) -> Result<Measured, String> {
             note = format!("rotation about axis {a}");
         }
     }
+    if fresh.element.properties().finite_rotations {
+        let (err, what) = finite_rigid_motion(&mut *fresh.element, &fresh.nodes, &s.disp, x0)?;
+        // Round-off of an objective element under a finite motion: the forces are rotated
+        // exactly, so the error is ε·|x|·max|K| relative; compared with the same scale as
+        // the infinitesimal checks.
+        let err = err / (kmax * c).max(f64::MIN_POSITIVE);
+        if err > worst {
+            worst = err;
+            note = what;
+        }
+    }
     if worst <= LIMIT_RIGID {
         note.clear();
     }
     Ok(Measured::against(worst, LIMIT_RIGID, note))
+}
+
+/// The finite rigid motion of the large-rotation check: a rotation by
+/// [`FINITE_RIGID_ANGLE`] about the skew axis (1, −2, 0.5) about `x0`, then a translation
+/// [`FINITE_RIGID_SHIFT`].
+fn finite_rigid_rotation() -> (Matrix3<f64>, Vector3<f64>) {
+    let axis = Vector3::new(1.0, -2.0, 0.5).normalize();
+    (
+        crate::rotation::exp(&(axis * FINITE_RIGID_ANGLE)),
+        Vector3::from(FINITE_RIGID_SHIFT),
+    )
+}
+
+/// For an element declaring finite rotations on global-axis nodes: the largest change of
+/// its force, beyond the rotation `Q` of the force itself, when the reference state and the
+/// sample state are moved as a rigid body by [`finite_rigid_rotation`]: positions
+/// `x ↦ Q·(x − x0) + x0 + t`, triads `R ↦ Q·R`. Objective elements give `f' = Q·f` (forces
+/// and moments both turn with the body). Returns the absolute error and which state.
+fn finite_rigid_motion(
+    e: &mut dyn Element,
+    nodes: &[NodeKinematics],
+    disp: &[f64],
+    x0: Vector3<f64>,
+) -> Result<(f64, String), String> {
+    let (q, t) = finite_rigid_rotation();
+    let slots = rotation_slots(e);
+    // Element-order start of each node's translations (nodes using all three).
+    let mut trans = Vec::new();
+    let mut k = 0;
+    for nd in e.connectivity() {
+        let node = nodes
+            .get(nd.node)
+            .ok_or("the sample has fewer nodes than the element uses")?;
+        if node.frame != Matrix3::identity() {
+            return Err("the finite rigid-motion check needs nodes with the global axes".into());
+        }
+        if nd.dofs.bits() & 0b111 == 0b111 {
+            trans.push((k, node.position));
+        }
+        k += nd.dofs.count();
+    }
+    let n = e.ndof();
+    let z = vec![0.0; n];
+    let mut worst = (0.0f64, String::new());
+    for (name, base) in [("reference", z.clone()), ("sample state", disp.to_vec())] {
+        e.revert();
+        trial(e, &base, &z, &z)?;
+        let f0 = force(e);
+        let mut moved = base.clone();
+        for &(k, x) in &trans {
+            let cur = x + Vector3::new(base[k], base[k + 1], base[k + 2]);
+            let new = q * (cur - x0) + x0 + t;
+            moved[k..k + 3].copy_from_slice((new - x).as_slice());
+        }
+        for &k in &slots {
+            let r = crate::rotation::exp(&Vector3::new(base[k], base[k + 1], base[k + 2]));
+            moved[k..k + 3].copy_from_slice(crate::rotation::log(&(q * r)).as_slice());
+        }
+        e.revert();
+        trial(e, &moved, &z, &z)?;
+        let f1 = force(e);
+        // Expected: every translational and rotational triple of f0 turned by Q.
+        let mut want = f0.clone();
+        for &k in trans.iter().map(|(k, _)| k).chain(slots.iter()) {
+            let v = q * Vector3::new(f0[k], f0[k + 1], f0[k + 2]);
+            want[k..k + 3].copy_from_slice(v.as_slice());
+        }
+        let err = max_diff(&f1, &want);
+        if err > worst.0 {
+            worst = (
+                err,
+                format!("finite rigid motion ({FINITE_RIGID_ANGLE} rad about a skew axis) of the {name}"),
+            );
+        }
+    }
+    e.revert();
+    Ok(worst)
 }
 
 /// Check 4: the mass matrix is symmetric positive semi-definite and its translational total
@@ -924,6 +1072,10 @@ fn check_energy(cx: &Cx) -> Result<Measured, String> {
     let props = s.element.properties();
     let e = &mut *s.element;
     e.commit();
+    // Finite rotations: the step's rotational increment is the incremental rotation
+    // vector and corrections are composed (the driver's scheme); the balance identity below
+    // holds with that increment exactly.
+    let slots = rotation_slots(e);
     let me = mass(e);
     let m_add = if props.has_mass {
         max_abs(me.as_slice()).max(f64::MIN_POSITIVE)
@@ -962,11 +1114,15 @@ fn check_energy(cx: &Cx) -> Result<Measured, String> {
     let mut worst_step = 0;
     for step in 1..=ENERGY_STEPS {
         let (u0, v0, a0) = (u.clone(), v.clone(), a.clone());
-        let mut un = &u0 + &v0 * dt;
+        let mut un = DVector::from_vec(corrected(
+            u0.as_slice(),
+            (&v0 * dt).as_slice(),
+            &slots,
+        ));
         let mut converged = false;
         let mut negligible = false;
         for _ in 0..50 {
-            let du = &un - &u0;
+            let du = DVector::from_vec(increment(u0.as_slice(), un.as_slice(), &slots));
             let vn = &du * (2.0 / dt) - &v0;
             let an = &du * (4.0 / (dt * dt)) - &v0 * (4.0 / dt) - &a0;
             trial(e, un.as_slice(), vn.as_slice(), an.as_slice())?;
@@ -996,7 +1152,7 @@ fn check_energy(cx: &Cx) -> Result<Measured, String> {
                 .solve(&(-r))
                 .ok_or_else(|| format!("singular effective stiffness at step {step}"))?;
             negligible = delta.amax() <= 1e-13 * un.amax().max(c);
-            un += delta;
+            un = DVector::from_vec(corrected(un.as_slice(), delta.as_slice(), &slots));
         }
         if !converged {
             return Err(format!(

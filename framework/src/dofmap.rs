@@ -9,11 +9,23 @@
 //! Rigid links are eliminated by transformation: `u_s = u_m + θ_m × r`, `θ_s = θ_m`, with
 //! `r` the offset from master to slave in the nodes' axes (a slave shares its master's
 //! frame). A master that is itself a slave is resolved recursively; a cycle is an error.
+//!
+//! **Finite-rotation nodes.** A node is one when an attached element declares
+//! [`crate::ElementProperties::finite_rotations`] or someone asked for it
+//! ([`Model::mark_finite_rotation`]); a slave that is one makes its master one too. Its
+//! rotational entries hold the total rotation vector ψ ([`crate::rotation`]) and the map
+//! lists the equation triples `(rx, ry, rz)` the solvers must update by composition
+//! ([`DofMap::add_correction`], [`DofMap::increment`]). Composition mixes the three
+//! components, so such a node must have all three rotations free, all three fixed (or
+//! unused, or following a master), or exactly one free (rotation about one fixed nodal
+//! axis, where composition is addition); two free and one fixed is refused.
 
 use crate::dof::DofSet;
 use crate::element::NodeKinematics;
 use crate::error::FemError;
 use crate::model::Model;
+use crate::rotation;
+use nalgebra::Vector3;
 
 /// Equation numbering with constraints.
 #[derive(Debug, Clone)]
@@ -27,6 +39,10 @@ pub struct DofMap {
     pub eq_dof: Vec<usize>,
     /// DOFs that have an equation or follow one, per node.
     pub active: Vec<DofSet>,
+    /// Whether each node is a finite-rotation node.
+    finite: Vec<bool>,
+    /// Equations `(rx, ry, rz)` of free finite-rotation triples.
+    triples: Vec<[u32; 3]>,
 }
 
 impl DofMap {
@@ -178,6 +194,8 @@ impl DofMap {
         for i in 0..nn {
             resolve(i, model, kin, &slave_of, &eq_of, &mut terms, &mut visiting)?;
         }
+        let finite = finite_rotation_nodes(model);
+        let triples = rotation_triples(model, &finite, &eq_of, &terms)?;
         let mut start = Vec::with_capacity(nn * 6 + 1);
         let mut eqs = Vec::new();
         let mut coefs = Vec::new();
@@ -196,7 +214,65 @@ impl DofMap {
             coefs,
             eq_dof,
             active: used,
+            finite,
+            triples,
         })
+    }
+
+    /// Whether node index `node` is a finite-rotation node (see the module documentation).
+    pub fn finite_rotation(&self, node: usize) -> bool {
+        self.finite.get(node).copied().unwrap_or(false)
+    }
+
+    /// Whether any equation triple must be updated by composition.
+    pub fn has_finite_rotations(&self) -> bool {
+        !self.triples.is_empty()
+    }
+
+    /// The equations `(rx, ry, rz)` of every finite-rotation node with three free rotations.
+    pub fn rotation_triples(&self) -> impl Iterator<Item = [usize; 3]> + '_ {
+        self.triples
+            .iter()
+            .map(|t| [t[0] as usize, t[1] as usize, t[2] as usize])
+    }
+
+    /// Applies a solver correction: `q ← q + dq`, except that on finite-rotation triples the
+    /// correction is a spatial spin composed onto the stored rotation vector,
+    /// `ψ ← log(exp([δ]×)·exp([ψ]×))`. Without finite-rotation nodes this is the plain sum.
+    pub fn add_correction(&self, q: &mut [f64], dq: &[f64]) {
+        let composed: Vec<Vector3<f64>> = self
+            .rotation_triples()
+            .map(|t| {
+                let psi = Vector3::new(q[t[0]], q[t[1]], q[t[2]]);
+                let d = Vector3::new(dq[t[0]], dq[t[1]], dq[t[2]]);
+                rotation::compose(&psi, &d)
+            })
+            .collect();
+        for (x, d) in q.iter_mut().zip(dq) {
+            *x += d;
+        }
+        for (t, c) in self.rotation_triples().zip(composed) {
+            for k in 0..3 {
+                q[t[k]] = c[k];
+            }
+        }
+    }
+
+    /// The increment from `old` to `new` into `out`: `new − old`, except on finite-rotation
+    /// triples, where it is the incremental rotation vector `log(R_new·R_oldᵀ)` (the spin
+    /// that [`DofMap::add_correction`] would compose onto `old` to reach `new`).
+    pub fn increment(&self, old: &[f64], new: &[f64], out: &mut [f64]) {
+        for ((o, n), d) in old.iter().zip(new).zip(out.iter_mut()) {
+            *d = n - o;
+        }
+        for t in self.rotation_triples() {
+            let a = Vector3::new(old[t[0]], old[t[1]], old[t[2]]);
+            let b = Vector3::new(new[t[0]], new[t[1]], new[t[2]]);
+            let th = rotation::increment(&a, &b);
+            for k in 0..3 {
+                out[t[k]] = th[k];
+            }
+        }
     }
 
     /// The equations and coefficients nodal DOF `d` of node `node` depends on.
@@ -230,4 +306,68 @@ impl DofMap {
         let k = self.eq_dof[eq];
         (k / 6, k % 6)
     }
+}
+
+/// Finite-rotation flags per node: nodes of elements declaring `finite_rotations`, nodes the
+/// model marked, and (transitively) masters of such slaves whose rotations they follow.
+fn finite_rotation_nodes(model: &Model) -> Vec<bool> {
+    let mut finite = vec![false; model.nodes.len()];
+    for e in &model.elements {
+        if e.element.properties().finite_rotations {
+            for nd in e.element.connectivity() {
+                finite[nd.node] = true;
+            }
+        }
+    }
+    for &n in &model.finite_rotation_nodes {
+        if let Some(f) = finite.get_mut(n) {
+            *f = true;
+        }
+    }
+    for _ in 0..=model.links.len() {
+        let mut changed = false;
+        for l in &model.links {
+            if finite[l.slave] && !finite[l.master] && l.dofs.bits() & DofSet::ROTATIONS.bits() != 0
+            {
+                finite[l.master] = true;
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    finite
+}
+
+/// The free rotation triples of the finite-rotation nodes, refusing a node whose rotations
+/// are partly free and partly fixed in a way composition cannot respect.
+fn rotation_triples(
+    model: &Model,
+    finite: &[bool],
+    eq_of: &[u32],
+    terms: &[Option<Vec<(u32, f64)>>],
+) -> Result<Vec<[u32; 3]>, FemError> {
+    let mut triples = Vec::new();
+    for (node, _) in finite.iter().enumerate().filter(|(_, f)| **f) {
+        let free: Vec<u32> = (3..6)
+            .map(|d| eq_of[node * 6 + d])
+            .filter(|&e| e != u32::MAX)
+            .collect();
+        let follows = (3..6).any(|d| {
+            eq_of[node * 6 + d] == u32::MAX
+                && terms[node * 6 + d].as_ref().is_some_and(|t| !t.is_empty())
+        });
+        match (free.len(), follows) {
+            (3, _) => triples.push([free[0], free[1], free[2]]),
+            (0, _) | (1, false) => {}
+            _ => {
+                return Err(FemError::input(
+                    format!("{}: node {}", model.origin, model.nodes[node].id),
+                    "a finite-rotation node (a corotational beam or nonlinear link is attached) must have rx, ry, rz all free, all fixed, or only one of them free: composing rotations mixes the three components; fix or free the rotations together",
+                ));
+            }
+        }
+    }
+    Ok(triples)
 }

@@ -301,6 +301,11 @@ pub struct Model {
     pub analysis: AnalysisSpec,
     /// Plugins the model file asked for (paths), already loaded.
     pub plugins: Vec<String>,
+    /// Nodes whose rotational DOFs hold finite rotations although no attached element
+    /// declares [`crate::ElementProperties::finite_rotations`] (a nonlinear rigid link's
+    /// master, for instance): see [`Model::mark_finite_rotation`] and
+    /// [`crate::dofmap::DofMap::finite_rotation`].
+    pub finite_rotation_nodes: Vec<usize>,
 }
 
 impl Model {
@@ -339,6 +344,18 @@ impl Model {
             }
         }
         v
+    }
+
+    /// Marks node index `node` as a finite-rotation node: its three rotational DOFs hold
+    /// the total rotation vector and the driver updates them by composition
+    /// ([`crate::rotation`]). Elements declaring `finite_rotations` mark their nodes
+    /// themselves; this is for anything else that needs it (nonlinear rigid links mark
+    /// their masters). Call before the model is handed to a driver (equations are numbered
+    /// once).
+    pub fn mark_finite_rotation(&mut self, node: usize) {
+        if !self.finite_rotation_nodes.contains(&node) {
+            self.finite_rotation_nodes.push(node);
+        }
     }
 
     /// A human name for DOF `dof` of node index `node` (`"node 12 uz"`).
@@ -706,6 +723,7 @@ impl ModelBuilder {
             recorders: Vec::new(),
             analysis,
             plugins,
+            finite_rotation_nodes: Vec::new(),
         };
         for (i, l) in loads.iter().enumerate() {
             let load = l.resolve_at(&model, Some(i))?;

@@ -130,6 +130,14 @@ pub fn compose(psi: &Vector3<f64>, delta: &Vector3<f64>) -> Vector3<f64> {
     log(&(exp(delta) * exp(psi)))
 }
 
+/// The incremental rotation vector from `psi_old` to `psi_new`: `Θ = log(R_new·R_oldᵀ)`, the
+/// spatial spin that carries the old triad onto the new one (`exp([Θ]×)·R_old = R_new`).
+/// The driver uses it as a step's rotational increment and the energy ledger as the
+/// rotation the work of a nodal moment is done on.
+pub fn increment(psi_old: &Vector3<f64>, psi_new: &Vector3<f64>) -> Vector3<f64> {
+    log(&(exp(psi_new) * exp(psi_old).transpose()))
+}
+
 /// The spatial spin `δθ` produced by a variation `dψ` of the rotation vector:
 /// `[δθ]× = δR·Rᵀ` with `R = exp([ψ]×)` gives `δθ = T(ψ)·dψ`,
 ///
@@ -227,6 +235,15 @@ mod tests {
         assert!(close(&exp(&c), &(exp(&d) * exp(&psi)), 1e-14));
         let back = compose(&c, &(-d));
         assert!((back - psi).norm() < 1e-14);
+    }
+
+    /// The increment inverts composition: composing `increment(ψ, ψ')` onto ψ gives ψ'.
+    #[test]
+    fn increment_inverts_compose() {
+        let psi = Vector3::new(1.2, -0.4, 0.9);
+        let d = Vector3::new(0.05, 0.3, -0.2);
+        let next = compose(&psi, &d);
+        assert!((increment(&psi, &next) - d).norm() < 1e-14);
     }
 
     /// T(ψ) by central differences of exp: δR·Rᵀ = [T·dψ]× for each direction dψ = e_i.

@@ -7,6 +7,22 @@
 //! (`advance`), form the external force, predict, iterate (residual, tangent, solve,
 //! update), commit.
 //!
+//! **Finite rotations.** On finite-rotation nodes ([`railfem_framework::rotation`],
+//! [`railfem_framework::dofmap::DofMap`]) the rotational entries of `q` hold the total
+//! rotation vector ψ; a Newton correction there is a spatial spin composed onto it
+//! ([`railfem_framework::dofmap::DofMap::add_correction`]), in the static solve and in every
+//! integrator alike. The nodal angular velocity and acceleration are *spatial* vectors, and
+//! Newmark's formulas take the step's incremental rotation vector `Θ = log(R_{n+1}·R_nᵀ)` as
+//! the rotational increment `Δu` ([`railfem_framework::dofmap::DofMap::increment`]):
+//! `a_{n+1} = Θ/(βΔt²) − v_n/(βΔt) − (1/2β − 1)·a_n`, `v_{n+1} = v_n + Δt·((1−γ)·a_n + γ·a_{n+1})`.
+//! Limits: adding spatial vectors of different times is exact for a rotation about a fixed
+//! axis and first-order otherwise, so rotational inertia should be isotropic (a multiple of
+//! the identity, for which Euler's equations have no gyroscopic term) or absent — the
+//! corotational beam has translational mass only; the effective tangent takes `dΘ/dδ ≈ I`
+//! (exact for small step rotations; Newton still converges, more slowly for large `Θ`). A
+//! model without finite-rotation nodes runs exactly as before: the increment and the
+//! correction are the plain difference and sum.
+//!
 //! What a scene does not need it does not pay for: a model without nonlinear elements takes
 //! one solve per step with the factor of `K_eff` kept while `Δt` is unchanged; modified and
 //! initial-tangent Newton keep factors across iterations or steps; tiny systems (a vehicle
@@ -317,7 +333,8 @@ impl Driver {
         let mut total_iters = 0;
         let mut r = vec![0.0; n];
         let mut f_int = vec![0.0; n];
-        let linear = self.asm.variable_elements().is_empty();
+        let linear =
+            self.asm.variable_elements().is_empty() && !self.asm.dofmap.has_finite_rotations();
         for k in 1..=steps {
             let lam = k as f64 / steps as f64;
             let mut converged = false;
@@ -353,9 +370,7 @@ impl Driver {
                 let mut dq = r.clone();
                 self.solve(&mut dq)?;
                 total_iters += 1;
-                for i in 0..n {
-                    self.state.q[i] += dq[i];
-                }
+                self.asm.dofmap.add_correction(&mut self.state.q, &dq);
                 if linear {
                     // One exact solve; re-evaluate once to confirm.
                     continue;
@@ -476,7 +491,8 @@ impl Driver {
         let s0 = self.state.clone();
         let (af, am) = (ig.alpha_f, ig.alpha_m);
         let settings = self.model.analysis.newton;
-        let linear = self.asm.variable_elements().is_empty();
+        let linear =
+            self.asm.variable_elements().is_empty() && !self.asm.dofmap.has_finite_rotations();
         let (ck, cc, cm) = ig.effective(dt);
         let mut q = s0.q.clone();
         let mut v = vec![0.0; n];
@@ -499,9 +515,13 @@ impl Driver {
         let f_ref_ext: Vec<f64> = (0..n)
             .map(|i| (1.0 - af) * f_ext[i] + af * s0.f_ext[i])
             .collect();
+        // The step's increment: q − q_n, and on finite-rotation triples the incremental
+        // rotation vector log(R·R_nᵀ) (see the module documentation).
+        let mut du = vec![0.0; n];
         for it in 0..=settings.max_iter {
+            self.asm.dofmap.increment(&s0.q, &q, &mut du);
             for i in 0..n {
-                let (vi, ai) = ig.kinematics(dt, q[i] - s0.q[i], s0.v[i], s0.a[i]);
+                let (vi, ai) = ig.kinematics(dt, du[i], s0.v[i], s0.a[i]);
                 v[i] = vi;
                 a[i] = ai;
                 // The residual's inertia and damping act at the intermediate times.
@@ -584,10 +604,11 @@ impl Driver {
                 && !dq_prev.is_empty()
             {
                 halvings += 1;
-                for i in 0..n {
-                    dq_prev[i] *= 0.5;
-                    q[i] = q_prev[i] + dq_prev[i];
+                for d in dq_prev.iter_mut() {
+                    *d *= 0.5;
                 }
+                q.copy_from_slice(&q_prev);
+                self.asm.dofmap.add_correction(&mut q, &dq_prev);
                 continue;
             }
             if it == settings.max_iter {
@@ -620,9 +641,7 @@ impl Driver {
             iters += 1;
             let dn = norm(&dq);
             q_prev.copy_from_slice(&q);
-            for i in 0..n {
-                q[i] += dq[i];
-            }
+            self.asm.dofmap.add_correction(&mut q, &dq);
             dq_prev = dq;
             rn_prev = rn;
             halvings = 0;

@@ -27,6 +27,9 @@
 //! `½·qᵀ·K·q`; for a nonlinear one it is the strain energy to the accuracy of the rule
 //! (second order in `Δq`).
 //!
+//! On finite-rotation nodes `Δq` is the step's incremental rotation vector (the spin the
+//! nodal moments, conjugate to spin, work on), not the difference of rotation vectors.
+//!
 //! Energies are relative to the state at the first recorded step (kinetic energy is shown
 //! as its current value). For carried nodes (moving frames) the DOFs are deviations from
 //! the reference motion, so `T` is the kinetic energy of that relative motion and the
@@ -141,7 +144,8 @@ impl EnergyLedger {
             self.now.t = prev.t;
             self.now.kinetic = self.kinetic0;
         }
-        let dq: Vec<f64> = next.q.iter().zip(&prev.q).map(|(a, b)| a - b).collect();
+        let mut dq = vec![0.0; next.q.len()];
+        asm.dofmap.increment(&prev.q, &next.q, &mut dq);
         let trap = |f0: &[f64], f1: &[f64]| -> f64 {
             0.5 * dq
                 .iter()

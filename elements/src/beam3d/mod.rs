@@ -1,10 +1,14 @@
-//! `beam3d`: the linear two-node 3-D beam (Euler–Bernoulli, optionally Timoshenko), and the
-//! beam helpers other elements reuse: local axes, cubic Hermite shape functions, the local
-//! 12×12 stiffness and mass matrices and their rotation to the nodal axes.
+//! `beam3d`: the two-node 3-D beam (Euler–Bernoulli, optionally Timoshenko), and the beam
+//! helpers other elements reuse: local axes, cubic Hermite shape functions, the local 12×12
+//! stiffness and mass matrices and their rotation to the nodal axes.
 //!
-//! What does not live here: geometric nonlinearity (the element is small-displacement; no
-//! corotational update, no geometric stiffness), warping torsion, and beams on carried
-//! nodes (the element assumes both nodes have the global axes X-Y-Z).
+//! The key `geometry` picks the kinematics: `"linear"` (the default; the small-displacement
+//! element of this file, assembled once), `"pdelta"` (the linear element plus the P-Δ
+//! effect of its axial force, [`pdelta`]) and `"corotational"` (finite 3-D rotations,
+//! [`corotational`], on the forward-mode derivatives of [`dual`]).
+//!
+//! What does not live here: warping torsion, and beams on carried nodes (the element
+//! assumes both nodes have the global axes X-Y-Z).
 //!
 //! # Conventions
 //!
@@ -27,6 +31,13 @@ use railfem_framework::element::{
 };
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use railfem_framework::{serde_json, FemError};
+
+pub mod corotational;
+pub mod dual;
+pub mod pdelta;
+
+pub use corotational::Beam3dCorotational;
+pub use pdelta::Beam3dPDelta;
 
 /// A 12×12 matrix of a two-node, six-DOF-per-node element.
 pub type Mat12 = SMatrix<f64, 12, 12>;
@@ -56,6 +67,36 @@ railfem_framework::element_params! {
         Asz: f64 ["m^2"] = 0.0,
         /// Mass matrix: "consistent" (cubic Hermite) or "lumped" (diagonal, ρAL/2 per node).
         mass: String [""] = "consistent",
+        /// Kinematics: "linear" (small displacements), "pdelta" (linear plus the P-Δ effect of the axial force, as OpenSees geomTransf PDelta) or "corotational" (finite 3-D rotations; translational mass only).
+        geometry: String [""] = "linear",
+    }
+}
+
+/// The kinematics a beam uses (key `geometry`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BeamGeometry {
+    /// Small displacements and rotations: [`Beam3d`].
+    Linear,
+    /// Linear plus the P-Δ effect: [`Beam3dPDelta`].
+    PDelta,
+    /// Finite rotations: [`Beam3dCorotational`].
+    Corotational,
+}
+
+impl BeamGeometry {
+    /// Parses the `geometry` key; the error names the key and the choices.
+    pub fn parse(name: &str, origin: &str) -> Result<BeamGeometry, FemError> {
+        match name {
+            "linear" => Ok(BeamGeometry::Linear),
+            "pdelta" => Ok(BeamGeometry::PDelta),
+            "corotational" => Ok(BeamGeometry::Corotational),
+            other => Err(FemError::input(
+                origin,
+                format!(
+                    "beam3d: `geometry` = \"{other}\" is not a beam geometry; use \"linear\", \"pdelta\" or \"corotational\""
+                ),
+            )),
+        }
     }
 }
 
@@ -390,7 +431,12 @@ impl Beam3d {
         let scale = xi.norm().max(xj.norm()).max(1.0);
         if !(length.is_finite() && length > 1e-12 * scale) {
             return bad(format!(
-                "beam3d: zero-length beam (`nodes` I and J both at {:?}); connect two distinct points",
+                "beam3d{}: zero-length beam (`nodes` I and J both at {:?}); connect two distinct points",
+                if params.geometry == "linear" {
+                    String::new()
+                } else {
+                    format!(" (geometry = \"{}\")", params.geometry)
+                },
                 [xi.x, xi.y, xi.z]
             ));
         }
@@ -527,21 +573,30 @@ impl Element for Beam3d {
 /// Factory of `beam3d`: two nodes I, J; see [`Beam3d::new`] for the checks.
 fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Element>, FemError> {
     let p: Beam3dParams = spec.parse()?;
+    let geometry = BeamGeometry::parse(&p.geometry, &spec.origin)?;
     let n = support::resolve_nodes(spec, ctx, &[2], "beam3d", "node I, node J")?;
     let (xi, xj) = (ctx.node_position(n[0]), ctx.node_position(n[1]));
-    Ok(Box::new(Beam3d::new(
-        p,
-        [n[0], n[1]],
-        xi,
-        xj,
-        &spec.origin,
-    )?))
+    let linear = Beam3d::new(p, [n[0], n[1]], xi, xj, &spec.origin)?;
+    Ok(match geometry {
+        BeamGeometry::Linear => Box::new(linear),
+        BeamGeometry::PDelta => Box::new(Beam3dPDelta::new(linear)),
+        BeamGeometry::Corotational => Box::new(Beam3dCorotational::new(
+            linear.params.clone(),
+            [n[0], n[1]],
+            xi,
+            xj,
+            &linear.axes,
+            linear.params.mass == "lumped",
+        )),
+    })
 }
 
 /// Conformance samples: a horizontal consistent-mass beam, a skew Timoshenko beam with
-/// lumped mass and an explicit `orient`, and a vertical massless beam.
+/// lumped mass and an explicit `orient`, a vertical massless beam; a skew P-Δ beam; and
+/// corotational beams at strongly deformed states (rotations of order 1 rad, translations of
+/// a tenth of the length), one Timoshenko with lumped mass.
 fn samples() -> Vec<Sample> {
-    let cases: [(&str, [f64; 3], [f64; 3], serde_json::Value); 3] = [
+    let cases: [(&str, [f64; 3], [f64; 3], serde_json::Value); 6] = [
         (
             "horizontal, consistent mass",
             [0.0, 0.0, 0.0],
@@ -564,6 +619,31 @@ fn samples() -> Vec<Sample> {
             serde_json::json!({"E": 2.0e11, "G": 7.7e10, "A": 1.0e-2, "Iy": 8.0e-5,
                                "Iz": 2.0e-5, "J": 1.0e-5}),
         ),
+        (
+            "skew P-Delta",
+            [0.5, 0.2, -0.1],
+            [1.9, -0.8, 2.3],
+            serde_json::json!({"E": 2.0e11, "G": 7.7e10, "A": 1.0e-2, "Iy": 8.0e-5,
+                               "Iz": 2.0e-5, "J": 1.0e-5, "rho": 7850.0,
+                               "geometry": "pdelta"}),
+        ),
+        (
+            "corotational, large rotation",
+            [0.0, 0.0, 0.0],
+            [2.0, 0.5, -0.3],
+            serde_json::json!({"E": 2.1e11, "G": 8.1e10, "A": 7.686e-3, "Iy": 3.038e-5,
+                               "Iz": 5.123e-6, "J": 2.0e-6, "rho": 7850.0,
+                               "geometry": "corotational"}),
+        ),
+        (
+            "corotational Timoshenko, lumped, large rotation",
+            [1.0, -0.5, 0.3],
+            [2.2, 0.7, 1.4],
+            serde_json::json!({"E": 3.0e10, "G": 1.25e10, "A": 0.12, "Iy": 1.6e-3,
+                               "Iz": 9.0e-4, "J": 1.2e-3, "rho": 2500.0, "Asy": 0.1,
+                               "Asz": 0.1, "orient": [0.0, 1.0, 1.0], "mass": "lumped",
+                               "geometry": "corotational"}),
+        ),
     ];
     cases
         .into_iter()
@@ -577,7 +657,11 @@ fn samples() -> Vec<Sample> {
                 name: name.to_string(),
                 element,
                 nodes: pos.iter().map(|p| NodeKinematics::fixed(*p)).collect(),
-                disp: support::pseudo_random_state(100 + i as u64, 2, 1e-3, 1e-3),
+                disp: if i >= 4 {
+                    support::pseudo_random_state(100 + i as u64, 2, 0.2, 1.2)
+                } else {
+                    support::pseudo_random_state(100 + i as u64, 2, 1e-3, 1e-3)
+                },
                 vel: support::pseudo_random_state(200 + i as u64, 2, 1e-2, 1e-2),
                 fd_step: 1e-6,
                 committed_disp: None,
@@ -1177,10 +1261,25 @@ mod tests {
         let k = railfem_framework::registry::find("beam3d").expect("beam3d registered");
         assert!((k.params)().iter().any(|d| d.key == "orient"));
         let s = (k.samples)();
-        assert_eq!(s.len(), 3);
+        assert_eq!(s.len(), 6);
         for x in &s {
             assert_eq!(x.element.ndof(), 12);
             assert_eq!(x.disp.len(), 12);
         }
+    }
+}
+
+/// The conformance kit on the `beam3d` samples of every geometry (the large-rotation ones
+/// included): tangent against finite differences with spins composed, finite rigid motion,
+/// mass, energy.
+#[cfg(test)]
+mod conformance_tests {
+    #[test]
+    fn every_geometry_passes_the_kit() {
+        let k = railfem_framework::registry::find("beam3d").expect("beam3d registered");
+        let r = railfem_framework::conformance::check_kind(&k);
+        let report = railfem_framework::conformance::Report { results: r };
+        println!("{}", report.table());
+        assert!(report.passed(), "{}", report.table());
     }
 }
