@@ -97,6 +97,7 @@ pub struct Beam3dCorotational {
     f: [f64; 12],
     k: Mat12,
     local: [f64; 7],
+    deform: [f64; 7],
 }
 
 /// Local 7×7 stiffness on `[ū, θ̄₁ₓ, θ̄₁ᵧ, θ̄₁_z, θ̄₂ₓ, θ̄₂ᵧ, θ̄₂_z]` (see the module doc).
@@ -164,6 +165,7 @@ impl Beam3dCorotational {
             f: [0.0; 12],
             k: Mat12::zeros(),
             local: [0.0; 7],
+            deform: [0.0; 7],
         };
         e.evaluate();
         e
@@ -174,14 +176,26 @@ impl Beam3dCorotational {
         self.l0
     }
 
-    /// Local deformations `[ū, θ̄₁, θ̄₂]` and local forces `f_l` at the trial state.
+    /// Local forces `f_l = K_l·p_l` at the trial state (N, N·m).
     pub fn local_forces(&self) -> [f64; 7] {
         self.local
     }
 
+    /// Local deformations `p_l = [ū, θ̄₁, θ̄₂]` at the trial state (m, rad).
+    pub fn local_deformations(&self) -> [f64; 7] {
+        self.deform
+    }
+
+    /// Strain energy of the local linear element at the trial state,
+    /// `½·p_lᵀ·K_l·p_l = ½·p_l·f_l` (J): the elastic energy the element stores, for energy
+    /// checks of dynamic runs.
+    pub fn strain_energy(&self) -> f64 {
+        0.5 * self.deform.iter().zip(&self.local).map(|(a, b)| a * b).sum::<f64>()
+    }
+
     /// The resisting force (element order) and the local forces for nodal displacements
     /// `u_i` and rotation matrices `R_i`.
-    fn force<S: Scalar>(&self, u: &[V3<S>; 2], rg: &[M3<S>; 2]) -> ([S; 12], [S; 7]) {
+    fn force<S: Scalar>(&self, u: &[V3<S>; 2], rg: &[M3<S>; 2]) -> ([S; 12], [S; 7], [S; 7]) {
         let x: [V3<S>; 2] = std::array::from_fn(|i| {
             let xr: V3<S> = std::array::from_fn(|k| S::c(self.x[i][k]));
             dual::add(&xr, &u[i])
@@ -243,7 +257,7 @@ impl Beam3dCorotational {
                 f[6 * i + 3 + k] = m[k];
             }
         }
-        (f, fl)
+        (f, fl, pl)
     }
 
     /// Force, local forces and the exact tangent at `self.u`.
@@ -256,9 +270,10 @@ impl Beam3dCorotational {
                 self.u[6 * i + 5],
             ))
         });
-        let (f, fl) = self.force::<f64>(&u, &[m3(&rg[0]), m3(&rg[1])]);
+        let (f, fl, pl) = self.force::<f64>(&u, &[m3(&rg[0]), m3(&rg[1])]);
         self.f = f;
         self.local = fl;
+        self.deform = pl;
         for j in 0..12 {
             let (node, comp, rot) = (j / 6, j % 3, j % 6 >= 3);
             let ud: [V3<Dual>; 2] = std::array::from_fn(|i| {
@@ -275,7 +290,7 @@ impl Beam3dCorotational {
                 };
                 std::array::from_fn(|a| std::array::from_fn(|b| Dual::new(rg[i][(a, b)], dr[(a, b)])))
             });
-            let (fd, _) = self.force::<Dual>(&ud, &rd);
+            let (fd, _, _) = self.force::<Dual>(&ud, &rd);
             for i in 0..12 {
                 self.k[(i, j)] = fd[i].d;
             }
@@ -369,5 +384,9 @@ impl Element for Beam3dCorotational {
 
     fn parameters(&self) -> serde_json::Value {
         serde_json::to_value(&self.params).unwrap_or(serde_json::Value::Null)
+    }
+
+    fn as_any(&self) -> Option<&dyn std::any::Any> {
+        Some(self)
     }
 }
