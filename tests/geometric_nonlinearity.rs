@@ -358,3 +358,30 @@ fn struck_right_angle_cantilever_energy() {
     }
     assert!(lost[0] > 0.0 && lost[1] > lost[0], "{lost:?}");
 }
+
+/// A cantilever rolled up by an end moment `M` about Z: the exact shape is a circular arc of
+/// curvature `M/EI`, so the tip sits at `((L/θ)·sin θ, (L/θ)·(1 − cos θ))` with `θ = ML/EI`
+/// the tip rotation. At `θ = 2π` the beam closes into a full circle and its tip returns to
+/// the clamp: nodal rotations pass through π on the way, where the stored rotation vector
+/// wraps (|ψ| ≤ π) — the composition update must carry the triad through it. 20 elements;
+/// the chords of the arc shorten each element by `1 − sin(α/2)/(α/2) ≈ 4e-3` of its length,
+/// which `EA = 1e7·EI/L²` resists with a negligible axial force, so the nodes lie on the
+/// exact circle to the mesh's `O(α²)`: within 2e-3·L.
+#[test]
+fn end_moment_rolls_the_cantilever_into_a_circle() {
+    let (e, i) = (1e7, 1e-7);
+    for theta in [PI / 2.0, PI, 1.5 * PI, 2.0 * PI] {
+        let mut b = cantilever("roll-up", 20, 1.0, [1.0, 0.0, 0.0], &section("corotational", e, 1.0, i, 2.0 * i));
+        b.load(nodal(21, "rz", theta)); // EI = L = 1: M = θ
+        let d = solve_static(b, (8.0 * theta / PI).ceil() as usize);
+        let u = tip(&d, 21);
+        let (x, y) = (theta.sin() / theta, (1.0 - theta.cos()) / theta);
+        let err = ((1.0 + u[0] - x).powi(2) + (u[1] - y).powi(2)).sqrt();
+        // The stored tip rotation is θ wrapped into (−π, π].
+        let wrapped = (theta + PI).rem_euclid(2.0 * PI) - PI;
+        let rot_err = ((u[5] - wrapped + PI).rem_euclid(2.0 * PI) - PI).abs();
+        println!("θ = {theta:.4}: tip ({:.5}, {:.5}), exact ({x:.5}, {y:.5}), error {err:.2e}; stored rz {:.5} (wrapped θ {wrapped:.5})", 1.0 + u[0], u[1], u[5]);
+        assert!(err < 2e-3, "θ = {theta}: {err}");
+        assert!(rot_err < 1e-6, "θ = {theta}: stored {}", u[5]);
+    }
+}
