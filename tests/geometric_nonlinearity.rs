@@ -26,7 +26,13 @@ fn nodal(node: u64, dof: &str, value: f64) -> LoadSpec {
 }
 
 /// A straight cantilever of `n` elements from node 1 (clamped) along `dir`, nodes 1..=n+1.
-fn cantilever(name: &str, n: usize, len: f64, dir: [f64; 3], params: &serde_json::Value) -> ModelBuilder {
+fn cantilever(
+    name: &str,
+    n: usize,
+    len: f64,
+    dir: [f64; 3],
+    params: &serde_json::Value,
+) -> ModelBuilder {
     railfem::elements::link();
     let mut b = ModelBuilder::new(name);
     for k in 0..=n {
@@ -86,7 +92,9 @@ fn elastica(p: f64, steps: usize) -> (f64, f64, f64) {
             let k2 = f(&add(&s, &k1, h / 2.0));
             let k3 = f(&add(&s, &k2, h / 2.0));
             let k4 = f(&add(&s, &k3, h));
-            s = std::array::from_fn(|i| s[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]));
+            s = std::array::from_fn(|i| {
+                s[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            });
         }
         s
     };
@@ -113,7 +121,9 @@ fn elastica_reference_is_converged() {
     for p in [1.0, 10.0] {
         let a = elastica(p, 4000);
         let b = elastica(p, 8000);
-        assert!((a.0 - b.0).abs() < 1e-10 && (a.1 - b.1).abs() < 1e-10 && (a.2 - b.2).abs() < 1e-10);
+        assert!(
+            (a.0 - b.0).abs() < 1e-10 && (a.1 - b.1).abs() < 1e-10 && (a.2 - b.2).abs() < 1e-10
+        );
     }
     let (d, _, t) = elastica(1e-4, 4000);
     assert!((d / (1e-4 / 3.0) - 1.0).abs() < 1e-4 && (t / (1e-4 / 2.0) - 1.0).abs() < 1e-4);
@@ -126,18 +136,31 @@ fn elastica_reference_is_converged() {
 fn cantilever_elastica_with_20_corotational_elements() {
     let (e, i) = (1e7, 1e-7); // EI = 1 N·m², EA = 1e7 N, L = 1 m
     for p in [1.0, 2.0, 3.0, 5.0, 10.0] {
-        let mut b = cantilever("elastica", 20, 1.0, [1.0, 0.0, 0.0], &section("corotational", e, 1.0, i, 2.0 * i));
+        let mut b = cantilever(
+            "elastica",
+            20,
+            1.0,
+            [1.0, 0.0, 0.0],
+            &section("corotational", e, 1.0, i, 2.0 * i),
+        );
         b.load(nodal(21, "uy", -p));
         let steps = (2.0 * p).ceil() as usize;
         let d = solve_static(b, steps);
         let u = tip(&d, 21);
         let (defl, short, rot) = elastica(p, 4000);
-        let err = [(-u[1] - defl).abs(), (-u[0] - short).abs(), (-u[5] - rot).abs()];
+        let err = [
+            (-u[1] - defl).abs(),
+            (-u[0] - short).abs(),
+            (-u[5] - rot).abs(),
+        ];
         println!(
             "PL²/EI = {p:>4}: deflection {:.6} (exact {defl:.6}), shortening {:.6} (exact {short:.6}), rotation {:.6} (exact {rot:.6}) rad; errors {:.2e} {:.2e} {:.2e}",
             -u[1], -u[0], -u[5], err[0], err[1], err[2]
         );
-        assert!(err.iter().all(|x| *x < 1e-3), "PL²/EI = {p}: errors {err:?}");
+        assert!(
+            err.iter().all(|x| *x < 1e-3),
+            "PL²/EI = {p}: errors {err:?}"
+        );
         // A planar problem stays planar.
         assert!(u[2].abs() < 1e-10 && u[3].abs() < 1e-10 && u[4].abs() < 1e-10);
     }
@@ -155,7 +178,11 @@ fn bathe_bolourchi_45_degree_bend() {
         (300.0, vec![[58.84, 22.33, 40.08], [58.64, 22.14, 40.35]]),
         (
             600.0,
-            vec![[47.23, 15.79, 53.37], [47.04, 15.55, 53.50], [47.2, 15.9, 53.4]],
+            vec![
+                [47.23, 15.79, 53.37],
+                [47.04, 15.55, 53.50],
+                [47.2, 15.9, 53.4],
+            ],
         ),
     ];
     for (load, refs) in published {
@@ -177,7 +204,11 @@ fn bathe_bolourchi_45_degree_bend() {
         b.load(nodal(9, "uz", load));
         let d = solve_static(b, 10);
         let u = tip(&d, 9);
-        let x0 = [100.0 * (PI / 4.0).sin(), 100.0 * (1.0 - (PI / 4.0).cos()), 0.0];
+        let x0 = [
+            100.0 * (PI / 4.0).sin(),
+            100.0 * (1.0 - (PI / 4.0).cos()),
+            0.0,
+        ];
         let pos: [f64; 3] = std::array::from_fn(|k| x0[k] + u[k]);
         let mean: [f64; 3] =
             std::array::from_fn(|k| refs.iter().map(|r| r[k]).sum::<f64>() / refs.len() as f64);
@@ -186,7 +217,10 @@ fn bathe_bolourchi_45_degree_bend() {
             pos[0], pos[1], pos[2], mean[0], mean[1], mean[2]
         );
         for k in 0..3 {
-            assert!((pos[k] - mean[k]).abs() < 0.5, "P = {load}, coordinate {k}: {pos:?} vs {mean:?}");
+            assert!(
+                (pos[k] - mean[k]).abs() < 0.5,
+                "P = {load}, coordinate {k}: {pos:?} vs {mean:?}"
+            );
         }
     }
 }
@@ -195,7 +229,13 @@ fn bathe_bolourchi_45_degree_bend() {
 /// `P` and a lateral tip load `H` along X, `n` elements of `geometry`.
 fn column_drift(geometry: &str, n: usize, p: f64, h: f64) -> f64 {
     let (e, i) = (1e7, 1e-7);
-    let mut b = cantilever("column", n, 1.0, [0.0, 0.0, 1.0], &section(geometry, e, 1.0, i, 2.0 * i));
+    let mut b = cantilever(
+        "column",
+        n,
+        1.0,
+        [0.0, 0.0, 1.0],
+        &section(geometry, e, 1.0, i, 2.0 * i),
+    );
     let top = n as u64 + 1;
     b.load(nodal(top, "uz", -p));
     b.load(nodal(top, "ux", h));
@@ -231,7 +271,10 @@ fn p_delta_amplification_follows_beam_column_theory() {
             );
             assert!(e20.abs() < 5e-3 * (1.0 + 4.0 * ratio), "{geometry}: {e20}");
             let order = (e10 / e20).log2();
-            assert!((1.6..2.4).contains(&order), "{geometry}: convergence order {order}");
+            assert!(
+                (1.6..2.4).contains(&order),
+                "{geometry}: convergence order {order}"
+            );
         }
     }
 }
@@ -254,10 +297,15 @@ fn imperfect_column_approaches_the_euler_load() {
     // Least squares of δ/P = δ/P_cr + c: slope = 1/P_cr.
     let n = pts.len() as f64;
     let (sx, sy) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.1, a.1 + p.0));
-    let (sxx, sxy) = pts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.1 * p.1, a.1 + p.1 * p.0));
+    let (sxx, sxy) = pts
+        .iter()
+        .fold((0.0, 0.0), |a, p| (a.0 + p.1 * p.1, a.1 + p.1 * p.0));
     let slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
     let est = 1.0 / slope;
-    println!("Southwell P_cr = {est:.5} (π²EI/4L² = {pcr:.5}), error {:.2e}", est / pcr - 1.0);
+    println!(
+        "Southwell P_cr = {est:.5} (π²EI/4L² = {pcr:.5}), error {:.2e}",
+        est / pcr - 1.0
+    );
     assert!((est / pcr - 1.0).abs() < 5e-3);
 }
 
@@ -268,13 +316,18 @@ fn imperfect_column_approaches_the_euler_load() {
 /// rotations of order 1 rad. Returns the energy `T + U` (J) at each step after the load
 /// ends, `U` from the elements' own strain energy, and the ledger's integrator residual
 /// relative to the largest energy.
-fn right_angle_cantilever(integrator: IntegratorKind, rho_inf: f64, steps: usize, dt: f64) -> (Vec<f64>, f64, f64) {
+fn right_angle_cantilever(
+    integrator: IntegratorKind,
+    rho_inf: f64,
+    steps: usize,
+    dt: f64,
+) -> (Vec<f64>, f64, f64) {
     use railfem::elements::beam3d::Beam3dCorotational;
     railfem::elements::link();
     let mut b = ModelBuilder::new("right-angle cantilever");
     let n = 4;
-    let mut id = 1;
     for k in 0..=2 * n {
+        let id = k as u64 + 1;
         let x = if k <= n {
             [10.0 * k as f64 / n as f64, 0.0, 0.0]
         } else {
@@ -285,7 +338,6 @@ fn right_angle_cantilever(integrator: IntegratorKind, rho_inf: f64, steps: usize
         } else {
             b.node(id, x);
         }
-        id += 1;
     }
     let mut p = section("corotational", 1e6, 1.0, 1e-3, 2e-3);
     p["rho"] = json!(1.0);
@@ -325,7 +377,10 @@ fn right_angle_cantilever(integrator: IntegratorKind, rho_inf: f64, steps: usize
             energy.push(d.kinetic_energy() + u);
         }
     }
-    let rot = d.node_value(2 * n as u64 + 1, 3).unwrap().hypot(d.node_value(2 * n as u64 + 1, 4).unwrap());
+    let rot = d
+        .node_value(2 * n as u64 + 1, 3)
+        .unwrap()
+        .hypot(d.node_value(2 * n as u64 + 1, 4).unwrap());
     let ledger = d.energy.as_ref().expect("ledger").relative_error();
     (energy, ledger, rot)
 }
@@ -340,7 +395,9 @@ fn right_angle_cantilever(integrator: IntegratorKind, rho_inf: f64, steps: usize
 #[test]
 fn struck_right_angle_cantilever_energy() {
     let (e, ledger, rot) = right_angle_cantilever(IntegratorKind::Newmark, 1.0, 240, 0.0625);
-    let (lo, hi) = e.iter().fold((f64::INFINITY, 0.0f64), |a, x| (a.0.min(*x), a.1.max(*x)));
+    let (lo, hi) = e
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |a, x| (a.0.min(*x), a.1.max(*x)));
     println!(
         "Newmark average acceleration: T+U in [{lo:.4}, {hi:.4}] J after the load, spread {:.2e}; ledger residual {ledger:.2e}; tip rotation {rot:.3} rad",
         (hi - lo) / hi
@@ -353,7 +410,10 @@ fn struck_right_angle_cantilever_energy() {
         let (e, _, _) = right_angle_cantilever(IntegratorKind::GeneralizedAlpha, rho, 240, 0.0625);
         let first = e[0];
         let last = *e.last().unwrap();
-        println!("generalized-α ρ∞ = {rho}: T+U from {first:.4} to {last:.4} J ({:.2} %)", 100.0 * (1.0 - last / first));
+        println!(
+            "generalized-α ρ∞ = {rho}: T+U from {first:.4} to {last:.4} J ({:.2} %)",
+            100.0 * (1.0 - last / first)
+        );
         lost.push(1.0 - last / first);
     }
     assert!(lost[0] > 0.0 && lost[1] > lost[0], "{lost:?}");
@@ -371,7 +431,13 @@ fn struck_right_angle_cantilever_energy() {
 fn end_moment_rolls_the_cantilever_into_a_circle() {
     let (e, i) = (1e7, 1e-7);
     for theta in [PI / 2.0, PI, 1.5 * PI, 2.0 * PI] {
-        let mut b = cantilever("roll-up", 20, 1.0, [1.0, 0.0, 0.0], &section("corotational", e, 1.0, i, 2.0 * i));
+        let mut b = cantilever(
+            "roll-up",
+            20,
+            1.0,
+            [1.0, 0.0, 0.0],
+            &section("corotational", e, 1.0, i, 2.0 * i),
+        );
         b.load(nodal(21, "rz", theta)); // EI = L = 1: M = θ
         let d = solve_static(b, (8.0 * theta / PI).ceil() as usize);
         let u = tip(&d, 21);
@@ -437,7 +503,10 @@ fn partitioned_solver_composes_rotations_like_the_direct_one() {
     let a = run(SolverChoice::Direct);
     let p = run(SolverChoice::Partitioned);
     let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let diff = a.iter().zip(&p).fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    let diff = a
+        .iter()
+        .zip(&p)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
     println!("direct vs partitioned: max |Δq| = {diff:.2e} (max |q| = {scale:.3})");
     assert!(scale > 0.5, "the arm must rotate finitely: {scale}");
     assert!(diff <= 1e-8 * scale, "{diff}");

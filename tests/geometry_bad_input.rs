@@ -46,10 +46,18 @@ fn check(name: &str, text: &str, expect: &[&str]) {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write model");
     let out = dir.join("out");
-    let o = railfem(&["run", path.to_str().expect("utf-8"), "--out", out.to_str().expect("utf-8")]);
+    let o = railfem(&[
+        "run",
+        path.to_str().expect("utf-8"),
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
     let err = String::from_utf8_lossy(&o.stderr).to_string();
     assert_eq!(o.status.code(), Some(2), "{name}: exit code; stderr: {err}");
-    assert!(err.ends_with('\n') && err.lines().count() == 1, "{name}: one line, got {err:?}");
+    assert!(
+        err.ends_with('\n') && err.lines().count() == 1,
+        "{name}: one line, got {err:?}"
+    );
     assert!(!err.contains("panicked"), "{name}: {err}");
     assert!(err.contains(name), "{name}: the file is not named: {err}");
     for e in expect {
@@ -68,7 +76,12 @@ fn the_unbroken_corotational_model_runs() {
     let dir = temp_dir("good-corot");
     let path = dir.join("good.toml");
     std::fs::write(&path, GOOD).expect("write");
-    let o = railfem(&["run", path.to_str().unwrap(), "--out", dir.join("out").to_str().unwrap()]);
+    let o = railfem(&[
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        dir.join("out").to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -79,7 +92,12 @@ fn unknown_geometry_names_the_key_and_the_choices() {
     check(
         "geometry.toml",
         &text,
-        &["element[0] (id 7", "`geometry`", "\"corotatonal\"", "\"linear\", \"pdelta\" or \"corotational\""],
+        &[
+            "element[0] (id 7",
+            "`geometry`",
+            "\"corotatonal\"",
+            "\"linear\", \"pdelta\" or \"corotational\"",
+        ],
     );
 }
 
@@ -89,16 +107,29 @@ fn zero_length_corotational_beam_is_refused() {
     check(
         "zero_length.toml",
         &text,
-        &["element[0] (id 7", "corotational", "zero-length", "`nodes`", "connect two distinct points"],
+        &[
+            "element[0] (id 7",
+            "corotational",
+            "zero-length",
+            "`nodes`",
+            "connect two distinct points",
+        ],
     );
 }
 
 #[test]
 fn partly_fixed_rotations_at_a_finite_rotation_node_are_refused() {
-    let text = edit("xyz = [2.0, 0.0, 0.0]", "xyz = [2.0, 0.0, 0.0]\nfix = [\"rx\"]");
+    let text = edit(
+        "xyz = [2.0, 0.0, 0.0]",
+        "xyz = [2.0, 0.0, 0.0]\nfix = [\"rx\"]",
+    );
     check(
         "partial_fix.toml",
         &text,
-        &["node 2", "rx, ry, rz all free, all fixed, or only one of them free", "fix or free the rotations together"],
+        &[
+            "node 2",
+            "rx, ry, rz all free, all fixed, or only one of them free",
+            "fix or free the rotations together",
+        ],
     );
 }

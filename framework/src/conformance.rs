@@ -1114,11 +1114,7 @@ fn check_energy(cx: &Cx) -> Result<Measured, String> {
     let mut worst_step = 0;
     for step in 1..=ENERGY_STEPS {
         let (u0, v0, a0) = (u.clone(), v.clone(), a.clone());
-        let mut un = DVector::from_vec(corrected(
-            u0.as_slice(),
-            (&v0 * dt).as_slice(),
-            &slots,
-        ));
+        let mut un = DVector::from_vec(corrected(u0.as_slice(), (&v0 * dt).as_slice(), &slots));
         let mut converged = false;
         let mut negligible = false;
         for _ in 0..50 {

@@ -14,8 +14,18 @@
 //! **Limits.** `log` returns `|ψ| ≤ π`; a node that turns through more than half a turn has
 //! its vector wrapped to the equivalent rotation (the triad is unchanged, so objective
 //! elements see the same state). Nodal angular velocities and accelerations are spatial
-//! vectors; the time integrator treats the incremental rotation vector of a step as the
-//! step's rotational displacement increment (see the driver).
+//! vectors; the time integrator treats the incremental rotation vector of a step,
+//! [`increment`] `Θ = log(R_{n+1}·R_nᵀ)`, as the step's rotational displacement increment
+//! (see the solvers' driver), and the energy ledger takes it as the rotation the nodal
+//! moments work on. That update is exact for rotation about a fixed axis and for isotropic
+//! rotary inertia; otherwise it is first order in the step rotation.
+//!
+//! **Where the scheme applies.** Which nodes are finite-rotation nodes, the equation triples
+//! that are composed, and the rule for partly fixed rotations (all three free, all fixed, or
+//! exactly one free — composition mixes components, so two free and one fixed is refused)
+//! live in [`crate::dofmap`]; anything other than an element (a nonlinear link) asks for a
+//! node with [`crate::Model::mark_finite_rotation`]. Linear elements attached to such a
+//! node read ψ as a small rotation (exact to first order).
 //!
 //! Everything here is a pure function of 3-vectors and 3×3 matrices (radians).
 

@@ -190,7 +190,12 @@ impl Beam3dCorotational {
     /// `½·p_lᵀ·K_l·p_l = ½·p_l·f_l` (J): the elastic energy the element stores, for energy
     /// checks of dynamic runs.
     pub fn strain_energy(&self) -> f64 {
-        0.5 * self.deform.iter().zip(&self.local).map(|(a, b)| a * b).sum::<f64>()
+        0.5 * self
+            .deform
+            .iter()
+            .zip(&self.local)
+            .map(|(a, b)| a * b)
+            .sum::<f64>()
     }
 
     /// The resisting force (element order) and the local forces for nodal displacements
@@ -288,7 +293,9 @@ impl Beam3dCorotational {
                 } else {
                     nalgebra::Matrix3::zeros()
                 };
-                std::array::from_fn(|a| std::array::from_fn(|b| Dual::new(rg[i][(a, b)], dr[(a, b)])))
+                std::array::from_fn(|a| {
+                    std::array::from_fn(|b| Dual::new(rg[i][(a, b)], dr[(a, b)]))
+                })
             });
             let (fd, _, _) = self.force::<Dual>(&ud, &rd);
             for i in 0..12 {
@@ -344,7 +351,8 @@ impl Element for Beam3dCorotational {
         );
         if dual::dot(&d, &d).sqrt() <= 1e-9 * self.l0 {
             return Err(ElementError::Invalid(
-                "the corotational beam's ends met (current length zero); reduce the load step".into(),
+                "the corotational beam's ends met (current length zero); reduce the load step"
+                    .into(),
             ));
         }
         if self.f.iter().any(|v| !v.is_finite()) || self.k.iter().any(|v| !v.is_finite()) {
