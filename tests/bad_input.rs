@@ -44,36 +44,10 @@ dofs = ["uz"]
 file = "tip.csv"
 "#;
 
-/// Writes `text` as `name` into a fresh directory, runs `railfem run` on it and checks
-/// the exit code (2), that stderr is one line, that it names the file, and that it contains
-/// every string of `expect` (the place and the fix). Returns the line.
+/// Runs `railfem run` on `text` written as `name` and checks the one-line exit-2 error
+/// ([`common::check_bad_model`]). Returns the line.
 fn check(name: &str, text: &str, expect: &[&str]) -> String {
-    let dir = temp_dir(name.split('.').next().unwrap_or("case"));
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write model");
-    let out = dir.join("out");
-    let o = railfem(&[
-        "run",
-        path.to_str().expect("utf-8"),
-        "--out",
-        out.to_str().expect("utf-8"),
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(o.status.code(), Some(2), "{name}: exit code; stderr: {err}");
-    assert!(
-        err.ends_with('\n') && err.lines().count() == 1,
-        "{name}: stderr must be exactly one line, got {err:?}"
-    );
-    assert!(
-        !err.contains("internal error") && !err.contains("panicked"),
-        "{name}: {err}"
-    );
-    assert!(err.contains(name), "{name}: the file is not named: {err}");
-    for e in expect {
-        assert!(err.contains(e), "{name}: expected `{e}` in: {err}");
-    }
-    let _ = std::fs::remove_dir_all(&dir);
-    err
+    common::check_bad_model(name, text, expect)
 }
 
 /// `GOOD` with the first occurrence of `from` replaced by `to` (which must exist).

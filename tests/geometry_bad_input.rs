@@ -39,31 +39,8 @@ dof = "uz"
 value = 1.0e4
 "#;
 
-/// Runs `railfem run` on `text` written as `name`: exit code 2, one stderr line naming the
-/// file and containing every string of `expect`.
 fn check(name: &str, text: &str, expect: &[&str]) {
-    let dir = temp_dir(name.split('.').next().unwrap_or("case"));
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("write model");
-    let out = dir.join("out");
-    let o = railfem(&[
-        "run",
-        path.to_str().expect("utf-8"),
-        "--out",
-        out.to_str().expect("utf-8"),
-    ]);
-    let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(o.status.code(), Some(2), "{name}: exit code; stderr: {err}");
-    assert!(
-        err.ends_with('\n') && err.lines().count() == 1,
-        "{name}: one line, got {err:?}"
-    );
-    assert!(!err.contains("panicked"), "{name}: {err}");
-    assert!(err.contains(name), "{name}: the file is not named: {err}");
-    for e in expect {
-        assert!(err.contains(e), "{name}: expected `{e}` in: {err}");
-    }
-    let _ = std::fs::remove_dir_all(&dir);
+    common::check_bad_model(name, text, expect);
 }
 
 fn edit(from: &str, to: &str) -> String {

@@ -3,7 +3,7 @@
 //! What lives here: DOFs and the model ([`dof`], [`model`]), the element contract
 //! ([`element`]), the registry, plugins and conformance kit ([`registry`], [`plugin`],
 //! [`conformance`]), equation numbering
-//! with constraints ([`dofmap`]), finite rotations ([`rotation`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
+//! with constraints ([`dofmap`]), finite rotations ([`rotation`], on the dual numbers of [`dual`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
 //! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]) and
 //! recorders ([`recorder`]). What does not: concrete elements (railfem-elements) and
 //! solvers (railfem-solvers).
@@ -17,6 +17,7 @@ pub mod assembly;
 pub mod conformance;
 pub mod dof;
 pub mod dofmap;
+pub mod dual;
 pub mod element;
 pub mod error;
 pub mod loads;

@@ -29,6 +29,7 @@
 //!
 //! Everything here is a pure function of 3-vectors and 3×3 matrices (radians).
 
+use crate::dual;
 use nalgebra::{Matrix3, Vector3};
 
 /// The skew-symmetric matrix `[v]×` with `[v]×·w = v × w`.
@@ -63,75 +64,20 @@ pub fn exp(psi: &Vector3<f64>) -> Matrix3<f64> {
 /// The rotation vector of a rotation matrix, `|ψ| ≤ π`; inverse of [`exp`].
 ///
 /// Goes through the unit quaternion (Shepperd's choice of the largest component), which is
-/// accurate at every angle including near π where the skew part vanishes.
+/// accurate at every angle including near π where the skew part vanishes; the `f64`
+/// instance of [`crate::dual::log`].
 pub fn log(r: &Matrix3<f64>) -> Vector3<f64> {
-    let q = quaternion(r);
-    let (w, v) = (q[0], Vector3::new(q[1], q[2], q[3]));
-    // Keep w ≥ 0 so that the angle 2·atan2(|v|, w) lies in [0, π].
-    let (w, v) = if w < 0.0 { (-w, -v) } else { (w, v) };
-    let s = v.norm();
-    if s < 1e-12 {
-        // φ ≈ 2·s/w: ψ ≈ 2·v/w (first order), exact to O(φ³).
-        return v * (2.0 / w);
-    }
-    let phi = 2.0 * s.atan2(w);
-    v * (phi / s)
+    Vector3::from(dual::log(&array(r)))
 }
 
-/// Unit quaternion `[w, x, y, z]` of a rotation matrix (Shepperd's method).
+/// Unit quaternion `[w, x, y, z]` of a rotation matrix (Shepperd's method), the `f64`
+/// instance of [`crate::dual::quaternion`].
 pub fn quaternion(r: &Matrix3<f64>) -> [f64; 4] {
-    let tr = r.trace();
-    let d = [tr, r[(0, 0)], r[(1, 1)], r[(2, 2)]];
-    let mut k = 0;
-    for i in 1..4 {
-        if d[i] > d[k] {
-            k = i;
-        }
-    }
-    let q = match k {
-        0 => {
-            let w = 0.5 * (1.0 + tr).max(0.0).sqrt();
-            let f = 0.25 / w;
-            [
-                w,
-                (r[(2, 1)] - r[(1, 2)]) * f,
-                (r[(0, 2)] - r[(2, 0)]) * f,
-                (r[(1, 0)] - r[(0, 1)]) * f,
-            ]
-        }
-        1 => {
-            let x = 0.5 * (1.0 + 2.0 * r[(0, 0)] - tr).max(0.0).sqrt();
-            let f = 0.25 / x;
-            [
-                (r[(2, 1)] - r[(1, 2)]) * f,
-                x,
-                (r[(0, 1)] + r[(1, 0)]) * f,
-                (r[(0, 2)] + r[(2, 0)]) * f,
-            ]
-        }
-        2 => {
-            let y = 0.5 * (1.0 + 2.0 * r[(1, 1)] - tr).max(0.0).sqrt();
-            let f = 0.25 / y;
-            [
-                (r[(0, 2)] - r[(2, 0)]) * f,
-                (r[(0, 1)] + r[(1, 0)]) * f,
-                y,
-                (r[(1, 2)] + r[(2, 1)]) * f,
-            ]
-        }
-        _ => {
-            let z = 0.5 * (1.0 + 2.0 * r[(2, 2)] - tr).max(0.0).sqrt();
-            let f = 0.25 / z;
-            [
-                (r[(1, 0)] - r[(0, 1)]) * f,
-                (r[(0, 2)] + r[(2, 0)]) * f,
-                (r[(1, 2)] + r[(2, 1)]) * f,
-                z,
-            ]
-        }
-    };
-    let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
-    [q[0] / n, q[1] / n, q[2] / n, q[3] / n]
+    dual::quaternion(&array(r))
+}
+
+fn array(r: &Matrix3<f64>) -> dual::M3<f64> {
+    std::array::from_fn(|i| std::array::from_fn(|j| r[(i, j)]))
 }
 
 /// The rotation vector after the spatial spin `delta` is applied to `psi`:
@@ -169,17 +115,21 @@ pub fn spin_from_rotation_vector(psi: &Vector3<f64>) -> Matrix3<f64> {
 
 /// The inverse of [`spin_from_rotation_vector`]: `dψ = T(ψ)⁻¹·δθ`,
 ///
-/// `T⁻¹(ψ) = I − ½[ψ]× + (1/φ² − (1 + cos φ)/(2φ·sin φ))·[ψ]×²`.
+/// `T⁻¹(ψ) = I − ½[ψ]× + (1/φ² − (1 + cos φ)/(2φ·sin φ))·[ψ]×²`
+///
+/// (column by column from [`crate::dual::inv_jacobian_times`]).
 pub fn rotation_vector_from_spin(psi: &Vector3<f64>) -> Matrix3<f64> {
-    let phi2 = psi.norm_squared();
-    let c = if phi2 < 1e-8 {
-        1.0 / 12.0 + phi2 / 720.0
-    } else {
-        let phi = phi2.sqrt();
-        1.0 / phi2 - (1.0 + phi.cos()) / (2.0 * phi * phi.sin())
-    };
-    let s = skew(psi);
-    Matrix3::identity() - s * 0.5 + s * s * c
+    let p: dual::V3<f64> = (*psi).into();
+    let mut m = Matrix3::zeros();
+    for j in 0..3 {
+        let mut e = [0.0; 3];
+        e[j] = 1.0;
+        let c = dual::inv_jacobian_times(&p, &e, false);
+        for i in 0..3 {
+            m[(i, j)] = c[i];
+        }
+    }
+    m
 }
 
 #[cfg(test)]

@@ -43,7 +43,7 @@
 //!
 //! The consistent tangent `K = ∂f/∂d` (material part `Bᵀ·K_l·B` *and* every geometric
 //! term: the variation of `r₁, R_r, T⁻¹, q`) is the exact derivative of the same function,
-//! taken column by column in forward mode ([`super::dual`]): the translation `u_i` is seeded
+//! taken column by column in forward mode ([`railfem_framework::dual`]): the translation `u_i` is seeded
 //! with a unit direction, the rotation with `R_i + ε·[e]×·R_i` (the spin variation), so each
 //! column is exact to round-off — no finite-difference step. It is unsymmetric away from
 //! equilibrium (spatial spins are not additive coordinates), so the element declares an
@@ -68,9 +68,9 @@
 //!   consistent beam for the same frequency accuracy.
 //! * Nodes must have the global axes (not carried by a moving frame).
 
-use super::dual::{self, Dual, Scalar, M3, V3};
 use super::{support, Beam3dParams, BeamSection, Mat12};
 use nalgebra::{DMatrix, Vector3};
+use railfem_framework::dual::{self, Dual, Scalar, M3, V3};
 use railfem_framework::element::{
     Element, ElementError, ElementProperties, NodeDofs, StepContext, TrialState,
 };

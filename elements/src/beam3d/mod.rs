@@ -5,7 +5,7 @@
 //! The key `geometry` picks the kinematics: `"linear"` (the default; the small-displacement
 //! element of this file, assembled once), `"pdelta"` (the linear element plus the P-Δ
 //! effect of its axial force, [`pdelta`]) and `"corotational"` (finite 3-D rotations,
-//! [`corotational`], on the forward-mode derivatives of [`dual`]).
+//! [`corotational`], on the forward-mode derivatives of `railfem_framework::dual`).
 //!
 //! What does not live here: warping torsion, and beams on carried nodes (the element
 //! assumes both nodes have the global axes X-Y-Z).
@@ -33,7 +33,6 @@ use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params
 use railfem_framework::{serde_json, FemError};
 
 pub mod corotational;
-pub mod dual;
 pub mod pdelta;
 
 pub use corotational::Beam3dCorotational;
