@@ -17,6 +17,14 @@
 //!
 //! The limits are public constants with their justification; the measured number is
 //! reported beside pass/fail so a near miss is visible.
+//!
+//! **Large rotations.** For an element declaring `finite_rotations`, the rotational
+//! perturbations of the tangent check are spins composed onto the nodal rotation (the
+//! driver's update, [`crate::rotation`]), the energy check steps rotations the same way,
+//! and the rigid-body check adds a finite rigid motion ([`FINITE_RIGID_ANGLE`] about a skew
+//! axis plus [`FINITE_RIGID_SHIFT`]) of the reference and of the sample state, under which
+//! the force must turn with the body. Such elements should give samples at strongly
+//! deformed states (rotations of order 1 rad).
 
 use crate::element::{Element, NodeKinematics, TrialState};
 use crate::error::FemError;
