@@ -5,6 +5,8 @@
 //! and the finite-rotation update of the driver itself. `docs/geometric-nonlinearity.md`
 //! lists the numbers; `-- --nocapture` prints them.
 
+mod common;
+
 use railfem::framework::loads::{LoadSpec, TimeSeries};
 use railfem::framework::model::{AnalysisKind, AnalysisSpec, IntegratorKind, ModelBuilder};
 use railfem::framework::DofSet;
@@ -510,4 +512,35 @@ fn partitioned_solver_composes_rotations_like_the_direct_one() {
     println!("direct vs partitioned: max |Δq| = {diff:.2e} (max |q| = {scale:.3})");
     assert!(scale > 0.5, "the arm must rotate finitely: {scale}");
     assert!(diff <= 1e-8 * scale, "{diff}");
+}
+
+/// The model file `examples/models/roll_up.toml` (the full circle above, from the command
+/// line): the tip returns to the clamp (`ux = −L`, `uy = 0`, stored rotation 0) to
+/// round-off, and the midpoint sits at the top of the circle, `(0, L/π)` from the clamp,
+/// within 2e-3·L (the chord mesh: measured 1.3e-3).
+#[test]
+fn roll_up_model_file_closes_the_circle() {
+    let out = common::temp_dir("roll_up");
+    let m = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/models/roll_up.toml");
+    let o = common::railfem(&["run", m.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let tip = common::Csv::read(&out.join("tip.csv"));
+    let (ux, uy, rz) = (
+        tip.column("21_ux")[0],
+        tip.column("21_uy")[0],
+        tip.column("21_rz")[0],
+    );
+    assert!(
+        (ux + 1.0).abs() < 1e-9 && uy.abs() < 1e-9 && rz.abs() < 1e-9,
+        "{ux} {uy} {rz}"
+    );
+    let mid = common::Csv::read(&out.join("midpoint.csv"));
+    let (mx, my) = (mid.column("11_ux")[0], mid.column("11_uy")[0]);
+    println!(
+        "roll-up file: tip ({ux:.3e}, {uy:.3e}), midpoint ({:.5}, {my:.5}) vs (0, {:.5})",
+        0.5 + mx,
+        1.0 / PI
+    );
+    assert!((0.5 + mx).abs() < 2e-3 && (my - 1.0 / PI).abs() < 2e-3);
+    let _ = std::fs::remove_dir_all(&out);
 }
