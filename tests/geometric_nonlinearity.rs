@@ -544,3 +544,71 @@ fn roll_up_model_file_closes_the_circle() {
     assert!((0.5 + mx).abs() < 2e-3 && (my - 1.0 / PI).abs() < 2e-3);
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The public hook for finite-rotation nodes without a finite-rotation element (what a
+/// nonlinear rigid link uses): `Model::mark_finite_rotation` makes a node's free rotation
+/// triple composed; a marked slave makes its master a finite-rotation node too; a mark on a
+/// node that does not exist is refused.
+#[test]
+fn finite_rotation_marks_from_outside_elements() {
+    use railfem::framework::assembly::Assembler;
+    let linear = section("linear", 1e7, 1.0, 1e-7, 2e-7);
+    let build = || {
+        let mut b = cantilever("marks", 2, 1.0, [1.0, 0.0, 0.0], &linear);
+        b.node(4, [1.0, 0.5, 0.0]);
+        b.element("beam3d", 9, &[4, 5], &linear);
+        b.node(5, [1.0, 1.0, 0.0]);
+        b.rigid_link(3, 4, DofSet::ALL);
+        b.build().expect("model")
+    };
+    let mut m = build();
+    let asm = Assembler::new(&mut m).expect("assembler");
+    assert!(
+        !asm.dofmap.has_finite_rotations() && !(1..=5).any(|n| asm.dofmap.finite_rotation(n - 1))
+    );
+    let mut m = build();
+    let slave = m.node(4).unwrap();
+    m.mark_finite_rotation(slave);
+    let asm = Assembler::new(&mut m).expect("assembler");
+    let master = m.node(3).unwrap();
+    assert!(asm.dofmap.finite_rotation(slave) && asm.dofmap.finite_rotation(master));
+    assert!(!asm.dofmap.finite_rotation(m.node(2).unwrap()));
+    // The master's three free rotations form the one composed triple (the slave has none).
+    let triples: Vec<[usize; 3]> = asm.dofmap.rotation_triples().collect();
+    assert_eq!(triples.len(), 1);
+    let want: Vec<usize> = (3..6)
+        .map(|d| asm.dofmap.equation(master, d).unwrap())
+        .collect();
+    assert_eq!(triples[0].to_vec(), want);
+    // Composition on that triple, plain sum elsewhere.
+    let n = asm.neq();
+    let mut q = vec![0.0; n];
+    q[want[2]] = 1.0; // ψ = 1 rad about Z
+    let mut dq = vec![0.5; n];
+    asm.dofmap.add_correction(&mut q, &dq);
+    let psi = nalgebra::Vector3::new(q[want[0]], q[want[1]], q[want[2]]);
+    let expect = railfem::framework::rotation::compose(
+        &nalgebra::Vector3::z(),
+        &nalgebra::Vector3::repeat(0.5),
+    );
+    assert!((psi - expect).norm() < 1e-15);
+    let other = (0..n).find(|i| !want.contains(i)).unwrap();
+    assert_eq!(q[other], 0.5);
+    let mut back = vec![0.0; n];
+    let q0 = {
+        let mut z = vec![0.0; n];
+        z[want[2]] = 1.0;
+        z
+    };
+    asm.dofmap.increment(&q0, &q, &mut back);
+    dq.iter_mut().for_each(|x| *x = 0.5);
+    assert!(back.iter().zip(&dq).all(|(a, b)| (a - b).abs() < 1e-14));
+    // A mark on a missing node.
+    let mut m = build();
+    m.mark_finite_rotation(99);
+    let e = Assembler::new(&mut m).err().expect("refused").to_string();
+    assert!(
+        e.contains("node index 99") && e.contains("mark an existing node"),
+        "{e}"
+    );
+}

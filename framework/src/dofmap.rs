@@ -194,7 +194,7 @@ impl DofMap {
         for i in 0..nn {
             resolve(i, model, kin, &slave_of, &eq_of, &mut terms, &mut visiting)?;
         }
-        let finite = finite_rotation_nodes(model);
+        let finite = finite_rotation_nodes(model)?;
         let triples = rotation_triples(model, &finite, &eq_of, &terms)?;
         let mut start = Vec::with_capacity(nn * 6 + 1);
         let mut eqs = Vec::new();
@@ -310,7 +310,7 @@ impl DofMap {
 
 /// Finite-rotation flags per node: nodes of elements declaring `finite_rotations`, nodes the
 /// model marked, and (transitively) masters of such slaves whose rotations they follow.
-fn finite_rotation_nodes(model: &Model) -> Vec<bool> {
+fn finite_rotation_nodes(model: &Model) -> Result<Vec<bool>, FemError> {
     let mut finite = vec![false; model.nodes.len()];
     for e in &model.elements {
         if e.element.properties().finite_rotations {
@@ -320,8 +320,17 @@ fn finite_rotation_nodes(model: &Model) -> Vec<bool> {
         }
     }
     for &n in &model.finite_rotation_nodes {
-        if let Some(f) = finite.get_mut(n) {
-            *f = true;
+        match finite.get_mut(n) {
+            Some(f) => *f = true,
+            None => {
+                return Err(FemError::input(
+                    &model.origin,
+                    format!(
+                        "a finite-rotation mark names node index {n} but the model has {} nodes; mark an existing node",
+                        model.nodes.len()
+                    ),
+                ))
+            }
         }
     }
     for _ in 0..=model.links.len() {
@@ -337,7 +346,7 @@ fn finite_rotation_nodes(model: &Model) -> Vec<bool> {
             break;
         }
     }
-    finite
+    Ok(finite)
 }
 
 /// The free rotation triples of the finite-rotation nodes, refusing a node whose rotations
