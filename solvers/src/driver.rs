@@ -516,12 +516,17 @@ impl Driver {
             .map(|i| (1.0 - af) * f_ext[i] + af * s0.f_ext[i])
             .collect();
         // The step's increment: q − q_n, and on finite-rotation triples the incremental
-        // rotation vector log(R·R_nᵀ) (see the module documentation).
-        let mut du = vec![0.0; n];
+        // rotation vector log(R·R_nᵀ) (see the module documentation); without such triples
+        // it is formed inline, as it always was.
+        let finite = self.asm.dofmap.has_finite_rotations();
+        let mut du = if finite { vec![0.0; n] } else { Vec::new() };
         for it in 0..=settings.max_iter {
-            self.asm.dofmap.increment(&s0.q, &q, &mut du);
+            if finite {
+                self.asm.dofmap.increment(&s0.q, &q, &mut du);
+            }
             for i in 0..n {
-                let (vi, ai) = ig.kinematics(dt, du[i], s0.v[i], s0.a[i]);
+                let dui = if finite { du[i] } else { q[i] - s0.q[i] };
+                let (vi, ai) = ig.kinematics(dt, dui, s0.v[i], s0.a[i]);
                 v[i] = vi;
                 a[i] = ai;
                 // The residual's inertia and damping act at the intermediate times.
