@@ -146,6 +146,25 @@ fn model_arg(a: &Args) -> Result<&Path, FemError> {
     })
 }
 
+/// Most problems `railfem check` lists.
+pub const MAX_LISTED: usize = 20;
+
+/// The one validation `check` and `run` share: read and build the model, number the
+/// equations, assemble the pattern and the constant matrices, and run the preflight checks
+/// (singularity, stability, size). Warnings go to stderr here, so both print them.
+fn prepare(
+    path: &Path,
+    estimate_factor: bool,
+) -> Result<(crate::solvers::Driver, crate::solvers::preflight::Preflight), FemError> {
+    let model = crate::load_model(path)?;
+    let mut driver = crate::solvers::Driver::new(model)?;
+    let pre = driver.preflight(estimate_factor)?;
+    for w in &pre.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok((driver, pre))
+}
+
 /// Runs a parsed command; returns the process exit code.
 pub fn run(a: &Args) -> Result<i32, FemError> {
     crate::elements::link();
@@ -164,22 +183,32 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         }
         "check" => {
             let path = model_arg(a)?;
-            let model = crate::load_model(path)?;
-            let driver = crate::solvers::Driver::new(model)?;
-            println!(
-                "{}: ok — {} nodes, {} elements, {} equations",
-                path.display(),
-                driver.model.nodes.len(),
-                driver.model.elements.len(),
-                driver.neq()
-            );
-            Ok(0)
+            match prepare(path, true) {
+                Ok((_, pre)) => {
+                    println!("{}: ok — {}", path.display(), pre.size);
+                    Ok(0)
+                }
+                Err(e) => {
+                    // Every problem on its own line (run stops at the first).
+                    let all = e.problems();
+                    for p in all.iter().take(MAX_LISTED) {
+                        eprintln!("error: {}", p.to_string().replace('\n', " "));
+                    }
+                    if all.len() > MAX_LISTED {
+                        eprintln!(
+                            "error: {}: … and {} more problems; fix these first",
+                            path.display(),
+                            all.len() - MAX_LISTED
+                        );
+                    }
+                    Ok(2)
+                }
+            }
         }
         "run" => {
             let path = model_arg(a)?;
             let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out"));
-            let model = crate::load_model(path)?;
-            let mut driver = crate::solvers::Driver::new(model)?;
+            let (mut driver, _) = prepare(path, false)?;
             let s = driver.run(Some(&out), &mut |_| {})?;
             println!(
                 "{}: {} steps, {} Newton iterations, {} factorizations, {} equations, {:.3} s; results in {}",

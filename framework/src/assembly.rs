@@ -47,6 +47,8 @@ struct ElementMap {
 struct OffPattern {
     /// `(element DOF, equation, coefficient)` of every equation term of the element.
     terms: Vec<(u32, u32, f64)>,
+    /// The element's DOF count (its matrices' size; DOFs without equations included).
+    ndof: usize,
     /// Tangent stiffness of the current iteration.
     k: DMatrix<f64>,
     /// Mass of the current step, if the element has mass.
@@ -241,6 +243,31 @@ impl Assembler {
         self.mass_elems
             .iter()
             .all(|&ei| self.var_slot.get(ei).is_some_and(|&s| s != u32::MAX))
+    }
+
+    /// Equations whose stiffness or mass is not in the constant matrices, from the elements'
+    /// declared connectivity: `(variable, variable_mass)` flags per equation — touched by a
+    /// variable element (any of its matrices), or by an element whose mass is re-formed
+    /// each step. The singularity check counts such an equation as possibly stiff
+    /// (possibly massive) without evaluating anything.
+    pub fn variable_cover(&self) -> (Vec<bool>, Vec<bool>) {
+        let n = self.dofmap.neq;
+        let mut var = vec![false; n];
+        let mut mass = vec![false; n];
+        let mark = |ei: usize, flags: &mut Vec<bool>| {
+            for &(node, d) in &self.maps[ei].dofs {
+                for (e, _) in self.dofmap.terms(node, d) {
+                    flags[e] = true;
+                }
+            }
+        };
+        for &ei in &self.variable {
+            mark(ei, &mut var);
+        }
+        for &ei in &self.mass_elems {
+            mark(ei, &mut mass);
+        }
+        (var, mass)
     }
 
     /// Whether every element declares a symmetric tangent.
@@ -518,6 +545,7 @@ impl Assembler {
         for (slot, &ei) in self.variable.iter().enumerate() {
             let off = &mut self.off[slot];
             off.terms.clear();
+            off.ndof = self.maps[ei].dofs.len();
             for (a, &(node, d)) in self.maps[ei].dofs.iter().enumerate() {
                 for (e, c) in self.dofmap.terms(node, d) {
                     off.terms.push((a as u32, e as u32, c));
@@ -873,12 +901,9 @@ impl Assembler {
             return;
         }
         for off in &self.off {
-            let nd = off
-                .terms
-                .iter()
-                .map(|t| t.0 as usize + 1)
-                .max()
-                .unwrap_or(0);
+            // The element's own size, not the largest DOF with an equation: a wheel on a
+            // rigid rail has its rail DOFs last and fixed.
+            let nd = off.ndof;
             let mut e = DMatrix::zeros(nd, nd);
             for (coef, mat) in [
                 (ck, Some(&off.k)),

@@ -47,6 +47,24 @@ pub enum FemError {
         /// The operating system's reason.
         message: String,
     },
+    /// Several independent problems found in one pass (a model file with more than one
+    /// mistake). `Display` is the first one plus a count, one line; [`FemError::problems`]
+    /// lists them all (what `railfem check` prints).
+    #[error("{}", many_line(.0))]
+    Many(Vec<FemError>),
+}
+
+fn many_line(list: &[FemError]) -> String {
+    let flat: Vec<&FemError> = list.iter().flat_map(FemError::problems).collect();
+    match flat.as_slice() {
+        [] => "no problem".to_string(),
+        [one] => one.to_string(),
+        [first, rest @ ..] => format!(
+            "{first} (and {} more problem{}; `railfem check` lists them)",
+            rest.len(),
+            if rest.len() == 1 { "" } else { "s" }
+        ),
+    }
 }
 
 impl FemError {
@@ -55,6 +73,23 @@ impl FemError {
         FemError::Input {
             origin: origin.into(),
             message: message.into(),
+        }
+    }
+
+    /// Every problem this error stands for, flattened (one for all but [`FemError::Many`]).
+    pub fn problems(&self) -> Vec<&FemError> {
+        match self {
+            FemError::Many(list) => list.iter().flat_map(FemError::problems).collect(),
+            one => vec![one],
+        }
+    }
+
+    /// `Ok` for no problem, the problem itself for one, [`FemError::Many`] for several.
+    pub fn from_list(mut list: Vec<FemError>) -> Result<(), FemError> {
+        match list.len() {
+            0 => Ok(()),
+            1 => Err(list.remove(0)),
+            _ => Err(FemError::Many(list)),
         }
     }
 
@@ -112,6 +147,24 @@ pub fn nearest_n<'a>(word: &str, candidates: &[&'a str], n: usize) -> Vec<&'a st
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn many_problems_print_the_first_and_a_count_on_one_line() {
+        let e = FemError::from_list(vec![
+            FemError::input("m.toml: node[0]", "a"),
+            FemError::Many(vec![
+                FemError::input("m.toml: node[1]", "b"),
+                FemError::input("m.toml: node[2]", "c"),
+            ]),
+        ])
+        .unwrap_err();
+        assert_eq!(e.problems().len(), 3);
+        assert_eq!(
+            e.to_string(),
+            "m.toml: node[0]: a (and 2 more problems; `railfem check` lists them)"
+        );
+        assert!(FemError::from_list(Vec::new()).is_ok());
+    }
 
     #[test]
     fn distances() {

@@ -29,6 +29,7 @@ pub mod plugin;
 pub mod recorder;
 pub mod registry;
 pub mod sparse;
+pub mod strict_json;
 pub mod vtk;
 
 pub use dof::{Dof, DofSet};

@@ -16,5 +16,6 @@ pub mod integrator;
 pub mod linear;
 pub mod modal;
 pub mod partition;
+pub mod preflight;
 
 pub use driver::{Driver, RunSummary, State, StepReport};
