@@ -54,6 +54,32 @@ pub enum FemError {
     Many(Vec<FemError>),
 }
 
+fn fold_repeats(list: Vec<FemError>) -> Vec<FemError> {
+    let mut out: Vec<(FemError, usize)> = Vec::new();
+    for e in list {
+        let same = out.iter_mut().find(|(f, _)| match (f, &e) {
+            (FemError::Input { message: a, .. }, FemError::Input { message: b, .. }) => a == b,
+            _ => false,
+        });
+        match same {
+            Some((_, n)) => *n += 1,
+            None => out.push((e, 0)),
+        }
+    }
+    out.into_iter()
+        .map(|(e, n)| match (e, n) {
+            (FemError::Input { origin, message }, n) if n > 0 => FemError::Input {
+                origin,
+                message: format!(
+                    "{message} (the same at {n} more place{})",
+                    if n == 1 { "" } else { "s" }
+                ),
+            },
+            (e, _) => e,
+        })
+        .collect()
+}
+
 fn many_line(list: &[FemError]) -> String {
     let flat: Vec<&FemError> = list.iter().flat_map(FemError::problems).collect();
     match flat.as_slice() {
@@ -85,7 +111,11 @@ impl FemError {
     }
 
     /// `Ok` for no problem, the problem itself for one, [`FemError::Many`] for several.
-    pub fn from_list(mut list: Vec<FemError>) -> Result<(), FemError> {
+    /// Bad-input problems with the same message at several places (one `wheel` table
+    /// behind eight generated wheels, one mistake copied into many tables) are reported
+    /// once, at the first place, with the count of the others.
+    pub fn from_list(list: Vec<FemError>) -> Result<(), FemError> {
+        let mut list = fold_repeats(list);
         match list.len() {
             0 => Ok(()),
             1 => Err(list.remove(0)),

@@ -278,7 +278,7 @@ impl Setup {
         ] {
             if !(min..=MAX_PROFILE_POINTS).contains(&v) {
                 return Err(err(format!(
-                    "`{key}` = {v}; give {min} to {MAX_PROFILE_POINTS} points"
+                    "`{key}` = {v}; give at least {min} and at most {MAX_PROFILE_POINTS} points"
                 )));
             }
         }

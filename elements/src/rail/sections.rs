@@ -139,7 +139,7 @@ fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), F
                 ));
             }
         }
-        build_train_at(b, &track, &spec, &o)?;
+        build_train_at(b, &track, &spec, &format!("{o} (vehicle `{}`)", spec.name))?;
     }
     Ok(())
 }
