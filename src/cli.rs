@@ -156,9 +156,12 @@ fn prepare(
     path: &Path,
     estimate_factor: bool,
 ) -> Result<(crate::solvers::Driver, crate::solvers::preflight::Preflight), FemError> {
-    let model = crate::load_model(path)?;
-    let mut driver = crate::solvers::Driver::new(model)?;
-    let pre = driver.preflight(estimate_factor)?;
+    let file = path.display().to_string();
+    let model = crate::load_model(path).map_err(|e| e.in_file(&file))?;
+    let mut driver = crate::solvers::Driver::new(model).map_err(|e| e.in_file(&file))?;
+    let pre = driver
+        .preflight(estimate_factor)
+        .map_err(|e| e.in_file(&file))?;
     for w in &pre.warnings {
         eprintln!("warning: {w}");
     }
@@ -209,7 +212,9 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
             let path = model_arg(a)?;
             let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out"));
             let (mut driver, _) = prepare(path, false)?;
-            let s = driver.run(Some(&out), &mut |_| {})?;
+            let s = driver
+                .run(Some(&out), &mut |_| {})
+                .map_err(|e| e.in_file(&path.display().to_string()))?;
             println!(
                 "{}: {} steps, {} Newton iterations, {} factorizations, {} equations, {:.3} s; results in {}",
                 path.display(),

@@ -122,5 +122,8 @@ fn slab_track() {
 
 #[test]
 fn bridge() {
-    compare("bridge", r#"{type = "bridge", start = 10.0, spans = 1, span = 29.75}"#);
+    compare(
+        "bridge",
+        r#"{type = "bridge", start = 10.0, spans = 1, span = 29.75}"#,
+    );
 }

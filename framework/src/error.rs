@@ -123,6 +123,33 @@ impl FemError {
         }
     }
 
+    /// This error with `file` named at its front, unless it names it already: the
+    /// command line's guarantee that every message names the model file, whichever layer
+    /// (solver, element, load) found the problem.
+    pub fn in_file(self, file: &str) -> FemError {
+        if file.is_empty() || self.to_string().contains(file) {
+            return self;
+        }
+        let at = |m: String| format!("{file}: {m}");
+        match self {
+            FemError::Input { origin, message } => FemError::Input {
+                origin: at(origin),
+                message,
+            },
+            FemError::Plugin(m) => FemError::Plugin(at(m)),
+            FemError::Singular(m) => FemError::Singular(at(m)),
+            FemError::Convergence(m) => FemError::Convergence(at(m)),
+            FemError::NonFinite(m) => FemError::NonFinite(at(m)),
+            FemError::Element { id, kind, message } => {
+                FemError::input(format!("{file}: element {id} ({kind})"), message)
+            }
+            FemError::Output { path, message } => FemError::Output { path, message },
+            FemError::Many(list) => {
+                FemError::Many(list.into_iter().map(|e| e.in_file(file)).collect())
+            }
+        }
+    }
+
     /// An output error for `path`.
     pub fn output(path: impl AsRef<std::path::Path>, e: impl std::fmt::Display) -> FemError {
         FemError::Output {

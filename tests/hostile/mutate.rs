@@ -131,7 +131,9 @@ pub fn mutate(v: &mut Value, rng: &mut Rng) -> (String, Option<(Vec<Step>, Strin
             t.remove(k);
             (format!("deleted {p:?}"), None)
         }
-        (Value::Table(_), Step::Key(k), 7) => (format!("key {p:?} twice"), Some((parent, k.clone()))),
+        (Value::Table(_), Step::Key(k), 7) => {
+            (format!("key {p:?} twice"), Some((parent, k.clone())))
+        }
         (Value::Array(a), Step::Index(i), 5 | 6) => {
             a.remove(*i);
             (format!("deleted entry {p:?}"), None)

@@ -339,7 +339,8 @@ pub fn build_train_at(
         match (p, is_wheel(kind)) {
             (serde_json::Value::Object(params), true) => {
                 let side = params.get("side").and_then(|v| v.as_str()).unwrap_or("");
-                let origin = format!("{origin}: `wheel` (element {next_elem}, moving_axle, {side} wheel)");
+                let origin =
+                    format!("{origin}: `wheel` (element {next_elem}, moving_axle, {side} wheel)");
                 b.element_spec(ElementSpec {
                     id: next_elem,
                     kind: kind.into(),
