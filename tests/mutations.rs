@@ -14,7 +14,7 @@ mod common;
 #[path = "hostile/mutate.rs"]
 mod mutate;
 
-use mutate::{cap_work, case, Rng};
+use mutate::{cap_work, case, too_big, Rng};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -48,7 +48,7 @@ fn examples() -> Vec<(PathBuf, toml::Value)> {
 
 /// Whether the binary refuses an oversized track mesh by itself (the size guard of the
 /// generators). Without one, cases whose mesh alone is too big to build in seconds are
-/// skipped and counted ([`too_big`]); with one, every case runs.
+/// skipped and counted ([`mutate::too_big`]); with one, every case runs.
 fn size_guarded(dir: &Path) -> bool {
     let p = dir.join("probe.toml");
     std::fs::write(
@@ -60,35 +60,6 @@ fn size_guarded(dir: &Path) -> bool {
         run_limited(&["check", p.to_str().expect("utf-8")], Duration::from_secs(5)),
         Some((Some(2), _, t)) if t < Duration::from_secs(10)
     )
-}
-
-/// A mutated model whose track mesh has more than a million stations or whose train has
-/// more than 100 carriages (see [`size_guarded`]).
-fn too_big(v: &toml::Value) -> bool {
-    let num = |x: Option<&toml::Value>| match x {
-        Some(toml::Value::Float(f)) => Some(*f),
-        Some(toml::Value::Integer(i)) => Some(*i as f64),
-        _ => None,
-    };
-    if let Some(t) = v.get("track") {
-        let length: f64 = match t.get("segments") {
-            Some(toml::Value::Array(a)) => a
-                .iter()
-                .map(|s| num(s.get("length")).unwrap_or(0.0).abs())
-                .sum(),
-            _ => 0.0,
-        };
-        let h = num(t.get("element_length")).unwrap_or(0.6).abs();
-        if !(length / h <= 1e6) {
-            return true;
-        }
-    }
-    match v.get("vehicle") {
-        Some(toml::Value::Array(a)) => a
-            .iter()
-            .any(|x| num(x.get("carriages")).is_some_and(|c| c > 100.0)),
-        _ => false,
-    }
 }
 
 /// Runs `railfem args`, killing it after `limit`: `(exit code or None for a signal,

@@ -127,3 +127,36 @@ fn bridge() {
         r#"{type = "bridge", start = 10.0, spans = 1, span = 29.75}"#,
     );
 }
+
+/// A modal analysis needs the whole tangent in one matrix: in the partitioned mode the
+/// wheels' matrices, kept off the global pattern, are added back as triplets. The lowest
+/// frequencies of the carriage on the discrete-support track (contact springs included)
+/// are the direct solver's to round-off.
+#[test]
+fn modal_analysis_runs_in_the_partitioned_mode() {
+    let text = model(
+        r#"{type = "discrete", spacing = 0.6, k = [5e7, 1e8, 5e7, 1e5, 1e5, 1e6], c = [5e4, 5e4, 5e4, 0.0, 0.0, 0.0]}"#,
+    )
+    .replace("kind = \"transient\"", "kind = \"modal\"\nmodes = 4")
+    .replace("dt = 0.002\nduration = 0.01\n", "");
+    let dir = common::temp_dir("modal");
+    let path = dir.join("modal.toml");
+    std::fs::write(&path, &text).expect("write model");
+    let omegas = |solver: SolverChoice| {
+        let mut m = railfem::load_model(&path).unwrap_or_else(|e| panic!("{e}"));
+        m.analysis.solver = solver;
+        let mut d = Driver::new(m).unwrap_or_else(|e| panic!("{e}"));
+        d.modes(4)
+            .unwrap_or_else(|e| panic!("{solver:?}: {e}"))
+            .omega
+    };
+    let (a, b) = (
+        omegas(SolverChoice::Direct),
+        omegas(SolverChoice::Partitioned),
+    );
+    assert_eq!(a.len(), 4);
+    for (x, y) in a.iter().zip(&b) {
+        assert!(*x > 0.0 && (x - y).abs() <= 1e-10 * x, "{a:?} vs {b:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

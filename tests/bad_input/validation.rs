@@ -42,7 +42,11 @@ fn check_lists_and_run_stops_at_the_first(name: &str, text: &str, expect: &[&[&s
         }
     }
     // The two ran in different temporary directories: compare from the file name on.
-    let tail = |l: &str| l.split_once(name).map(|(_, t)| t.to_string()).unwrap_or_default();
+    let tail = |l: &str| {
+        l.split_once(name)
+            .map(|(_, t)| t.to_string())
+            .unwrap_or_default()
+    };
     let first = tail(errors[0]);
     let run_line = check(name, text, &[]);
     assert!(

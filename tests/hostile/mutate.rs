@@ -290,3 +290,33 @@ pub fn cap_work(v: &mut Value, steps: i64) {
         }
     }
 }
+
+/// A mutated model whose track mesh has more than a million stations or whose train has
+/// more than 100 carriages: a build without the generators' size guard cannot refuse
+/// these in seconds, so its callers skip them then.
+pub fn too_big(v: &Value) -> bool {
+    let num = |x: Option<&Value>| match x {
+        Some(Value::Float(f)) => Some(*f),
+        Some(Value::Integer(i)) => Some(*i as f64),
+        _ => None,
+    };
+    if let Some(t) = v.get("track") {
+        let length: f64 = match t.get("segments") {
+            Some(Value::Array(a)) => a
+                .iter()
+                .map(|s| num(s.get("length")).unwrap_or(0.0).abs())
+                .sum(),
+            _ => 0.0,
+        };
+        let h = num(t.get("element_length")).unwrap_or(0.6).abs();
+        if !(length / h <= 1e6) {
+            return true;
+        }
+    }
+    match v.get("vehicle") {
+        Some(Value::Array(a)) => a
+            .iter()
+            .any(|x| num(x.get("carriages")).is_some_and(|c| c > 100.0)),
+        _ => false,
+    }
+}
