@@ -13,7 +13,8 @@ railfem — nonlinear dynamic finite elements for trains on curved, canted track
 
 USAGE:
   railfem run MODEL [--out DIR] [--plugin PATH]...   run a model file (TOML or JSON)
-  railfem check MODEL [--plugin PATH]...             validate a model file without running
+  railfem check MODEL [--plugin PATH]...             validate a model file as run would, without
+                                                     running: its size and every problem found
   railfem elements [--plugin PATH]...                list registered element kinds and keys
   railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
                 [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick] [--vtk EVERY]

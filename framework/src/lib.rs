@@ -4,7 +4,8 @@
 //! ([`element`]), the registry, plugins and conformance kit ([`registry`], [`plugin`],
 //! [`conformance`]), equation numbering
 //! with constraints ([`dofmap`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
-//! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]) and
+//! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`],
+//! [`strict_json`]) and
 //! recorders ([`recorder`]). What does not: concrete elements (railfem-elements) and
 //! solvers (railfem-solvers).
 //!

@@ -347,42 +347,41 @@ fn ignored_analysis_keys(raw: &Value, spec: &AnalysisSpec, o: &str) -> Vec<FemEr
 
 /// One `[[element]]` table into the builder.
 fn element_entry(v: &Value, i: usize, name: &str, b: &mut ModelBuilder) -> Result<(), FemError> {
-    {
-        let mut o = format!("{name}: element[{i}]");
-        let Value::Object(map) = v else {
-            return Err(FemError::input(o, "must be a table"));
-        };
-        let mut params = map.clone();
-        let kind =
-            match params.remove("type") {
-                Some(Value::String(s)) => s,
-                _ => return Err(FemError::input(
-                    o,
-                    "missing `type` (the registered element name; `railfem elements` lists them)",
-                )),
-            };
-        let id = match params.remove("id") {
-            Some(Value::Number(n)) if n.as_u64().is_some() => n.as_u64().unwrap_or(0),
-            _ => {
-                return Err(FemError::input(
-                    o,
-                    "missing or invalid `id` (a non-negative integer)",
-                ))
-            }
-        };
-        o = format!("{name}: element[{i}] (id {id}, {kind})");
-        let nodes: Vec<u64> = match params.remove("nodes") {
-            Some(v) => de(&v, &o)?,
-            None => return Err(FemError::input(o, "missing `nodes` (a list of node ids)")),
-        };
-        b.element_spec(ElementSpec {
-            id,
-            kind,
-            nodes,
-            params,
-            origin: o,
-        });
-    }
+    let mut o = format!("{name}: element[{i}]");
+    let Value::Object(map) = v else {
+        return Err(FemError::input(o, "must be a table"));
+    };
+    let mut params = map.clone();
+    let kind = match params.remove("type") {
+        Some(Value::String(s)) => s,
+        _ => {
+            return Err(FemError::input(
+                o,
+                "missing `type` (the registered element name; `railfem elements` lists them)",
+            ))
+        }
+    };
+    let id = match params.remove("id") {
+        Some(Value::Number(n)) if n.as_u64().is_some() => n.as_u64().unwrap_or(0),
+        _ => {
+            return Err(FemError::input(
+                o,
+                "missing or invalid `id` (a non-negative integer)",
+            ))
+        }
+    };
+    o = format!("{name}: element[{i}] (id {id}, {kind})");
+    let nodes: Vec<u64> = match params.remove("nodes") {
+        Some(v) => de(&v, &o)?,
+        None => return Err(FemError::input(o, "missing `nodes` (a list of node ids)")),
+    };
+    b.element_spec(ElementSpec {
+        id,
+        kind,
+        nodes,
+        params,
+        origin: o,
+    });
     Ok(())
 }
 

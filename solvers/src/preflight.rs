@@ -198,10 +198,11 @@ impl Driver {
                 }
             }
         };
-        let mut k = self.asm.k_const.zeros_like();
-        self.asm.effective(1.0, 0.0, 0.0, &mut k);
+        // The constant matrices as they are (no copy: at a million equations one is
+        // hundreds of MB); the variable elements are accounted for by their connectivity.
+        let k = &self.asm.k_const;
         let diag = |m: &CscMatrix| -> Vec<f64> { (0..m.n).map(|i| m.get(i, i).abs()).collect() };
-        let kd = diag(&k);
+        let kd = diag(k);
         let md = diag(&self.asm.m_const);
         let cd = diag(&self.asm.c_const);
         let (var, var_mass) = self.asm.variable_cover();
@@ -245,7 +246,7 @@ impl Driver {
             && spec.integrator == IntegratorKind::Newmark
             && !newmark_unconditional(spec.beta, spec.gamma)
         {
-            warnings.push(self.newmark_warning(&k));
+            warnings.push(self.newmark_warning());
         }
         let steps = match spec.kind {
             AnalysisKind::Static => spec.steps,
@@ -274,7 +275,7 @@ impl Driver {
         } else if n <= DENSE_LIMIT {
             Some(n * n)
         } else {
-            cholesky_factor_entries(&k).ok()
+            cholesky_factor_entries(k).ok()
         };
         Ok(Preflight {
             size: ModelSize {
@@ -292,7 +293,7 @@ impl Driver {
 
     /// The warning for a Newmark pair outside the unconditionally stable range, with the
     /// Δt limit for the model's highest frequency (constant matrices).
-    fn newmark_warning(&self, k: &CscMatrix) -> String {
+    fn newmark_warning(&self) -> String {
         let spec = &self.model.analysis;
         let (beta, gamma, dt) = (spec.beta, spec.gamma, spec.dt);
         let head = format!(
@@ -305,9 +306,7 @@ impl Driver {
                 "{head}: stable for every Δt since 2·beta ≥ gamma, but high frequencies are not damped monotonically; beta = 0.25, gamma = 0.5 is the default"
             );
         };
-        let mut m = self.asm.k_const.zeros_like();
-        self.asm.effective(0.0, 1.0, 0.0, &mut m);
-        match highest_frequency(k, &m) {
+        match highest_frequency(&self.asm.k_const, &self.asm.m_const) {
             Some(w) => {
                 let limit = omega_crit / w;
                 let verdict = if dt > limit {
