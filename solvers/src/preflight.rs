@@ -164,7 +164,8 @@ pub fn highest_frequency(k: &CscMatrix, m: &CscMatrix) -> Option<f64> {
         ms.mul_vec(&x, &mut mx);
         let num: f64 = x.iter().zip(&kx).map(|(a, b)| a * b).sum();
         let den: f64 = x.iter().zip(&mx).map(|(a, b)| a * b).sum();
-        if !(den > 0.0) {
+        // M is positive definite here (factored above), so only NaN fails this.
+        if den.is_nan() || den <= 0.0 {
             return None;
         }
         lambda = num / den;

@@ -309,7 +309,8 @@ pub fn too_big(v: &Value) -> bool {
             _ => 0.0,
         };
         let h = num(t.get("element_length")).unwrap_or(0.6).abs();
-        if !(length / h <= 1e6) {
+        // NaN (a NaN length) counts as too big.
+        if (length / h).is_nan() || length / h > 1e6 {
             return true;
         }
     }
