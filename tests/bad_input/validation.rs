@@ -259,31 +259,29 @@ fn a_conditionally_stable_newmark_pair_is_accepted_with_its_limit() {
 
 // --- check runs what run runs, and lists every problem -------------------------------
 
+/// Node `id` at x = `id` m with only DOF `free` free, carrying a 10 kg mass element (id
+/// `id + 5`) with rotary inertia `inertia` (kg·m²) and nothing else.
+fn mass_node(id: u64, free: &str, inertia: &str) -> String {
+    let fixed: Vec<String> = ["ux", "uy", "uz", "rx", "ry", "rz"]
+        .iter()
+        .filter(|d| **d != free)
+        .map(|d| format!("\"{d}\""))
+        .collect();
+    format!(
+        "\n[[node]]\nid = {id}\nxyz = [{id}.0, 0.0, 0.0]\nfix = [{}]\n[[element]]\ntype = \"mass\"\nid = {}\nnodes = [{id}]\nm = 10.0\ninertia = {inertia}\n",
+        fixed.join(", "),
+        id + 5
+    )
+}
+
 /// Two masses free in a static analysis: no stiffness at node 3 ux nor at node 4 uy. Found
 /// before any factorization, both by `check`; `run` stops at the first.
 #[test]
 fn check_finds_every_singular_dof_before_a_factorization() {
     let text = format!(
-        "{GOOD}
-[[node]]
-id = 3
-xyz = [4.0, 0.0, 0.0]
-fix = [\"uy\", \"uz\", \"rx\", \"ry\", \"rz\"]
-[[node]]
-id = 4
-xyz = [5.0, 0.0, 0.0]
-fix = [\"ux\", \"uz\", \"rx\", \"ry\", \"rz\"]
-[[element]]
-type = \"mass\"
-id = 8
-nodes = [3]
-m = 10.0
-[[element]]
-type = \"mass\"
-id = 9
-nodes = [4]
-m = 10.0
-"
+        "{GOOD}{}{}",
+        mass_node(3, "ux", "[0.0, 0.0, 0.0]"),
+        mass_node(4, "uy", "[0.0, 0.0, 0.0]")
     );
     check_lists_and_run_stops_at_the_first(
         "twosingular.toml",
@@ -300,18 +298,7 @@ m = 10.0
 /// in a transient whose initial static equilibrium needs K.
 #[test]
 fn a_free_rotation_with_inertia_is_singular_only_where_k_is_factored() {
-    let extra = "
-[[node]]
-id = 3
-xyz = [4.0, 0.0, 0.0]
-fix = [\"ux\", \"uy\", \"uz\", \"rx\", \"ry\"]
-[[element]]
-type = \"mass\"
-id = 8
-nodes = [3]
-m = 10.0
-inertia = [0.0, 0.0, 2.0]
-";
+    let extra = mass_node(3, "rz", "[0.0, 0.0, 2.0]");
     // Static: singular at node 3 rz.
     let text = format!("{GOOD}{extra}");
     check_lists_and_run_stops_at_the_first(
