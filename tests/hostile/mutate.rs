@@ -291,7 +291,9 @@ pub fn cap_work(v: &mut Value, steps: i64) {
     }
 }
 
-/// A mutated model whose track mesh has more than a million stations or whose train has
+/// A mutated model whose track mesh has more than a million stations, whose alignment is
+/// longer than 1000 km or bends tighter than a 1 m radius (its sampling grows with both),
+/// or whose train has
 /// more than 100 carriages: a build without the generators' size guard cannot refuse
 /// these in seconds, so its callers skip them then.
 pub fn too_big(v: &Value) -> bool {
@@ -308,9 +310,21 @@ pub fn too_big(v: &Value) -> bool {
                 .sum(),
             _ => 0.0,
         };
+        let tight = match t.get("segments") {
+            Some(Value::Array(a)) => a.iter().any(|s| {
+                num(s.get("radius")).is_some_and(|r| r.abs() < 1.0)
+                    || ["from_curvature", "to_curvature"]
+                        .iter()
+                        .any(|k| num(s.get(*k)).is_some_and(|c| c.is_nan() || c.abs() > 1.0))
+            }),
+            _ => false,
+        };
+        if tight {
+            return true;
+        }
         let h = num(t.get("element_length")).unwrap_or(0.6).abs();
         // NaN (a NaN length) counts as too big.
-        if (length / h).is_nan() || length / h > 1e6 {
+        if (length / h).is_nan() || length / h > 1e6 || length > 1e6 {
             return true;
         }
     }
