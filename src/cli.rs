@@ -13,7 +13,8 @@ railfem — nonlinear dynamic finite elements for trains on curved, canted track
 
 USAGE:
   railfem run MODEL [--out DIR] [--plugin PATH]...   run a model file (TOML or JSON)
-  railfem check MODEL [--plugin PATH]...             validate a model file without running
+  railfem check MODEL [--plugin PATH]...             validate a model file as run would, without
+                                                     running: its size and every problem found
   railfem elements [--plugin PATH]...                list registered element kinds and keys
   railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
                 [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick] [--vtk EVERY]
@@ -146,6 +147,28 @@ fn model_arg(a: &Args) -> Result<&Path, FemError> {
     })
 }
 
+/// Most problems `railfem check` lists.
+pub const MAX_LISTED: usize = 20;
+
+/// The one validation `check` and `run` share: read and build the model, number the
+/// equations, assemble the pattern and the constant matrices, and run the preflight checks
+/// (singularity, stability, size). Warnings go to stderr here, so both print them.
+fn prepare(
+    path: &Path,
+    estimate_factor: bool,
+) -> Result<(crate::solvers::Driver, crate::solvers::preflight::Preflight), FemError> {
+    let file = path.display().to_string();
+    let model = crate::load_model(path).map_err(|e| e.in_file(&file))?;
+    let mut driver = crate::solvers::Driver::new(model).map_err(|e| e.in_file(&file))?;
+    let pre = driver
+        .preflight(estimate_factor)
+        .map_err(|e| e.in_file(&file))?;
+    for w in &pre.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok((driver, pre))
+}
+
 /// Runs a parsed command; returns the process exit code.
 pub fn run(a: &Args) -> Result<i32, FemError> {
     crate::elements::link();
@@ -164,23 +187,35 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         }
         "check" => {
             let path = model_arg(a)?;
-            let model = crate::load_model(path)?;
-            let driver = crate::solvers::Driver::new(model)?;
-            println!(
-                "{}: ok — {} nodes, {} elements, {} equations",
-                path.display(),
-                driver.model.nodes.len(),
-                driver.model.elements.len(),
-                driver.neq()
-            );
-            Ok(0)
+            match prepare(path, true) {
+                Ok((_, pre)) => {
+                    println!("{}: ok — {}", path.display(), pre.size);
+                    Ok(0)
+                }
+                Err(e) => {
+                    // Every problem on its own line (run stops at the first).
+                    let all = e.problems();
+                    for p in all.iter().take(MAX_LISTED) {
+                        eprintln!("error: {}", p.to_string().replace('\n', " "));
+                    }
+                    if all.len() > MAX_LISTED {
+                        eprintln!(
+                            "error: {}: … and {} more problems; fix these first",
+                            path.display(),
+                            all.len() - MAX_LISTED
+                        );
+                    }
+                    Ok(2)
+                }
+            }
         }
         "run" => {
             let path = model_arg(a)?;
             let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out"));
-            let model = crate::load_model(path)?;
-            let mut driver = crate::solvers::Driver::new(model)?;
-            let s = driver.run(Some(&out), &mut |_| {})?;
+            let (mut driver, _) = prepare(path, false)?;
+            let s = driver
+                .run(Some(&out), &mut |_| {})
+                .map_err(|e| e.in_file(&path.display().to_string()))?;
             println!(
                 "{}: {} steps, {} Newton iterations, {} factorizations, {} equations, {:.3} s; results in {}",
                 path.display(),

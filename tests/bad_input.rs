@@ -689,3 +689,6 @@ fn bad_plugins_are_refused() {
         &["absent.so", "cannot open the plugin file"],
     );
 }
+
+#[path = "bad_input/validation.rs"]
+mod validation;

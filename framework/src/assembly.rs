@@ -47,6 +47,8 @@ struct ElementMap {
 struct OffPattern {
     /// `(element DOF, equation, coefficient)` of every equation term of the element.
     terms: Vec<(u32, u32, f64)>,
+    /// The element's DOF count (its matrices' size; DOFs without equations included).
+    ndof: usize,
     /// Tangent stiffness of the current iteration.
     k: DMatrix<f64>,
     /// Mass of the current step, if the element has mass.
@@ -163,7 +165,7 @@ impl Assembler {
             for e in model.elements.iter_mut() {
                 e.element
                     .advance(&ctx)
-                    .map_err(|err| element_error(e.id, e.element.kind(), err))?;
+                    .map_err(|err| element_error(&e.origin, err))?;
             }
         }
         let dofmap = DofMap::new(model, &kin)?;
@@ -241,6 +243,31 @@ impl Assembler {
         self.mass_elems
             .iter()
             .all(|&ei| self.var_slot.get(ei).is_some_and(|&s| s != u32::MAX))
+    }
+
+    /// Equations whose stiffness or mass is not in the constant matrices, from the elements'
+    /// declared connectivity: `(variable, variable_mass)` flags per equation — touched by a
+    /// variable element (any of its matrices), or by an element whose mass is re-formed
+    /// each step. The singularity check counts such an equation as possibly stiff
+    /// (possibly massive) without evaluating anything.
+    pub fn variable_cover(&self) -> (Vec<bool>, Vec<bool>) {
+        let n = self.dofmap.neq;
+        let mut var = vec![false; n];
+        let mut mass = vec![false; n];
+        let mark = |ei: usize, flags: &mut Vec<bool>| {
+            for &(node, d) in &self.maps[ei].dofs {
+                for (e, _) in self.dofmap.terms(node, d) {
+                    flags[e] = true;
+                }
+            }
+        };
+        for &ei in &self.variable {
+            mark(ei, &mut var);
+        }
+        for &ei in &self.mass_elems {
+            mark(ei, &mut mass);
+        }
+        (var, mass)
     }
 
     /// Whether every element declares a symmetric tangent.
@@ -396,22 +423,22 @@ impl Assembler {
                         vel: &z,
                         acc: &z,
                     })
-                    .map_err(|err| element_error(entry.id, entry.element.kind(), err))?;
+                    .map_err(|err| element_error(&entry.origin, err))?;
                 kbuf = DMatrix::zeros(nd, nd);
                 entry.element.tangent_stiffness(&mut kbuf);
-                check_finite(&kbuf, entry.id, entry.element.kind(), "tangent stiffness")?;
+                check_finite(&kbuf, &entry.origin, "tangent stiffness")?;
                 scatter_dense(&self.dofmap, &self.maps[ei].dofs, &kbuf, &mut k_const);
             }
             if props.has_mass && props.constant_mass && !variable {
                 kbuf = DMatrix::zeros(nd, nd);
                 entry.element.mass(&mut kbuf);
-                check_finite(&kbuf, entry.id, entry.element.kind(), "mass")?;
+                check_finite(&kbuf, &entry.origin, "mass")?;
                 scatter_dense(&self.dofmap, &self.maps[ei].dofs, &kbuf, &mut m_const);
             }
             if props.has_damping && props.constant_damping && !variable {
                 kbuf = DMatrix::zeros(nd, nd);
                 entry.element.damping(&mut kbuf);
-                check_finite(&kbuf, entry.id, entry.element.kind(), "damping")?;
+                check_finite(&kbuf, &entry.origin, "damping")?;
                 scatter_dense(&self.dofmap, &self.maps[ei].dofs, &kbuf, &mut c_const);
             }
         }
@@ -518,6 +545,7 @@ impl Assembler {
         for (slot, &ei) in self.variable.iter().enumerate() {
             let off = &mut self.off[slot];
             off.terms.clear();
+            off.ndof = self.maps[ei].dofs.len();
             for (a, &(node, d)) in self.maps[ei].dofs.iter().enumerate() {
                 for (e, c) in self.dofmap.terms(node, d) {
                     off.terms.push((a as u32, e as u32, c));
@@ -583,11 +611,11 @@ impl Assembler {
                 changed |= e
                     .element
                     .advance(&ctx)
-                    .map_err(|err| element_error(e.id, e.element.kind(), err))?;
+                    .map_err(|err| element_error(&e.origin, err))?;
             } else {
                 e.element
                     .advance(&ctx)
-                    .map_err(|err| element_error(e.id, e.element.kind(), err))?;
+                    .map_err(|err| element_error(&e.origin, err))?;
             }
         }
         if changed {
@@ -635,7 +663,7 @@ impl Assembler {
             let nd = self.maps[ei].dofs.len();
             let mut m = DMatrix::zeros(nd, nd);
             e.element.mass(&mut m);
-            check_finite(&m, e.id, e.element.kind(), "mass")?;
+            check_finite(&m, &e.origin, "mass")?;
             let slot = self.var_slot[ei];
             if self.off_pattern && slot != u32::MAX {
                 self.off[slot as usize].m = Some(m);
@@ -649,7 +677,7 @@ impl Assembler {
                 let nd = self.maps[ei].dofs.len();
                 let mut c = DMatrix::zeros(nd, nd);
                 e.element.damping(&mut c);
-                check_finite(&c, e.id, e.element.kind(), "damping")?;
+                check_finite(&c, &e.origin, "damping")?;
                 if self.off_pattern {
                     self.off[slot].c = Some(c);
                 } else {
@@ -767,7 +795,7 @@ impl Assembler {
                     vel: &ve,
                     acc: &ae,
                 })
-                .map_err(|err| element_error(entry.id, entry.element.kind(), err))?;
+                .map_err(|err| element_error(&entry.origin, err))?;
             let nd = ue.len();
             let mut fe = vec![0.0; nd];
             entry.element.resisting_force(&mut fe);
@@ -781,7 +809,7 @@ impl Assembler {
             let ke = if form_tangent {
                 let mut ke = DMatrix::zeros(nd, nd);
                 entry.element.tangent_stiffness(&mut ke);
-                check_finite(&ke, entry.id, entry.element.kind(), "tangent stiffness")?;
+                check_finite(&ke, &entry.origin, "tangent stiffness")?;
                 Some(ke)
             } else {
                 None
@@ -873,12 +901,9 @@ impl Assembler {
             return;
         }
         for off in &self.off {
-            let nd = off
-                .terms
-                .iter()
-                .map(|t| t.0 as usize + 1)
-                .max()
-                .unwrap_or(0);
+            // The element's own size, not the largest DOF with an equation: a wheel on a
+            // rigid rail has its rail DOFs last and fixed.
+            let nd = off.ndof;
             let mut e = DMatrix::zeros(nd, nd);
             for (coef, mat) in [
                 (ck, Some(&off.k)),
@@ -1066,7 +1091,7 @@ impl Assembler {
                 vel: &ve,
                 acc: &ae,
             })
-            .map_err(|err| element_error(entry.id, entry.element.kind(), err))
+            .map_err(|err| element_error(&entry.origin, err))
     }
 
     /// Element DOF values of element `ei` from an equation vector (for recorders).
@@ -1134,25 +1159,20 @@ fn scatter_vec(map: &DofMap, dofs: &[(usize, usize)], f: &[f64], out: &mut [f64]
     }
 }
 
-fn check_finite(m: &DMatrix<f64>, id: u64, kind: &str, what: &str) -> Result<(), FemError> {
+fn check_finite(m: &DMatrix<f64>, origin: &str, what: &str) -> Result<(), FemError> {
     if m.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
         Err(FemError::NonFinite(format!(
-            "element {id} ({kind}) returned a non-finite {what}; the run stops here"
+            "{origin}: returned a non-finite {what}; its inputs are beyond what f64 can hold (check the sizes of its values); the run stops here"
         )))
     }
 }
 
-fn element_error(id: u64, kind: &str, e: ElementError) -> FemError {
+/// An element's failure, named by where the element was defined (file, table, index).
+fn element_error(origin: &str, e: ElementError) -> FemError {
     match e {
-        ElementError::NonFinite { what } => {
-            FemError::NonFinite(format!("element {id} ({kind}): {what}"))
-        }
-        ElementError::Invalid(m) => FemError::Element {
-            id,
-            kind: kind.to_string(),
-            message: m,
-        },
+        ElementError::NonFinite { what } => FemError::NonFinite(format!("{origin}: {what}")),
+        ElementError::Invalid(m) => FemError::input(origin, m),
     }
 }

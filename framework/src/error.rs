@@ -47,6 +47,50 @@ pub enum FemError {
         /// The operating system's reason.
         message: String,
     },
+    /// Several independent problems found in one pass (a model file with more than one
+    /// mistake). `Display` is the first one plus a count, one line; [`FemError::problems`]
+    /// lists them all (what `railfem check` prints).
+    #[error("{}", many_line(.0))]
+    Many(Vec<FemError>),
+}
+
+fn fold_repeats(list: Vec<FemError>) -> Vec<FemError> {
+    let mut out: Vec<(FemError, usize)> = Vec::new();
+    for e in list {
+        let same = out.iter_mut().find(|(f, _)| match (f, &e) {
+            (FemError::Input { message: a, .. }, FemError::Input { message: b, .. }) => a == b,
+            _ => false,
+        });
+        match same {
+            Some((_, n)) => *n += 1,
+            None => out.push((e, 0)),
+        }
+    }
+    out.into_iter()
+        .map(|(e, n)| match (e, n) {
+            (FemError::Input { origin, message }, n) if n > 0 => FemError::Input {
+                origin,
+                message: format!(
+                    "{message} (the same at {n} more place{})",
+                    if n == 1 { "" } else { "s" }
+                ),
+            },
+            (e, _) => e,
+        })
+        .collect()
+}
+
+fn many_line(list: &[FemError]) -> String {
+    let flat: Vec<&FemError> = list.iter().flat_map(FemError::problems).collect();
+    match flat.as_slice() {
+        [] => "no problem".to_string(),
+        [one] => one.to_string(),
+        [first, rest @ ..] => format!(
+            "{first} (and {} more problem{}; `railfem check` lists them)",
+            rest.len(),
+            if rest.len() == 1 { "" } else { "s" }
+        ),
+    }
 }
 
 impl FemError {
@@ -55,6 +99,54 @@ impl FemError {
         FemError::Input {
             origin: origin.into(),
             message: message.into(),
+        }
+    }
+
+    /// Every problem this error stands for, flattened (one for all but [`FemError::Many`]).
+    pub fn problems(&self) -> Vec<&FemError> {
+        match self {
+            FemError::Many(list) => list.iter().flat_map(FemError::problems).collect(),
+            one => vec![one],
+        }
+    }
+
+    /// `Ok` for no problem, the problem itself for one, [`FemError::Many`] for several.
+    /// Bad-input problems with the same message at several places (one `wheel` table
+    /// behind eight generated wheels, one mistake copied into many tables) are reported
+    /// once, at the first place, with the count of the others.
+    pub fn from_list(list: Vec<FemError>) -> Result<(), FemError> {
+        let mut list = fold_repeats(list);
+        match list.len() {
+            0 => Ok(()),
+            1 => Err(list.remove(0)),
+            _ => Err(FemError::Many(list)),
+        }
+    }
+
+    /// This error with `file` named at its front, unless it names it already: the
+    /// command line's guarantee that every message names the model file, whichever layer
+    /// (solver, element, load) found the problem.
+    pub fn in_file(self, file: &str) -> FemError {
+        if file.is_empty() || self.to_string().contains(file) {
+            return self;
+        }
+        let at = |m: String| format!("{file}: {m}");
+        match self {
+            FemError::Input { origin, message } => FemError::Input {
+                origin: at(origin),
+                message,
+            },
+            FemError::Plugin(m) => FemError::Plugin(at(m)),
+            FemError::Singular(m) => FemError::Singular(at(m)),
+            FemError::Convergence(m) => FemError::Convergence(at(m)),
+            FemError::NonFinite(m) => FemError::NonFinite(at(m)),
+            FemError::Element { id, kind, message } => {
+                FemError::input(format!("{file}: element {id} ({kind})"), message)
+            }
+            FemError::Output { path, message } => FemError::Output { path, message },
+            FemError::Many(list) => {
+                FemError::Many(list.into_iter().map(|e| e.in_file(file)).collect())
+            }
         }
     }
 
@@ -112,6 +204,24 @@ pub fn nearest_n<'a>(word: &str, candidates: &[&'a str], n: usize) -> Vec<&'a st
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn many_problems_print_the_first_and_a_count_on_one_line() {
+        let e = FemError::from_list(vec![
+            FemError::input("m.toml: node[0]", "a"),
+            FemError::Many(vec![
+                FemError::input("m.toml: node[1]", "b"),
+                FemError::input("m.toml: node[2]", "c"),
+            ]),
+        ])
+        .unwrap_err();
+        assert_eq!(e.problems().len(), 3);
+        assert_eq!(
+            e.to_string(),
+            "m.toml: node[0]: a (and 2 more problems; `railfem check` lists them)"
+        );
+        assert!(FemError::from_list(Vec::new()).is_ok());
+    }
 
     #[test]
     fn distances() {

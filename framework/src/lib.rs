@@ -3,8 +3,9 @@
 //! What lives here: DOFs and the model ([`dof`], [`model`]), the element contract
 //! ([`element`]), the registry, plugins and conformance kit ([`registry`], [`plugin`],
 //! [`conformance`]), equation numbering
-//! with constraints ([`dofmap`]), finite rotations ([`rotation`], on the dual numbers of [`dual`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
-//! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]) and
+//! with constraints ([`dofmap`]), finite rotations ([`rotation`], on the dual numbers of
+//! [`dual`]), sparse assembly ([`sparse`], [`assembly`]), loads and time series ([`loads`]),
+//! moving reference frames ([`moving`]), model files ([`modelfile`], [`strict_json`]) and
 //! recorders ([`recorder`]). What does not: concrete elements (railfem-elements) and
 //! solvers (railfem-solvers).
 //!
@@ -31,6 +32,7 @@ pub mod recorder;
 pub mod registry;
 pub mod rotation;
 pub mod sparse;
+pub mod strict_json;
 pub mod vtk;
 
 pub use dof::{Dof, DofSet};

@@ -386,6 +386,7 @@ impl LoadSpec {
                     .enumerate()
                     .map(|(i, e)| (e.id, i))
                     .collect();
+                let mut pairs = Vec::with_capacity(elements.len());
                 for id in elements {
                     let Some(e) = by_id.get(id).map(|&i| &model.elements[i]) else {
                         return Err(FemError::input(
@@ -400,7 +401,17 @@ impl LoadSpec {
                             format!("element {id} ({}) is not a two-node beam", e.element.kind()),
                         ));
                     }
-                    let (mut a, mut b) = (c[0].node, c[1].node);
+                    pairs.push((c[0].node, c[1].node));
+                }
+                // The direction of travel on the first element is the one that leads into
+                // the second: a path listed tip to root runs each beam from J to I.
+                if let [(a0, _), (a1, b1), ..] = pairs[..] {
+                    if a0 == a1 || a0 == b1 {
+                        pairs[0] = (pairs[0].1, a0);
+                    }
+                }
+                for (&id, &(a0, b0)) in elements.iter().zip(&pairs) {
+                    let (mut a, mut b) = (a0, b0);
                     if let Some(p) = prev_end {
                         if b == p {
                             std::mem::swap(&mut a, &mut b);

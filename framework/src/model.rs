@@ -219,63 +219,66 @@ impl Default for AnalysisSpec {
 }
 
 impl AnalysisSpec {
-    /// Checks ranges; `origin` names the file.
+    /// Checks ranges; `origin` names the file. Every problem is reported
+    /// ([`FemError::Many`] for several).
     pub fn validate(&self, origin: &str) -> Result<(), FemError> {
         let o = format!("{origin}: [analysis]");
-        let pos = |v: f64, k: &str| -> Result<(), FemError> {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(FemError::input(
-                    &o,
-                    format!("`{k}` must be a positive number (got {v})"),
-                ))
-            }
-        };
+        let mut errors = Vec::new();
+        let mut bad = |m: String| errors.push(FemError::input(&o, m));
+        let pos = |v: f64| v.is_finite() && v > 0.0;
         if self.kind == AnalysisKind::Transient {
-            pos(self.dt, "dt")?;
-            pos(self.duration, "duration")?;
-            if !(self.gamma >= 0.5 && self.beta > 0.0 && self.beta.is_finite()) {
-                return Err(FemError::input(
-                    &o,
-                    format!(
-                        "Newmark needs gamma >= 0.5 and beta > 0 (got beta = {}, gamma = {}); average acceleration is beta = 0.25, gamma = 0.5",
-                        self.beta, self.gamma
-                    ),
+            for (v, k) in [(self.dt, "dt"), (self.duration, "duration")] {
+                if !pos(v) {
+                    bad(format!("`{k}` must be a positive number (got {v})"));
+                }
+            }
+            if !(self.gamma >= 0.5
+                && self.beta > 0.0
+                && self.beta.is_finite()
+                && self.gamma.is_finite())
+            {
+                bad(format!(
+                    "Newmark needs gamma >= 0.5 and beta > 0 (got beta = {}, gamma = {}); average acceleration is beta = 0.25, gamma = 0.5",
+                    self.beta, self.gamma
                 ));
             }
             if !(0.0..=1.0 / 3.0 + 1e-12).contains(&self.alpha) {
-                return Err(FemError::input(&o, "`alpha` (HHT) must lie in [0, 1/3]"));
+                bad(format!(
+                    "`alpha` (HHT) = {} must lie in [0, 1/3]",
+                    self.alpha
+                ));
             }
             if !(0.0..=1.0).contains(&self.rho_inf) {
-                return Err(FemError::input(&o, "`rho_inf` must lie in [0, 1]"));
+                bad(format!("`rho_inf` = {} must lie in [0, 1]", self.rho_inf));
             }
         }
         if self.kind == AnalysisKind::Modal && self.modes == 0 {
-            return Err(FemError::input(&o, "`modes` must be at least 1"));
+            bad("`modes` must be at least 1".into());
         }
         if let Some(g) = self.gravity {
             if g.iter().any(|x| !x.is_finite()) {
-                return Err(FemError::input(
-                    &o,
-                    "`gravity` must be three finite numbers (m/s²)",
-                ));
+                bad("`gravity` must be three finite numbers (m/s²)".into());
+            }
+        }
+        if let Some(r) = self.rayleigh {
+            // C = αM + βK with a negative coefficient is not positive semi-definite: it
+            // feeds energy into the modes it should damp.
+            for (v, k, unit) in [(r.alpha, "alpha", "1/s"), (r.beta, "beta", "s")] {
+                if !(v.is_finite() && v >= 0.0) {
+                    bad(format!(
+                        "`rayleigh.{k}` = {v:e}: a negative or non-finite Rayleigh coefficient pumps energy in; give a value ≥ 0 {unit} (0 for none)"
+                    ));
+                }
             }
         }
         let n = &self.newton;
         if !(n.tol > 0.0 && n.abs_tol >= 0.0 && n.max_iter > 0) {
-            return Err(FemError::input(
-                &o,
-                "[analysis.newton]: `tol` must be > 0, `abs_tol` >= 0 and `max_iter` >= 1",
-            ));
+            bad("[analysis.newton]: `tol` must be > 0, `abs_tol` >= 0 and `max_iter` >= 1".into());
         }
         if self.steps == 0 || self.record_every == 0 {
-            return Err(FemError::input(
-                &o,
-                "`steps` and `record_every` must be at least 1",
-            ));
+            bad("`steps` and `record_every` must be at least 1".into());
         }
-        Ok(())
+        FemError::from_list(errors)
     }
 }
 
@@ -533,6 +536,17 @@ impl ModelBuilder {
     /// Adds a rigid link: `slave` follows `master` on `dofs`.
     pub fn rigid_link(&mut self, master: u64, slave: u64, dofs: DofSet) -> &mut Self {
         let origin = format!("{}: link {master} -> {slave}", self.origin);
+        self.rigid_link_at(master, slave, dofs, origin)
+    }
+
+    /// [`ModelBuilder::rigid_link`] with the place messages name (`"m.toml: link[2]"`).
+    pub fn rigid_link_at(
+        &mut self,
+        master: u64,
+        slave: u64,
+        dofs: DofSet,
+        origin: String,
+    ) -> &mut Self {
         self.links.push((master, slave, dofs, origin));
         self
     }
@@ -591,7 +605,11 @@ impl ModelBuilder {
     }
 
     /// Resolves ids, builds every element through the registry and checks the whole.
-    /// The first problem found is returned.
+    ///
+    /// Problems are collected, not returned at the first: the builder's own (reading the
+    /// file), then every element, link and carrier, then every load and recorder. A stage
+    /// runs only if the one before it was clean, so that one mistake is not reported again
+    /// by everything that refers to it. Several problems come back as [`FemError::Many`].
     pub fn build(self) -> Result<Model, FemError> {
         let ModelBuilder {
             origin,
@@ -605,12 +623,13 @@ impl ModelBuilder {
             analysis,
             resources,
             plugins,
-            errors,
+            mut errors,
         } = self;
-        if let Some(e) = errors.into_iter().next() {
-            return Err(e);
+        if let Err(e) = analysis.validate(&origin) {
+            errors.push(e);
         }
-        analysis.validate(&origin)?;
+        FemError::from_list(errors)?;
+        let mut errors = Vec::new();
         // Carriers first: internal nodes inherit them.
         let mut carried: Vec<Option<(usize, CarriedNode)>> = vec![None; nodes.len()];
         let mut carrier_list = Vec::new();
@@ -618,18 +637,20 @@ impl ModelBuilder {
             let mut c = cs.carrier;
             for (id, ds, [lat, vert, long]) in cs.nodes {
                 let Some(&ni) = node_index.get(&id) else {
-                    return Err(FemError::input(
+                    errors.push(FemError::input(
                         format!("{origin}: carrier `{}`", c.name),
                         format!(
                             "node {id} does not exist; define it or remove it from the carrier"
                         ),
                     ));
+                    continue;
                 };
                 if !(ds.is_finite() && lat.is_finite() && vert.is_finite() && long.is_finite()) {
-                    return Err(FemError::input(
+                    errors.push(FemError::input(
                         format!("{origin}: carrier `{}`", c.name),
                         format!("offsets of node {id} are not finite"),
                     ));
+                    continue;
                 }
                 let cn = CarriedNode {
                     node: ni,
@@ -654,28 +675,27 @@ impl ModelBuilder {
         let mut seen_ids = HashMap::new();
         for spec in element_specs {
             if let Some(prev) = seen_ids.insert(spec.id, spec.origin.clone()) {
-                return Err(FemError::input(
+                errors.push(FemError::input(
                     &spec.origin,
                     format!(
                         "duplicate element id {} (also {prev}); give each element its own id",
                         spec.id
                     ),
                 ));
+                continue;
             }
-            for nid in &spec.nodes {
-                if !ctx.node_index.contains_key(nid) {
-                    return Err(FemError::input(
-                        &spec.origin,
-                        format!("node {nid} does not exist; define it in a [[node]] table or fix the id"),
-                    ));
-                }
+            if let Some(e) = element_nodes_problem(&spec, &ctx.node_index) {
+                errors.push(e);
+                continue;
             }
-            let element = registry::build(&spec, &mut ctx)?;
-            elements.push(ElementEntry {
-                id: spec.id,
-                element,
-                origin: spec.origin,
-            });
+            match registry::build(&spec, &mut ctx) {
+                Ok(element) => elements.push(ElementEntry {
+                    id: spec.id,
+                    element,
+                    origin: spec.origin,
+                }),
+                Err(e) => errors.push(e),
+            }
         }
         let Ctx {
             nodes,
@@ -693,25 +713,13 @@ impl ModelBuilder {
         }
         let mut link_list = Vec::new();
         for (m, s, dofs, lorigin) in links {
-            let (Some(&mi), Some(&si)) = (node_index.get(&m), node_index.get(&s)) else {
-                let missing = if node_index.contains_key(&m) { s } else { m };
-                return Err(FemError::input(
-                    lorigin,
-                    format!("node {missing} does not exist; define it or fix the link"),
-                ));
-            };
-            if mi == si {
-                return Err(FemError::input(
-                    lorigin,
-                    "a node cannot be linked to itself",
-                ));
+            match resolve_link(&nodes, &node_index, m, s, dofs, &lorigin) {
+                Ok(l) => link_list.push(l),
+                Err(e) => errors.push(e),
             }
-            link_list.push(RigidLink {
-                master: mi,
-                slave: si,
-                dofs,
-            });
         }
+        FemError::from_list(errors)?;
+        let mut errors = Vec::new();
         let mut model = Model {
             origin,
             nodes,
@@ -726,15 +734,81 @@ impl ModelBuilder {
             finite_rotation_nodes: Vec::new(),
         };
         for (i, l) in loads.iter().enumerate() {
-            let load = l.resolve_at(&model, Some(i))?;
-            model.loads.push(load);
+            match l.resolve_at(&model, Some(i)) {
+                Ok(load) => model.loads.push(load),
+                Err(e) => errors.push(e),
+            }
         }
         for (i, r) in recorders.iter().enumerate() {
-            r.validate_at(&model, Some(i))?;
+            if let Err(e) = r.validate_at(&model, Some(i)) {
+                errors.push(e);
+            }
         }
+        FemError::from_list(errors)?;
         model.recorders = recorders;
         Ok(model)
     }
+}
+
+/// A problem with an element's `nodes`: a node that does not exist, or one listed twice
+/// (a spring from a node to itself is no spring; a grounded spring lists one node).
+fn element_nodes_problem(spec: &ElementSpec, index: &HashMap<u64, usize>) -> Option<FemError> {
+    for (k, nid) in spec.nodes.iter().enumerate() {
+        if !index.contains_key(nid) {
+            return Some(FemError::input(
+                &spec.origin,
+                format!("node {nid} does not exist; define it in a [[node]] table or fix the id"),
+            ));
+        }
+        if spec.nodes[..k].contains(nid) {
+            return Some(FemError::input(
+                &spec.origin,
+                format!(
+                    "`nodes` lists node {nid} twice; an element joins distinct nodes (a spring to the ground lists one node: `nodes = [{nid}]`)"
+                ),
+            ));
+        }
+    }
+    None
+}
+
+/// Resolves a link's node ids and refuses a slave that is also fixed on a DOF the link
+/// constrains: the link would override the `fix` without a word.
+fn resolve_link(
+    nodes: &[Node],
+    index: &HashMap<u64, usize>,
+    m: u64,
+    s: u64,
+    dofs: DofSet,
+    origin: &str,
+) -> Result<RigidLink, FemError> {
+    let (Some(&mi), Some(&si)) = (index.get(&m), index.get(&s)) else {
+        let missing = if index.contains_key(&m) { s } else { m };
+        return Err(FemError::input(
+            origin,
+            format!("node {missing} does not exist; define it or fix the link"),
+        ));
+    };
+    if mi == si {
+        return Err(FemError::input(origin, "a node cannot be linked to itself"));
+    }
+    let both = DofSet::from_bits(nodes[si].fixed.bits() & dofs.bits());
+    if !both.is_empty() {
+        let names: Vec<&str> = both.iter().map(|d| d.name()).collect();
+        return Err(FemError::input(
+            origin,
+            format!(
+                "slave node {s} is fixed on {} which the link also constrains (a slave follows its master; the `fix` would be ignored); fix the master node {m} instead, or remove {} from the slave's `fix` or from the link's `dofs`",
+                names.join(", "),
+                names.join(", ")
+            ),
+        ));
+    }
+    Ok(RigidLink {
+        master: mi,
+        slave: si,
+        dofs,
+    })
 }
 
 struct Ctx {

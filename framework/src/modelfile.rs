@@ -75,9 +75,11 @@ pub fn parse_toml(text: &str, name: &str) -> Result<Value, FemError> {
     serde_json::to_value(&tv).map_err(|e| FemError::input(name, format!("unsupported value: {e}")))
 }
 
-/// Parses JSON text, reporting line and column of syntax errors.
+/// Parses JSON text, reporting line and column of syntax errors. A key given twice in one
+/// object is refused ([`crate::strict_json`]): serde_json would keep the last silently,
+/// where TOML refuses it.
 pub fn parse_json(text: &str, name: &str) -> Result<Value, FemError> {
-    serde_json::from_str(text).map_err(|e| {
+    crate::strict_json::from_str(text).map_err(|e| {
         FemError::input(
             format!("{name}:{}:{}", e.line(), e.column()),
             format!("JSON syntax error: {e}"),
@@ -183,20 +185,23 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
     let sections: Vec<&ModelSection> = inventory::iter::<ModelSection>.into_iter().collect();
     let mut valid: Vec<&str> = CORE_KEYS.to_vec();
     valid.extend(sections.iter().map(|s| s.key));
-    for k in root.keys() {
-        if !valid.contains(&k.as_str()) {
+    let unknown: Vec<FemError> = root
+        .keys()
+        .filter(|k| !valid.contains(&k.as_str()))
+        .map(|k| {
             let hint = nearest(k, &valid)
                 .map(|n| format!(" (did you mean `{n}`?)"))
                 .unwrap_or_default();
-            return Err(FemError::input(
+            FemError::input(
                 name,
                 format!(
                     "unknown top-level key `{k}`{hint}; valid keys: {}",
                     valid.join(", ")
                 ),
-            ));
-        }
-    }
+            )
+        })
+        .collect();
+    FemError::from_list(unknown)?;
     let mut b = ModelBuilder::new(name);
     if let Some(p) = root.get("plugins") {
         let list: Vec<String> = de(p, &format!("{name}: plugins"))?;
@@ -210,89 +215,174 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         }
     }
     if let Some(a) = root.get("analysis") {
-        let spec: AnalysisSpec = de(a, &format!("{name}: [analysis]"))?;
-        b.analysis(spec);
+        let o = format!("{name}: [analysis]");
+        match de::<AnalysisSpec>(a, &o) {
+            Ok(spec) => {
+                for e in ignored_analysis_keys(a, &spec, &o) {
+                    b.error(e);
+                }
+                b.analysis(spec);
+            }
+            Err(e) => {
+                b.error(e);
+            }
+        }
     }
     let mut node_ids: HashMap<u64, usize> = HashMap::new();
     for (i, v) in entries(root, "node", name)?.into_iter().enumerate() {
         let o = format!("{name}: node[{i}]");
-        let n: NodeEntry = de(v, &o)?;
+        let n: NodeEntry = match de(v, &o) {
+            Ok(n) => n,
+            Err(e) => {
+                b.error(e);
+                continue;
+            }
+        };
         // Reported here, where the table index is known (the builder only knows the id).
         if let Some(j) = node_ids.insert(n.id, i) {
-            return Err(FemError::input(
+            b.error(FemError::input(
                 o,
                 format!(
                     "duplicate node id {} (also node[{j}]); give every node its own id",
                     n.id
                 ),
             ));
+            continue;
         }
-        let fixed = parse_dofs(&n.fix, DofSet::NONE, &o)?;
-        b.node_fixed(n.id, n.xyz, fixed);
+        match parse_dofs(&n.fix, DofSet::NONE, &o) {
+            Ok(fixed) => b.node_fixed(n.id, n.xyz, fixed),
+            Err(e) => b.error(e),
+        };
     }
     let mut ordered: Vec<&&ModelSection> = sections.iter().collect();
     ordered.sort_by_key(|s| s.order);
+    // A section that fails stops the reading (what comes after it may depend on it); the
+    // problems found so far are reported with it.
     for s in ordered.iter().filter(|s| s.order < 0) {
         if let Some(v) = root.get(s.key) {
-            (s.apply)(v, &format!("{name}: [{}]", s.key), &mut b)?;
+            if let Err(e) = (s.apply)(v, &format!("{name}: [{}]", s.key), &mut b) {
+                b.error(e);
+                return Ok(b);
+            }
         }
     }
     for (i, v) in entries(root, "element", name)?.into_iter().enumerate() {
-        let mut o = format!("{name}: element[{i}]");
-        let Value::Object(map) = v else {
-            return Err(FemError::input(o, "must be a table"));
-        };
-        let mut params = map.clone();
-        let kind =
-            match params.remove("type") {
-                Some(Value::String(s)) => s,
-                _ => return Err(FemError::input(
-                    o,
-                    "missing `type` (the registered element name; `railfem elements` lists them)",
-                )),
-            };
-        let id = match params.remove("id") {
-            Some(Value::Number(n)) if n.as_u64().is_some() => n.as_u64().unwrap_or(0),
-            _ => {
-                return Err(FemError::input(
-                    o,
-                    "missing or invalid `id` (a non-negative integer)",
-                ))
-            }
-        };
-        o = format!("{name}: element[{i}] (id {id}, {kind})");
-        let nodes: Vec<u64> = match params.remove("nodes") {
-            Some(v) => de(&v, &o)?,
-            None => return Err(FemError::input(o, "missing `nodes` (a list of node ids)")),
-        };
-        b.element_spec(ElementSpec {
-            id,
-            kind,
-            nodes,
-            params,
-            origin: o,
-        });
+        if let Err(e) = element_entry(v, i, name, &mut b) {
+            b.error(e);
+        }
     }
     for (i, v) in entries(root, "link", name)?.into_iter().enumerate() {
         let o = format!("{name}: link[{i}]");
-        let l: LinkEntry = de(v, &o)?;
-        let dofs = parse_dofs(&l.dofs, DofSet::ALL, &o)?;
-        b.rigid_link(l.master, l.slave, dofs);
+        match de::<LinkEntry>(v, &o)
+            .and_then(|l| parse_dofs(&l.dofs, DofSet::ALL, &o).map(|d| (l, d)))
+        {
+            Ok((l, dofs)) => b.rigid_link_at(l.master, l.slave, dofs, o),
+            Err(e) => b.error(e),
+        };
     }
     for s in ordered.iter().filter(|s| s.order >= 0) {
         if let Some(v) = root.get(s.key) {
-            (s.apply)(v, &format!("{name}: [{}]", s.key), &mut b)?;
+            if let Err(e) = (s.apply)(v, &format!("{name}: [{}]", s.key), &mut b) {
+                b.error(e);
+                return Ok(b);
+            }
         }
     }
     for (i, v) in entries(root, "load", name)?.into_iter().enumerate() {
-        let l: LoadSpec = de(v, &format!("{name}: load[{i}]"))?;
-        b.load(l);
+        match de::<LoadSpec>(v, &format!("{name}: load[{i}]")) {
+            Ok(l) => b.load(l),
+            Err(e) => b.error(e),
+        };
     }
     for (i, v) in entries(root, "recorder", name)?.into_iter().enumerate() {
-        let r: RecorderSpec = de(v, &format!("{name}: recorder[{i}]"))?;
-        b.recorder(r);
+        match de::<RecorderSpec>(v, &format!("{name}: recorder[{i}]")) {
+            Ok(r) => b.recorder(r),
+            Err(e) => b.error(e),
+        };
     }
     Ok(b)
+}
+
+/// Keys of `[analysis]` that the chosen `kind` or `integrator` does not read (the
+/// documentation says which): given anyway, they would be ignored without a word.
+fn ignored_analysis_keys(raw: &Value, spec: &AnalysisSpec, o: &str) -> Vec<FemError> {
+    use crate::model::{AnalysisKind as K, IntegratorKind as I};
+    let Value::Object(map) = raw else {
+        return Vec::new();
+    };
+    let transient = spec.kind == K::Transient;
+    let mut out = Vec::new();
+    for key in map.keys() {
+        let reason = match key.as_str() {
+            "dt" | "duration" | "integrator" | "initial_static" | "record_every"
+                if !transient =>
+            {
+                Some("only a transient analysis reads it".to_string())
+            }
+            "beta" | "gamma" if !transient || spec.integrator != I::Newmark => Some(
+                "only the Newmark integrator reads it (`hht` and `generalized_alpha` set β and γ from `alpha` / `rho_inf`)"
+                    .to_string(),
+            ),
+            "alpha" if !transient || spec.integrator != I::Hht => {
+                Some("only `integrator = \"hht\"` reads it".to_string())
+            }
+            "rho_inf" if !transient || spec.integrator != I::GeneralizedAlpha => {
+                Some("only `integrator = \"generalized_alpha\"` reads it".to_string())
+            }
+            "steps" if spec.kind != K::Static => {
+                Some("only a static analysis reads it".to_string())
+            }
+            "modes" if spec.kind != K::Modal => Some("only a modal analysis reads it".to_string()),
+            _ => None,
+        };
+        if let Some(r) = reason {
+            out.push(FemError::input(
+                o,
+                format!("`{key}` would be ignored: {r}; remove it or change `kind`/`integrator`"),
+            ));
+        }
+    }
+    out
+}
+
+/// One `[[element]]` table into the builder.
+fn element_entry(v: &Value, i: usize, name: &str, b: &mut ModelBuilder) -> Result<(), FemError> {
+    let mut o = format!("{name}: element[{i}]");
+    let Value::Object(map) = v else {
+        return Err(FemError::input(o, "must be a table"));
+    };
+    let mut params = map.clone();
+    let kind = match params.remove("type") {
+        Some(Value::String(s)) => s,
+        _ => {
+            return Err(FemError::input(
+                o,
+                "missing `type` (the registered element name; `railfem elements` lists them)",
+            ))
+        }
+    };
+    let id = match params.remove("id") {
+        Some(Value::Number(n)) if n.as_u64().is_some() => n.as_u64().unwrap_or(0),
+        _ => {
+            return Err(FemError::input(
+                o,
+                "missing or invalid `id` (a non-negative integer)",
+            ))
+        }
+    };
+    o = format!("{name}: element[{i}] (id {id}, {kind})");
+    let nodes: Vec<u64> = match params.remove("nodes") {
+        Some(v) => de(&v, &o)?,
+        None => return Err(FemError::input(o, "missing `nodes` (a list of node ids)")),
+    };
+    b.element_spec(ElementSpec {
+        id,
+        kind,
+        nodes,
+        params,
+        origin: o,
+    });
+    Ok(())
 }
 
 #[cfg(test)]

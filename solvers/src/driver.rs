@@ -719,27 +719,38 @@ impl Driver {
     /// state (K the assembled tangent at zero displacement, M the mass), by subspace
     /// iteration on the sparse factor of K ([`crate::modal`]).
     pub fn modes(&mut self, n: usize) -> Result<crate::modal::Modes, FemError> {
-        if self.asm.off_pattern() {
-            return Err(FemError::input(
-                &self.model.origin,
-                "modal analysis needs the whole tangent in one matrix; set [analysis] solver = \"direct\"",
-            ));
-        }
         let z = vec![0.0; self.neq()];
         let mut f = vec![0.0; self.neq()];
         self.asm.advance(&mut self.model, self.state.t, 0.0)?;
         self.asm
             .update(&mut self.model, &z, &z, &z, self.state.t, 0.0, &mut f, true)?;
-        let mut k = self.asm.k_const.zeros_like();
-        self.asm.effective(1.0, 0.0, 0.0, &mut k);
-        let mut m = self.asm.k_const.zeros_like();
-        self.asm.effective(0.0, 1.0, 0.0, &mut m);
+        let k = self.whole_matrix(1.0, 0.0, 0.0);
+        let m = self.whole_matrix(0.0, 1.0, 0.0);
         crate::modal::lowest_modes(&k, &m, n, &crate::modal::ModalOptions::default()).map_err(|e| {
             match e {
                 crate::modal::ModalError::Solver(s) => self.singular(s),
                 other => FemError::input(&self.model.origin, format!("modal analysis: {other}")),
             }
         })
+    }
+
+    /// `cK·K + cM·M + cC·C` of every element in one matrix. In the partitioned mode the
+    /// variable elements are kept off the global pattern; they are added here as triplets
+    /// (modal analysis needs the whole matrix, whichever solver the run uses).
+    fn whole_matrix(&self, ck: f64, cm: f64, cc: f64) -> CscMatrix {
+        let mut a = self.asm.k_const.zeros_like();
+        self.asm.effective(ck, cm, cc, &mut a);
+        if !self.asm.off_pattern() {
+            return a;
+        }
+        let mut t = Vec::with_capacity(a.nnz());
+        for j in 0..a.n {
+            for p in a.col_ptr[j]..a.col_ptr[j + 1] {
+                t.push((a.row_idx[p], j, a.values[p]));
+            }
+        }
+        self.asm.variable_triplets(ck, cm, cc, &mut t);
+        CscMatrix::from_triplets(a.n, &t)
     }
 
     /// Writes frequencies and mode shapes as CSV: one row per active nodal DOF, columns

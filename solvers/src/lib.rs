@@ -3,7 +3,8 @@
 //! What lives here: sparse and dense linear solvers ([`linear`], [`dense`]), modal analysis ([`modal`]), the
 //! generalized-α family of integrators ([`integrator`]), the energy balance of a run
 //! ([`energy`]) and the driver that runs static and
-//! transient analyses with Newton–Raphson and step cutting ([`driver`]). What does not:
+//! transient analyses with Newton–Raphson and step cutting ([`driver`]), and the checks made
+//! before its first step ([`preflight`]). What does not:
 //! elements (railfem-elements) and the model itself (railfem-framework).
 
 // Index loops mirror the formulas of the dense kernels and the driver (rustc 1.95 clippy).
@@ -16,5 +17,6 @@ pub mod integrator;
 pub mod linear;
 pub mod modal;
 pub mod partition;
+pub mod preflight;
 
 pub use driver::{Driver, RunSummary, State, StepReport};

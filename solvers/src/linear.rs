@@ -287,6 +287,22 @@ impl TrianglePattern {
     }
 }
 
+/// Entries of the Cholesky factor of `a` (a symmetric pattern) with the fill-reducing
+/// ordering the solver uses, from the symbolic analysis alone (no numbers): what the
+/// direct solver's factor will store.
+pub fn cholesky_factor_entries(a: &CscMatrix) -> Result<usize, SolverError> {
+    validate_pattern(a)?;
+    let lower = TrianglePattern::build(a, None, false);
+    let symbolic = factorize_symbolic_cholesky(
+        lower.symbolic(),
+        Side::Lower,
+        SymmetricOrdering::Amd,
+        CholeskySymbolicParams::default(),
+    )
+    .map_err(|e| SolverError::Failed(format!("symbolic Cholesky: {e:?}")))?;
+    Ok(symbolic.len_val())
+}
+
 /// Sparse symmetric direct solver (`L·Lᵀ` or `L·D·Lᵀ`) with symbolic and buffer re-use.
 ///
 /// Only the lower triangle of the matrix passed to [`LinearSolver::factor`] is read; the

@@ -175,6 +175,33 @@ pub struct MovingAxle {
 
 /// Most points a wheel or rail profile may be sampled with (`wheel_points`, `rail_nodes`).
 pub const MAX_PROFILE_POINTS: usize = 5000;
+/// Fewest points of the built-in wheel profile (`wheel_points`).
+pub const MIN_WHEEL_POINTS: usize = 20;
+/// Fewest nodes of the built-in rail profile (`rail_nodes`).
+pub const MIN_RAIL_NODES: usize = 4;
+
+/// Keys a `moving_axle` table may not give in the situation at hand, because nothing
+/// would read them (the documentation says so): the sampling counts of a built-in
+/// profile when the profile is a CSV file. Returns the message for the first.
+pub fn ignored_keys(params: &serde_json::Map<String, serde_json::Value>) -> Option<String> {
+    let is_file = |key: &str, builtin: &[&str]| {
+        params
+            .get(key)
+            .and_then(|v| v.as_str())
+            .is_some_and(|s| !builtin.contains(&s.to_ascii_lowercase().as_str()))
+    };
+    for (count, profile, builtin) in [
+        ("wheel_points", "wheel_profile", &["s1002"][..]),
+        ("rail_nodes", "rail_profile", &["60e1", "uic60"][..]),
+    ] {
+        if params.contains_key(count) && is_file(profile, builtin) {
+            return Some(format!(
+                "`{count}` would be ignored: it samples the built-in profile, but `{profile}` is a CSV file (its points are used as they are); remove `{count}`"
+            ));
+        }
+    }
+    None
+}
 
 fn skew(r: &Vector3<f64>) -> Matrix3<f64> {
     // [r]ₓ such that [r]ₓ·θ = r × θ.
@@ -243,22 +270,24 @@ impl Setup {
         };
         // Sampling counts: beyond a few thousand points the profile is no more accurate
         // (the spline error of 120 points is already below 1e-6 m) and only costs memory.
-        for (key, v) in [
-            ("wheel_points", params.wheel_points),
-            ("rail_nodes", params.rail_nodes),
+        // Below the minimum the built-in sampling is meaningless (a not-a-knot spline needs
+        // four points; the S1002 flange needs about twenty): refused, not replaced.
+        for (key, v, min) in [
+            ("wheel_points", params.wheel_points, MIN_WHEEL_POINTS),
+            ("rail_nodes", params.rail_nodes, MIN_RAIL_NODES),
         ] {
-            if v > MAX_PROFILE_POINTS {
+            if !(min..=MAX_PROFILE_POINTS).contains(&v) {
                 return Err(err(format!(
-                    "`{key}` = {v}; give at most {MAX_PROFILE_POINTS} points"
+                    "`{key}` = {v}; give at least {min} and at most {MAX_PROFILE_POINTS} points"
                 )));
             }
         }
         let wheel = match params.wheel_profile.to_ascii_lowercase().as_str() {
-            "s1002" => WheelProfile::s1002(params.wheel_points.max(20)),
+            "s1002" => WheelProfile::s1002(params.wheel_points),
             path => WheelProfile::from_csv_file(path).map_err(|e| err(e.to_string()))?,
         };
         let rail = match params.rail_profile.to_ascii_lowercase().as_str() {
-            "60e1" | "uic60" => RailProfile::uic60(params.rail_nodes.max(4), incl),
+            "60e1" | "uic60" => RailProfile::uic60(params.rail_nodes, incl),
             path => RailProfile::from_csv_file(path, incl).map_err(|e| err(e.to_string()))?,
         };
         let (wheel, rail) = if side == 0 {
@@ -810,6 +839,9 @@ impl Element for MovingAxle {
 
 fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Element>, FemError> {
     let params: MovingAxleParams = spec.parse()?;
+    if let Some(m) = ignored_keys(&spec.params) {
+        return Err(bad(spec, m));
+    }
     if spec.nodes.len() != 1 {
         return Err(bad(
             spec,

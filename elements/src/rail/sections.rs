@@ -22,7 +22,7 @@
 use super::alignment::SegmentSpec;
 use super::cant::TrackSpec;
 use super::track_model::{generate, JointDip, RailSection, RailSupport, TrackMesh, TrackModel};
-use super::vehicle::{build_train, CarriageData, TrainSpec};
+use super::vehicle::{build_train_at, CarriageData, TrainSpec};
 use railfem_framework::error::FemError;
 use railfem_framework::model::ModelBuilder;
 use railfem_framework::modelfile::ModelSection;
@@ -131,7 +131,15 @@ fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), F
             .map_err(|e| FemError::input(&o, e.to_string()))?;
         let track =
             track_of(b).ok_or_else(|| FemError::input(&o, "a vehicle needs a [track] table"))?;
-        build_train(b, &track, &spec)?;
+        if let Value::Object(w) = &spec.wheel {
+            if w.contains_key("side") {
+                return Err(FemError::input(
+                    &o,
+                    "`wheel.side` would be ignored: the vehicle makes a left and a right wheel on every axle; remove `side` from the `wheel` table",
+                ));
+            }
+        }
+        build_train_at(b, &track, &spec, &format!("{o} (vehicle `{}`)", spec.name))?;
     }
     Ok(())
 }

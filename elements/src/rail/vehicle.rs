@@ -25,6 +25,7 @@ use super::track_model::TrackModel;
 use railfem_framework::error::FemError;
 use railfem_framework::model::ModelBuilder;
 use railfem_framework::moving::{Carrier, Path};
+use railfem_framework::registry::ElementSpec;
 use railfem_framework::DofSet;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -202,6 +203,10 @@ pub struct TrainIds {
 /// Stiffness of the weak spring on each wheelset's spin deviation about its axle (N·m/rad).
 pub const SPIN_STIFFNESS: f64 = 1.0e4;
 
+fn is_wheel(kind: &str) -> bool {
+    kind == "moving_axle"
+}
+
 fn mass_params(b: &BodyData) -> serde_json::Value {
     // Wheel-frame axes: 1 lateral (pitch), 2 vertical (yaw), 3 longitudinal (roll).
     serde_json::json!({"m": b.mass, "inertia": [b.iyy, b.izz, b.ixx]})
@@ -292,8 +297,19 @@ pub fn build_train(
     spec: &TrainSpec,
 ) -> Result<TrainIds, FemError> {
     let origin = format!("{}: vehicle `{}`", b.origin(), spec.name);
+    build_train_at(b, track, spec, &origin)
+}
+
+/// [`build_train`] with the place messages name (`"m.toml: [vehicle][0]"`); a wheel's
+/// problem is reported there too, as its `wheel` table.
+pub fn build_train_at(
+    b: &mut ModelBuilder,
+    track: &Arc<TrackModel>,
+    spec: &TrainSpec,
+    origin: &str,
+) -> Result<TrainIds, FemError> {
     let c = &spec.carriage;
-    validate(spec, track).map_err(|m| FemError::input(&origin, m))?;
+    validate(spec, track).map_err(|m| FemError::input(origin, m))?;
     let mut next_node = spec.first_node_id.max((b.max_node_id() / 1000 + 1) * 1000);
     let mut next_elem = (b.max_element_id() / 1000 + 1) * 1000;
     let mut carried: Vec<(u64, f64, [f64; 3])> = Vec::new();
@@ -316,9 +332,27 @@ pub fn build_train(
         carried.push((next_node, ds, off));
         next_node
     };
+    // An element of `kind`; a wheel (`side` given) is named after the vehicle's `wheel`
+    // table, where its keys come from.
     let mut elem = |b: &mut ModelBuilder, kind: &str, nodes: &[u64], p: serde_json::Value| {
         next_elem += 1;
-        b.element(kind, next_elem, nodes, &p);
+        match (p, is_wheel(kind)) {
+            (serde_json::Value::Object(params), true) => {
+                let side = params.get("side").and_then(|v| v.as_str()).unwrap_or("");
+                let origin =
+                    format!("{origin}: `wheel` (element {next_elem}, moving_axle, {side} wheel)");
+                b.element_spec(ElementSpec {
+                    id: next_elem,
+                    kind: kind.into(),
+                    nodes: nodes.to_vec(),
+                    params,
+                    origin,
+                });
+            }
+            (p, _) => {
+                b.element(kind, next_elem, nodes, &p);
+            }
+        }
         next_elem
     };
     let spring = |s: &Suspension| {
@@ -400,7 +434,7 @@ pub fn build_train(
                         serde_json::Value::Null => serde_json::Map::new(),
                         _ => {
                             return Err(FemError::input(
-                                &origin,
+                                origin,
                                 "`wheel` must be a table of moving_axle keys",
                             ))
                         }
