@@ -4,8 +4,9 @@
 //! ([`element`]), the registry, plugins and conformance kit ([`registry`], [`plugin`],
 //! [`conformance`]), equation numbering
 //! with constraints ([`dofmap`]), sparse assembly ([`sparse`], [`assembly`]), loads and time
-//! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]) and
-//! recorders ([`recorder`]). What does not: concrete elements (railfem-elements) and
+//! series ([`loads`]), moving reference frames ([`moving`]), model files ([`modelfile`]),
+//! recorders and the names of every output ([`recorder`], [`outputs`]), and the size
+//! guards of generators ([`limits`]). What does not: concrete elements (railfem-elements) and
 //! solvers (railfem-solvers).
 //!
 //! Units are SI throughout: m, kg, s, N, rad.
@@ -18,11 +19,14 @@ pub mod conformance;
 pub mod dof;
 pub mod dofmap;
 pub mod element;
+pub mod elf;
 pub mod error;
+pub mod limits;
 pub mod loads;
 pub mod model;
 pub mod modelfile;
 pub mod moving;
+pub mod outputs;
 pub mod parallel;
 pub mod plot;
 pub mod plugin;

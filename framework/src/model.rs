@@ -11,6 +11,7 @@
 use crate::dof::DofSet;
 use crate::element::{Element, NodeKinematics};
 use crate::error::FemError;
+use crate::limits::{self, fmt_num};
 use crate::loads::Load;
 use crate::moving::{CarriedNode, Carrier};
 use crate::recorder::RecorderSpec;
@@ -228,7 +229,7 @@ impl AnalysisSpec {
             } else {
                 Err(FemError::input(
                     &o,
-                    format!("`{k}` must be a positive number (got {v})"),
+                    format!("`{k}` must be a positive number (got {})", fmt_num(v)),
                 ))
             }
         };
@@ -240,7 +241,7 @@ impl AnalysisSpec {
                     &o,
                     format!(
                         "Newmark needs gamma >= 0.5 and beta > 0 (got beta = {}, gamma = {}); average acceleration is beta = 0.25, gamma = 0.5",
-                        self.beta, self.gamma
+                        fmt_num(self.beta), fmt_num(self.gamma)
                     ),
                 ));
             }
@@ -275,7 +276,29 @@ impl AnalysisSpec {
                 "`steps` and `record_every` must be at least 1",
             ));
         }
-        Ok(())
+        self.check_step_count(&o)
+    }
+
+    /// The size guard of an analysis: its step count against [`limits::max_steps`].
+    fn check_step_count(&self, o: &str) -> Result<(), FemError> {
+        let (cause, steps, fix) = match self.kind {
+            AnalysisKind::Transient => (
+                format!(
+                    "`duration` = {} s at `dt` = {} s",
+                    fmt_num(self.duration),
+                    fmt_num(self.dt)
+                ),
+                (self.duration / self.dt).ceil(),
+                "give a larger `dt` or a shorter `duration`",
+            ),
+            AnalysisKind::Static => (
+                format!("`steps` = {}", self.steps),
+                self.steps as f64,
+                "give fewer load `steps`",
+            ),
+            AnalysisKind::Modal => return Ok(()),
+        };
+        limits::check_steps(&cause, steps, fix).map_err(|m| FemError::input(o, m))
     }
 }
 
@@ -714,6 +737,9 @@ impl ModelBuilder {
         for (i, r) in recorders.iter().enumerate() {
             r.validate_at(&model, Some(i))?;
         }
+        let files: Vec<&str> = recorders.iter().map(RecorderSpec::file).collect();
+        crate::outputs::check_recorder_files(&files)
+            .map_err(|(i, m)| FemError::input(format!("{}: recorder[{i}]", model.origin), m))?;
         model.recorders = recorders;
         Ok(model)
     }

@@ -8,6 +8,7 @@
 
 use crate::dof::DofSet;
 use crate::error::{nearest, FemError};
+use crate::limits::LimitSpec;
 use crate::loads::LoadSpec;
 use crate::model::{AnalysisSpec, ModelBuilder};
 use crate::recorder::RecorderSpec;
@@ -31,23 +32,26 @@ pub struct ModelSection {
 
 inventory::collect!(ModelSection);
 
-const CORE_KEYS: [&str; 7] = [
-    "analysis", "node", "element", "link", "load", "recorder", "plugins",
+const CORE_KEYS: [&str; 8] = [
+    "analysis", "node", "element", "link", "load", "recorder", "plugins", "limits",
 ];
 
 /// Reads a model file (`.toml` or `.json`, by extension) into a builder. Plugins named in
 /// the file are loaded (see [`crate::plugin`]) before elements are built.
 pub fn read(path: &Path) -> Result<ModelBuilder, FemError> {
     let name = path.display().to_string();
+    crate::limits::check_file(path, "the model file").map_err(|m| FemError::input(&name, m))?;
     let text = std::fs::read_to_string(path)
         .map_err(|e| FemError::input(&name, format!("cannot read the model file: {e}")))?;
+    // A byte-order mark is not part of the text (TOML's parser skips one; JSON's does not).
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let is_json = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let value = if is_json {
-        parse_json(&text, &name)?
+        parse_json(text, &name)?
     } else {
-        parse_toml(&text, &name)?
+        parse_toml(text, &name)?
     };
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     from_value(&value, &name, &base)
@@ -197,6 +201,10 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
             ));
         }
     }
+    crate::limits::set_model_file(match root.get("limits") {
+        Some(v) => parse_limits(v, &format!("{name}: [limits]"))?,
+        None => LimitSpec::default(),
+    });
     let mut b = ModelBuilder::new(name);
     if let Some(p) = root.get("plugins") {
         let list: Vec<String> = de(p, &format!("{name}: plugins"))?;
@@ -293,6 +301,52 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         b.recorder(r);
     }
     Ok(b)
+}
+
+/// The `[limits]` table: `max_memory` (bytes, a number or a string with a binary suffix,
+/// `"8G"`) and `max_steps` (a whole number ≥ 1).
+fn parse_limits(v: &Value, origin: &str) -> Result<LimitSpec, FemError> {
+    let Value::Object(map) = v else {
+        return Err(FemError::input(origin, "must be a table"));
+    };
+    let mut spec = LimitSpec::default();
+    for (k, x) in map {
+        let text = match x {
+            Value::String(s) => s.clone(),
+            Value::Number(n) => n.to_string(),
+            _ => String::new(),
+        };
+        match k.as_str() {
+            "max_memory" => {
+                spec.max_memory = Some(crate::limits::parse_bytes(&text).ok_or_else(|| {
+                    FemError::input(
+                        origin,
+                        format!(
+                            "`max_memory` = {x}; give bytes (e.g. 8e9) or a size such as \"8G\""
+                        ),
+                    )
+                })?)
+            }
+            "max_steps" => {
+                spec.max_steps = Some(crate::limits::parse_count(&text).ok_or_else(|| {
+                    FemError::input(
+                        origin,
+                        format!("`max_steps` = {x}; give a whole number of steps ≥ 1"),
+                    )
+                })?)
+            }
+            other => {
+                let hint = nearest(other, &["max_memory", "max_steps"])
+                    .map(|n| format!(" (did you mean `{n}`?)"))
+                    .unwrap_or_default();
+                return Err(FemError::input(
+                    origin,
+                    format!("unknown key `{other}`{hint}; valid keys: max_memory, max_steps"),
+                ));
+            }
+        }
+    }
+    Ok(spec)
 }
 
 #[cfg(test)]

@@ -771,7 +771,7 @@ impl Driver {
     /// Writes the energy rows of the run to `dir/energy.csv` (nothing if accounting is off).
     pub fn write_energy(&self, dir: &Path) -> Result<(), FemError> {
         match &self.energy {
-            Some(e) => e.write_csv(&dir.join("energy.csv")),
+            Some(e) => e.write_csv(&dir.join(railfem_framework::outputs::ENERGY_CSV)),
             None => Ok(()),
         }
     }
@@ -851,7 +851,8 @@ impl Driver {
                     if let Err(e) = self.step(dt) {
                         if let (Some(r), Some(dir)) = (rec.as_mut(), out) {
                             let _ = r.finish();
-                            let _ = self.write_state(&dir.join("last_converged_state.csv"));
+                            let _ = self
+                                .write_state(&dir.join(railfem_framework::outputs::LAST_STATE_CSV));
                             let _ = self.write_energy(dir);
                         }
                         return Err(e);
@@ -874,7 +875,7 @@ impl Driver {
             AnalysisKind::Modal => {
                 let modes = self.modes(spec.modes)?;
                 if let Some(dir) = out {
-                    self.write_modes(&modes, &dir.join("modes.csv"))?;
+                    self.write_modes(&modes, &dir.join(railfem_framework::outputs::MODES_CSV))?;
                 }
                 progress(1.0);
             }

@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
 
 /// A fresh, empty directory under the system temp dir, unique per process and call.
 pub fn temp_dir(name: &str) -> PathBuf {
@@ -99,4 +100,49 @@ pub fn fryba(x: f64, t: f64, p: f64, v: f64, l: f64, ei: f64, m: f64, terms: usi
             amp * ((nf * w * t).sin() - alpha / nf * (wn * t).sin()) * (nf * PI * x / l).sin()
         })
         .sum()
+}
+
+/// Builds the plugin once per test binary with the profile of this test binary's directory
+/// (`target/debug` → `dev`, `target/release` → `release`) into the same target directory,
+/// and returns the path of the shared library.
+pub fn plugin_lib() -> &'static Path {
+    static LIB: OnceLock<PathBuf> = OnceLock::new();
+    LIB.get_or_init(|| {
+        let exe = std::env::current_exe().expect("test executable path");
+        // target/<profile>/deps/plugins-<hash>
+        let profile_dir = exe
+            .parent()
+            .and_then(Path::parent)
+            .expect("target/<profile>/deps layout")
+            .to_path_buf();
+        let target_dir = profile_dir.parent().expect("target dir").to_path_buf();
+        let profile = match profile_dir.file_name().and_then(|n| n.to_str()) {
+            Some("debug") => "dev".to_string(),
+            Some(other) => other.to_string(),
+            None => "dev".to_string(),
+        };
+        let status = Command::new(env!("CARGO"))
+            .args([
+                "build",
+                "--quiet",
+                "-p",
+                "railfem-plugin-hysteretic",
+                "--profile",
+            ])
+            .arg(&profile)
+            .arg("--target-dir")
+            .arg(&target_dir)
+            .arg("--manifest-path")
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml"))
+            .status()
+            .expect("cargo runs");
+        assert!(status.success(), "building the plugin failed");
+        let lib = profile_dir.join(format!(
+            "{}railfem_plugin_hysteretic{}",
+            std::env::consts::DLL_PREFIX,
+            std::env::consts::DLL_SUFFIX
+        ));
+        assert!(lib.exists(), "{} missing", lib.display());
+        lib
+    })
 }

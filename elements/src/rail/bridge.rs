@@ -439,7 +439,13 @@ pub(super) fn picks(stations: &[f64], spacing: f64) -> Vec<usize> {
         if out.last() != Some(&i) {
             out.push(i);
         }
+        // Multiples nearer to station i than to i + 1 pick i again: skip them, so a spacing
+        // far below the element length costs one pass over the stations, not (to − from) /
+        // spacing iterations.
         m += 1.0;
+        if let Some(&after) = stations.get(i + 1) {
+            m = m.max((0.5 * (stations[i] + after) / spacing).floor());
+        }
     }
     out
 }

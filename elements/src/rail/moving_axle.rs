@@ -173,8 +173,7 @@ pub struct MovingAxle {
     last_gap: Vec<Option<(Vector2<f64>, f64)>>,
 }
 
-/// Most points a wheel or rail profile may be sampled with (`wheel_points`, `rail_nodes`).
-pub const MAX_PROFILE_POINTS: usize = 5000;
+pub use super::profiles::MAX_PROFILE_POINTS;
 
 fn skew(r: &Vector3<f64>) -> Matrix3<f64> {
     // [r]ₓ such that [r]ₓ·θ = r × θ.
@@ -255,11 +254,13 @@ impl Setup {
         }
         let wheel = match params.wheel_profile.to_ascii_lowercase().as_str() {
             "s1002" => WheelProfile::s1002(params.wheel_points.max(20)),
-            path => WheelProfile::from_csv_file(path).map_err(|e| err(e.to_string()))?,
+            path => WheelProfile::from_csv_file(path)
+                .map_err(|e| err(format!("`wheel_profile`: {e}")))?,
         };
         let rail = match params.rail_profile.to_ascii_lowercase().as_str() {
             "60e1" | "uic60" => RailProfile::uic60(params.rail_nodes.max(4), incl),
-            path => RailProfile::from_csv_file(path, incl).map_err(|e| err(e.to_string()))?,
+            path => RailProfile::from_csv_file(path, incl)
+                .map_err(|e| err(format!("`rail_profile`: {e}")))?,
         };
         let (wheel, rail) = if side == 0 {
             (wheel, rail)
