@@ -310,6 +310,18 @@ fn set_limits(a: &Args) -> Result<(), FemError> {
     Ok(())
 }
 
+/// An error of a model's solution named after its model file (the solvers' errors name
+/// the element or DOF, not the file), unless it names the file already.
+fn in_file(path: &Path, e: FemError) -> FemError {
+    let name = path.display().to_string();
+    let text = e.to_string();
+    if text.starts_with(&name) {
+        e
+    } else {
+        FemError::input(name, text)
+    }
+}
+
 fn model_arg(a: &Args) -> Result<&Path, FemError> {
     a.positional.first().map(Path::new).ok_or_else(|| {
         FemError::input(
@@ -338,7 +350,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "check" => {
             let path = model_arg(a)?;
             let model = crate::load_model(path)?;
-            let driver = crate::solvers::Driver::new(model)?;
+            let driver = crate::solvers::Driver::new(model).map_err(|e| in_file(path, e))?;
             println!(
                 "{}: ok — {} nodes, {} elements, {} equations",
                 path.display(),
@@ -352,8 +364,10 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
             let path = model_arg(a)?;
             let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out"));
             let model = crate::load_model(path)?;
-            let mut driver = crate::solvers::Driver::new(model)?;
-            let s = driver.run(Some(&out), &mut |_| {})?;
+            let mut driver = crate::solvers::Driver::new(model).map_err(|e| in_file(path, e))?;
+            let s = driver
+                .run(Some(&out), &mut |_| {})
+                .map_err(|e| in_file(path, e))?;
             println!(
                 "{}: {} steps, {} Newton iterations, {} factorizations, {} equations, {:.3} s; results in {}",
                 path.display(),

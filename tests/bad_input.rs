@@ -3,6 +3,8 @@
 //! never panics.
 
 mod common;
+#[path = "bad_input/guards.rs"]
+mod guards;
 
 use common::{railfem, temp_dir};
 

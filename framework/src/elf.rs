@@ -162,7 +162,7 @@ fn extent_fits(offset: u64, size: u64, len: u64, what: &str) -> Result<(), Strin
     match offset.checked_add(size) {
         Some(end) if end <= len => Ok(()),
         _ => Err(format!(
-            "{what} spans bytes {offset}..{} but the file has only {len} bytes (truncated or damaged; copy or build it again)",
+            "{what} spans bytes {offset}..{} but the file has only {len} bytes (truncated or damaged)",
             offset as u128 + size as u128
         )),
     }

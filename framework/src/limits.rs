@@ -185,11 +185,18 @@ pub fn fmt_num(v: f64) -> String {
         return format!("{v}");
     }
     let a = v.abs();
-    if a == 0.0 || (1e-4..1e9).contains(&a) {
+    if a == 0.0 || (1e-4..1e7).contains(&a) {
         format!("{v}")
     } else {
         format!("{v:e}")
     }
+}
+
+/// A point or vector for a message, each component as [`fmt_num`] prints it
+/// (`[0, 0, 1e200]`).
+pub fn fmt_vec(v: &[f64]) -> String {
+    let parts: Vec<String> = v.iter().map(|x| fmt_num(*x)).collect();
+    format!("[{}]", parts.join(", "))
 }
 
 /// A count, rounded up to a whole number; from 1e9 on in exponent form with three
@@ -238,6 +245,7 @@ mod tests {
         assert_eq!(fmt_num(0.6), "0.6");
         assert_eq!(fmt_num(0.0), "0");
         assert_eq!(fmt_num(f64::NAN), "NaN");
+        assert_eq!(fmt_vec(&[0.0, 1e200, -2.5]), "[0, 1e200, -2.5]");
         assert_eq!(fmt_bytes(3.0 * 1024.0 * 1024.0 * 1024.0), "3.0 GiB");
         assert_eq!(fmt_bytes(512.0), "512 B");
         assert_eq!(fmt_count(3.000_000_000_5e10), "3e10");

@@ -757,6 +757,9 @@ impl BuildContext for Ctx {
     fn node_index(&self, id: u64) -> Option<usize> {
         self.node_index.get(&id).copied()
     }
+    fn node_carried(&self, index: usize) -> Option<bool> {
+        self.carried.get(index).map(Option::is_some)
+    }
     fn node_position(&self, index: usize) -> Vector3<f64> {
         self.nodes[index].position
     }

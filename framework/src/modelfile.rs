@@ -8,7 +8,7 @@
 
 use crate::dof::DofSet;
 use crate::error::{nearest, FemError};
-use crate::limits::LimitSpec;
+use crate::limits::{fmt_num, fmt_vec, LimitSpec};
 use crate::loads::LoadSpec;
 use crate::model::{AnalysisSpec, ModelBuilder};
 use crate::recorder::RecorderSpec;
@@ -35,6 +35,11 @@ inventory::collect!(ModelSection);
 const CORE_KEYS: [&str; 8] = [
     "analysis", "node", "element", "link", "load", "recorder", "plugins", "limits",
 ];
+
+/// Largest node coordinate magnitude a model file may give (m). Beyond it, lengths cubed
+/// (beam stiffness ∝ 1/L³) leave the range of a double and nothing physical remains to
+/// model: 1e8 m is eight times the Earth's diameter.
+pub const MAX_COORDINATE: f64 = 1e8;
 
 /// Reads a model file (`.toml` or `.json`, by extension) into a builder. Plugins named in
 /// the file are loaded (see [`crate::plugin`]) before elements are built.
@@ -234,6 +239,19 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
                     n.id
                 ),
             ));
+        }
+        if let Some(far) = n.xyz.iter().map(|x| x.abs()).reduce(f64::max) {
+            if far > MAX_COORDINATE {
+                return Err(FemError::input(
+                    o,
+                    format!(
+                        "`xyz` = {} lies {} m from the origin; give coordinates within {} m (the Earth's diameter is 1.3e7 m) — check the units (m)",
+                        fmt_vec(&n.xyz),
+                        fmt_num(far),
+                        fmt_num(MAX_COORDINATE)
+                    ),
+                ));
+            }
         }
         let fixed = parse_dofs(&n.fix, DofSet::NONE, &o)?;
         b.node_fixed(n.id, n.xyz, fixed);
