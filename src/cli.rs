@@ -61,8 +61,17 @@ USAGE:
                                                      integrator; pareto.csv and pareto-*.svg
   railfem help                                       this text
 
+OPTIONS OF EVERY COMMAND:
+  --plugin PATH        load an element plugin (repeatable)
+  --max-memory BYTES   memory a model may be estimated to need (e.g. 8G; default half the
+                       available memory); overrides a model file's [limits] max_memory
+  --max-steps N        most time or load steps of an analysis (default 1e7); overrides
+                       [limits] max_steps
+  --help               this text
+
+Each command accepts only its own options; a mistyped one is refused with the nearest.
 Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
-the place and the fix.";
+the place and the fix (docs/robustness.md).";
 
 /// A parsed command line. Paths stay `OsString`/`PathBuf` from `argv` to every message
 /// (a path need not be UTF-8); every other value must be UTF-8.
