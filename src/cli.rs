@@ -499,10 +499,11 @@ fn track(a: &Args) -> Result<i32, FemError> {
     use crate::elements::rail::cant::Track;
     let radius = a.num("radius")?.unwrap_or(6250.0);
     let ct = a.num("ct")?.unwrap_or(200.0);
-    if radius <= 0.0 {
+    let min = crate::elements::rail::alignment::MIN_RADIUS;
+    if radius < min {
         return Err(FemError::input(
             "command line",
-            format!("--radius {radius}: give the arc radius in m, > 0"),
+            format!("--radius {radius}: give the arc radius in m, ≥ {min} (the tightest curve a wheelset can take)"),
         ));
     }
     if ct < 0.0 || ct / radius >= std::f64::consts::FRAC_PI_2 {
@@ -547,6 +548,16 @@ fn bench(a: &Args) -> Result<i32, FemError> {
                 ))
             }
         }
+    }
+    for &n in &sizes {
+        crate::framework::limits::check_memory(
+            &format!("--sizes {spec}"),
+            n as f64,
+            "DOFs",
+            crate::framework::limits::BYTES_PER_DOF,
+            "give smaller sizes",
+        )
+        .map_err(|m| FemError::input("command line", m))?;
     }
     let steps = match a.num("steps")? {
         None => 20,

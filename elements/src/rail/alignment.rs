@@ -426,7 +426,7 @@ impl Alignment {
     /// (1/R → 0), 800 m straight; 16 208.3078 m in all. At R = 6250 m the arc turns 100°.
     ///
     /// # Panics
-    /// If `radius` is not a finite number > 0.
+    /// If `radius` is not a finite number ≥ [`MIN_RADIUS`].
     pub fn paper(radius: f64) -> Self {
         Self::paper_hand(radius, Hand::Left)
     }
@@ -434,7 +434,7 @@ impl Alignment {
     /// [`Alignment::paper`] with a chosen hand.
     ///
     /// # Panics
-    /// If `radius` is not a finite number > 0.
+    /// If `radius` is not a finite number ≥ [`MIN_RADIUS`].
     pub fn paper_hand(radius: f64, hand: Hand) -> Self {
         let k = hand.sign() / radius;
         Self::new(vec![
@@ -456,7 +456,7 @@ impl Alignment {
             },
             Segment::Straight { length: 800.0 },
         ])
-        .expect("Alignment::paper: the radius must be a finite number > 0 m")
+        .expect("Alignment::paper: the radius must be a finite number >= MIN_RADIUS")
     }
 
     /// Total length L (m).
