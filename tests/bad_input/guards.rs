@@ -187,6 +187,36 @@ fn a_lowered_memory_limit_refuses_a_normal_track() {
 }
 
 #[test]
+fn a_billion_carriages_or_bridge_spans_are_refused() {
+    // 66 DOFs per carriage.
+    check_train(
+        "carrbig",
+        "carriages = 1",
+        "carriages = 1000000000",
+        &[],
+        &[
+            "vehicle `train`",
+            "`carriages` = 1000000000",
+            "6.6e10 vehicle DOFs",
+            "give fewer `carriages`",
+        ],
+    );
+    // 1e9 spans of 1e-8 m fit the 30 m track; 6 DOFs × (1e9 + 1) × (4 + 3) nodes.
+    check_train(
+        "spansbig",
+        "support = {type = \"rigid\"}",
+        "support = {type = \"bridge\", start = 5.0, spans = 1000000000, span = 1e-8}",
+        &[],
+        &[
+            "[track]",
+            "`spans` = 1000000000 with `pier_elements` = 4",
+            "4.2e10 bridge DOFs",
+            "give fewer `spans`",
+        ],
+    );
+}
+
+#[test]
 fn a_profile_with_a_million_points_is_refused_before_its_checks() {
     let mut text = String::from("# units: mm\n");
     for i in 0..1_000_000 {

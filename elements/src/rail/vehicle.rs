@@ -268,6 +268,15 @@ fn validate(spec: &TrainSpec, track: &TrackModel) -> Result<(), String> {
     if spec.carriages == 0 {
         return Err("`carriages` must be at least 1".into());
     }
+    // Size guard: a carriage is 66 DOFs (car body, two bogies, four wheelsets, eight
+    // wheels' contact nodes).
+    railfem_framework::limits::check_memory(
+        &format!("`carriages` = {}", spec.carriages),
+        66.0 * spec.carriages as f64,
+        "vehicle DOFs",
+        railfem_framework::limits::BYTES_PER_DOF,
+        "give fewer `carriages`",
+    )?;
     if !(spec.speed.is_finite() && spec.start.is_finite() && spec.accel.is_finite()) {
         return Err("`speed`, `start` and `accel` must be finite".into());
     }
