@@ -3,6 +3,7 @@
 //! never panics.
 
 mod common;
+#[cfg(unix)]
 #[path = "bad_input/guards.rs"]
 mod guards;
 
@@ -60,21 +61,33 @@ fn check(name: &str, text: &str, expect: &[&str]) -> String {
         "--out",
         out.to_str().expect("utf-8"),
     ]);
+    let err = refused_with(name, &o, expect);
+    assert!(err.contains(name), "{name}: the file is not named: {err}");
+    let _ = std::fs::remove_dir_all(&dir);
+    err
+}
+
+/// Asserts that the run `o` (called `label` in failures) exited with code 2 and printed
+/// exactly one line on stderr, with no panic, containing every string of `expect`.
+/// Returns the line.
+fn refused_with(label: &str, o: &std::process::Output, expect: &[&str]) -> String {
     let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(o.status.code(), Some(2), "{name}: exit code; stderr: {err}");
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{label}: exit code; stderr: {err}"
+    );
     assert!(
         err.ends_with('\n') && err.lines().count() == 1,
-        "{name}: stderr must be exactly one line, got {err:?}"
+        "{label}: stderr must be exactly one line, got {err:?}"
     );
     assert!(
         !err.contains("internal error") && !err.contains("panicked"),
-        "{name}: {err}"
+        "{label}: {err}"
     );
-    assert!(err.contains(name), "{name}: the file is not named: {err}");
     for e in expect {
-        assert!(err.contains(e), "{name}: expected `{e}` in: {err}");
+        assert!(err.contains(e), "{label}: expected `{e}` in: {err}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
     err
 }
 
@@ -373,23 +386,11 @@ fn check_train(
     let to = to.replace("{dir}", dir.to_str().expect("utf-8"));
     std::fs::write(&path, TRAIN.replacen(from, &to, 1)).expect("write model");
     let o = railfem(&["check", path.to_str().expect("utf-8")]);
-    let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(o.status.code(), Some(2), "{case}: exit code; stderr: {err}");
-    assert!(
-        err.ends_with('\n') && err.lines().count() == 1,
-        "{case}: stderr must be exactly one line, got {err:?}"
-    );
-    assert!(
-        !err.contains("internal error") && !err.contains("panicked"),
-        "{case}: {err}"
-    );
+    let err = refused_with(case, &o, expect);
     assert!(
         err.contains(&name),
         "{case}: the model file is not named: {err}"
     );
-    for e in expect {
-        assert!(err.contains(e), "{case}: expected `{e}` in: {err}");
-    }
     let _ = std::fs::remove_dir_all(&dir);
     err
 }

@@ -4,9 +4,10 @@
 //! one stderr line naming the file (or the command line), the key and the fix.
 
 use super::common::{plugin_lib, temp_dir};
-use super::{check, check_train, edit, GOOD};
+use super::{check, check_train, edit, refused_with, GOOD};
 use std::ffi::OsStr;
 use std::os::unix::ffi::OsStrExt;
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn railfem_os(args: &[&OsStr]) -> Output {
@@ -19,26 +20,22 @@ fn railfem_os(args: &[&OsStr]) -> Output {
 /// Runs `railfem args`; asserts exit code 2, one stderr line, no panic, and every string
 /// of `expect` in it. Returns the line.
 fn refused(args: &[&OsStr], expect: &[&str]) -> String {
-    let o = railfem_os(args);
-    let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(
-        o.status.code(),
-        Some(2),
-        "{args:?}: exit code; stderr: {err}"
-    );
-    assert!(
-        err.ends_with('\n') && err.lines().count() == 1,
-        "{args:?}: stderr must be exactly one line, got {err:?}"
-    );
-    assert!(
-        !err.contains("internal error") && !err.contains("panicked"),
-        "{err}"
-    );
-    for e in expect {
-        assert!(err.contains(e), "{args:?}: expected `{e}` in: {err}");
-    }
-    err
+    refused_with(&format!("{args:?}"), &railfem_os(args), expect)
 }
+
+/// The tip deflection `uz` (m) in the first row of `tip.csv` in `out`, written by GOOD.
+fn tip_uz(out: &Path) -> f64 {
+    let csv = std::fs::read_to_string(out.join("tip.csv")).expect("tip.csv");
+    let row = csv.lines().nth(1).expect("a row");
+    row.split(',')
+        .nth(1)
+        .and_then(|x| x.parse().ok())
+        .expect("uz")
+}
+
+/// GOOD's tip deflection P·L³/(3·E·I): L = 2 m, P = 1e4 N, E = 2.1e11 Pa,
+/// I = Iy = 3.038e-5 m⁴ (one cubic Hermite element is exact).
+const GOOD_TIP_UZ: f64 = 1e4 * 8.0 / (3.0 * 2.1e11 * 3.038e-5);
 
 fn os(s: &str) -> &OsStr {
     OsStr::new(s)
@@ -270,20 +267,9 @@ fn a_non_utf8_model_path_runs_and_a_non_utf8_value_is_refused() {
     let out = dir.join(OsStr::from_bytes(b"out\xfe"));
     let o = railfem_os(&[os("run"), path.as_os_str(), os("--out"), out.as_os_str()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    // The recorder wrote into the non-UTF-8 directory: the tip deflection of GOOD,
-    // P·L³/(3·E·I) with L = 2 m, P = 1e4 N, E = 2.1e11 Pa, I = Iy = 3.038e-5 m⁴.
-    let csv = std::fs::read_to_string(out.join("tip.csv")).expect("tip.csv");
-    let uz: f64 = csv
-        .lines()
-        .nth(1)
-        .unwrap()
-        .split(',')
-        .nth(1)
-        .unwrap()
-        .parse()
-        .unwrap();
-    let want = 1e4 * 8.0 / (3.0 * 2.1e11 * 3.038e-5);
-    assert!((uz - want).abs() < 1e-9 * want, "{uz} vs {want}");
+    // The recorder wrote into the non-UTF-8 directory, GOOD's answer.
+    let uz = tip_uz(&out);
+    assert!((uz - GOOD_TIP_UZ).abs() < 1e-9 * GOOD_TIP_UZ, "{uz}");
     // A non-UTF-8 model that is broken is named (lossily) in one line.
     std::fs::write(&path, "[[node]]\nid = 1\n").expect("write");
     refused(
@@ -511,21 +497,15 @@ fn a_json_model_with_a_byte_order_mark_reads_like_toml() {
             "{name}: {}",
             String::from_utf8_lossy(&o.stderr)
         );
-        let csv = std::fs::read_to_string(out.join("tip.csv")).expect("tip.csv");
-        csv.lines()
-            .nth(1)
-            .unwrap()
-            .split(',')
-            .nth(1)
-            .unwrap()
-            .parse()
-            .unwrap()
+        tip_uz(&out)
     };
     let from_json = tip("bom.json", format!("\u{feff}{json}"));
     let from_toml = tip("bom.toml", format!("\u{feff}{GOOD}"));
     // Same model, same solution, both against P·L³/(3·E·I).
-    let want = 1e4 * 8.0 / (3.0 * 2.1e11 * 3.038e-5);
-    assert!((from_json - want).abs() < 1e-9 * want, "{from_json}");
+    assert!(
+        (from_json - GOOD_TIP_UZ).abs() < 1e-9 * GOOD_TIP_UZ,
+        "{from_json}"
+    );
     assert_eq!(from_json, from_toml);
     // A broken JSON model with a BOM still gets line and column.
     let path = dir.join("bombad.json");
