@@ -8,7 +8,7 @@
 //! `tests/stability.rs` runs short ones and asserts on them. What does not live here: the
 //! driver and the energy ledger ([`crate::solvers::energy`]).
 
-use crate::elements::rail::alignment::Alignment;
+use crate::elements::rail::alignment::{Alignment, Segment};
 use crate::elements::rail::cant::{Cant, Track};
 use crate::elements::rail::contact_law::Mode;
 use crate::elements::rail::moving_axle::MovingAxle;
@@ -280,7 +280,8 @@ struct WheelsetSpec {
 fn wheelset(s: &WheelsetSpec) -> Result<Wheelset, FemError> {
     crate::elements::link();
     let track = Arc::new(
-        Track::new(Alignment::straight(s.length), Cant::none())
+        Alignment::new(vec![Segment::Straight { length: s.length }])
+            .and_then(|al| Track::new(al, Cant::none()))
             .map_err(|e| FemError::input("stress", e.to_string()))?,
     );
     let mut b = ModelBuilder::new("stress wheelset");

@@ -385,7 +385,8 @@ impl TrainBridgeCase {
         let len = 2.0 * self.approach() + self.spans as f64 * self.span;
         let o = "train-bridge case";
         match self.radius {
-            None => Track::new(Alignment::straight(len), Cant::none())
+            None => Alignment::new(vec![Segment::Straight { length: len }])
+                .and_then(|al| Track::new(al, Cant::none()))
                 .map_err(|e| FemError::input(o, e.to_string())),
             Some(r) => {
                 let al = Alignment::new(vec![Segment::Arc {
@@ -460,6 +461,15 @@ impl TrainBridgeCase {
 pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
     crate::elements::link();
     case.validate()?;
+    // The train's size first: its length sets the track's.
+    limits::check_memory(
+        &format!("--cars {}", case.cars),
+        66.0 * case.cars as f64,
+        "vehicle DOFs",
+        limits::BYTES_PER_DOF,
+        "give fewer --cars",
+    )
+    .map_err(|m| FemError::input("command line", m))?;
     let quake = match &case.quake {
         Quake::None => None,
         Quake::File(p) => Some(read_quake(p)?),
