@@ -134,7 +134,7 @@ impl Args {
 }
 
 /// Options that take no value.
-const FLAGS: [&str; 6] = ["quick", "quiet", "help", "no-plot", "sweep", "build-only"];
+const FLAGS: [&str; 5] = ["quick", "quiet", "help", "sweep", "build-only"];
 
 /// Options whose value is a path: kept as given, UTF-8 or not.
 const PATH_OPTIONS: [&str; 5] = ["out", "plugin", "quake", "quake-out", "export"];

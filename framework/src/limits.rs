@@ -17,7 +17,7 @@
 //! adds the file and the place ([`crate::FemError::input`]). Numbers in messages are
 //! printed with [`fmt_num`], which never hides a size (`1e200`, not `0.0`).
 
-use std::sync::RwLock;
+use std::sync::{OnceLock, RwLock};
 
 /// Memory limit when `/proc/meminfo` cannot be read (bytes): 4 GiB.
 pub const FALLBACK_MEMORY: u64 = 4 << 30;
@@ -64,7 +64,14 @@ pub fn max_memory() -> u64 {
     let file = *MODEL_FILE.read().unwrap_or_else(|e| e.into_inner());
     cli.max_memory
         .or(file.max_memory)
-        .unwrap_or_else(|| available_memory().unwrap_or(2 * FALLBACK_MEMORY) / 2)
+        .unwrap_or_else(default_memory)
+}
+
+/// Half the available memory, read once per process so that a long run's guards do not
+/// change their answer as other programs come and go.
+fn default_memory() -> u64 {
+    static DEFAULT: OnceLock<u64> = OnceLock::new();
+    *DEFAULT.get_or_init(|| available_memory().unwrap_or(2 * FALLBACK_MEMORY) / 2)
 }
 
 /// The step budget in force.

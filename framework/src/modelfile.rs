@@ -1,7 +1,8 @@
 //! Model files: TOML or JSON (the same structure), read into a [`ModelBuilder`].
 //!
 //! Top-level keys: `[analysis]`, `[[node]]`, `[[element]]`, `[[link]]`, `[[load]]`,
-//! `[[recorder]]`, `plugins`, and any section registered by a [`ModelSection`] (the rail
+//! `[[recorder]]`, `plugins`, `[limits]` (the size guards' budgets, [`crate::limits`]),
+//! and any section registered by a [`ModelSection`] (the rail
 //! toolkit adds `[track]` and `[[vehicle]]`). Every key is documented in
 //! `docs/model-format.md`. Errors are one line naming the file, the place (line and column
 //! for syntax errors, the table and index otherwise) and the fix.
