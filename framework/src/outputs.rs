@@ -60,16 +60,25 @@ pub fn check_recorder_files(files: &[&str]) -> Result<(), (usize, String)> {
                 format!("`file` = \"{f}\" {why}; give a relative file name such as \"tip.csv\""),
             )
         })?;
-        if let Some(j) = seen.iter().position(|q| *q == p) {
+        // The same file, or one recorder's file used as a directory by another.
+        if let Some(j) = seen
+            .iter()
+            .position(|q| p.starts_with(q) || q.starts_with(&p))
+        {
+            let how = if seen[j] == p {
+                "is also written by"
+            } else {
+                "needs a file as a directory, or a directory as a file, of"
+            };
             return Err((
                 i,
                 format!(
-                    "file \"{f}\" is also written by recorder[{j}] (\"{}\"); give each recorder its own file",
+                    "file \"{f}\" {how} recorder[{j}] (\"{}\"); give each recorder its own file",
                     files[j]
                 ),
             ));
         }
-        if let Some((own, what)) = RUN_FILES.iter().find(|(n, _)| Path::new(n) == p) {
+        if let Some((own, what)) = RUN_FILES.iter().find(|(n, _)| p.starts_with(n)) {
             return Err((
                 i,
                 format!(
@@ -101,5 +110,9 @@ mod tests {
         assert!(check_recorder_files(&[""]).is_err());
         assert!(check_recorder_files(&["."]).is_err());
         assert!(check_recorder_files(&["sub//c.csv", "sub/c.csv"]).is_err());
+        let (_, m) = check_recorder_files(&["a.csv", "a.csv/b.csv"]).unwrap_err();
+        assert!(m.contains("as a directory"), "{m}");
+        assert!(check_recorder_files(&["energy.csv/x.csv"]).is_err());
+        assert!(check_recorder_files(&["sub/a.csv", "sub/b.csv", "subway.csv"]).is_ok());
     }
 }

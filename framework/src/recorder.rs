@@ -192,6 +192,10 @@ impl Recorders {
         let mut open = Vec::new();
         for spec in &model.recorders {
             let path = dir.join(spec.file());
+            // A file in a subdirectory of the output directory (`wheels/left.csv`).
+            if let Some(parent) = path.parent() {
+                std::fs::create_dir_all(parent).map_err(|e| FemError::output(parent, e))?;
+            }
             let f = File::create(&path).map_err(|e| FemError::output(&path, e))?;
             let mut out = BufWriter::new(f);
             let mut header = vec!["time".to_string()];

@@ -392,6 +392,23 @@ fn two_recorders_on_one_file_are_refused_naming_both() {
 }
 
 #[test]
+fn a_recorder_may_write_into_a_subdirectory_of_out() {
+    let dir = temp_dir("subdir");
+    let path = dir.join("subdir.toml");
+    std::fs::write(
+        &path,
+        edit("file = \"tip.csv\"", "file = \"deep/er/tip.csv\""),
+    )
+    .expect("write");
+    let out = dir.join("out");
+    let o = railfem_os(&[os("run"), path.as_os_str(), os("--out"), out.as_os_str()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let uz = tip_uz(&out.join("deep/er"));
+    assert!((uz - GOOD_TIP_UZ).abs() < 1e-9 * GOOD_TIP_UZ, "{uz}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn a_recorder_named_like_railfems_own_files_is_refused() {
     for own in ["energy.csv", "last_converged_state.csv", "modes.csv"] {
         check(
