@@ -19,6 +19,7 @@ use crate::linear::{solver_for, LinearSolver, SolverError};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
+use railfem_framework::limits::fmt_num;
 use railfem_framework::model::{AnalysisKind, Model, NewtonKind};
 use railfem_framework::recorder::Recorders;
 use railfem_framework::sparse::CscMatrix;
@@ -148,6 +149,22 @@ fn norm(x: &[f64]) -> f64 {
 impl Driver {
     /// Numbers equations, assembles constant parts and picks a linear solver.
     pub fn new(mut model: Model) -> Result<Driver, FemError> {
+        let spec = &model.analysis;
+        if spec.kind == AnalysisKind::Transient {
+            // Size guard: the energy ledger keeps one row per step.
+            railfem_framework::limits::check_memory(
+                &format!(
+                    "`duration` = {} s at `dt` = {} s",
+                    fmt_num(spec.duration),
+                    fmt_num(spec.dt)
+                ),
+                (spec.duration / spec.dt).ceil(),
+                "energy-balance rows",
+                std::mem::size_of::<crate::energy::EnergyRow>() as f64,
+                "give a larger `dt` or a shorter `duration`",
+            )
+            .map_err(|m| FemError::input(format!("{}: [analysis]", model.origin), m))?;
+        }
         let asm = Assembler::new(&mut model)?;
         let n = asm.neq();
         if n == 0 {
