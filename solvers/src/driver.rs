@@ -23,6 +23,7 @@ use railfem_framework::limits::fmt_num;
 use railfem_framework::model::{AnalysisKind, Model, NewtonKind};
 use railfem_framework::recorder::Recorders;
 use railfem_framework::sparse::CscMatrix;
+use railfem_framework::DofSet;
 use std::path::Path;
 use std::time::Instant;
 
@@ -165,6 +166,22 @@ impl Driver {
             )
             .map_err(|m| FemError::input(format!("{}: [analysis]", model.origin), m))?;
         }
+        // Size guard of the whole model, before numbering and assembly: every node not
+        // fully fixed counted with six DOFs at the measured cost per DOF (the generators'
+        // own guards each see only their part).
+        let free = model
+            .nodes
+            .iter()
+            .filter(|n| n.fixed != DofSet::ALL)
+            .count();
+        railfem_framework::limits::check_memory(
+            &format!("the model ({free} nodes not fully fixed)"),
+            6.0 * free as f64,
+            "DOFs",
+            railfem_framework::limits::BYTES_PER_DOF,
+            "model a shorter stretch (a `window`) or coarser meshes",
+        )
+        .map_err(|m| FemError::input(&model.origin, m))?;
         let asm = Assembler::new(&mut model)?;
         let n = asm.neq();
         if n == 0 {

@@ -184,6 +184,26 @@ fn a_lowered_memory_limit_refuses_a_normal_track() {
 }
 
 #[test]
+fn a_model_whose_parts_fit_but_whole_does_not_is_refused_before_assembly() {
+    // 30 m of rigid rails and one carriage under a 400 KiB budget: the track (102 fixed
+    // nodes of 256 B, ~26 KiB) and the carriage (66 DOFs × 2.9 KiB, ~191 KiB) each pass
+    // their generator's guard; the whole model (39 free nodes × 6 DOFs × 2.9 KiB,
+    // ~679 KiB) does not.
+    let line = check_train(
+        "whole",
+        "[analysis]",
+        "[limits]\nmax_memory = \"400K\"\n\n[analysis]",
+        &[],
+        &[
+            "the model (39 nodes not fully fixed) implies 234 DOFs",
+            "more than the memory limit 400.0 KiB",
+            "--max-memory",
+        ],
+    );
+    assert!(!line.contains("rail nodes"), "{line}");
+}
+
+#[test]
 fn a_billion_carriages_or_bridge_spans_are_refused() {
     // 66 DOFs per carriage.
     check_train(
