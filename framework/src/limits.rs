@@ -58,13 +58,19 @@ pub fn set_model_file(spec: LimitSpec) {
     *MODEL_FILE.write().unwrap_or_else(|e| e.into_inner()) = spec;
 }
 
-/// The memory budget in force (bytes).
-pub fn max_memory() -> u64 {
+/// The budgets given: the command line's where given, else the model file's.
+fn given() -> LimitSpec {
     let cli = *COMMAND_LINE.read().unwrap_or_else(|e| e.into_inner());
     let file = *MODEL_FILE.read().unwrap_or_else(|e| e.into_inner());
-    cli.max_memory
-        .or(file.max_memory)
-        .unwrap_or_else(default_memory)
+    LimitSpec {
+        max_memory: cli.max_memory.or(file.max_memory),
+        max_steps: cli.max_steps.or(file.max_steps),
+    }
+}
+
+/// The memory budget in force (bytes).
+pub fn max_memory() -> u64 {
+    given().max_memory.unwrap_or_else(default_memory)
 }
 
 /// Half the available memory, read once per process so that a long run's guards do not
@@ -76,11 +82,7 @@ fn default_memory() -> u64 {
 
 /// The step budget in force.
 pub fn max_steps() -> u64 {
-    let cli = *COMMAND_LINE.read().unwrap_or_else(|e| e.into_inner());
-    let file = *MODEL_FILE.read().unwrap_or_else(|e| e.into_inner());
-    cli.max_steps
-        .or(file.max_steps)
-        .unwrap_or(DEFAULT_MAX_STEPS)
+    given().max_steps.unwrap_or(DEFAULT_MAX_STEPS)
 }
 
 /// `MemAvailable` of `/proc/meminfo` (bytes), if readable.
