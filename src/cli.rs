@@ -4,7 +4,9 @@
 //! Exit codes: 0 success; 2 bad input or a failed run (one line on stderr naming the file,
 //! the place and the fix); 1 a check that ran and failed (the conformance kit).
 
+use crate::framework::error::nearest;
 use crate::framework::FemError;
+use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
 
 /// Usage text printed by `railfem help` and on a usage error.
@@ -60,22 +62,34 @@ USAGE:
                                                      integrator; pareto.csv and pareto-*.svg
   railfem help                                       this text
 
-Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
-the place and the fix.";
+OPTIONS OF EVERY COMMAND:
+  --plugin PATH        load an element plugin (repeatable)
+  --max-memory BYTES   memory a model may be estimated to need (e.g. 8G; default half the
+                       available memory); overrides a model file's [limits] max_memory
+  --max-steps N        most time or load steps of an analysis (default 1e7); overrides
+                       [limits] max_steps
+  --help               this text
 
-/// A parsed command line.
+Each command accepts only its own options; a mistyped one is refused with the nearest.
+Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
+the place and the fix (docs/robustness.md).";
+
+/// A parsed command line. Paths stay `OsString`/`PathBuf` from `argv` to every message
+/// (a path need not be UTF-8); every other value must be UTF-8.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Args {
     /// The subcommand.
     pub command: String,
-    /// Positional arguments after the subcommand.
-    pub positional: Vec<String>,
+    /// Positional arguments after the subcommand (the model file of `run` and `check`).
+    pub positional: Vec<OsString>,
     /// `--out DIR`.
     pub out: Option<PathBuf>,
     /// `--plugin PATH`, repeatable.
     pub plugins: Vec<PathBuf>,
-    /// Other `--key value` options.
+    /// Other `--key value` options whose value is text.
     pub options: Vec<(String, String)>,
+    /// Options whose value is a path ([`PATH_OPTIONS`] other than `out` and `plugin`).
+    pub paths: Vec<(String, PathBuf)>,
     /// `--flag` options without value.
     pub flags: Vec<String>,
 }
@@ -88,6 +102,20 @@ impl Args {
             .rev()
             .find(|(k, _)| k == key)
             .map(|(_, v)| v.as_str())
+    }
+
+    /// Value of path option `--key` (e.g. `--quake FILE`), if given.
+    pub fn path(&self, key: &str) -> Option<&Path> {
+        self.paths
+            .iter()
+            .rev()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.as_path())
+    }
+
+    /// Whether `--flag` was given.
+    pub fn flag(&self, flag: &str) -> bool {
+        self.flags.iter().any(|f| f == flag)
     }
 
     /// Parses option `--key` as a number, with a clear error.
@@ -107,35 +135,189 @@ impl Args {
 }
 
 /// Options that take no value.
-const FLAGS: [&str; 6] = ["quick", "quiet", "help", "no-plot", "sweep", "build-only"];
+const FLAGS: [&str; 5] = ["quick", "quiet", "help", "sweep", "build-only"];
+
+/// Options whose value is a path: kept as given, UTF-8 or not.
+const PATH_OPTIONS: [&str; 5] = ["out", "plugin", "quake", "quake-out", "export"];
+
+/// Options every command accepts.
+const GLOBAL_OPTIONS: [&str; 4] = ["plugin", "help", "max-memory", "max-steps"];
+
+/// The options (with or without value) each command accepts besides [`GLOBAL_OPTIONS`].
+const COMMAND_OPTIONS: [(&str, &[&str]); 12] = [
+    ("run", &["out"]),
+    ("check", &[]),
+    ("elements", &[]),
+    ("help", &[]),
+    (
+        "curve",
+        &[
+            "out", "radius", "ct", "speed", "mu", "dt", "penalty", "duration", "vtk", "lengths",
+            "quick", "quiet",
+        ],
+    ),
+    (
+        "critical-radius",
+        &[
+            "criterion",
+            "sweep",
+            "speeds",
+            "cts",
+            "mus",
+            "out",
+            "quiet",
+            "speed",
+            "ct",
+            "mu",
+            "clothoid",
+            "dt",
+        ],
+    ),
+    ("conformance", &["element"]),
+    ("track", &["radius", "ct", "out"]),
+    (
+        "bench",
+        &["case", "sizes", "steps", "export", "out", "cars", "dt"],
+    ),
+    (
+        "train-bridge",
+        &[
+            "cars",
+            "spans",
+            "span",
+            "element-length",
+            "dof",
+            "speed",
+            "radius",
+            "ct",
+            "duration",
+            "dt",
+            "record-every",
+            "pier-height",
+            "midspans",
+            "quake",
+            "seed",
+            "pga",
+            "quake-duration",
+            "quake-out",
+            "steps",
+            "out",
+            "build-only",
+        ],
+    ),
+    (
+        "stress",
+        &[
+            "case",
+            "scheme",
+            "omega-dt",
+            "penalty",
+            "speed",
+            "height",
+            "depth",
+            "overshoot",
+            "steps",
+            "duration",
+            "dt",
+            "out",
+        ],
+    ),
+    ("pareto", &["out", "cases"]),
+];
+
+/// Refuses an option `command` does not know, naming the nearest it does.
+fn check_option(command: &str, key: &str) -> Result<(), FemError> {
+    let Some((_, own)) = COMMAND_OPTIONS.iter().find(|(c, _)| *c == command) else {
+        return Ok(()); // an unknown command is reported by `run`
+    };
+    if own.contains(&key) || GLOBAL_OPTIONS.contains(&key) {
+        return Ok(());
+    }
+    let valid: Vec<&str> = own.iter().chain(&GLOBAL_OPTIONS).copied().collect();
+    let hint = nearest(key, &valid)
+        .map(|n| format!("did you mean `--{n}`? "))
+        .unwrap_or_default();
+    let list: Vec<String> = valid.iter().map(|v| format!("--{v}")).collect();
+    Err(FemError::input(
+        "command line",
+        format!(
+            "`railfem {command}` has no option `--{key}`; {hint}its options are {}",
+            list.join(", ")
+        ),
+    ))
+}
 
 /// Parses `argv` (without the program name).
-pub fn parse(argv: &[String]) -> Result<Args, FemError> {
+pub fn parse<S: AsRef<OsStr>>(argv: &[S]) -> Result<Args, FemError> {
+    let text = |x: &OsStr, what: &str| -> Result<String, FemError> {
+        x.to_str().map(str::to_string).ok_or_else(|| {
+            FemError::input(
+                "command line",
+                format!(
+                    "{what} {} is not valid UTF-8; give it in plain text",
+                    x.to_string_lossy()
+                ),
+            )
+        })
+    };
     let mut a = Args::default();
-    let mut it = argv.iter();
-    a.command = it.next().cloned().unwrap_or_else(|| "help".into());
+    let mut it = argv.iter().map(AsRef::as_ref);
+    a.command = match it.next() {
+        Some(c) => text(c, "the command")?,
+        None => "help".into(),
+    };
     while let Some(x) = it.next() {
-        if let Some(key) = x.strip_prefix("--") {
-            if FLAGS.contains(&key) {
-                a.flags.push(key.to_string());
-                continue;
+        let Some(key) = x.to_str().and_then(|s| s.strip_prefix("--")) else {
+            a.positional.push(x.to_os_string());
+            continue;
+        };
+        check_option(&a.command, key)?;
+        if FLAGS.contains(&key) {
+            a.flags.push(key.to_string());
+            continue;
+        }
+        let Some(v) = it.next() else {
+            return Err(FemError::input(
+                "command line",
+                format!("--{key} needs a value; see `railfem help`"),
+            ));
+        };
+        match key {
+            "out" => a.out = Some(PathBuf::from(v)),
+            "plugin" => a.plugins.push(PathBuf::from(v)),
+            k if PATH_OPTIONS.contains(&k) => a.paths.push((k.to_string(), PathBuf::from(v))),
+            _ => {
+                let v = text(v, &format!("the value of --{key}"))?;
+                a.options.push((key.to_string(), v));
             }
-            let Some(v) = it.next() else {
-                return Err(FemError::input(
-                    "command line",
-                    format!("--{key} needs a value; see `railfem help`"),
-                ));
-            };
-            match key {
-                "out" => a.out = Some(PathBuf::from(v)),
-                "plugin" => a.plugins.push(PathBuf::from(v)),
-                _ => a.options.push((key.to_string(), v.clone())),
-            }
-        } else {
-            a.positional.push(x.clone());
         }
     }
+    set_limits(&a)?;
     Ok(a)
+}
+
+/// Hands `--max-memory` and `--max-steps` to the size guards ([`crate::framework::limits`]).
+fn set_limits(a: &Args) -> Result<(), FemError> {
+    use crate::framework::limits::{parse_bytes, parse_count, set_command_line, LimitSpec};
+    let mut spec = LimitSpec::default();
+    if let Some(v) = a.opt("max-memory") {
+        spec.max_memory = Some(parse_bytes(v).ok_or_else(|| {
+            FemError::input(
+                "command line",
+                format!("--max-memory {v}: give bytes (e.g. 8e9) or a size such as 8G or 512M"),
+            )
+        })?);
+    }
+    if let Some(v) = a.opt("max-steps") {
+        spec.max_steps = Some(parse_count(v).ok_or_else(|| {
+            FemError::input(
+                "command line",
+                format!("--max-steps {v}: give a whole number of steps ≥ 1 (e.g. 1e8)"),
+            )
+        })?);
+    }
+    set_command_line(spec);
+    Ok(())
 }
 
 fn model_arg(a: &Args) -> Result<&Path, FemError> {
@@ -175,7 +357,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
     for p in &a.plugins {
         crate::framework::plugin::load(p)?;
     }
-    let asked_help = a.flags.iter().any(|f| f == "help") || a.positional.iter().any(|p| p == "-h");
+    let asked_help = a.flag("help") || a.positional.iter().any(|p| p == "-h");
     match a.command.as_str() {
         _ if asked_help => {
             println!("{USAGE}");
@@ -338,10 +520,11 @@ fn track(a: &Args) -> Result<i32, FemError> {
     use crate::elements::rail::cant::Track;
     let radius = a.num("radius")?.unwrap_or(6250.0);
     let ct = a.num("ct")?.unwrap_or(200.0);
-    if radius <= 0.0 {
+    let min = crate::elements::rail::alignment::MIN_RADIUS;
+    if radius < min {
         return Err(FemError::input(
             "command line",
-            format!("--radius {radius}: give the arc radius in m, > 0"),
+            format!("--radius {radius}: give the arc radius in m, ≥ {min} (the tightest curve a wheelset can take)"),
         ));
     }
     if ct < 0.0 || ct / radius >= std::f64::consts::FRAC_PI_2 {
@@ -387,6 +570,16 @@ fn bench(a: &Args) -> Result<i32, FemError> {
             }
         }
     }
+    for &n in &sizes {
+        crate::framework::limits::check_memory(
+            &format!("--sizes {spec}"),
+            n as f64,
+            "DOFs",
+            crate::framework::limits::BYTES_PER_DOF,
+            "give smaller sizes",
+        )
+        .map_err(|m| FemError::input("command line", m))?;
+    }
     let steps = match a.num("steps")? {
         None => 20,
         Some(v) if v >= 1.0 && v.fract() == 0.0 => v as usize,
@@ -397,11 +590,11 @@ fn bench(a: &Args) -> Result<i32, FemError> {
             ))
         }
     };
-    if let Some(dir) = a.opt("export") {
+    if let Some(dir) = a.path("export") {
         // One directory per size: the model, the load vectors and railfem's answer, for
         // scripts/opensees_compare.py.
         for &n in &sizes {
-            let sub = Path::new(dir).join(format!("dof{n}"));
+            let sub = dir.join(format!("dof{n}"));
             let r = crate::bench::export(n, steps, &sub)?;
             println!(
                 "bench export: {} equations, {} steps, first step {:.3} ms, then {:.3} ms/step; written to {}",
@@ -687,14 +880,14 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
                 )
             })?;
     }
-    c.quake = match a.opt("quake") {
+    c.quake = match a.path("quake") {
         None => Quake::None,
-        Some("synthetic") => Quake::Synthetic {
+        Some(q) if q == Path::new("synthetic") => Quake::Synthetic {
             seed: count("seed")?.unwrap_or(1) as u64,
             pga: a.num("pga")?.unwrap_or(0.3),
             duration: a.num("quake-duration")?.unwrap_or(30.0),
         },
-        Some(f) => Quake::File(PathBuf::from(f)),
+        Some(file) => Quake::File(file.to_path_buf()),
     };
     let steps = count("steps")?;
     let out = a
@@ -702,8 +895,8 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("out/train_bridge"));
     let mut m = build(&c)?;
-    if let (Some(q), Some(p)) = (&m.quake, a.opt("quake-out")) {
-        q.write_csv(Path::new(p))?;
+    if let (Some(q), Some(p)) = (&m.quake, a.path("quake-out")) {
+        q.write_csv(p)?;
     }
     let [tg, tb, td] = m.build_seconds;
     println!(

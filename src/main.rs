@@ -12,9 +12,14 @@ fn main() {
             .location()
             .map(|l| format!(" at {}:{}", l.file(), l.line()))
             .unwrap_or_default();
+        if msg.starts_with("failed printing to std") {
+            // The reader of a pipe went away (`railfem elements | head`): stop quietly with
+            // the shell's code for a closed pipe (128 + SIGPIPE), as a C tool would.
+            std::process::exit(141);
+        }
         eprintln!("railfem: internal error{at}: {msg} — please report this with the model file");
     }));
-    let argv: Vec<String> = std::env::args().skip(1).collect();
+    let argv: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
     let code = match std::panic::catch_unwind(|| {
         railfem::cli::parse(&argv).and_then(|a| railfem::cli::run(&a))
     }) {

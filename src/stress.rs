@@ -8,11 +8,12 @@
 //! `tests/stability.rs` runs short ones and asserts on them. What does not live here: the
 //! driver and the energy ledger ([`crate::solvers::energy`]).
 
-use crate::elements::rail::alignment::Alignment;
+use crate::elements::rail::alignment::{Alignment, Segment};
 use crate::elements::rail::cant::{Cant, Track};
 use crate::elements::rail::contact_law::Mode;
 use crate::elements::rail::moving_axle::MovingAxle;
 use crate::elements::rail::track_model::{self, RailSupport, TrackMesh};
+use crate::framework::limits;
 use crate::framework::loads::{LoadSpec, TimeSeries};
 use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder};
 use crate::framework::moving::{Carrier, Path};
@@ -279,7 +280,8 @@ struct WheelsetSpec {
 fn wheelset(s: &WheelsetSpec) -> Result<Wheelset, FemError> {
     crate::elements::link();
     let track = Arc::new(
-        Track::new(Alignment::straight(s.length), Cant::none())
+        Alignment::new(vec![Segment::Straight { length: s.length }])
+            .and_then(|al| Track::new(al, Cant::none()))
             .map_err(|e| FemError::input("stress", e.to_string()))?,
     );
     let mut b = ModelBuilder::new("stress wheelset");
@@ -443,7 +445,7 @@ pub fn speed(speed: f64, duration: f64) -> Result<StressRow, FemError> {
         Ok(w) => w,
         Err(e) => return Ok(StressRow::failed(case, command, e)),
     };
-    let steps = (duration / dt).round() as usize;
+    let steps = step_count("--duration / --dt", (duration / dt).round())?;
     let mut worst = 0.0f64;
     let mut run = || -> Result<(), FemError> {
         ws.d.static_solve(0.0, 10)?;
@@ -533,7 +535,7 @@ pub fn drop(
             a
         },
     })?;
-    let steps = (duration / dt).round() as usize;
+    let steps = step_count("--duration / --dt", (duration / dt).round())?;
     let mut in_contact = true;
     let mut run = |rep: &mut DropReport| -> Result<(), FemError> {
         ws.d.initialize()?;
@@ -614,7 +616,10 @@ pub fn joint_dip(speed: f64, depth: f64) -> Result<StressRow, FemError> {
         Err(e) => return Ok(StressRow::failed(case, command, e)),
     };
     // From 1 m before the dip to 0.5 m after it.
-    let steps = ((2.0 * 1.0 + length + 0.5) / speed / dt).round() as usize;
+    let steps = step_count(
+        "--speed and --dt",
+        ((2.0 * 1.0 + length + 0.5) / speed / dt).round(),
+    )?;
     let mut worst = 0.0f64;
     let mut lost_contact = false;
     let mut run = || -> Result<(), FemError> {
@@ -809,6 +814,14 @@ pub fn full_suite() -> Result<Vec<StressRow>, FemError> {
     Ok(rows)
 }
 
+/// `n` steps as a count, refused past the step budget ([`limits::check_steps`]); `cause`
+/// names the options that set it.
+fn step_count(cause: &str, n: f64) -> Result<usize, FemError> {
+    limits::check_steps(cause, n, "ask for fewer steps")
+        .map_err(|m| FemError::input("command line", m))?;
+    Ok(n as usize)
+}
+
 /// Runs one case named on the command line (see `railfem help`), or the full suite.
 pub fn run_cli(
     case: Option<&str>,
@@ -816,7 +829,8 @@ pub fn run_cli(
     scheme_name: &str,
 ) -> Result<Vec<StressRow>, FemError> {
     let steps = |d: f64| -> Result<usize, FemError> {
-        Ok(num("steps")?.map_or(d, |v| v.max(1.0)).round() as usize)
+        let n = num("steps")?.map_or(d, |v| v.max(1.0)).round();
+        step_count("--steps", n)
     };
     Ok(match case {
         None | Some("all") => full_suite()?,

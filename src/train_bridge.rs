@@ -23,6 +23,7 @@ use crate::elements::rail::track_model::{
     self, mesh_stations_cut, RailSection, RailSupport, TrackMesh, TrackModel,
 };
 use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
+use crate::framework::limits::{self, fmt_num};
 use crate::framework::loads::{LoadSpec, TimeSeries};
 use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder, NewtonSettings};
 use crate::framework::FemError;
@@ -166,6 +167,7 @@ impl QuakeRecord {
 /// rows of four numbers with strictly increasing time. Errors name the file and line.
 pub fn read_quake(path: &Path) -> Result<QuakeRecord, FemError> {
     let origin = path.display().to_string();
+    limits::check_file(path, "the quake record").map_err(|m| FemError::input(&origin, m))?;
     let text = std::fs::read_to_string(path).map_err(|e| {
         FemError::input(
             &origin,
@@ -383,7 +385,8 @@ impl TrainBridgeCase {
         let len = 2.0 * self.approach() + self.spans as f64 * self.span;
         let o = "train-bridge case";
         match self.radius {
-            None => Track::new(Alignment::straight(len), Cant::none())
+            None => Alignment::new(vec![Segment::Straight { length: len }])
+                .and_then(|al| Track::new(al, Cant::none()))
                 .map_err(|e| FemError::input(o, e.to_string())),
             Some(r) => {
                 let al = Alignment::new(vec![Segment::Arc {
@@ -458,6 +461,15 @@ impl TrainBridgeCase {
 pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
     crate::elements::link();
     case.validate()?;
+    // The train's size first: its length sets the track's.
+    limits::check_memory(
+        &format!("--cars {}", case.cars),
+        66.0 * case.cars as f64,
+        "vehicle DOFs",
+        limits::BYTES_PER_DOF,
+        "give fewer --cars",
+    )
+    .map_err(|m| FemError::input("command line", m))?;
     let quake = match &case.quake {
         Quake::None => None,
         Quake::File(p) => Some(read_quake(p)?),
@@ -472,13 +484,31 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
                     "--pga must be ≥ 0 g and --quake-duration > 0 s",
                 ));
             }
+            limits::check_memory(
+                &format!("--quake-duration {} s", fmt_num(*duration)),
+                duration / 0.01 + 1.0,
+                "ground-motion samples",
+                32.0, // t and three components, f64 each
+                "give a shorter --quake-duration",
+            )
+            .map_err(|m| FemError::input("command line", m))?;
             Some(synthetic_quake(*seed, *pga, *duration))
         }
     };
     let t0 = Instant::now();
     let track = Arc::new(case.track()?);
     let h = match case.dof_target {
-        Some(n) => case.element_length_for(&track, n),
+        Some(n) => {
+            limits::check_memory(
+                &format!("--dof {n}"),
+                n as f64,
+                "DOFs",
+                limits::BYTES_PER_DOF,
+                "give a smaller --dof",
+            )
+            .map_err(|m| FemError::input("command line", m))?;
+            case.element_length_for(&track, n)
+        }
         None => case.element_length,
     };
     let mut b = ModelBuilder::new("train-bridge case");
@@ -696,7 +726,18 @@ pub fn run(
         writeln!(mf, "{mrow}").map_err(|e| FemError::output("midspan.csv", e))?;
     }
     let dt = case.dt;
-    let total = steps.unwrap_or((m.duration / dt).round() as usize);
+    let total_f = steps.map_or((m.duration / dt).round(), |n| n as f64);
+    limits::check_steps(
+        &format!(
+            "--duration {} s at --dt {} s",
+            fmt_num(m.duration),
+            fmt_num(dt)
+        ),
+        total_f,
+        "give a larger --dt or a shorter --duration",
+    )
+    .map_err(|m| FemError::input("command line", m))?;
+    let total = total_f as usize;
     let every = case.record_every.max(1);
     let mut iterations = 0;
     let mut samples = 0usize;

@@ -23,6 +23,7 @@ use nalgebra::{DMatrix, Matrix3, Vector3};
 use railfem_framework::element::{
     Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, TrialState,
 };
+use railfem_framework::limits::fmt_num;
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use railfem_framework::{serde_json, FemError};
 
@@ -67,7 +68,10 @@ impl Mass {
     pub fn new(params: MassParams, node: usize, origin: &str) -> Result<Mass, FemError> {
         let bad = |m: String| Err(FemError::input(origin, format!("mass: {m}")));
         if !(params.m.is_finite() && params.m >= 0.0) {
-            return bad(format!("`m` = {} kg must be ≥ 0 and finite", params.m));
+            return bad(format!(
+                "`m` = {} kg must be ≥ 0 and finite",
+                fmt_num(params.m)
+            ));
         }
         if let Some((i, v)) = params
             .inertia
@@ -75,7 +79,10 @@ impl Mass {
             .enumerate()
             .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
         {
-            return bad(format!("`inertia`[{i}] = {v} kg·m² must be ≥ 0 and finite"));
+            return bad(format!(
+                "`inertia`[{i}] = {} kg·m² must be ≥ 0 and finite",
+                fmt_num(*v)
+            ));
         }
         for (key, v) in [
             ("Ixy", params.Ixy),
@@ -83,7 +90,7 @@ impl Mass {
             ("Ixz", params.Ixz),
         ] {
             if !v.is_finite() {
-                return bad(format!("`{key}` = {v} must be finite"));
+                return bad(format!("`{key}` = {} must be finite", fmt_num(v)));
             }
         }
         let tensor = inertia_tensor(&params);

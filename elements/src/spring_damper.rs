@@ -27,6 +27,7 @@ use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
 use railfem_framework::element::{
     Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, TrialState,
 };
+use railfem_framework::limits::fmt_num;
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use railfem_framework::{serde_json, FemError};
 
@@ -139,7 +140,8 @@ impl SpringDamper {
                 .find(|(_, v)| !(v.is_finite() && **v >= 0.0))
             {
                 return Err(bad(format!(
-                    "`{key}`[{i}] = {v} must be ≥ 0 and finite (0 leaves that direction free)"
+                    "`{key}`[{i}] = {} must be ≥ 0 and finite (0 leaves that direction free)",
+                    fmt_num(*v)
                 )));
             }
         }

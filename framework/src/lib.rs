@@ -5,8 +5,9 @@
 //! [`conformance`]), equation numbering
 //! with constraints ([`dofmap`]), finite rotations ([`rotation`], on the dual numbers of
 //! [`dual`]), sparse assembly ([`sparse`], [`assembly`]), loads and time series ([`loads`]),
-//! moving reference frames ([`moving`]), model files ([`modelfile`], [`strict_json`]) and
-//! recorders ([`recorder`]). What does not: concrete elements (railfem-elements) and
+//! moving reference frames ([`moving`]), model files ([`modelfile`], [`strict_json`]),
+//! recorders and the names of every output ([`recorder`], [`outputs`]), and the size
+//! guards of generators ([`limits`]). What does not: concrete elements (railfem-elements) and
 //! solvers (railfem-solvers).
 //!
 //! Units are SI throughout: m, kg, s, N, rad.
@@ -20,11 +21,14 @@ pub mod dof;
 pub mod dofmap;
 pub mod dual;
 pub mod element;
+pub mod elf;
 pub mod error;
+pub mod limits;
 pub mod loads;
 pub mod model;
 pub mod modelfile;
 pub mod moving;
+pub mod outputs;
 pub mod parallel;
 pub mod plot;
 pub mod plugin;

@@ -11,6 +11,7 @@
 use crate::dof::DofSet;
 use crate::element::{Element, NodeKinematics};
 use crate::error::FemError;
+use crate::limits::{self, fmt_num};
 use crate::loads::Load;
 use crate::moving::{CarriedNode, Carrier};
 use crate::recorder::RecorderSpec;
@@ -229,7 +230,7 @@ impl AnalysisSpec {
         if self.kind == AnalysisKind::Transient {
             for (v, k) in [(self.dt, "dt"), (self.duration, "duration")] {
                 if !pos(v) {
-                    bad(format!("`{k}` must be a positive number (got {v})"));
+                    bad(format!("`{k}` must be a positive number (got {})", fmt_num(v)));
                 }
             }
             if !(self.gamma >= 0.5
@@ -239,7 +240,8 @@ impl AnalysisSpec {
             {
                 bad(format!(
                     "Newmark needs gamma >= 0.5 and beta > 0 (got beta = {}, gamma = {}); average acceleration is beta = 0.25, gamma = 0.5",
-                    self.beta, self.gamma
+                    fmt_num(self.beta),
+                    fmt_num(self.gamma)
                 ));
             }
             if !(0.0..=1.0 / 3.0 + 1e-12).contains(&self.alpha) {
@@ -278,7 +280,35 @@ impl AnalysisSpec {
         if self.steps == 0 || self.record_every == 0 {
             bad("`steps` and `record_every` must be at least 1".into());
         }
+        // The step count means something only once `dt` and `duration` are valid.
+        if errors.is_empty() {
+            if let Err(e) = self.check_step_count(&o) {
+                errors.push(e);
+            }
+        }
         FemError::from_list(errors)
+    }
+
+    /// The size guard of an analysis: its step count against [`limits::max_steps`].
+    fn check_step_count(&self, o: &str) -> Result<(), FemError> {
+        let (cause, steps, fix) = match self.kind {
+            AnalysisKind::Transient => (
+                format!(
+                    "`duration` = {} s at `dt` = {} s",
+                    fmt_num(self.duration),
+                    fmt_num(self.dt)
+                ),
+                (self.duration / self.dt).ceil(),
+                "give a larger `dt` or a shorter `duration`",
+            ),
+            AnalysisKind::Static => (
+                format!("`steps` = {}", self.steps),
+                self.steps as f64,
+                "give fewer load `steps`",
+            ),
+            AnalysisKind::Modal => return Ok(()),
+        };
+        limits::check_steps(&cause, steps, fix).map_err(|m| FemError::input(o, m))
     }
 }
 
@@ -744,6 +774,10 @@ impl ModelBuilder {
                 errors.push(e);
             }
         }
+        let files: Vec<&str> = recorders.iter().map(RecorderSpec::file).collect();
+        if let Err((i, m)) = crate::outputs::check_recorder_files(&files) {
+            errors.push(FemError::input(format!("{}: recorder[{i}]", model.origin), m));
+        }
         FemError::from_list(errors)?;
         model.recorders = recorders;
         Ok(model)
@@ -822,6 +856,9 @@ struct Ctx {
 impl BuildContext for Ctx {
     fn node_index(&self, id: u64) -> Option<usize> {
         self.node_index.get(&id).copied()
+    }
+    fn node_carried(&self, index: usize) -> Option<bool> {
+        self.carried.get(index).map(Option::is_some)
     }
     fn node_position(&self, index: usize) -> Vector3<f64> {
         self.nodes[index].position

@@ -1,13 +1,15 @@
 //! Model files: TOML or JSON (the same structure), read into a [`ModelBuilder`].
 //!
 //! Top-level keys: `[analysis]`, `[[node]]`, `[[element]]`, `[[link]]`, `[[load]]`,
-//! `[[recorder]]`, `plugins`, and any section registered by a [`ModelSection`] (the rail
+//! `[[recorder]]`, `plugins`, `[limits]` (the size guards' budgets, [`crate::limits`]),
+//! and any section registered by a [`ModelSection`] (the rail
 //! toolkit adds `[track]` and `[[vehicle]]`). Every key is documented in
 //! `docs/model-format.md`. Errors are one line naming the file, the place (line and column
 //! for syntax errors, the table and index otherwise) and the fix.
 
 use crate::dof::DofSet;
 use crate::error::{nearest, FemError};
+use crate::limits::{fmt_num, fmt_vec, LimitSpec};
 use crate::loads::LoadSpec;
 use crate::model::{AnalysisSpec, ModelBuilder};
 use crate::recorder::RecorderSpec;
@@ -31,23 +33,31 @@ pub struct ModelSection {
 
 inventory::collect!(ModelSection);
 
-const CORE_KEYS: [&str; 7] = [
-    "analysis", "node", "element", "link", "load", "recorder", "plugins",
+const CORE_KEYS: [&str; 8] = [
+    "analysis", "node", "element", "link", "load", "recorder", "plugins", "limits",
 ];
+
+/// Largest node coordinate magnitude a model file may give (m). Beyond it, lengths cubed
+/// (beam stiffness ∝ 1/L³) leave the range of a double and nothing physical remains to
+/// model: 1e8 m is eight times the Earth's diameter.
+pub const MAX_COORDINATE: f64 = 1e8;
 
 /// Reads a model file (`.toml` or `.json`, by extension) into a builder. Plugins named in
 /// the file are loaded (see [`crate::plugin`]) before elements are built.
 pub fn read(path: &Path) -> Result<ModelBuilder, FemError> {
     let name = path.display().to_string();
+    crate::limits::check_file(path, "the model file").map_err(|m| FemError::input(&name, m))?;
     let text = std::fs::read_to_string(path)
         .map_err(|e| FemError::input(&name, format!("cannot read the model file: {e}")))?;
+    // A byte-order mark is not part of the text (TOML's parser skips one; JSON's does not).
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     let is_json = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let value = if is_json {
-        parse_json(&text, &name)?
+        parse_json(text, &name)?
     } else {
-        parse_toml(&text, &name)?
+        parse_toml(text, &name)?
     };
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     from_value(&value, &name, &base)
@@ -202,6 +212,10 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         })
         .collect();
     FemError::from_list(unknown)?;
+    crate::limits::set_model_file(match root.get("limits") {
+        Some(v) => parse_limits(v, &format!("{name}: [limits]"))?,
+        None => LimitSpec::default(),
+    });
     let mut b = ModelBuilder::new(name);
     if let Some(p) = root.get("plugins") {
         let list: Vec<String> = de(p, &format!("{name}: plugins"))?;
@@ -249,10 +263,27 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
             ));
             continue;
         }
-        match parse_dofs(&n.fix, DofSet::NONE, &o) {
-            Ok(fixed) => b.node_fixed(n.id, n.xyz, fixed),
-            Err(e) => b.error(e),
-        };
+        match n.xyz.iter().map(|x| x.abs()).reduce(f64::max) {
+            Some(far) if far > MAX_COORDINATE => {
+                b.error(FemError::input(
+                    &o,
+                    format!(
+                        "`xyz` = {} lies {} m from the origin; give coordinates within {} m (the Earth's diameter is 1.3e7 m) — check the units (m)",
+                        fmt_vec(&n.xyz),
+                        fmt_num(far),
+                        fmt_num(MAX_COORDINATE)
+                    ),
+                ));
+            }
+            _ => match parse_dofs(&n.fix, DofSet::NONE, &o) {
+                Ok(fixed) => {
+                    b.node_fixed(n.id, n.xyz, fixed);
+                }
+                Err(e) => {
+                    b.error(e);
+                }
+            },
+        }
     }
     let mut ordered: Vec<&&ModelSection> = sections.iter().collect();
     ordered.sort_by_key(|s| s.order);
@@ -383,6 +414,52 @@ fn element_entry(v: &Value, i: usize, name: &str, b: &mut ModelBuilder) -> Resul
         origin: o,
     });
     Ok(())
+}
+
+/// The `[limits]` table: `max_memory` (bytes, a number or a string with a binary suffix,
+/// `"8G"`) and `max_steps` (a whole number ≥ 1).
+fn parse_limits(v: &Value, origin: &str) -> Result<LimitSpec, FemError> {
+    let Value::Object(map) = v else {
+        return Err(FemError::input(origin, "must be a table"));
+    };
+    let mut spec = LimitSpec::default();
+    for (k, x) in map {
+        let text = match x {
+            Value::String(s) => s.clone(),
+            Value::Number(n) => n.to_string(),
+            _ => String::new(),
+        };
+        match k.as_str() {
+            "max_memory" => {
+                spec.max_memory = Some(crate::limits::parse_bytes(&text).ok_or_else(|| {
+                    FemError::input(
+                        origin,
+                        format!(
+                            "`max_memory` = {x}; give bytes (e.g. 8e9) or a size such as \"8G\""
+                        ),
+                    )
+                })?)
+            }
+            "max_steps" => {
+                spec.max_steps = Some(crate::limits::parse_count(&text).ok_or_else(|| {
+                    FemError::input(
+                        origin,
+                        format!("`max_steps` = {x}; give a whole number of steps ≥ 1"),
+                    )
+                })?)
+            }
+            other => {
+                let hint = nearest(other, &["max_memory", "max_steps"])
+                    .map(|n| format!(" (did you mean `{n}`?)"))
+                    .unwrap_or_default();
+                return Err(FemError::input(
+                    origin,
+                    format!("unknown key `{other}`{hint}; valid keys: max_memory, max_steps"),
+                ));
+            }
+        }
+    }
+    Ok(spec)
 }
 
 #[cfg(test)]

@@ -10,6 +10,10 @@
 //!
 //! # How a plugin is loaded
 //!
+//! 0. On ELF systems the file is read and checked first ([`crate::elf::check`]): a 64-bit
+//!    shared object for this machine whose header tables, loadable segments and sections
+//!    all lie within the file. A library copied only part way would otherwise be mapped
+//!    and fault with SIGBUS; it is refused with its path instead.
 //! 1. The file is opened with `dlopen` (`LoadLibrary` on Windows) through `libloading`. A
 //!    file that is not a loadable library is refused with its path and the loader's reason.
 //! 2. The exported static `RAILFEM_PLUGIN_ABI` ([`PluginAbi`], `#[repr(C)]`, only fixed-size
@@ -259,6 +263,11 @@ pub fn load(path: &Path) -> Result<(), FemError> {
     if list.iter().any(|l| l.path == canon) {
         return Ok(());
     }
+    check_file(&canon).map_err(|why| {
+        FemError::Plugin(format!(
+            "{shown}: damaged or foreign library: {why}; rebuild the plugin (cargo build --release -p …) or copy it again"
+        ))
+    })?;
     // SAFETY: opening a library runs its static constructors; that is inherent to dynamic
     // loading (see the module documentation). Nothing else of it runs before the stamp.
     let lib = unsafe { Library::new(&canon) }.map_err(|e| {
@@ -283,6 +292,17 @@ pub fn load(path: &Path) -> Result<(), FemError> {
             Err(e)
         }
     }
+}
+
+/// The checks made before `dlopen` on ELF systems (not on macOS or Windows, whose
+/// libraries are Mach-O and PE files).
+fn check_file(path: &Path) -> Result<(), String> {
+    if cfg!(any(target_os = "macos", target_os = "ios", windows)) {
+        return Ok(());
+    }
+    crate::limits::check_file(path, "the library")?;
+    let data = std::fs::read(path).map_err(|e| format!("cannot read it ({e})"))?;
+    crate::elf::check(&data)
 }
 
 /// An error and its sources, joined with ": " (libloading's `Display` alone says only

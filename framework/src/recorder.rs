@@ -120,12 +120,7 @@ impl RecorderSpec {
                 "names no node or element; add `node = …`, `element = …` or `kind = …` (a type with elements in the model)",
             ));
         }
-        if self.file().is_empty() || self.file().contains("..") {
-            return Err(FemError::input(
-                &o,
-                "`file` must be a plain file name inside the output directory",
-            ));
-        }
+        // The file name is checked with every other output name ([`crate::outputs`]).
         match self {
             RecorderSpec::Node { dofs, .. } => {
                 for id in ids {
@@ -197,6 +192,10 @@ impl Recorders {
         let mut open = Vec::new();
         for spec in &model.recorders {
             let path = dir.join(spec.file());
+            // A file in a subdirectory of the output directory (`wheels/left.csv`).
+            if let Some(parent) = path.parent() {
+                std::fs::create_dir_all(parent).map_err(|e| FemError::output(parent, e))?;
+            }
             let f = File::create(&path).map_err(|e| FemError::output(&path, e))?;
             let mut out = BufWriter::new(f);
             let mut header = vec!["time".to_string()];

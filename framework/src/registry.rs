@@ -201,6 +201,12 @@ pub trait BuildContext {
     fn add_internal_node(&mut self, position: Vector3<f64>, like: Option<usize>) -> usize;
     /// A shared resource the model defines (the track, profiles), by name.
     fn resource(&self, name: &str) -> Option<std::sync::Arc<dyn std::any::Any + Send + Sync>>;
+    /// Whether the node with index `index` rides on a carrier (a vehicle's moving frame);
+    /// `None` where the context does not know (a test or conformance context).
+    fn node_carried(&self, index: usize) -> Option<bool> {
+        let _ = index;
+        None
+    }
 }
 
 /// Builds an element from its model-file entry.

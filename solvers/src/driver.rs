@@ -35,9 +35,11 @@ use crate::linear::{solver_for, LinearSolver, SolverError};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
+use railfem_framework::limits::fmt_num;
 use railfem_framework::model::{AnalysisKind, Model, NewtonKind};
 use railfem_framework::recorder::Recorders;
 use railfem_framework::sparse::CscMatrix;
+use railfem_framework::DofSet;
 use std::path::Path;
 use std::time::Instant;
 
@@ -164,6 +166,38 @@ fn norm(x: &[f64]) -> f64 {
 impl Driver {
     /// Numbers equations, assembles constant parts and picks a linear solver.
     pub fn new(mut model: Model) -> Result<Driver, FemError> {
+        let spec = &model.analysis;
+        if spec.kind == AnalysisKind::Transient {
+            // Size guard: the energy ledger keeps one row per step.
+            railfem_framework::limits::check_memory(
+                &format!(
+                    "`duration` = {} s at `dt` = {} s",
+                    fmt_num(spec.duration),
+                    fmt_num(spec.dt)
+                ),
+                (spec.duration / spec.dt).ceil(),
+                "energy-balance rows",
+                std::mem::size_of::<crate::energy::EnergyRow>() as f64,
+                "give a larger `dt` or a shorter `duration`",
+            )
+            .map_err(|m| FemError::input(format!("{}: [analysis]", model.origin), m))?;
+        }
+        // Size guard of the whole model, before numbering and assembly: every node not
+        // fully fixed counted with six DOFs at the measured cost per DOF (the generators'
+        // own guards each see only their part).
+        let free = model
+            .nodes
+            .iter()
+            .filter(|n| n.fixed != DofSet::ALL)
+            .count();
+        railfem_framework::limits::check_memory(
+            &format!("the model ({free} nodes not fully fixed)"),
+            6.0 * free as f64,
+            "DOFs",
+            railfem_framework::limits::BYTES_PER_DOF,
+            "model a shorter stretch (a `window`) or coarser meshes",
+        )
+        .map_err(|m| FemError::input(&model.origin, m))?;
         let asm = Assembler::new(&mut model)?;
         let n = asm.neq();
         if n == 0 {
@@ -806,7 +840,7 @@ impl Driver {
     /// Writes the energy rows of the run to `dir/energy.csv` (nothing if accounting is off).
     pub fn write_energy(&self, dir: &Path) -> Result<(), FemError> {
         match &self.energy {
-            Some(e) => e.write_csv(&dir.join("energy.csv")),
+            Some(e) => e.write_csv(&dir.join(railfem_framework::outputs::ENERGY_CSV)),
             None => Ok(()),
         }
     }
@@ -886,7 +920,8 @@ impl Driver {
                     if let Err(e) = self.step(dt) {
                         if let (Some(r), Some(dir)) = (rec.as_mut(), out) {
                             let _ = r.finish();
-                            let _ = self.write_state(&dir.join("last_converged_state.csv"));
+                            let _ = self
+                                .write_state(&dir.join(railfem_framework::outputs::LAST_STATE_CSV));
                             let _ = self.write_energy(dir);
                         }
                         return Err(e);
@@ -909,7 +944,7 @@ impl Driver {
             AnalysisKind::Modal => {
                 let modes = self.modes(spec.modes)?;
                 if let Some(dir) = out {
-                    self.write_modes(&modes, &dir.join("modes.csv"))?;
+                    self.write_modes(&modes, &dir.join(railfem_framework::outputs::MODES_CSV))?;
                 }
                 progress(1.0);
             }

@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
 
 /// A fresh, empty directory under the system temp dir, unique per process and call.
 pub fn temp_dir(name: &str) -> PathBuf {
@@ -115,20 +116,77 @@ pub fn check_bad_model(name: &str, text: &str, expect: &[&str]) -> String {
         "--out",
         out.to_str().expect("utf-8"),
     ]);
+    let err = refused_with(name, &o, expect);
+    assert!(err.contains(name), "{name}: the file is not named: {err}");
+    let _ = std::fs::remove_dir_all(&dir);
+    err
+}
+
+/// Asserts that the run `o` (called `label` in failures) exited with code 2 and printed
+/// exactly one line on stderr, with no panic, containing every string of `expect`.
+/// Returns the line.
+pub fn refused_with(label: &str, o: &std::process::Output, expect: &[&str]) -> String {
     let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(o.status.code(), Some(2), "{name}: exit code; stderr: {err}");
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{label}: exit code; stderr: {err}"
+    );
     assert!(
         err.ends_with('\n') && err.lines().count() == 1,
-        "{name}: stderr must be exactly one line, got {err:?}"
+        "{label}: stderr must be exactly one line, got {err:?}"
     );
     assert!(
         !err.contains("internal error") && !err.contains("panicked"),
-        "{name}: {err}"
+        "{label}: {err}"
     );
-    assert!(err.contains(name), "{name}: the file is not named: {err}");
     for e in expect {
-        assert!(err.contains(e), "{name}: expected `{e}` in: {err}");
+        assert!(err.contains(e), "{label}: expected `{e}` in: {err}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
     err
+}
+
+/// Builds the plugin once per test binary with the profile of this test binary's directory
+/// (`target/debug` → `dev`, `target/release` → `release`) into the same target directory,
+/// and returns the path of the shared library.
+pub fn plugin_lib() -> &'static Path {
+    static LIB: OnceLock<PathBuf> = OnceLock::new();
+    LIB.get_or_init(|| {
+        let exe = std::env::current_exe().expect("test executable path");
+        // target/<profile>/deps/plugins-<hash>
+        let profile_dir = exe
+            .parent()
+            .and_then(Path::parent)
+            .expect("target/<profile>/deps layout")
+            .to_path_buf();
+        let target_dir = profile_dir.parent().expect("target dir").to_path_buf();
+        let profile = match profile_dir.file_name().and_then(|n| n.to_str()) {
+            Some("debug") => "dev".to_string(),
+            Some(other) => other.to_string(),
+            None => "dev".to_string(),
+        };
+        let status = Command::new(env!("CARGO"))
+            .args([
+                "build",
+                "--quiet",
+                "-p",
+                "railfem-plugin-hysteretic",
+                "--profile",
+            ])
+            .arg(&profile)
+            .arg("--target-dir")
+            .arg(&target_dir)
+            .arg("--manifest-path")
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("Cargo.toml"))
+            .status()
+            .expect("cargo runs");
+        assert!(status.success(), "building the plugin failed");
+        let lib = profile_dir.join(format!(
+            "{}railfem_plugin_hysteretic{}",
+            std::env::consts::DLL_PREFIX,
+            std::env::consts::DLL_SUFFIX
+        ));
+        assert!(lib.exists(), "{} missing", lib.display());
+        lib
+    })
 }

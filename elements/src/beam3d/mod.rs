@@ -29,6 +29,7 @@ use nalgebra::{DMatrix, Matrix3, SMatrix, SVector, Vector3};
 use railfem_framework::element::{
     Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, TrialState,
 };
+use railfem_framework::limits::{fmt_num, fmt_vec};
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use railfem_framework::{serde_json, FemError};
 
@@ -401,7 +402,8 @@ impl Beam3d {
         ] {
             if !(v.is_finite() && v > 0.0) {
                 return bad(format!(
-                    "beam3d: `{key}` = {v} must be a positive finite number in SI units; give the section's actual value"
+                    "beam3d: `{key}` = {} must be a positive finite number in SI units; give the section's actual value",
+                    fmt_num(v)
                 ));
             }
         }
@@ -412,7 +414,8 @@ impl Beam3d {
         ] {
             if !(v.is_finite() && v >= 0.0) {
                 return bad(format!(
-                    "beam3d: `{key}` = {v} must be ≥ 0 and finite (0 switches it off)"
+                    "beam3d: `{key}` = {} must be ≥ 0 and finite (0 switches it off)",
+                    fmt_num(v)
                 ));
             }
         }
@@ -426,17 +429,31 @@ impl Beam3d {
             }
         };
         let d = xj - xi;
-        let length = d.norm();
-        let scale = xi.norm().max(xj.norm()).max(1.0);
-        if !(length.is_finite() && length > 1e-12 * scale) {
+        // Scaled norms: |d| of a beam 1e200 m long is finite although |d|² is not.
+        let scaled_norm = |v: &Vector3<f64>| match v.amax() {
+            m if m > 0.0 && m.is_finite() => m * (v / m).norm(),
+            m => m,
+        };
+        let length = scaled_norm(&d);
+        let scale = scaled_norm(&xi).max(scaled_norm(&xj)).max(1.0);
+        if !length.is_finite() {
             return bad(format!(
-                "beam3d{}: zero-length beam (`nodes` I and J both at {:?}); connect two distinct points",
+                "beam3d: the beam from {} to {} is longer than a number can hold; check the node coordinates (m)",
+                fmt_vec(xi.as_slice()),
+                fmt_vec(xj.as_slice())
+            ));
+        }
+        if length <= 1e-12 * scale {
+            return bad(format!(
+                "beam3d{}: zero-length beam (`nodes` I at {} and J at {}, {} m apart); connect two distinct points",
                 if params.geometry == "linear" {
                     String::new()
                 } else {
                     format!(" (geometry = \"{}\")", params.geometry)
                 },
-                [xi.x, xi.y, xi.z]
+                fmt_vec(xi.as_slice()),
+                fmt_vec(xj.as_slice()),
+                fmt_num(length)
             ));
         }
         let x = d / length;

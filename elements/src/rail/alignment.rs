@@ -27,6 +27,7 @@
 //! curvature is continuous when the segment data say so (a clothoid between a straight and an
 //! arc), which [`SegmentSpec`] ensures by inferring the clothoid's end curvatures.
 
+use railfem_framework::limits::{self, fmt_num};
 use serde::Deserialize;
 use thiserror::Error;
 
@@ -107,6 +108,11 @@ impl Segment {
         }
     }
 
+    /// Largest |κ| along the segment (1/m).
+    pub fn max_curvature(&self) -> f64 {
+        self.start_curvature().abs().max(self.end_curvature().abs())
+    }
+
     /// Name of the kind, for messages.
     pub fn kind(&self) -> &'static str {
         match self {
@@ -144,9 +150,25 @@ impl Segment {
                 }
             }
         }
+        let kmax = self.max_curvature();
+        if kmax > 1.0 / MIN_RADIUS {
+            return Err(AlignmentError::TooTight {
+                index,
+                radius: fmt_num(1.0 / kmax),
+            });
+        }
         Ok(())
     }
 }
+
+/// Smallest radius of curvature a track may have (m). The tightest railway curves built
+/// for wheelsets are tram curves of about 15 m (depot curves of light rail ~ 10 m). Below
+/// 5 m the rails of a standard-gauge track (G = 1.435 m) differ in radius by more than
+/// 30 % (R ± G/2), which no wheel's rolling-radius difference can roll (S1002 on 60E1
+/// reaches about 6 %), and the wheel frame of a rigid axle 1.5 m long no longer
+/// approximates both contact points; such a curvature is a unit mistake (mm for m, 1/mm
+/// for 1/m).
+pub const MIN_RADIUS: f64 = 5.0;
 
 /// What is wrong with an alignment's (or a track's) data. Segment indices count from 0.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -155,7 +177,7 @@ pub enum AlignmentError {
     #[error("track: the alignment has no segments; give at least one, e.g. segments = [{{type = \"straight\", length = 100}}]")]
     Empty,
     /// A length is zero, negative or not a number.
-    #[error("track: segment[{index}] has length {length}; a segment's length must be a finite number > 0 m")]
+    #[error("track: segment[{index}] has length {}; a segment's length must be a finite number > 0 m", fmt_num(*.length))]
     Length {
         /// Segment index.
         index: usize,
@@ -163,7 +185,7 @@ pub enum AlignmentError {
         length: f64,
     },
     /// An arc radius is zero, negative, infinite or not a number.
-    #[error("track: segment[{index}] (arc) has radius {radius}; the radius must be a finite number > 0 m (use a straight for an infinite radius)")]
+    #[error("track: segment[{index}] (arc) has radius {}; the radius must be a finite number > 0 m (use a straight for an infinite radius)", fmt_num(*.radius))]
     Radius {
         /// Segment index.
         index: usize,
@@ -192,8 +214,19 @@ pub enum AlignmentError {
     /// Bad mesh data (node stations of a rail lookup).
     #[error("track: {0}")]
     Mesh(String),
+    /// A curvature tighter than [`MIN_RADIUS`].
+    #[error("track: segment[{index}] has a radius of curvature of {radius} m, below the {min} m a wheelset can negotiate; check the units (m, 1/m) or give a larger radius", min = MIN_RADIUS)]
+    TooTight {
+        /// Segment index.
+        index: usize,
+        /// The radius, formatted to show its size (m).
+        radius: String,
+    },
+    /// The alignment would be too large to build (the message of [`limits::check_memory`]).
+    #[error("track: {0}")]
+    TooLarge(String),
     /// Bad element length for meshing.
-    #[error("track: element length {0} must be a finite number > 0 m")]
+    #[error("track: element length {} must be a finite number > 0 m", fmt_num(*.0))]
     ElementLength(f64),
 }
 
@@ -254,6 +287,17 @@ const GL6: [(f64, f64); 6] = [
     (0.932_469_514_203_152, 0.171_324_492_379_170_4),
 ];
 
+/// Knot intervals of a segment: no longer than [`KNOT_MAX`], turning at most [`KNOT_TURN`].
+fn knot_count(seg: &Segment) -> f64 {
+    let kmax = seg.max_curvature();
+    let h = if kmax > 0.0 {
+        KNOT_MAX.min(KNOT_TURN / kmax)
+    } else {
+        KNOT_MAX
+    };
+    (seg.length() / h).ceil().max(1.0)
+}
+
 /// ∫ (cos ψ, sin ψ) dt over local arc lengths `[a, b]` of a placed segment (Gauss–Legendre).
 fn chord(p: &Placed, a: f64, b: f64) -> (f64, f64) {
     let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
@@ -287,6 +331,32 @@ impl Alignment {
         for (i, seg) in segments.iter().enumerate() {
             seg.validate(i)?;
         }
+        // Size guard: the knot table is built before anything else is known of the track.
+        let knots: Vec<f64> = segments.iter().map(knot_count).collect();
+        let total: f64 = knots.iter().sum();
+        let worst = (0..segments.len())
+            .max_by(|&a, &b| knots[a].total_cmp(&knots[b]))
+            .unwrap_or(0);
+        limits::check_memory(
+            &match segments[worst].max_curvature() {
+                k if k > 0.0 => format!(
+                    "segment[{worst}] ({}, `length` = {} m, curvature up to {} 1/m)",
+                    segments[worst].kind(),
+                    fmt_num(segments[worst].length()),
+                    fmt_num(k)
+                ),
+                _ => format!(
+                    "segment[{worst}] ({}, `length` = {} m)",
+                    segments[worst].kind(),
+                    fmt_num(segments[worst].length())
+                ),
+            },
+            total,
+            "alignment knots",
+            std::mem::size_of::<Knot>() as f64,
+            "give shorter segments",
+        )
+        .map_err(AlignmentError::TooLarge)?;
         let mut placed = Vec::with_capacity(segments.len());
         let mut knots = Vec::new();
         let (mut s, mut x, mut y, mut psi) = (0.0, 0.0, 0.0, 0.0);
@@ -301,13 +371,7 @@ impl Alignment {
                 kappa_rate: (kappa1 - kappa0) / length,
                 psi0: psi,
             };
-            let kmax = kappa0.abs().max(kappa1.abs());
-            let h = if kmax > 0.0 {
-                KNOT_MAX.min(KNOT_TURN / kmax)
-            } else {
-                KNOT_MAX
-            };
-            let n = (length / h).ceil().max(1.0) as usize;
+            let n = knot_count(seg) as usize;
             let mut t_prev = 0.0;
             for k in 0..n {
                 let t = length * k as f64 / n as f64;
@@ -362,7 +426,7 @@ impl Alignment {
     /// (1/R → 0), 800 m straight; 16 208.3078 m in all. At R = 6250 m the arc turns 100°.
     ///
     /// # Panics
-    /// If `radius` is not a finite number > 0.
+    /// If `radius` is not a finite number ≥ [`MIN_RADIUS`].
     pub fn paper(radius: f64) -> Self {
         Self::paper_hand(radius, Hand::Left)
     }
@@ -370,7 +434,7 @@ impl Alignment {
     /// [`Alignment::paper`] with a chosen hand.
     ///
     /// # Panics
-    /// If `radius` is not a finite number > 0.
+    /// If `radius` is not a finite number ≥ [`MIN_RADIUS`].
     pub fn paper_hand(radius: f64, hand: Hand) -> Self {
         let k = hand.sign() / radius;
         Self::new(vec![
@@ -392,7 +456,7 @@ impl Alignment {
             },
             Segment::Straight { length: 800.0 },
         ])
-        .expect("Alignment::paper: the radius must be a finite number > 0 m")
+        .expect("Alignment::paper: the radius must be a finite number >= MIN_RADIUS")
     }
 
     /// Total length L (m).

@@ -45,6 +45,7 @@
 use super::cant::Track;
 use super::track_model::RailSection;
 use railfem_framework::error::FemError;
+use railfem_framework::limits;
 use railfem_framework::model::ModelBuilder;
 use railfem_framework::moving::Path;
 use railfem_framework::DofSet;
@@ -387,6 +388,20 @@ impl BridgeSpec {
                 "`pier_elements` must be at least 1",
             ));
         }
+        // Size guard: spans + 1 piers of pier_elements + 1 nodes, two girder ends and a
+        // bearing per joint, six DOFs each (the rails and slab are the mesh's guard).
+        let nodes = (self.spans as f64 + 1.0) * (self.pier_elements as f64 + 3.0);
+        limits::check_memory(
+            &format!(
+                "`spans` = {} with `pier_elements` = {}",
+                self.spans, self.pier_elements
+            ),
+            6.0 * nodes,
+            "bridge DOFs",
+            limits::BYTES_PER_DOF,
+            "give fewer `spans` or `pier_elements`",
+        )
+        .map_err(|m| FemError::input(origin, m))?;
         self.slab_track.validate(origin)
     }
 }
@@ -439,7 +454,13 @@ pub(super) fn picks(stations: &[f64], spacing: f64) -> Vec<usize> {
         if out.last() != Some(&i) {
             out.push(i);
         }
+        // Multiples nearer to station i than to i + 1 pick i again: skip them, so a spacing
+        // far below the element length costs one pass over the stations, not (to − from) /
+        // spacing iterations.
         m += 1.0;
+        if let Some(&after) = stations.get(i + 1) {
+            m = m.max((0.5 * (stations[i] + after) / spacing).floor());
+        }
     }
     out
 }

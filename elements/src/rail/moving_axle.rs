@@ -51,6 +51,7 @@ use super::track_model::TrackModel;
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector2, Vector3};
 use railfem_framework::element::*;
 use railfem_framework::error::FemError;
+use railfem_framework::limits::fmt_num;
 use railfem_framework::moving::Path;
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use std::sync::Arc;
@@ -173,8 +174,7 @@ pub struct MovingAxle {
     last_gap: Vec<Option<(Vector2<f64>, f64)>>,
 }
 
-/// Most points a wheel or rail profile may be sampled with (`wheel_points`, `rail_nodes`).
-pub const MAX_PROFILE_POINTS: usize = 5000;
+pub use super::profiles::MAX_PROFILE_POINTS;
 /// Fewest points of the built-in wheel profile (`wheel_points`).
 pub const MIN_WHEEL_POINTS: usize = 20;
 /// Fewest nodes of the built-in rail profile (`rail_nodes`).
@@ -228,22 +228,25 @@ impl Setup {
             ("k_v", params.k_v, 0.0),
         ] {
             if !(v.is_finite() && v > min) {
-                return Err(err(format!("`{key}` = {v}; give a stiffness > 0 N/m")));
+                return Err(err(format!(
+                    "`{key}` = {}; give a stiffness > 0 N/m",
+                    fmt_num(v)
+                )));
             }
         }
         if !(params.b.is_finite() && params.b >= 0.0) {
-            return Err(err(format!("`b` = {}; give b ≥ 0", params.b)));
+            return Err(err(format!("`b` = {}; give b ≥ 0", fmt_num(params.b))));
         }
         if !(params.c.is_finite() && (0.0..1.0).contains(&params.c)) {
             return Err(err(format!(
                 "`c` = {}; the exponent must satisfy 0 ≤ c < 1",
-                params.c
+                fmt_num(params.c)
             )));
         }
         if !(params.mu.is_finite() && params.mu >= 0.0) {
             return Err(err(format!(
                 "`mu` = {}; give a friction coefficient ≥ 0",
-                params.mu
+                fmt_num(params.mu)
             )));
         }
         if !(params.contact_offset.is_finite() && params.contact_offset > 0.0) {
@@ -284,11 +287,13 @@ impl Setup {
         }
         let wheel = match params.wheel_profile.to_ascii_lowercase().as_str() {
             "s1002" => WheelProfile::s1002(params.wheel_points),
-            path => WheelProfile::from_csv_file(path).map_err(|e| err(e.to_string()))?,
+            path => WheelProfile::from_csv_file(path)
+                .map_err(|e| err(format!("`wheel_profile`: {e}")))?,
         };
         let rail = match params.rail_profile.to_ascii_lowercase().as_str() {
             "60e1" | "uic60" => RailProfile::uic60(params.rail_nodes, incl),
-            path => RailProfile::from_csv_file(path, incl).map_err(|e| err(e.to_string()))?,
+            path => RailProfile::from_csv_file(path, incl)
+                .map_err(|e| err(format!("`rail_profile`: {e}")))?,
         };
         let (wheel, rail) = if side == 0 {
             (wheel, rail)
@@ -863,6 +868,15 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
     let k = ctx
         .node_index(spec.nodes[0])
         .ok_or_else(|| bad(spec, "node does not exist"))?;
+    if ctx.node_carried(k) == Some(false) {
+        return Err(bad(
+            spec,
+            format!(
+                "`nodes` = [{}]: node {} is not carried by any vehicle, so the wheel has no station on the track; list the wheel in a [[vehicle]] table (its `wheel` keys), which generates carried axle nodes",
+                spec.nodes[0], spec.nodes[0]
+            ),
+        ));
+    }
     let rail_offset = track.rails[0].offset;
     let setup = Setup::new(params, &spec.origin, rail_offset)?;
     let first = ctx

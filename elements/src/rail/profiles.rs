@@ -34,6 +34,7 @@
 //! Mirroring reverses the order of the points so that both rules still hold.
 
 use nalgebra::Vector2;
+use railfem_framework::limits;
 use std::path::Path;
 use thiserror::Error;
 
@@ -85,6 +86,16 @@ pub enum ProfileError {
         /// Line (or point) number.
         line: usize,
         /// The offending values.
+        what: String,
+    },
+    /// More points than [`MAX_PROFILE_POINTS`], or a file larger than the memory budget.
+    #[error("{file}:{line}: {what}")]
+    TooLarge {
+        /// File name.
+        file: String,
+        /// Line of the first point past the cap (0: the whole file).
+        line: usize,
+        /// The estimate, the cap and the fix ([`railfem_framework::limits`]).
         what: String,
     },
     /// Fewer than four points (a not-a-knot cubic spline needs four).
@@ -619,6 +630,33 @@ pub fn read_points_csv(
                         what: s.into(),
                     });
                 }
+                if points.len() == MAX_PROFILE_POINTS {
+                    // Size guard before the quadratic geometric checks: count the rest.
+                    let total = MAX_PROFILE_POINTS
+                        + 1
+                        + text
+                            .lines()
+                            .skip(line)
+                            .filter(|l| {
+                                let t = l.trim();
+                                !t.is_empty() && !t.starts_with('#')
+                            })
+                            .count();
+                    let what = limits::check_count(
+                        "the file",
+                        total as f64,
+                        "points",
+                        MAX_PROFILE_POINTS as f64,
+                        "resample the profile (120 points already interpolate it to 1e-6 m)",
+                    )
+                    .err()
+                    .unwrap_or_default();
+                    return Err(ProfileError::TooLarge {
+                        file: file.into(),
+                        line,
+                        what,
+                    });
+                }
                 points.push(Vector2::new(v[0], v[1]) * u.scale());
                 lines.push(line);
             }
@@ -665,7 +703,17 @@ pub fn read_points_csv(
     Ok((points, lines))
 }
 
+/// Most points a wheel or rail profile may have, sampled (`wheel_points`, `rail_nodes`) or
+/// read from a file: beyond a few thousand points a profile is no more accurate (the
+/// spline error of 120 points is already below 1e-6 m), and its checks are quadratic.
+pub const MAX_PROFILE_POINTS: usize = 5000;
+
 fn read_file(path: &Path) -> Result<String, ProfileError> {
+    limits::check_file(path, "the profile").map_err(|what| ProfileError::TooLarge {
+        file: path.display().to_string(),
+        line: 0,
+        what,
+    })?;
     std::fs::read_to_string(path).map_err(|e| ProfileError::Io {
         file: path.display().to_string(),
         line: 0,

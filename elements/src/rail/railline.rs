@@ -69,6 +69,18 @@ impl Track {
             return Err(AlignmentError::ElementLength(element_length));
         }
         let joints = self.alignment.joints();
+        railfem_framework::limits::check_memory(
+            &format!(
+                "element length {} m over {} m of track",
+                railfem_framework::limits::fmt_num(element_length),
+                railfem_framework::limits::fmt_num(self.alignment.length())
+            ),
+            self.alignment.length() / element_length + joints.len() as f64,
+            "rail stations",
+            std::mem::size_of::<f64>() as f64,
+            "give a larger element length",
+        )
+        .map_err(AlignmentError::TooLarge)?;
         let mut out = vec![joints[0]];
         for w in joints.windows(2) {
             let len = w[1] - w[0];

@@ -23,6 +23,7 @@ use super::bridge::{
 };
 use super::cant::Track;
 use railfem_framework::error::FemError;
+use railfem_framework::limits::{self, fmt_num};
 use railfem_framework::model::ModelBuilder;
 use railfem_framework::moving::Path;
 use railfem_framework::DofSet;
@@ -281,6 +282,37 @@ pub fn mesh_stations_cut(
     out
 }
 
+/// The size guard of [`generate`]: the stations `[from, to]` meshed at `element_length`
+/// (plus one per segment joint and per `extra` cut, doubled at most for even counts), each
+/// carrying two rail nodes — fixed for a rigid support, else 12 DOFs of rails plus 6 of
+/// the slab or girder — against the memory budget ([`limits::check_memory`]).
+pub fn check_mesh_size(
+    track: &Track,
+    mesh: &TrackMesh,
+    [from, to]: [f64; 2],
+    extra: usize,
+) -> Result<(), String> {
+    let h = mesh.element_length;
+    let cuts = (track.alignment.segments().len() + extra + 1) as f64;
+    let stations = (to - from) / h + 2.0 * cuts + 1.0;
+    let (per_station, what) = match mesh.support {
+        RailSupport::Rigid => (2.0 * limits::BYTES_PER_NODE, "rail nodes"),
+        RailSupport::Discrete { .. } => (12.0 * limits::BYTES_PER_DOF, "rail stations"),
+        _ => (18.0 * limits::BYTES_PER_DOF, "rail and slab stations"),
+    };
+    let span = match mesh.window {
+        Some(_) => format!("the `window` [{}, {}] m", fmt_num(from), fmt_num(to)),
+        None => format!("{} m of track", fmt_num(to - from)),
+    };
+    limits::check_memory(
+        &format!("`element_length` = {} m over {span}", fmt_num(h)),
+        stations,
+        what,
+        per_station,
+        "give a larger `element_length` or mesh a shorter `window`",
+    )
+}
+
 /// Generates the rails of `track` into `b` and registers the resource `"track"`. Node ids
 /// start above every id already in the builder; element ids likewise.
 pub fn generate(
@@ -293,7 +325,7 @@ pub fn generate(
     if !(h.is_finite() && h > 0.0) {
         return Err(FemError::input(
             &origin,
-            format!("element_length = {h}; give a length > 0 m"),
+            format!("element_length = {}; give a length > 0 m", fmt_num(h)),
         ));
     }
     let len = track.length();
@@ -315,6 +347,8 @@ pub fn generate(
         }
         _ => (Vec::new(), false),
     };
+    check_mesh_size(&track, mesh, [from, to], extra.len())
+        .map_err(|m| FemError::input(&origin, m))?;
     let stations = mesh_stations_cut(&track, from, to, h, &extra, even);
     let offset = mesh.rail_offset.unwrap_or(track.gauge / 2.0 + 0.036);
     if !(offset.is_finite() && offset > 0.0) {

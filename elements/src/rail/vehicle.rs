@@ -23,6 +23,7 @@
 
 use super::track_model::TrackModel;
 use railfem_framework::error::FemError;
+use railfem_framework::limits::fmt_num;
 use railfem_framework::model::ModelBuilder;
 use railfem_framework::moving::{Carrier, Path};
 use railfem_framework::registry::ElementSpec;
@@ -221,14 +222,17 @@ fn validate(spec: &TrainSpec, track: &TrackModel) -> Result<(), String> {
         if v.is_finite() && v > 0.0 {
             Ok(())
         } else {
-            Err(format!("`{key}` = {v}; give a positive finite value"))
+            Err(format!(
+                "`{key}` = {}; give a positive finite value",
+                fmt_num(v)
+            ))
         }
     };
     let non_negative = |v: f64, key: &str| -> Result<(), String> {
         if v.is_finite() && v >= 0.0 {
             Ok(())
         } else {
-            Err(format!("`{key}` = {v}; give a finite value ≥ 0"))
+            Err(format!("`{key}` = {}; give a finite value ≥ 0", fmt_num(v)))
         }
     };
     for (body, name) in [
@@ -269,6 +273,15 @@ fn validate(spec: &TrainSpec, track: &TrackModel) -> Result<(), String> {
     if spec.carriages == 0 {
         return Err("`carriages` must be at least 1".into());
     }
+    // Size guard: a carriage is 66 DOFs (car body, two bogies, four wheelsets, eight
+    // wheels' contact nodes).
+    railfem_framework::limits::check_memory(
+        &format!("`carriages` = {}", spec.carriages),
+        66.0 * spec.carriages as f64,
+        "vehicle DOFs",
+        railfem_framework::limits::BYTES_PER_DOF,
+        "give fewer `carriages`",
+    )?;
     if !(spec.speed.is_finite() && spec.start.is_finite() && spec.accel.is_finite()) {
         return Err("`speed`, `start` and `accel` must be finite".into());
     }
@@ -282,8 +295,10 @@ fn validate(spec: &TrainSpec, track: &TrackModel) -> Result<(), String> {
     let rear = spec.start - (spec.carriages - 1) as f64 * c.car_length - d;
     if rear < lo || front > hi {
         return Err(format!(
-            "`start` = {}: the wheelsets span stations {rear:.3} to {front:.3} m but the rail mesh covers {lo:.3} to {hi:.3} m; move `start` or lengthen the track",
-            spec.start
+            "`start` = {}: the wheelsets span stations {} to {} m but the rail mesh covers {lo:.3} to {hi:.3} m; move `start` or lengthen the track",
+            fmt_num(spec.start),
+            fmt_num(rear),
+            fmt_num(front)
         ));
     }
     Ok(())
