@@ -17,9 +17,10 @@ USAGE:
   railfem elements [--plugin PATH]...                list registered element kinds and keys
   railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
                 [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick] [--vtk EVERY]
-                                                     the paper's curved-track validation (Fig. 6)
+                [--geometry linear|nonlinear]        the paper's curved-track validation (Fig. 6)
   railfem critical-radius --criterion sliding|separation --speed V --ct CT --mu MU
-                [--clothoid L] [--dt DT]             critical radius, FE vs theory (Figs. 7, 9)
+                [--clothoid L] [--dt DT] [--geometry linear|nonlinear]
+                                                     critical radius, FE vs theory (Figs. 7, 9)
   railfem critical-radius --sweep --criterion C [--speeds ..] [--cts ..] [--mus ..] [--out DIR]
                                                      a whole figure, on all cores
   railfem conformance [--plugin PATH]... [--element NAME]
@@ -33,6 +34,7 @@ USAGE:
                                                      continuous beam per DOF count; writes
                                                      bench.md and bench.csv (default out/bench)
   railfem bench --case train-bridge [--sizes 1e4,1e5,1e6] [--cars N] [--steps N] [--dt DT]
+                [--geometry linear|nonlinear]
                                                      time per Newton iteration and per step of
                                                      the train-bridge model by phase (search,
                                                      elements, assembly, blocks, top, solve,
@@ -41,7 +43,8 @@ USAGE:
                 [--speed V] [--radius R] [--ct CT] [--duration T] [--dt DT]
                 [--quake FILE.csv | --quake synthetic [--seed S] [--pga G] [--quake-duration T]]
                 [--quake-out FILE.csv] [--midspans 1,2,..] [--record-every N] [--steps N]
-                [--build-only] [--out DIR]           a train of sks700 carriages over a viaduct
+                [--build-only] [--geometry linear|nonlinear] [--out DIR]
+                                                     a train of sks700 carriages over a viaduct
                                                      of simply supported spans (default 12 cars,
                                                      113 spans of 29.75 m): wheels.csv,
                                                      midspan.csv, summary.csv (default
@@ -264,6 +267,7 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     if a.flags.iter().any(|f| f == "quick") {
         case.lengths = [60.0, 300.0, 700.0, 300.0, 60.0];
     }
+    case.geometry = geometry(a)?;
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/curve"));
     let mut last = 0;
     let quiet = a.flags.iter().any(|f| f == "quiet");
@@ -284,6 +288,13 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     println!(
         "on the arc, largest relative difference FE vs theory: normal vs statics {:.3e}, axle shear vs Eq. 26 {:.3e} (single wheel {:.3e}); normal vs Eq. 25 as printed {:.3e}",
         r.max_rel_normal_statics, r.max_rel_shear, r.max_rel_shear_wheel, r.max_rel_normal_printed
+    );
+    println!(
+        "statics with body lean (quasi-static reference): normal FE vs reference {:.3e}; settled-arc mean FE normal inner {:.1} N, outer {:.1} N (geometry {})",
+        r.max_rel_normal_lean,
+        r.arc_mean_normal[0],
+        r.arc_mean_normal[1],
+        case.geometry.name()
     );
     println!(
         "contact spacing used by the statics: {:.4} m; results in {}",
@@ -401,7 +412,7 @@ fn bench(a: &Args) -> Result<i32, FemError> {
                 ))
             }
         };
-        crate::bench_train::run(&sizes, cars, steps, dt, &out)?;
+        crate::bench_train::run(&sizes, cars, steps, dt, geometry(a)?, &out)?;
         return Ok(0);
     }
     crate::bench::run(&sizes, steps, &out)?;
@@ -451,6 +462,19 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
 }
 
 /// `railfem critical-radius`: one point of the paper's Figure 7 or 9.
+/// `--geometry linear|nonlinear` of the built-in vehicle cases (default linear).
+fn geometry(a: &Args) -> Result<crate::framework::model::Geometry, FemError> {
+    match a.opt("geometry") {
+        None => Ok(Default::default()),
+        Some(g) => crate::framework::model::Geometry::parse(g).map_err(|_| {
+            FemError::input(
+                "command line",
+                format!("--geometry {g}: use linear (the default) or nonlinear"),
+            )
+        }),
+    }
+}
+
 fn critical(a: &Args) -> Result<i32, FemError> {
     use crate::critical::{Criterion, CriticalCase};
     let criterion = match a.opt("criterion").unwrap_or("sliding") {
@@ -508,6 +532,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             &mus,
             a.num("clothoid")?.unwrap_or(2000.0),
             a.num("dt")?.unwrap_or(0.01),
+            geometry(a)?,
             std::thread::available_parallelism().map_or(2, |n| n.get()),
             &progress,
         );
@@ -542,6 +567,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
         mu: a.num("mu")?.unwrap_or(0.3),
         clothoid: a.num("clothoid")?.unwrap_or(2000.0),
         dt: a.num("dt")?.unwrap_or(0.01),
+        geometry: geometry(a)?,
     };
     let out = a.out.clone();
     let r = crate::critical::run_with_sections(&case, out.as_deref())?;
@@ -634,6 +660,7 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
     if let Some(v) = a.num("dt")? {
         c.dt = v;
     }
+    c.geometry = geometry(a)?;
     if let Some(v) = count("record-every")? {
         c.record_every = v;
     }

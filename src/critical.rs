@@ -23,6 +23,7 @@ use crate::elements::rail::theory::{
     self, Carriage, CriticalRadius, Operation, RadiusBracket, SlidingDirection, TrackParams,
     Variant, WheelSide,
 };
+use crate::framework::model::Geometry;
 use crate::framework::moving::Path;
 use crate::framework::FemError;
 use serde::{Deserialize, Serialize};
@@ -52,6 +53,9 @@ pub struct CriticalCase {
     pub clothoid: f64,
     /// Time step (s).
     pub dt: f64,
+    /// Geometry of the carriage ("linear" or "nonlinear").
+    #[serde(default)]
+    pub geometry: Geometry,
 }
 
 /// What one run found (radii in m; `None` when not reached).
@@ -172,6 +176,7 @@ pub fn run_with_sections(
         start: 20.0,
         duration: (lead + case.clothoid + 150.0 - 20.0) / case.speed,
         sliding_tangent: "consistent".into(),
+        geometry: case.geometry,
         ..CurveCase::default()
     };
     let mut m = curve.build()?;
@@ -345,6 +350,7 @@ pub fn sweep(
     mus: &[f64],
     clothoid: f64,
     dt: f64,
+    geometry: Geometry,
     threads: usize,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Vec<SweepPoint> {
@@ -361,6 +367,7 @@ pub fn sweep(
                     mu,
                     clothoid,
                     dt,
+                    geometry,
                 });
             }
         }
@@ -492,6 +499,7 @@ pub fn write_sweep(
                 mu,
                 clothoid: 0.0,
                 dt: 0.0,
+                geometry: Geometry::Linear,
             };
             let (st, _) = theory_radius(&case, 1.507, 9.81);
             xs.push(v);

@@ -112,6 +112,57 @@ pub enum SolverChoice {
     Partitioned,
 }
 
+/// Geometry of rigid links and of the vehicle builder's suspensions (`[analysis] geometry`,
+/// a `[[link]]`'s `geometry`, the `--geometry` option of the built-in cases).
+///
+/// `linear`: small rotations, `u_s = u_m + θ_m × r` (the default; today's numbers).
+/// `nonlinear`: the slave follows the master's current finite rotation,
+/// `u_s = u_m + (R(ψ_m) − I)·r`, and vehicle suspensions balance in the displaced
+/// configuration (the `suspension` element).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(try_from = "String", into = "String")]
+pub enum Geometry {
+    /// Small displacements and rotations.
+    #[default]
+    Linear,
+    /// Finite rotations of rigid bodies.
+    Nonlinear,
+}
+
+impl Geometry {
+    /// The name as written in a model file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Geometry::Linear => "linear",
+            Geometry::Nonlinear => "nonlinear",
+        }
+    }
+
+    /// Parses a name; the error is the message (the caller adds the place).
+    pub fn parse(s: &str) -> Result<Geometry, String> {
+        match s {
+            "linear" => Ok(Geometry::Linear),
+            "nonlinear" => Ok(Geometry::Nonlinear),
+            other => Err(format!(
+                "`geometry` = \"{other}\" is not known; give \"linear\" (the default) or \"nonlinear\""
+            )),
+        }
+    }
+}
+
+impl TryFrom<String> for Geometry {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        Geometry::parse(&s)
+    }
+}
+
+impl From<Geometry> for String {
+    fn from(g: Geometry) -> String {
+        g.name().to_string()
+    }
+}
+
 /// Equation count from which `solver = "auto"` picks the partitioned solver.
 pub const PARTITIONED_FROM: usize = 50_000;
 
@@ -193,6 +244,8 @@ pub struct AnalysisSpec {
     pub record_every: usize,
     /// Linear solver of the Newton iterations.
     pub solver: SolverChoice,
+    /// Geometry of rigid links and vehicle suspensions: "linear" or "nonlinear".
+    pub geometry: Geometry,
 }
 
 impl Default for AnalysisSpec {
@@ -214,6 +267,7 @@ impl Default for AnalysisSpec {
             rayleigh: None,
             record_every: 1,
             solver: SolverChoice::Auto,
+            geometry: Geometry::Linear,
         }
     }
 }
