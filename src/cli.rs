@@ -17,7 +17,8 @@ USAGE:
   railfem elements [--plugin PATH]...                list registered element kinds and keys
   railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
                 [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick] [--vtk EVERY]
-                [--geometry linear|nonlinear]        the paper's curved-track validation (Fig. 6)
+                [--geometry linear|nonlinear] [--anti-roll K]
+                                                     the paper's curved-track validation (Fig. 6)
   railfem critical-radius --criterion sliding|separation --speed V --ct CT --mu MU
                 [--clothoid L] [--dt DT] [--geometry linear|nonlinear]
                                                      critical radius, FE vs theory (Figs. 7, 9)
@@ -253,6 +254,9 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     }
     if let Some(v) = a.num("vtk")? {
         case.vtk_every = v as usize;
+    }
+    if let Some(v) = a.num("anti-roll")? {
+        case.anti_roll = v;
     }
     if let Some(l) = a.opt("lengths") {
         let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();

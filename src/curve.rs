@@ -64,6 +64,9 @@ pub struct CurveCase {
     /// Geometry of the carriage: "linear" (the paper's model) or "nonlinear" (bodies lean
     /// on suspensions that balance in the displaced configuration).
     pub geometry: Geometry,
+    /// Roll stiffness of an anti-roll bar per bogie (N·m/rad) added to the `sks700`
+    /// carriage; 0 = none (the stand-in data have none).
+    pub anti_roll: f64,
 }
 
 impl Default for CurveCase {
@@ -88,6 +91,7 @@ impl Default for CurveCase {
             settle: 400.0,
             vtk_every: 0,
             geometry: Geometry::Linear,
+            anti_roll: 0.0,
         }
     }
 }
@@ -211,6 +215,14 @@ impl CurveCase {
             .map_err(|e| FemError::input("curve case", e.to_string()))
     }
 
+    /// The carriage: `sks700` with this case's anti-roll bar.
+    pub fn carriage(&self) -> CarriageData {
+        CarriageData {
+            anti_roll: self.anti_roll,
+            ..CarriageData::sks700()
+        }
+    }
+
     /// Builds the model.
     pub fn build(&self) -> Result<CurveModel, FemError> {
         crate::elements::link();
@@ -235,7 +247,7 @@ impl CurveCase {
         let tm = track_model::generate(&mut b, track.clone(), &TrackMesh::default())?;
         let spec = TrainSpec {
             name: "sks700".into(),
-            carriage: CarriageData::sks700(),
+            carriage: self.carriage(),
             carriages: 1,
             start: self.start,
             speed: self.speed,
@@ -346,7 +358,7 @@ pub fn run(
     // The lean reference per (curvature, cant) met by a wheel, solved once each.
     let mut lean_cache: std::collections::HashMap<(u64, u64), Option<[f64; 2]>> =
         std::collections::HashMap::new();
-    let carriage_data = CarriageData::sks700();
+    let carriage_data = case.carriage();
     let (mut first_slide, mut first_sep) = (None, None);
     let l = case.lengths;
     let arc = (l[0] + l[1], l[0] + l[1] + l[2]);

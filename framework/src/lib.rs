@@ -19,6 +19,7 @@ pub mod dof;
 pub mod dofmap;
 pub mod element;
 pub mod error;
+pub mod finite_link;
 pub mod loads;
 pub mod model;
 pub mod modelfile;

@@ -416,7 +416,7 @@ pub struct ModelBuilder {
     origin: String,
     nodes: Vec<Node>,
     node_index: HashMap<u64, usize>,
-    links: Vec<(u64, u64, DofSet, String)>,
+    links: Vec<(u64, u64, DofSet, Option<Geometry>, String)>,
     element_specs: Vec<ElementSpec>,
     loads: Vec<crate::loads::LoadSpec>,
     carriers: Vec<CarrierSpec>,
@@ -570,7 +570,21 @@ impl ModelBuilder {
     /// Adds a rigid link: `slave` follows `master` on `dofs`.
     pub fn rigid_link(&mut self, master: u64, slave: u64, dofs: DofSet) -> &mut Self {
         let origin = format!("{}: link {master} -> {slave}", self.origin);
-        self.links.push((master, slave, dofs, origin));
+        self.links.push((master, slave, dofs, None, origin));
+        self
+    }
+
+    /// Adds a rigid link with its own geometry (`None`: the `[analysis]` one); `origin`
+    /// names it in messages (`file: link[3]`).
+    pub fn rigid_link_with(
+        &mut self,
+        master: u64,
+        slave: u64,
+        dofs: DofSet,
+        geometry: Option<Geometry>,
+        origin: String,
+    ) -> &mut Self {
+        self.links.push((master, slave, dofs, geometry, origin));
         self
     }
 
@@ -729,7 +743,8 @@ impl ModelBuilder {
             }
         }
         let mut link_list = Vec::new();
-        for (m, s, dofs, lorigin) in links {
+        let mut nonlinear_links = Vec::new();
+        for (m, s, dofs, geometry, lorigin) in links {
             let (Some(&mi), Some(&si)) = (node_index.get(&m), node_index.get(&s)) else {
                 let missing = if node_index.contains_key(&m) { s } else { m };
                 return Err(FemError::input(
@@ -742,6 +757,16 @@ impl ModelBuilder {
                     lorigin,
                     "a node cannot be linked to itself",
                 ));
+            }
+            if geometry.unwrap_or(analysis.geometry) == Geometry::Nonlinear {
+                if dofs != DofSet::ALL {
+                    return Err(FemError::input(
+                        lorigin,
+                        "a geometry = \"nonlinear\" link makes the slave part of the master's rigid body and must constrain all six DOFs: drop `dofs`, or give the link geometry = \"linear\"",
+                    ));
+                }
+                nonlinear_links.push((mi, si, lorigin));
+                continue;
             }
             link_list.push(RigidLink {
                 master: mi,
@@ -761,6 +786,9 @@ impl ModelBuilder {
             analysis,
             plugins,
         };
+        if !nonlinear_links.is_empty() {
+            crate::finite_link::apply(&mut model, &nonlinear_links, &loads, &recorders)?;
+        }
         for (i, l) in loads.iter().enumerate() {
             let load = l.resolve_at(&model, Some(i))?;
             model.loads.push(load);

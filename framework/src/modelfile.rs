@@ -136,6 +136,8 @@ struct LinkEntry {
     slave: u64,
     #[serde(default)]
     dofs: Option<Fix>,
+    #[serde(default)]
+    geometry: Option<crate::model::Geometry>,
 }
 
 fn parse_dofs(f: &Option<Fix>, default: DofSet, origin: &str) -> Result<DofSet, FemError> {
@@ -277,7 +279,7 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         let o = format!("{name}: link[{i}]");
         let l: LinkEntry = de(v, &o)?;
         let dofs = parse_dofs(&l.dofs, DofSet::ALL, &o)?;
-        b.rigid_link(l.master, l.slave, dofs);
+        b.rigid_link_with(l.master, l.slave, dofs, l.geometry, o);
     }
     for s in ordered.iter().filter(|s| s.order >= 0) {
         if let Some(v) = root.get(s.key) {
