@@ -300,6 +300,21 @@ fn curve(a: &Args) -> Result<i32, FemError> {
         r.arc_mean_normal[1],
         case.geometry.name()
     );
+    let arc = crate::elements::rail::lean::ArcPoint {
+        speed: case.speed,
+        curvature: 1.0 / case.radius,
+        cant: case.ct / case.radius,
+        gravity: case.gravity,
+        spacing: r.contact_spacing,
+        pivot: None,
+    };
+    if let Some(l) = crate::elements::rail::lean::wheel_loads(&case.carriage(), &arc) {
+        let (c, b) = (l.state.car_body, l.state.bogie);
+        println!(
+            "lean reference on the arc: car body lateral {:.4} m, vertical {:.4} m, roll {:.5} rad; bogie {:.4} m, {:.4} m, {:.5} rad; wheel loads inner {:.1} N, outer {:.1} N (statics {:.1} N, {:.1} N)",
+            c[0], c[1], c[2], b[0], b[1], b[2], l.lean[0], l.lean[1], l.rigid[0], l.rigid[1]
+        );
+    }
     println!(
         "contact spacing used by the statics: {:.4} m; results in {}",
         r.contact_spacing,
@@ -549,7 +564,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             if let Ok(r) = r {
                 let reference = match criterion {
                     Criterion::Sliding => r.theory,
-                    Criterion::Separation => r.theory_at_contact,
+                    Criterion::Separation => r.lean_at_contact.or(r.theory_at_contact),
                 };
                 if let (Some(fe), Some(th)) = (r.fe, reference) {
                     worst = worst.max((fe - th).abs() / th);
@@ -600,6 +615,12 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             println!(
                 "relative difference FE vs statics about that point: {:.3e}",
                 (fe - th).abs() / th
+            );
+        }
+        if let Some(lean) = r.lean_at_contact {
+            let rel = r.fe.map_or(f64::NAN, |fe| (fe - lean).abs() / lean);
+            println!(
+                "statics with body lean about that point: {lean:.1} m; relative difference FE vs it: {rel:.3e}"
             );
         }
     }

@@ -423,6 +423,7 @@ pub fn run(
                     cant: p.cant,
                     gravity: case.gravity,
                     spacing,
+                    pivot: None,
                 };
                 lean::wheel_loads(&carriage_data, &op).map(|r| r.lean)
             });

@@ -545,19 +545,20 @@ mod tests {
     #[test]
     fn bad_keys_are_named() {
         let pts = [Vector3::zeros(), Vector3::zeros()];
-        let s = spec(
-            "suspension",
-            &[1, 2],
-            serde_json::json!({"k": [1.0, -1.0, 0.0]}),
-        );
-        let e = build(&s, &mut PointContext::new(&pts)).err().unwrap();
-        assert!(e.to_string().contains("`k`[1]"), "{e}");
-        let s = spec(
-            "suspension",
-            &[1, 2],
-            serde_json::json!({"k": [1.0, 1.0, 0.0], "tangent": "exact"}),
-        );
-        let e = build(&s, &mut PointContext::new(&pts)).err().unwrap();
-        assert!(e.to_string().contains("`tangent`"), "{e}");
+        for (p, key) in [
+            (serde_json::json!({"k": [1.0, -1.0, 0.0]}), "`k`[1]"),
+            (
+                serde_json::json!({"k": [1.0, 1.0, 0.0], "tangent": "exact"}),
+                "`tangent`",
+            ),
+            (
+                serde_json::json!({"k": [1.0, 1.0, 0.0], "j_from_i": [1.0]}),
+                "`j_from_i`",
+            ),
+        ] {
+            let s = spec("suspension", &[1, 2], p);
+            let e = build(&s, &mut PointContext::new(&pts)).err().unwrap();
+            assert!(e.to_string().contains(key), "{e}");
+        }
     }
 }

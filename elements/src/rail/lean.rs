@@ -72,6 +72,9 @@ pub struct LeanLoads {
     pub state: LeanState,
     /// Newton iterations used.
     pub iterations: usize,
+    /// Moment of the body loads at their displaced mass centres about the outer contact
+    /// line ([`ArcPoint::pivot`]) (N·m); the inner wheels unload where it vanishes.
+    pub pivot_moment: f64,
 }
 
 /// One operating point: speed (m/s), curvature (1/m, positive left-hand), cant (rad),
@@ -88,6 +91,9 @@ pub struct ArcPoint {
     pub gravity: f64,
     /// Lateral spacing of the inner and outer contact points (m).
     pub spacing: f64,
+    /// The outer contact line `(y_o, z_o)` in the wheel frame (m) for
+    /// [`LeanLoads::pivot_moment`]; `None` = `(−spacing/2, 0)`.
+    pub pivot: Option<(f64, f64)>,
 }
 
 fn rot(phi: f64) -> Matrix2<f64> {
@@ -209,6 +215,7 @@ pub fn wheel_loads(c: &CarriageData, op: &ArcPoint) -> Option<LeanLoads> {
         x -= jac.lu().solve(&r)?;
     }
     let a = 0.5 * op.spacing;
+    let (y_o, z_o) = op.pivot.unwrap_or((-a, 0.0));
     let split = |yz: [(f64, f64); 3]| {
         let sum_f2 = f_c.y + 2.0 * f_b.y + 4.0 * f_w.y;
         let mut m = 0.0;
@@ -217,6 +224,20 @@ pub fn wheel_loads(c: &CarriageData, op: &ArcPoint) -> Option<LeanLoads> {
         }
         let (mean, diff) = (-sum_f2 / 8.0, m / (8.0 * a));
         [mean + diff, mean - diff]
+    };
+    // Moment of the body loads about the outer contact line (y_o, z_o) (N·m): the inner
+    // wheels unload when it reaches zero.
+    let pivot_moment = {
+        let mut m = 0.0;
+        let pts = [
+            (1.0, f_c, x[0], c.car_body.height + x[1]),
+            (2.0, f_b, x[3], c.bogie.height + x[4]),
+            (4.0, f_w, 0.0, c.wheelset.height),
+        ];
+        for (n, f, y, z) in pts {
+            m += n * ((y - y_o) * f.y - (z - z_o) * f.x);
+        }
+        m
     };
     let heights = (c.car_body.height, c.bogie.height, c.wheelset.height);
     let lean = split([
@@ -233,6 +254,7 @@ pub fn wheel_loads(c: &CarriageData, op: &ArcPoint) -> Option<LeanLoads> {
             bogie: [x[3], x[4], x[5]],
         },
         iterations,
+        pivot_moment,
     })
 }
 
@@ -248,6 +270,7 @@ mod tests {
             cant: 200.0 / 6250.0,
             gravity: 9.81,
             spacing: 1.507,
+            pivot: None,
         }
     }
 

@@ -375,8 +375,8 @@ pub fn build_train(
     // eighth of the car body and both bogies.
     let w_secondary = c.car_body.mass * g / 4.0;
     let w_primary = (c.car_body.mass + 2.0 * c.bogie.mass) * g / 8.0;
-    // A nonlinear suspension between master `lower` (station `sl`, height `hl`) and master
-    // `upper` (`su`, `hu`), attached at `(lat, h)` at station `s_at`.
+    // `suspension` keys between master `lower` and master `upper` (each (station offset,
+    // height)), attached at `at` = (lateral, height, station offset).
     let tangent = spec.suspension_tangent.clone();
     let body_spring = |lower: (f64, f64),
                        upper: (f64, f64),
@@ -394,7 +394,12 @@ pub fn build_train(
             "k_rot": [0.0, 0.0, k_roll], "tangent": tangent,
         })
     };
-    let rates = |s: &Suspension| ([s.ky, s.kz, s.kx], [s.cy, s.cz, s.cx]);
+    // A primary or secondary spring at lateral `lat`, at its height, at the lower body's
+    // station; wheel-frame axes: 1 lateral (ky), 2 vertical (kz), 3 longitudinal (kx).
+    let seat = |lower: (f64, f64), upper: (f64, f64), lat: f64, s: &Suspension, preload: f64| {
+        let (k, cd) = ([s.ky, s.kz, s.kx], [s.cy, s.cz, s.cx]);
+        body_spring(lower, upper, [lat, s.height, lower.0], k, cd, preload, 0.0)
+    };
     let spring = |s: &Suspension| {
         // Wheel-frame axes: 1 lateral (ky), 2 vertical (kz), 3 longitudinal (kx).
         serde_json::json!({"k": [s.ky, s.kz, s.kx, 0.0, 0.0, 0.0], "c": [s.cy, s.cz, s.cx, 0.0, 0.0, 0.0]})
@@ -436,11 +441,8 @@ pub fn build_train(
             // or a suspension between the two masters (nonlinear).
             for lat in [c.secondary_span, -c.secondary_span] {
                 if nonlinear {
-                    let (k, cd) = rates(&c.secondary);
-                    let at = [lat, c.secondary.height, s_bogie];
-                    let lower = (s_bogie, c.bogie.height);
-                    let upper = (s_car, c.car_body.height);
-                    let p = body_spring(lower, upper, at, k, cd, w_secondary, 0.0);
+                    let (lower, upper) = ((s_bogie, c.bogie.height), (s_car, c.car_body.height));
+                    let p = seat(lower, upper, lat, &c.secondary, w_secondary);
                     elem(b, "suspension", &[bogie, body], p);
                     continue;
                 }
@@ -493,11 +495,8 @@ pub fn build_train(
                 ids.wheelset_offsets.push(s_ws);
                 for lat in [c.primary_span, -c.primary_span] {
                     if nonlinear {
-                        let (kk, cd) = rates(&c.primary);
-                        let at = [lat, c.primary.height, s_ws];
-                        let lower = (s_ws, c.wheelset.height);
-                        let upper = (s_bogie, c.bogie.height);
-                        let p = body_spring(lower, upper, at, kk, cd, w_primary, 0.0);
+                        let (lower, upper) = ((s_ws, c.wheelset.height), (s_bogie, c.bogie.height));
+                        let p = seat(lower, upper, lat, &c.primary, w_primary);
                         elem(b, "suspension", &[k, bogie], p);
                         continue;
                     }
