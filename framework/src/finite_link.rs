@@ -348,6 +348,10 @@ impl Element for LinkedElement {
     }
 }
 
+/// A nonlinear slave's root master and its offset in the master's axes (m); `None` for
+/// any other node.
+pub type Root = Option<(usize, Vector3<f64>)>;
+
 /// The root master of every nonlinear slave and its offset in the master's axes: follows
 /// chains of nonlinear links. `links` are `(master, slave, origin)` of the nonlinear links,
 /// `offset(master, slave)` the slave's offset from the master in the master's axes.
@@ -357,7 +361,7 @@ pub fn resolve_roots(
     links: &[(usize, usize, String)],
     offset: &dyn Fn(usize, usize) -> Vector3<f64>,
     id: &dyn Fn(usize) -> u64,
-) -> Result<Vec<Option<(usize, Vector3<f64>)>>, crate::FemError> {
+) -> Result<Vec<Root>, crate::FemError> {
     let mut master_of: Vec<Option<usize>> = vec![None; nodes];
     for (m, s, _) in links {
         master_of[*s] = Some(*m);
