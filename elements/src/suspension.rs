@@ -378,7 +378,7 @@ fn samples() -> Vec<Sample> {
                 "preload": [3e3, -1.07e5, 0.0], "k_rot": [0.0, 0.0, 2e6]}),
         ),
         (
-            "unloaded, symmetric tangent off",
+            "unloaded (objective)",
             serde_json::json!({"offset_i": [-1.0, 0.0, 1.25], "offset_j": [-1.0, -0.05, 0.0],
                 "k": [6.5e6, 1.2e6, 1.5e7]}),
         ),
