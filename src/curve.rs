@@ -7,7 +7,9 @@
 //! and Newton–Raphson, and compares every wheel's normal and shear force with both variants
 //! of the theory at the wheel's own station (radius and cant there). The comparison on the
 //! circular arc, once the entry transient has decayed, is the number the paper's Figure 6
-//! shows.
+//! shows. With `geometry = nonlinear` the carriage's bodies lean on their suspensions and
+//! the wheel loads are also compared with the quasi-static reference with body lean
+//! ([`crate::elements::rail::lean`]).
 
 use crate::elements::rail::alignment::{Alignment, Segment};
 use crate::elements::rail::cant::{Cant, Track};
