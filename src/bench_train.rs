@@ -172,7 +172,12 @@ pub fn growth_exponent(points: &[(f64, f64)]) -> f64 {
 
 /// The case of one size: `cars` carriages, and as many 29.75 m spans as the paper's
 /// 1 043 430-DOF mesh density (113 spans) gives for `dofs` equations.
-pub fn case_for(dofs: usize, cars: usize, dt: f64) -> TrainBridgeCase {
+pub fn case_for(
+    dofs: usize,
+    cars: usize,
+    dt: f64,
+    geometry: crate::framework::model::Geometry,
+) -> TrainBridgeCase {
     let per_span = 1_043_430.0 / 113.0;
     let spans = ((dofs as f64 / per_span).round() as usize).max(1);
     TrainBridgeCase {
@@ -183,6 +188,7 @@ pub fn case_for(dofs: usize, cars: usize, dt: f64) -> TrainBridgeCase {
         // The same solver at every size (auto would use the direct one below 50 000
         // equations), so that the growth exponent compares like with like.
         solver: crate::framework::model::SolverChoice::Partitioned,
+        geometry,
         ..Default::default()
     }
 }
@@ -193,16 +199,18 @@ pub fn run(
     cars: usize,
     steps: usize,
     dt: f64,
+    geometry: crate::framework::model::Geometry,
     out: &Path,
 ) -> Result<Vec<PhaseRow>, FemError> {
     std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
     let mut rows = Vec::new();
     println!(
-        "train-bridge benchmark: {cars} carriage(s), Δt = {dt} s, {steps} steps per size, {} threads",
-        crate::framework::parallel::threads(0)
+        "train-bridge benchmark: {cars} carriage(s), Δt = {dt} s, {steps} steps per size, {} threads, vehicle geometry {}",
+        crate::framework::parallel::threads(0),
+        geometry.name()
     );
     for &n in sizes {
-        let case = case_for(n, cars, dt);
+        let case = case_for(n, cars, dt, geometry);
         let r = measure(&case, steps)?;
         println!(
             "{:>9} DOF ({} spans, h = {:.3} m): build {:.1} s, setup {:.1} s, {:.2} iterations/step, median {:.1} ms/iteration, {:.1} ms/step, {:.1} promotions/step, {} block refactorizations, peak {:.0} MiB",

@@ -20,9 +20,11 @@ USAGE:
   railfem elements [--plugin PATH]...                list registered element kinds and keys
   railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
                 [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick] [--vtk EVERY]
+                [--geometry linear|nonlinear] [--anti-roll K]
                                                      the paper's curved-track validation (Fig. 6)
   railfem critical-radius --criterion sliding|separation --speed V --ct CT --mu MU
-                [--clothoid L] [--dt DT]             critical radius, FE vs theory (Figs. 7, 9)
+                [--clothoid L] [--dt DT] [--geometry linear|nonlinear]
+                                                     critical radius, FE vs theory (Figs. 7, 9)
   railfem critical-radius --sweep --criterion C [--speeds ..] [--cts ..] [--mus ..] [--out DIR]
                                                      a whole figure, on all cores
   railfem conformance [--plugin PATH]... [--element NAME]
@@ -36,6 +38,7 @@ USAGE:
                                                      continuous beam per DOF count; writes
                                                      bench.md and bench.csv (default out/bench)
   railfem bench --case train-bridge [--sizes 1e4,1e5,1e6] [--cars N] [--steps N] [--dt DT]
+                [--geometry linear|nonlinear]
                                                      time per Newton iteration and per step of
                                                      the train-bridge model by phase (search,
                                                      elements, assembly, blocks, top, solve,
@@ -44,7 +47,8 @@ USAGE:
                 [--speed V] [--radius R] [--ct CT] [--duration T] [--dt DT]
                 [--quake FILE.csv | --quake synthetic [--seed S] [--pga G] [--quake-duration T]]
                 [--quake-out FILE.csv] [--midspans 1,2,..] [--record-every N] [--steps N]
-                [--build-only] [--out DIR]           a train of sks700 carriages over a viaduct
+                [--build-only] [--geometry linear|nonlinear] [--out DIR]
+                                                     a train of sks700 carriages over a viaduct
                                                      of simply supported spans (default 12 cars,
                                                      113 spans of 29.75 m): wheels.csv,
                                                      midspan.csv, summary.csv (default
@@ -152,8 +156,20 @@ const COMMAND_OPTIONS: [(&str, &[&str]); 12] = [
     (
         "curve",
         &[
-            "out", "radius", "ct", "speed", "mu", "dt", "penalty", "duration", "vtk", "lengths",
-            "quick", "quiet",
+            "out",
+            "radius",
+            "ct",
+            "speed",
+            "mu",
+            "dt",
+            "penalty",
+            "duration",
+            "vtk",
+            "lengths",
+            "quick",
+            "quiet",
+            "geometry",
+            "anti-roll",
         ],
     ),
     (
@@ -171,13 +187,16 @@ const COMMAND_OPTIONS: [(&str, &[&str]); 12] = [
             "mu",
             "clothoid",
             "dt",
+            "geometry",
         ],
     ),
     ("conformance", &["element"]),
     ("track", &["radius", "ct", "out"]),
     (
         "bench",
-        &["case", "sizes", "steps", "export", "out", "cars", "dt"],
+        &[
+            "case", "sizes", "steps", "export", "out", "cars", "dt", "geometry",
+        ],
     ),
     (
         "train-bridge",
@@ -203,6 +222,7 @@ const COMMAND_OPTIONS: [(&str, &[&str]); 12] = [
             "steps",
             "out",
             "build-only",
+            "geometry",
         ],
     ),
     (
@@ -468,6 +488,9 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     if let Some(v) = a.num("vtk")? {
         case.vtk_every = v as usize;
     }
+    if let Some(v) = a.num("anti-roll")? {
+        case.anti_roll = v;
+    }
     if let Some(l) = a.opt("lengths") {
         let v: Vec<f64> = l.split(',').filter_map(|x| x.trim().parse().ok()).collect();
         if v.len() != 5 || v.iter().any(|x| !(x.is_finite() && *x > 0.0)) {
@@ -481,6 +504,7 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     if a.flags.iter().any(|f| f == "quick") {
         case.lengths = [60.0, 300.0, 700.0, 300.0, 60.0];
     }
+    case.geometry = geometry(a)?;
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/curve"));
     let mut last = 0;
     let quiet = a.flags.iter().any(|f| f == "quiet");
@@ -502,6 +526,28 @@ fn curve(a: &Args) -> Result<i32, FemError> {
         "on the arc, largest relative difference FE vs theory: normal vs statics {:.3e}, axle shear vs Eq. 26 {:.3e} (single wheel {:.3e}); normal vs Eq. 25 as printed {:.3e}",
         r.max_rel_normal_statics, r.max_rel_shear, r.max_rel_shear_wheel, r.max_rel_normal_printed
     );
+    println!(
+        "statics with body lean (quasi-static reference): normal FE vs reference {:.3e}; settled-arc mean FE normal inner {:.1} N, outer {:.1} N (geometry {})",
+        r.max_rel_normal_lean,
+        r.arc_mean_normal[0],
+        r.arc_mean_normal[1],
+        case.geometry.name()
+    );
+    let arc = crate::elements::rail::lean::ArcPoint {
+        speed: case.speed,
+        curvature: 1.0 / case.radius,
+        cant: case.ct / case.radius,
+        gravity: case.gravity,
+        spacing: r.contact_spacing,
+        pivot: None,
+    };
+    if let Some(l) = crate::elements::rail::lean::wheel_loads(&case.carriage(), &arc) {
+        let (c, b) = (l.state.car_body, l.state.bogie);
+        println!(
+            "lean reference on the arc: car body lateral {:.4} m, vertical {:.4} m, roll {:.5} rad; bogie {:.4} m, {:.4} m, {:.5} rad; wheel loads inner {:.1} N, outer {:.1} N (statics {:.1} N, {:.1} N)",
+            c[0], c[1], c[2], b[0], b[1], b[2], l.lean[0], l.lean[1], l.rigid[0], l.rigid[1]
+        );
+    }
     println!(
         "contact spacing used by the statics: {:.4} m; results in {}",
         r.contact_spacing,
@@ -629,7 +675,7 @@ fn bench(a: &Args) -> Result<i32, FemError> {
                 ))
             }
         };
-        crate::bench_train::run(&sizes, cars, steps, dt, &out)?;
+        crate::bench_train::run(&sizes, cars, steps, dt, geometry(a)?, &out)?;
         return Ok(0);
     }
     crate::bench::run(&sizes, steps, &out)?;
@@ -679,6 +725,19 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
 }
 
 /// `railfem critical-radius`: one point of the paper's Figure 7 or 9.
+/// `--geometry linear|nonlinear` of the built-in vehicle cases (default linear).
+fn geometry(a: &Args) -> Result<crate::framework::model::Geometry, FemError> {
+    match a.opt("geometry") {
+        None => Ok(Default::default()),
+        Some(g) => crate::framework::model::Geometry::parse(g).map_err(|_| {
+            FemError::input(
+                "command line",
+                format!("--geometry {g}: use linear (the default) or nonlinear"),
+            )
+        }),
+    }
+}
+
 fn critical(a: &Args) -> Result<i32, FemError> {
     use crate::critical::{Criterion, CriticalCase};
     let criterion = match a.opt("criterion").unwrap_or("sliding") {
@@ -736,6 +795,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             &mus,
             a.num("clothoid")?.unwrap_or(2000.0),
             a.num("dt")?.unwrap_or(0.01),
+            geometry(a)?,
             std::thread::available_parallelism().map_or(2, |n| n.get()),
             &progress,
         );
@@ -748,7 +808,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             if let Ok(r) = r {
                 let reference = match criterion {
                     Criterion::Sliding => r.theory,
-                    Criterion::Separation => r.theory_at_contact,
+                    Criterion::Separation => r.lean_at_contact.or(r.theory_at_contact),
                 };
                 if let (Some(fe), Some(th)) = (r.fe, reference) {
                     worst = worst.max((fe - th).abs() / th);
@@ -770,6 +830,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
         mu: a.num("mu")?.unwrap_or(0.3),
         clothoid: a.num("clothoid")?.unwrap_or(2000.0),
         dt: a.num("dt")?.unwrap_or(0.01),
+        geometry: geometry(a)?,
     };
     let out = a.out.clone();
     let r = crate::critical::run_with_sections(&case, out.as_deref())?;
@@ -798,6 +859,12 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             println!(
                 "relative difference FE vs statics about that point: {:.3e}",
                 (fe - th).abs() / th
+            );
+        }
+        if let Some(lean) = r.lean_at_contact {
+            let rel = r.fe.map_or(f64::NAN, |fe| (fe - lean).abs() / lean);
+            println!(
+                "statics with body lean about that point: {lean:.1} m; relative difference FE vs it: {rel:.3e}"
             );
         }
     }
@@ -862,6 +929,7 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
     if let Some(v) = a.num("dt")? {
         c.dt = v;
     }
+    c.geometry = geometry(a)?;
     if let Some(v) = count("record-every")? {
         c.record_every = v;
     }

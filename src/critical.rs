@@ -23,6 +23,7 @@ use crate::elements::rail::theory::{
     self, Carriage, CriticalRadius, Operation, RadiusBracket, SlidingDirection, TrackParams,
     Variant, WheelSide,
 };
+use crate::framework::model::Geometry;
 use crate::framework::moving::Path;
 use crate::framework::FemError;
 use serde::{Deserialize, Serialize};
@@ -52,6 +53,9 @@ pub struct CriticalCase {
     pub clothoid: f64,
     /// Time step (s).
     pub dt: f64,
+    /// Geometry of the carriage ("linear" or "nonlinear").
+    #[serde(default)]
+    pub geometry: Geometry,
 }
 
 /// What one run found (radii in m; `None` when not reached).
@@ -74,6 +78,10 @@ pub struct CriticalResult {
     /// The outer wheels' contact point at the onset, wheel frame relative to the centre
     /// line at rail-top level (lateral, vertical) (m).
     pub outer_contact: Option<[f64; 2]>,
+    /// Separation, nonlinear geometry: the overturning radius about the same contact point
+    /// of the carriage with its bodies leaning on their suspensions
+    /// ([`crate::elements::rail::lean`]) (m).
+    pub lean_at_contact: Option<f64>,
 }
 
 fn found(c: Result<CriticalRadius, theory::TheoryError>) -> Option<f64> {
@@ -172,6 +180,7 @@ pub fn run_with_sections(
         start: 20.0,
         duration: (lead + case.clothoid + 150.0 - 20.0) / case.speed,
         sliding_tangent: "consistent".into(),
+        geometry: case.geometry,
         ..CurveCase::default()
     };
     let mut m = curve.build()?;
@@ -205,6 +214,7 @@ pub fn run_with_sections(
         arc_radius,
         theory_at_contact: None,
         outer_contact: None,
+        lean_at_contact: None,
     };
     let mut buf = Vec::new();
     // Linear interpolation of the onset between the last two steps.
@@ -279,6 +289,9 @@ pub fn run_with_sections(
                         let (yo, zo) = (outer.0 / outer.2, outer.1 / outer.2);
                         res.outer_contact = Some([yo, zo]);
                         res.theory_at_contact = separation_about(case, yo, zo, g);
+                        if case.geometry == Geometry::Nonlinear {
+                            res.lean_at_contact = lean_separation_about(case, yo, zo, g);
+                        }
                     }
                     break;
                 }
@@ -304,17 +317,43 @@ pub fn separation_about(case: &CriticalCase, y_o: f64, z_o: f64, g: f64) -> Opti
             acc - y_o * f2 - (b.cg_height - z_o) * f1
         })
     };
-    // Scan down from a straight-like radius for the first sign change, then bisect.
+    first_root(&f, case.ct)
+}
+
+/// [`separation_about`] for the carriage whose bodies lean on their suspensions: the
+/// moment about the contact point of the body loads at their displaced mass centres
+/// ([`crate::elements::rail::lean::wheel_loads`]) vanishes. `None` where the lean
+/// reference has no equilibrium.
+pub fn lean_separation_about(case: &CriticalCase, y_o: f64, z_o: f64, g: f64) -> Option<f64> {
+    let data = crate::elements::rail::vehicle::CarriageData::sks700();
+    let f = |r: f64| {
+        let op = crate::elements::rail::lean::ArcPoint {
+            speed: case.speed,
+            curvature: 1.0 / r,
+            cant: case.ct / r,
+            gravity: g,
+            spacing: -2.0 * y_o,
+            pivot: Some((y_o, z_o)),
+        };
+        crate::elements::rail::lean::wheel_loads(&data, &op).map_or(f64::NAN, |l| l.pivot_moment)
+    };
+    first_root(&f, case.ct)
+}
+
+/// The largest radius below 1e6 m where `f` changes sign (scanning down by 3 %), refined
+/// by bisection; radii stay above `max(ct, 10)` m.
+fn first_root(f: &dyn Fn(f64) -> f64, ct: f64) -> Option<f64> {
     let (mut hi, mut lo) = (1e6, 1e6);
     let f_hi = f(hi);
-    while lo > case.ct.max(10.0) {
+    while lo > ct.max(10.0) {
         lo = hi * 0.97;
         if f(lo).signum() != f_hi.signum() {
             break;
         }
         hi = lo;
     }
-    if f(lo).signum() == f_hi.signum() {
+    let f_lo = f(lo);
+    if !f_lo.is_finite() || f_lo.signum() == f_hi.signum() {
         return None;
     }
     for _ in 0..200 {
@@ -345,6 +384,7 @@ pub fn sweep(
     mus: &[f64],
     clothoid: f64,
     dt: f64,
+    geometry: Geometry,
     threads: usize,
     progress: &(dyn Fn(f64) + Sync),
 ) -> Vec<SweepPoint> {
@@ -361,6 +401,7 @@ pub fn sweep(
                     mu,
                     clothoid,
                     dt,
+                    geometry,
                 });
             }
         }
@@ -407,7 +448,7 @@ pub fn write_sweep(
         Criterion::Separation => "separation",
     };
     let mut csv = String::from(
-        "speed,ct,mu,r_fe,r_theory_statics,r_theory_at_contact,r_theory_printed,r_fe_gross_sliding,rel_diff,note\n",
+        "speed,ct,mu,r_fe,r_theory_statics,r_theory_at_contact,r_theory_printed,r_fe_gross_sliding,r_lean_at_contact,rel_diff,note\n",
     );
     let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.3}"));
     for (c, r) in points {
@@ -415,14 +456,14 @@ pub fn write_sweep(
             Ok(r) => {
                 let reference = match criterion {
                     Criterion::Sliding => r.theory,
-                    Criterion::Separation => r.theory_at_contact,
+                    Criterion::Separation => r.lean_at_contact.or(r.theory_at_contact),
                 };
                 let rel = match (r.fe, reference) {
                     (Some(a), Some(b)) => format!("{:.3e}", (a - b).abs() / b),
                     _ => String::new(),
                 };
                 csv.push_str(&format!(
-                    "{},{},{},{},{},{},{},{},{},\n",
+                    "{},{},{},{},{},{},{},{},{},{},\n",
                     c.speed,
                     c.ct,
                     c.mu,
@@ -431,11 +472,12 @@ pub fn write_sweep(
                     opt(r.theory_at_contact),
                     opt(r.theory_printed),
                     opt(r.fe_gross),
+                    opt(r.lean_at_contact),
                     rel
                 ));
             }
             Err(e) => csv.push_str(&format!(
-                "{},{},{},,,,,,,\"{}\"\n",
+                "{},{},{},,,,,,,,\"{}\"\n",
                 c.speed,
                 c.ct,
                 c.mu,
@@ -492,6 +534,7 @@ pub fn write_sweep(
                 mu,
                 clothoid: 0.0,
                 dt: 0.0,
+                geometry: Geometry::Linear,
             };
             let (st, _) = theory_radius(&case, 1.507, 9.81);
             xs.push(v);

@@ -7,14 +7,17 @@
 //! and Newton–Raphson, and compares every wheel's normal and shear force with both variants
 //! of the theory at the wheel's own station (radius and cant there). The comparison on the
 //! circular arc, once the entry transient has decayed, is the number the paper's Figure 6
-//! shows.
+//! shows. With `geometry = nonlinear` the carriage's bodies lean on their suspensions and
+//! the wheel loads are also compared with the quasi-static reference with body lean
+//! ([`crate::elements::rail::lean`]).
 
 use crate::elements::rail::alignment::{Alignment, Segment};
 use crate::elements::rail::cant::{Cant, Track};
+use crate::elements::rail::lean::{self, ArcPoint};
 use crate::elements::rail::theory::{self, Carriage, Operation, TrackParams, Variant};
 use crate::elements::rail::track_model::{self, TrackMesh};
 use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
-use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder};
+use crate::framework::model::{AnalysisSpec, Geometry, IntegratorKind, ModelBuilder};
 use crate::framework::moving::Path;
 use crate::framework::FemError;
 use crate::solvers::Driver;
@@ -60,6 +63,12 @@ pub struct CurveCase {
     /// Distance into the arc after which the comparison with theory starts (m): the
     /// entry transient of the suspension (≈ 1 s time constant) has decayed by then.
     pub settle: f64,
+    /// Geometry of the carriage: "linear" (the paper's model) or "nonlinear" (bodies lean
+    /// on suspensions that balance in the displaced configuration).
+    pub geometry: Geometry,
+    /// Roll stiffness of an anti-roll bar per bogie (N·m/rad) added to the `sks700`
+    /// carriage; 0 = none (the stand-in data have none).
+    pub anti_roll: f64,
 }
 
 impl Default for CurveCase {
@@ -83,6 +92,8 @@ impl Default for CurveCase {
             sliding_tangent: "symmetric".into(),
             settle: 400.0,
             vtk_every: 0,
+            geometry: Geometry::Linear,
+            anti_roll: 0.0,
         }
     }
 }
@@ -123,6 +134,8 @@ pub struct WheelSample {
     pub q_printed: f64,
     /// Theory shear (Eq. 26) (N).
     pub y_theory: f64,
+    /// Quasi-static reference with body lean: normal (N) ([`crate::elements::rail::lean`]).
+    pub q_lean: f64,
     /// Whether the wheel is the inner one.
     pub inner: bool,
 }
@@ -142,6 +155,11 @@ pub struct CurveReport {
     pub max_rel_shear_wheel: f64,
     /// Largest relative difference of the FE normal force from the printed Eq. 25 on the arc.
     pub max_rel_normal_printed: f64,
+    /// Largest relative difference of the FE normal force from the quasi-static reference
+    /// with body lean on the settled arc.
+    pub max_rel_normal_lean: f64,
+    /// Mean over the settled arc of the FE inner and outer normal forces (N), (inner, outer).
+    pub arc_mean_normal: [f64; 2],
     /// Lateral spacing of the inner and outer contact points used by the statics (m).
     pub contact_spacing: f64,
     /// Steps, Newton iterations, wall time (s).
@@ -199,6 +217,14 @@ impl CurveCase {
             .map_err(|e| FemError::input("curve case", e.to_string()))
     }
 
+    /// The carriage: `sks700` with this case's anti-roll bar.
+    pub fn carriage(&self) -> CarriageData {
+        CarriageData {
+            anti_roll: self.anti_roll,
+            ..CarriageData::sks700()
+        }
+    }
+
     /// Builds the model.
     pub fn build(&self) -> Result<CurveModel, FemError> {
         crate::elements::link();
@@ -223,7 +249,7 @@ impl CurveCase {
         let tm = track_model::generate(&mut b, track.clone(), &TrackMesh::default())?;
         let spec = TrainSpec {
             name: "sks700".into(),
-            carriage: CarriageData::sks700(),
+            carriage: self.carriage(),
             carriages: 1,
             start: self.start,
             speed: self.speed,
@@ -233,8 +259,9 @@ impl CurveCase {
                 "sliding_tangent": self.sliding_tangent,
             }),
             first_node_id: 0,
+            geometry: Some(self.geometry),
+            suspension_tangent: "symmetric".into(),
         };
-        let ids = build_train(&mut b, &tm, &spec)?;
         let end = track.length() - 15.0 - self.start;
         let duration = if self.duration > 0.0 {
             self.duration
@@ -255,6 +282,7 @@ impl CurveCase {
             },
             ..Default::default()
         });
+        let ids = build_train(&mut b, &tm, &spec)?;
         let model = b.build()?;
         let wheel_index = ids
             .wheels
@@ -327,6 +355,12 @@ pub fn run(
     let nsteps = (spec.duration / spec.dt).ceil() as usize;
     let mut samples = Vec::new();
     let (mut rel_q, mut rel_y, mut rel_p, mut rel_yw) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let mut rel_lean = 0.0f64;
+    let (mut arc_sum, mut arc_n) = ([0.0f64; 2], 0usize);
+    // The lean reference per (curvature, cant) met by a wheel, solved once each.
+    let mut lean_cache: std::collections::HashMap<(u64, u64), Option<[f64; 2]>> =
+        std::collections::HashMap::new();
+    let carriage_data = case.carriage();
     let (mut first_slide, mut first_sep) = (None, None);
     let l = case.lengths;
     let arc = (l[0] + l[1], l[0] + l[1] + l[2]);
@@ -383,6 +417,19 @@ pub fn run(
                 ),
                 _ => (f64::NAN, f64::NAN, f64::NAN),
             };
+            let key = (p.curvature.abs().to_bits(), p.cant.to_bits());
+            let lean = *lean_cache.entry(key).or_insert_with(|| {
+                let op = ArcPoint {
+                    speed: case.speed,
+                    curvature: p.curvature.abs(),
+                    cant: p.cant,
+                    gravity: case.gravity,
+                    spacing,
+                    pivot: None,
+                };
+                lean::wheel_loads(&carriage_data, &op).map(|r| r.lean)
+            });
+            let q_lean = lean.map_or(f64::NAN, |l| if inner { l[0] } else { l[1] });
             if ns > 0.0 && first_slide.is_none() {
                 first_slide = Some(t);
             }
@@ -400,6 +447,7 @@ pub fn run(
                 q_statics: qs,
                 q_printed: qp,
                 y_theory: ys,
+                q_lean,
                 inner,
             });
         }
@@ -409,7 +457,10 @@ pub fn run(
             .iter()
             .all(|w| w.station > arc.0 + case.settle && w.station < arc.1);
         if settled {
+            arc_n += 1;
             for w in &wheels {
+                arc_sum[usize::from(!w.inner)] += w.q / (wheels.len() / 2) as f64;
+                rel_lean = rel_lean.max((w.q - w.q_lean).abs() / w.q_lean.abs());
                 rel_q = rel_q.max((w.q - w.q_statics).abs() / w.q_statics.abs());
                 rel_p = rel_p.max((w.q - w.q_printed).abs() / w.q_printed.abs());
                 rel_yw = rel_yw
@@ -439,6 +490,8 @@ pub fn run(
         max_rel_shear: rel_y,
         max_rel_shear_wheel: rel_yw,
         max_rel_normal_printed: rel_p,
+        max_rel_normal_lean: rel_lean,
+        arc_mean_normal: arc_sum.map(|x| x / arc_n.max(1) as f64),
         contact_spacing: spacing,
         steps: d.summary.steps,
         iterations: d.summary.iterations,
@@ -480,6 +533,7 @@ pub fn write_outputs(case: &CurveCase, r: &CurveReport, dir: &FsPath) -> Result<
             "Q_statics",
             "Q_printed",
             "Y_theory",
+            "Q_lean",
         ] {
             header.push(format!("w{ax}{side}_{c}"));
         }
@@ -490,7 +544,7 @@ pub fn write_outputs(case: &CurveCase, r: &CurveReport, dir: &FsPath) -> Result<
         let mut row = format!("{:.4},{:.4}", s.t, s.station);
         for x in &s.wheels {
             row.push_str(&format!(
-                ",{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{:.6e},{:.6e},{:.6e}",
+                ",{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{:.6e},{:.6e},{:.6e},{:.6e}",
                 x.station,
                 x.radius,
                 x.cant,
@@ -500,7 +554,8 @@ pub fn write_outputs(case: &CurveCase, r: &CurveReport, dir: &FsPath) -> Result<
                 x.n_slide,
                 x.q_statics,
                 x.q_printed,
-                x.y_theory
+                x.y_theory,
+                x.q_lean
             ));
         }
         writeln!(w, "{row}").map_err(io)?;

@@ -97,6 +97,8 @@ pub struct TrainBridgeCase {
     pub rho_inf: f64,
     /// Linear solver of the Newton iterations (`auto`: partitioned from 50 000 equations).
     pub solver: crate::framework::model::SolverChoice,
+    /// Geometry of the carriages (the bridge stays linear).
+    pub geometry: crate::framework::model::Geometry,
 }
 
 impl Default for TrainBridgeCase {
@@ -121,6 +123,7 @@ impl Default for TrainBridgeCase {
             gravity: 9.81,
             rho_inf: 0.5,
             solver: Default::default(),
+            geometry: Default::default(),
         }
     }
 }
@@ -527,24 +530,9 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         accel: 0.0,
         wheel: serde_json::json!({"mu": case.mu, "k": case.penalty, "k_v": case.penalty}),
         first_node_id: 0,
+        geometry: Some(case.geometry),
+        suspension_tangent: "symmetric".into(),
     };
-    let ids = build_train(&mut b, &tm, &spec)?;
-    if let Some(q) = &quake {
-        for (c, dir) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-            .iter()
-            .enumerate()
-        {
-            if q.a[c].iter().all(|v| *v == 0.0) {
-                continue;
-            }
-            let points = q.t.iter().zip(&q.a[c]).map(|(t, a)| [*t, *a]).collect();
-            b.load(LoadSpec::GroundMotion {
-                direction: *dir,
-                series: TimeSeries::Table { points },
-                scale: 1.0,
-            });
-        }
-    }
     let car_len = CarriageData::sks700().car_length;
     let duration = case.duration.unwrap_or(
         (case.spans as f64 * case.span + case.cars as f64 * car_len + 15.0) / case.speed,
@@ -569,6 +557,23 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         },
         ..Default::default()
     });
+    let ids = build_train(&mut b, &tm, &spec)?;
+    if let Some(q) = &quake {
+        for (c, dir) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+            .iter()
+            .enumerate()
+        {
+            if q.a[c].iter().all(|v| *v == 0.0) {
+                continue;
+            }
+            let points = q.t.iter().zip(&q.a[c]).map(|(t, a)| [*t, *a]).collect();
+            b.load(LoadSpec::GroundMotion {
+                direction: *dir,
+                series: TimeSeries::Table { points },
+                scale: 1.0,
+            });
+        }
+    }
     let t_gen = t0.elapsed().as_secs_f64();
     let t1 = Instant::now();
     let model = b.build()?;

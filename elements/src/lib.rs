@@ -15,6 +15,7 @@ pub mod beam3d;
 pub mod mass;
 pub mod rail;
 pub mod spring_damper;
+pub mod suspension;
 
 /// Forces the linker to keep this crate's registrations (call once from a binary that
 /// otherwise uses nothing of this crate).

@@ -23,6 +23,7 @@ pub mod dual;
 pub mod element;
 pub mod elf;
 pub mod error;
+pub mod finite_link;
 pub mod limits;
 pub mod loads;
 pub mod model;

@@ -113,6 +113,57 @@ pub enum SolverChoice {
     Partitioned,
 }
 
+/// Geometry of rigid links and of the vehicle builder's suspensions (`[analysis] geometry`,
+/// a `[[link]]`'s `geometry`, the `--geometry` option of the built-in cases).
+///
+/// `linear`: small rotations, `u_s = u_m + θ_m × r` (the default; today's numbers).
+/// `nonlinear`: the slave follows the master's current finite rotation,
+/// `u_s = u_m + (R(ψ_m) − I)·r`, and vehicle suspensions balance in the displaced
+/// configuration (the `suspension` element).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(try_from = "String", into = "String")]
+pub enum Geometry {
+    /// Small displacements and rotations.
+    #[default]
+    Linear,
+    /// Finite rotations of rigid bodies.
+    Nonlinear,
+}
+
+impl Geometry {
+    /// The name as written in a model file.
+    pub fn name(self) -> &'static str {
+        match self {
+            Geometry::Linear => "linear",
+            Geometry::Nonlinear => "nonlinear",
+        }
+    }
+
+    /// Parses a name; the error is the message (the caller adds the place).
+    pub fn parse(s: &str) -> Result<Geometry, String> {
+        match s {
+            "linear" => Ok(Geometry::Linear),
+            "nonlinear" => Ok(Geometry::Nonlinear),
+            other => Err(format!(
+                "`geometry` = \"{other}\" is not known; give \"linear\" (the default) or \"nonlinear\""
+            )),
+        }
+    }
+}
+
+impl TryFrom<String> for Geometry {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        Geometry::parse(&s)
+    }
+}
+
+impl From<Geometry> for String {
+    fn from(g: Geometry) -> String {
+        g.name().to_string()
+    }
+}
+
 /// Equation count from which `solver = "auto"` picks the partitioned solver.
 pub const PARTITIONED_FROM: usize = 50_000;
 
@@ -194,6 +245,8 @@ pub struct AnalysisSpec {
     pub record_every: usize,
     /// Linear solver of the Newton iterations.
     pub solver: SolverChoice,
+    /// Geometry of rigid links and vehicle suspensions: "linear" or "nonlinear".
+    pub geometry: Geometry,
 }
 
 impl Default for AnalysisSpec {
@@ -215,6 +268,7 @@ impl Default for AnalysisSpec {
             rayleigh: None,
             record_every: 1,
             solver: SolverChoice::Auto,
+            geometry: Geometry::Linear,
         }
     }
 }
@@ -230,7 +284,10 @@ impl AnalysisSpec {
         if self.kind == AnalysisKind::Transient {
             for (v, k) in [(self.dt, "dt"), (self.duration, "duration")] {
                 if !pos(v) {
-                    bad(format!("`{k}` must be a positive number (got {})", fmt_num(v)));
+                    bad(format!(
+                        "`{k}` must be a positive number (got {})",
+                        fmt_num(v)
+                    ));
                 }
             }
             if !(self.gamma >= 0.5
@@ -412,7 +469,7 @@ pub struct ModelBuilder {
     origin: String,
     nodes: Vec<Node>,
     node_index: HashMap<u64, usize>,
-    links: Vec<(u64, u64, DofSet, String)>,
+    links: Vec<(u64, u64, DofSet, Option<Geometry>, String)>,
     element_specs: Vec<ElementSpec>,
     loads: Vec<crate::loads::LoadSpec>,
     carriers: Vec<CarrierSpec>,
@@ -566,18 +623,20 @@ impl ModelBuilder {
     /// Adds a rigid link: `slave` follows `master` on `dofs`.
     pub fn rigid_link(&mut self, master: u64, slave: u64, dofs: DofSet) -> &mut Self {
         let origin = format!("{}: link {master} -> {slave}", self.origin);
-        self.rigid_link_at(master, slave, dofs, origin)
+        self.rigid_link_with(master, slave, dofs, None, origin)
     }
 
-    /// [`ModelBuilder::rigid_link`] with the place messages name (`"m.toml: link[2]"`).
-    pub fn rigid_link_at(
+    /// Adds a rigid link with its own geometry (`None`: the `[analysis]` one); `origin`
+    /// names it in messages (`file: link[3]`).
+    pub fn rigid_link_with(
         &mut self,
         master: u64,
         slave: u64,
         dofs: DofSet,
+        geometry: Option<Geometry>,
         origin: String,
     ) -> &mut Self {
-        self.links.push((master, slave, dofs, origin));
+        self.links.push((master, slave, dofs, geometry, origin));
         self
     }
 
@@ -742,11 +801,27 @@ impl ModelBuilder {
             }
         }
         let mut link_list = Vec::new();
-        for (m, s, dofs, lorigin) in links {
-            match resolve_link(&nodes, &node_index, m, s, dofs, &lorigin) {
-                Ok(l) => link_list.push(l),
-                Err(e) => errors.push(e),
+        let mut nonlinear_links = Vec::new();
+        for (m, s, dofs, geometry, lorigin) in links {
+            let link = match resolve_link(&nodes, &node_index, m, s, dofs, &lorigin) {
+                Ok(l) => l,
+                Err(e) => {
+                    errors.push(e);
+                    continue;
+                }
+            };
+            if geometry.unwrap_or(analysis.geometry) == Geometry::Nonlinear {
+                if dofs != DofSet::ALL {
+                    errors.push(FemError::input(
+                        lorigin,
+                        "a geometry = \"nonlinear\" link makes the slave part of the master's rigid body and must constrain all six DOFs: drop `dofs`, or give the link geometry = \"linear\"",
+                    ));
+                    continue;
+                }
+                nonlinear_links.push((link.master, link.slave, lorigin));
+                continue;
             }
+            link_list.push(link);
         }
         FemError::from_list(errors)?;
         let mut errors = Vec::new();
@@ -763,6 +838,9 @@ impl ModelBuilder {
             plugins,
             finite_rotation_nodes: Vec::new(),
         };
+        if !nonlinear_links.is_empty() {
+            crate::finite_link::apply(&mut model, &nonlinear_links, &loads, &recorders)?;
+        }
         for (i, l) in loads.iter().enumerate() {
             match l.resolve_at(&model, Some(i)) {
                 Ok(load) => model.loads.push(load),
@@ -776,7 +854,10 @@ impl ModelBuilder {
         }
         let files: Vec<&str> = recorders.iter().map(RecorderSpec::file).collect();
         if let Err((i, m)) = crate::outputs::check_recorder_files(&files) {
-            errors.push(FemError::input(format!("{}: recorder[{i}]", model.origin), m));
+            errors.push(FemError::input(
+                format!("{}: recorder[{i}]", model.origin),
+                m,
+            ));
         }
         FemError::from_list(errors)?;
         model.recorders = recorders;

@@ -148,6 +148,8 @@ struct LinkEntry {
     slave: u64,
     #[serde(default)]
     dofs: Option<Fix>,
+    #[serde(default)]
+    geometry: Option<crate::model::Geometry>,
 }
 
 fn parse_dofs(f: &Option<Fix>, default: DofSet, origin: &str) -> Result<DofSet, FemError> {
@@ -307,7 +309,7 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         match de::<LinkEntry>(v, &o)
             .and_then(|l| parse_dofs(&l.dofs, DofSet::ALL, &o).map(|d| (l, d)))
         {
-            Ok((l, dofs)) => b.rigid_link_at(l.master, l.slave, dofs, o),
+            Ok((l, dofs)) => b.rigid_link_with(l.master, l.slave, dofs, l.geometry, o),
             Err(e) => b.error(e),
         };
     }

@@ -20,11 +20,26 @@
 //! offset from it; the suspension springs join slaves of two bodies whose frames differ by
 //! the heading change between their stations (`Δs/R`, 1.4e-3 rad for 8.75 m at
 //! R = 6250 m) — the springs act in the lower body's axes and that angle is neglected.
+//!
+//! **Geometry.** With `geometry = "linear"` (the default) the carriage is built as above
+//! and reproduces the paper's model. With `"nonlinear"` the bodies keep their finite
+//! rotations and every spring is a `suspension` element attached directly to the two
+//! bodies' master nodes at offsets (no slave nodes): its axes turn with the lower body and
+//! its forces and moments balance in the displaced configuration. Each suspension carries
+//! the static preload of straight, level track (the share of the weight above it under
+//! the `[analysis]` gravity), so the heights in the data are the loaded ride heights: on
+//! straight, level track the bodies stay where the data put them and only deviations from
+//! that state move them. The loads (gravity and Eq. 5) act at the master nodes, which are
+//! the bodies' mass centres, so they act where the bodies currently are.
+//!
+//! **Anti-roll bar.** `anti_roll` (N·m/rad per bogie) adds a roll stiffness between each
+//! bogie and the car body: a rotational `spring_damper` between the two masters (linear)
+//! or the `k_rot` of a `suspension` (nonlinear). The `sks700` stand-in has none.
 
 use super::track_model::TrackModel;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
-use railfem_framework::model::ModelBuilder;
+use railfem_framework::model::{Geometry, ModelBuilder};
 use railfem_framework::moving::{Carrier, Path};
 use railfem_framework::registry::ElementSpec;
 use railfem_framework::DofSet;
@@ -96,6 +111,10 @@ pub struct CarriageData {
     pub secondary: Suspension,
     /// Length of a carriage, coupler to coupler (m).
     pub car_length: f64,
+    /// Roll stiffness of the anti-roll bar between each bogie and the car body (N·m/rad);
+    /// 0 = none.
+    #[serde(default)]
+    pub anti_roll: f64,
 }
 
 impl CarriageData {
@@ -148,6 +167,7 @@ impl CarriageData {
                 height: 0.9,
             },
             car_length: 25.0,
+            anti_roll: 0.0,
         }
     }
 
@@ -180,6 +200,17 @@ pub struct TrainSpec {
     /// First node id to use.
     #[serde(default)]
     pub first_node_id: u64,
+    /// Geometry of the bodies and suspensions; default: the model's `[analysis] geometry`.
+    #[serde(default)]
+    pub geometry: Option<Geometry>,
+    /// Tangent of the nonlinear suspensions: "symmetric" (keeps a symmetric model's
+    /// Cholesky factorization) or "consistent".
+    #[serde(default = "default_suspension_tangent")]
+    pub suspension_tangent: String,
+}
+
+fn default_suspension_tangent() -> String {
+    "symmetric".to_string()
 }
 
 fn default_name() -> String {
@@ -200,6 +231,11 @@ pub struct TrainIds {
     /// Station offset of each wheelset from the carrier station (m).
     pub wheelset_offsets: Vec<f64>,
 }
+
+/// Coupler between car bodies: rates along axes 1, 2, 3 (N/m), stiff axially, soft otherwise.
+const COUPLER_K: [f64; 3] = [1e5, 1e5, 5e7];
+/// Coupler dashpots along axes 1, 2, 3 (N·s/m).
+const COUPLER_C: [f64; 3] = [1e4, 1e4, 1e5];
 
 /// Stiffness of the weak spring on each wheelset's spin deviation about its axle (N·m/rad).
 pub const SPIN_STIFFNESS: f64 = 1.0e4;
@@ -259,6 +295,13 @@ fn validate(spec: &TrainSpec, track: &TrackModel) -> Result<(), String> {
             non_negative(v, &format!("carriage.{name}.{k}"))?;
         }
         positive(s.height, &format!("carriage.{name}.height"))?;
+    }
+    non_negative(c.anti_roll, "carriage.anti_roll")?;
+    if !["symmetric", "consistent"].contains(&spec.suspension_tangent.as_str()) {
+        return Err(format!(
+            "`suspension_tangent` = \"{}\" is not known; give \"symmetric\" or \"consistent\"",
+            spec.suspension_tangent
+        ));
     }
     // A zero span puts both springs of a pair on the centre line: no roll stiffness.
     for (v, k) in [
@@ -370,6 +413,42 @@ pub fn build_train_at(
         }
         next_elem
     };
+    let geometry = spec.geometry.unwrap_or(b.analysis_mut().geometry);
+    let nonlinear = geometry == Geometry::Nonlinear;
+    let g = b
+        .analysis_mut()
+        .gravity
+        .map_or(0.0, |v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
+    // Static preloads on straight, level track (N, compressive): each of the four
+    // secondaries carries a quarter of the car body, each of the eight axle boxes an
+    // eighth of the car body and both bogies.
+    let w_secondary = c.car_body.mass * g / 4.0;
+    let w_primary = (c.car_body.mass + 2.0 * c.bogie.mass) * g / 8.0;
+    // `suspension` keys between master `lower` and master `upper` (each (station offset,
+    // height)), attached at `at` = (lateral, height, station offset).
+    let tangent = spec.suspension_tangent.clone();
+    let body_spring = |lower: (f64, f64),
+                       upper: (f64, f64),
+                       at: [f64; 3],
+                       k: [f64; 3],
+                       cd: [f64; 3],
+                       preload: f64,
+                       k_roll: f64| {
+        let [lat, h, s_at] = at;
+        serde_json::json!({
+            "offset_i": [lat, h - lower.1, s_at - lower.0],
+            "offset_j": [lat, h - upper.1, s_at - upper.0],
+            "j_from_i": [0.0, upper.1 - lower.1, upper.0 - lower.0],
+            "k": k, "c": cd, "preload": [0.0, -preload, 0.0],
+            "k_rot": [0.0, 0.0, k_roll], "tangent": tangent,
+        })
+    };
+    // A primary or secondary spring at lateral `lat`, at its height, at the lower body's
+    // station; wheel-frame axes: 1 lateral (ky), 2 vertical (kz), 3 longitudinal (kx).
+    let seat = |lower: (f64, f64), upper: (f64, f64), lat: f64, s: &Suspension, preload: f64| {
+        let (k, cd) = ([s.ky, s.kz, s.kx], [s.cy, s.cz, s.cx]);
+        body_spring(lower, upper, [lat, s.height, lower.0], k, cd, preload, 0.0)
+    };
     let spring = |s: &Suspension| {
         // Wheel-frame axes: 1 lateral (ky), 2 vertical (kz), 3 longitudinal (kx).
         serde_json::json!({"k": [s.ky, s.kz, s.kx, 0.0, 0.0, 0.0], "c": [s.cy, s.cz, s.cx, 0.0, 0.0, 0.0]})
@@ -383,16 +462,23 @@ pub fn build_train_at(
         if let Some((prev, s_prev)) = prev_body {
             // Coupler: between the car ends, stiff axially, soft otherwise.
             let half = 0.5 * c.car_length;
-            let a = add_node(b, &mut carried, s_prev, [0.0, c.car_body.height, -half]);
-            b.rigid_link(prev, a, DofSet::ALL);
-            let bb = add_node(b, &mut carried, s_car, [0.0, c.car_body.height, half]);
-            b.rigid_link(body, bb, DofSet::ALL);
-            elem(
-                b,
-                "spring_damper",
-                &[a, bb],
-                serde_json::json!({"k": [1e5, 1e5, 5e7, 0.0, 0.0, 0.0], "c": [1e4, 1e4, 1e5, 0.0, 0.0, 0.0]}),
-            );
+            if nonlinear {
+                let h = c.car_body.height;
+                let at = [0.0, h, s_car + half];
+                let p = body_spring((s_prev, h), (s_car, h), at, COUPLER_K, COUPLER_C, 0.0, 0.0);
+                elem(b, "suspension", &[prev, body], p);
+            } else {
+                let a = add_node(b, &mut carried, s_prev, [0.0, c.car_body.height, -half]);
+                b.rigid_link(prev, a, DofSet::ALL);
+                let bb = add_node(b, &mut carried, s_car, [0.0, c.car_body.height, half]);
+                b.rigid_link(body, bb, DofSet::ALL);
+                elem(
+                    b,
+                    "spring_damper",
+                    &[a, bb],
+                    serde_json::json!({"k": [COUPLER_K[0], COUPLER_K[1], COUPLER_K[2], 0.0, 0.0, 0.0], "c": [COUPLER_C[0], COUPLER_C[1], COUPLER_C[2], 0.0, 0.0, 0.0]}),
+                );
+            }
         }
         prev_body = Some((body, s_car));
         for side_b in [1.0, -1.0] {
@@ -400,8 +486,15 @@ pub fn build_train_at(
             let bogie = add_node(b, &mut carried, s_bogie, [0.0, c.bogie.height, 0.0]);
             elem(b, "mass", &[bogie], mass_params(&c.bogie));
             ids.bogies.push(bogie);
-            // Secondary suspension: car-body slave and bogie slave at each side.
+            // Secondary suspension: car-body slave and bogie slave at each side (linear),
+            // or a suspension between the two masters (nonlinear).
             for lat in [c.secondary_span, -c.secondary_span] {
+                if nonlinear {
+                    let (lower, upper) = ((s_bogie, c.bogie.height), (s_car, c.car_body.height));
+                    let p = seat(lower, upper, lat, &c.secondary, w_secondary);
+                    elem(b, "suspension", &[bogie, body], p);
+                    continue;
+                }
                 let up = add_node(
                     b,
                     &mut carried,
@@ -412,6 +505,24 @@ pub fn build_train_at(
                 let lo = add_node(b, &mut carried, s_bogie, [lat, c.secondary.height, 0.0]);
                 b.rigid_link(bogie, lo, DofSet::ALL);
                 elem(b, "spring_damper", &[lo, up], spring(&c.secondary));
+            }
+            if c.anti_roll > 0.0 {
+                // Anti-roll bar: roll stiffness (about axis 3) between bogie and car body.
+                if nonlinear {
+                    let at = [0.0, c.bogie.height, s_bogie];
+                    let lower = (s_bogie, c.bogie.height);
+                    let upper = (s_car, c.car_body.height);
+                    let p = body_spring(lower, upper, at, [0.0; 3], [0.0; 3], 0.0, c.anti_roll);
+                    elem(b, "suspension", &[bogie, body], p);
+                } else {
+                    let k = [0.0, 0.0, 0.0, 0.0, 0.0, c.anti_roll];
+                    elem(
+                        b,
+                        "spring_damper",
+                        &[bogie, body],
+                        serde_json::json!({"k": k}),
+                    );
+                }
             }
             for side_w in [1.0, -1.0] {
                 let dw = side_b * c.half_bogie_distance + side_w * c.semi_wheelbase;
@@ -432,6 +543,12 @@ pub fn build_train_at(
                 ids.wheelsets.push(k);
                 ids.wheelset_offsets.push(s_ws);
                 for lat in [c.primary_span, -c.primary_span] {
+                    if nonlinear {
+                        let (lower, upper) = ((s_ws, c.wheelset.height), (s_bogie, c.bogie.height));
+                        let p = seat(lower, upper, lat, &c.primary, w_primary);
+                        elem(b, "suspension", &[k, bogie], p);
+                        continue;
+                    }
                     let up = add_node(
                         b,
                         &mut carried,
