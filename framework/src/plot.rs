@@ -48,6 +48,51 @@ impl Series {
     }
 }
 
+/// Whether series `r`, drawn through the pixel maps `px`, `py`, puts anything inside the
+/// rectangle `(left, top, right, bottom)` (px): a marker whose centre lies in it, or a line
+/// segment that crosses it (Liang–Barsky clipping of each segment).
+fn covers(
+    r: &Series,
+    px: &dyn Fn(f64) -> f64,
+    py: &dyn Fn(f64) -> f64,
+    (l, t, rr, b): (f64, f64, f64, f64),
+) -> bool {
+    let inside = |x: f64, y: f64| x >= l && x <= rr && y >= t && y <= b;
+    let pts: Vec<(f64, f64)> =
+        r.x.iter()
+            .zip(&r.y)
+            .map(|(&x, &y)| (px(x), py(y)))
+            .collect();
+    if r.style == Style::Markers {
+        return pts
+            .iter()
+            .any(|&(x, y)| x.is_finite() && y.is_finite() && inside(x, y));
+    }
+    pts.windows(2).any(|w| {
+        let ((xa, ya), (xb, yb)) = (w[0], w[1]);
+        if ![xa, ya, xb, yb].iter().all(|v| v.is_finite()) {
+            return false;
+        }
+        let (dx, dy) = (xb - xa, yb - ya);
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        for (p, q) in [(-dx, xa - l), (dx, rr - xa), (-dy, ya - t), (dy, b - ya)] {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return false;
+                }
+            } else {
+                let u = q / p;
+                if p < 0.0 {
+                    t0 = t0.max(u);
+                } else {
+                    t1 = t1.min(u);
+                }
+            }
+        }
+        t0 <= t1
+    })
+}
+
 /// Where a panel's legend box goes (inside the plot frame).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Corner {
@@ -168,10 +213,68 @@ impl Figure {
         let xs: Vec<f64> = p.series.iter().flat_map(|r| finite(&r.x)).collect();
         let ys: Vec<f64> = p.series.iter().flat_map(|r| finite(&r.y)).collect();
         let xt = nice_ticks(&xs, 8);
-        let yt = nice_ticks(&ys, 6);
+        let mut yt = nice_ticks(&ys, 6);
         let (xlo, xhi) = (xt[0], xt[xt.len() - 1]);
-        let (ylo, yhi) = (yt[0], yt[yt.len() - 1]);
         let px = |x: f64| x0 + (x - xlo) / (xhi - xlo) * (x1 - x0);
+        // The legend goes where it covers no data: the preferred corner if it is free, else
+        // the first free one; if every corner holds data, the y axis gains a tick of
+        // headroom above the data (up to six) until a top corner is free.
+        let labelled: Vec<&Series> = p.series.iter().filter(|r| !r.label.is_empty()).collect();
+        let longest = labelled
+            .iter()
+            .map(|r| r.label.chars().count())
+            .max()
+            .unwrap_or(0);
+        let (lw, lh) = (
+            40.0 + 7.0 * longest as f64,
+            8.0 + 16.0 * labelled.len() as f64,
+        );
+        let legend_box = |corner: Corner| {
+            let lx = match corner {
+                Corner::TopRight | Corner::BottomRight => x1 - lw - 8.0,
+                Corner::TopLeft | Corner::BottomLeft => x0 + 8.0,
+            };
+            let ly = match corner {
+                Corner::TopRight | Corner::TopLeft => y0 + 8.0,
+                Corner::BottomRight | Corner::BottomLeft => y1 - lh - 8.0,
+            };
+            (lx, ly)
+        };
+        let mut corner = p.legend;
+        for extra in 0..=6 {
+            let (ylo, yhi) = (yt[0], yt[yt.len() - 1]);
+            let py = |y: f64| y1 - (y - ylo) / (yhi - ylo) * (y1 - y0);
+            let free = |c: Corner| {
+                let (lx, ly) = legend_box(c);
+                !p.series
+                    .iter()
+                    .any(|r| covers(r, &px, &py, (lx, ly, lx + lw, ly + lh)))
+            };
+            let order = [
+                p.legend,
+                Corner::TopRight,
+                Corner::TopLeft,
+                Corner::BottomRight,
+                Corner::BottomLeft,
+            ];
+            if labelled.is_empty() {
+                break;
+            }
+            if let Some(c) = order.into_iter().find(|&c| free(c)) {
+                corner = c;
+                break;
+            }
+            if extra == 6 || yt.len() < 2 {
+                break;
+            }
+            let step = yt[1] - yt[0];
+            yt.push(yhi + step);
+            corner = match p.legend {
+                Corner::BottomLeft | Corner::TopLeft => Corner::TopLeft,
+                _ => Corner::TopRight,
+            };
+        }
+        let (ylo, yhi) = (yt[0], yt[yt.len() - 1]);
         let py = |y: f64| y1 - (y - ylo) / (yhi - ylo) * (y1 - y0);
         // Title, frame, grid and tick labels.
         let _ = writeln!(
@@ -264,24 +367,10 @@ impl Figure {
                 }
             }
         }
-        // Legend, in the chosen corner inside the frame.
-        let labelled: Vec<&Series> = p.series.iter().filter(|r| !r.label.is_empty()).collect();
+        // Legend, in the corner chosen above (inside the frame, off the data).
         if !labelled.is_empty() {
-            let longest = labelled
-                .iter()
-                .map(|r| r.label.chars().count())
-                .max()
-                .unwrap_or(0);
-            let w = 40.0 + 7.0 * longest as f64;
-            let h = 8.0 + 16.0 * labelled.len() as f64;
-            let lx = match p.legend {
-                Corner::TopRight | Corner::BottomRight => x1 - w - 8.0,
-                Corner::TopLeft | Corner::BottomLeft => x0 + 8.0,
-            };
-            let ly = match p.legend {
-                Corner::TopRight | Corner::TopLeft => y0 + 8.0,
-                Corner::BottomRight | Corner::BottomLeft => y1 - h - 8.0,
-            };
+            let (w, h) = (lw, lh);
+            let (lx, ly) = legend_box(corner);
             let _ = writeln!(
                 s,
                 r#"<rect x="{lx:.1}" y="{ly:.1}" width="{w:.1}" height="{h:.1}" fill="white" fill-opacity="0.85" stroke="gray"/>"#
@@ -436,5 +525,111 @@ mod tests {
         assert_eq!(svg.matches("<circle").count(), 2 + 1); // 2 points + legend sample
         assert_eq!(svg.matches("stroke-dasharray").count(), 1); // one run of 2 points
         assert!(!svg.contains("NaN") && !svg.contains("inf"));
+    }
+
+    /// Liang–Barsky: a segment that crosses the rectangle with both ends outside covers it;
+    /// one that passes beside it, or a marker outside it, does not.
+    #[test]
+    fn coverage_of_a_rectangle_by_segments_and_markers() {
+        let id = |v: f64| v;
+        let rect = (10.0, 10.0, 20.0, 20.0);
+        let line = |x: Vec<f64>, y: Vec<f64>| Series::new("", x, y, Style::Line, "red");
+        assert!(covers(
+            &line(vec![0.0, 30.0], vec![15.0, 15.0]),
+            &id,
+            &id,
+            rect
+        ));
+        assert!(covers(
+            &line(vec![0.0, 30.0], vec![0.0, 30.0]),
+            &id,
+            &id,
+            rect
+        ));
+        assert!(!covers(
+            &line(vec![0.0, 30.0], vec![25.0, 25.0]),
+            &id,
+            &id,
+            rect
+        ));
+        assert!(!covers(
+            &line(vec![0.0, 9.0], vec![0.0, 30.0]),
+            &id,
+            &id,
+            rect
+        ));
+        let dots = |x: Vec<f64>, y: Vec<f64>| Series::new("", x, y, Style::Markers, "blue");
+        assert!(covers(&dots(vec![15.0], vec![12.0]), &id, &id, rect));
+        assert!(!covers(
+            &dots(vec![5.0, 25.0], vec![15.0, 15.0]),
+            &id,
+            &id,
+            rect
+        ));
+    }
+
+    /// The legend box (the only rect with `fill-opacity`) of the first panel: (x, y, w, h).
+    fn legend_rect(svg: &str) -> (f64, f64, f64, f64) {
+        let line = svg
+            .lines()
+            .find(|l| l.contains("fill-opacity"))
+            .expect("a legend");
+        let attr = |k: &str| -> f64 {
+            let a = line.find(&format!(" {k}=\"")).expect(k) + k.len() + 3;
+            line[a..a + line[a..].find('"').expect("quote")]
+                .parse()
+                .expect("number")
+        };
+        (attr("x"), attr("y"), attr("width"), attr("height"))
+    }
+
+    /// A rising line fills the top-right corner: the legend moves to the top left, where
+    /// the line is low. Lines in all four corners: the y axis gains headroom instead, and
+    /// the legend lies above every point of the data.
+    #[test]
+    fn legend_never_covers_data() {
+        let rising = Panel::new("p", "x (m)", "y (m)").with(Series::new(
+            "rising",
+            (0..=100).map(|i| i as f64).collect(),
+            (0..=100).map(|i| i as f64).collect(),
+            Style::Line,
+            "red",
+        ));
+        let fig = Figure::new().with(rising);
+        let (x, _, _, _) = legend_rect(&fig.to_svg());
+        assert_eq!(x, MARGIN_LEFT + 8.0, "top left expected");
+        // Two horizontal lines near the top and the bottom of the range cross every corner's
+        // box (a line right on the frame's edge would pass beside it).
+        let full = Panel::new("p", "x (m)", "y (m)")
+            .with(Series::new(
+                "top",
+                vec![0.0, 100.0],
+                vec![95.0, 95.0],
+                Style::Line,
+                "red",
+            ))
+            .with(Series::new(
+                "bottom",
+                vec![0.0, 100.0],
+                vec![5.0, 5.0],
+                Style::Line,
+                "blue",
+            ));
+        let fig = Figure::new().with(full);
+        let svg = fig.to_svg();
+        let (_, y, _, h) = legend_rect(&svg);
+        // The y of the data's top line, read back from its polyline.
+        let top = svg
+            .lines()
+            .find(|l| l.contains("<polyline") && l.contains("red"))
+            .and_then(|l| l.split("points=\"").nth(1))
+            .and_then(|p| p.split(' ').next())
+            .and_then(|p| p.split(',').nth(1))
+            .and_then(|v| v.parse::<f64>().ok())
+            .expect("top line");
+        assert!(
+            y + h < top,
+            "legend {y}+{h} must lie above the data at {top}"
+        );
     }
 }
