@@ -325,7 +325,8 @@ impl AnalysisSpec {
             for (v, k, unit) in [(r.alpha, "alpha", "1/s"), (r.beta, "beta", "s")] {
                 if !(v.is_finite() && v >= 0.0) {
                     bad(format!(
-                        "`rayleigh.{k}` = {v:e}: a negative or non-finite Rayleigh coefficient pumps energy in; give a value ≥ 0 {unit} (0 for none)"
+                        "`rayleigh.{k}` = {}: a negative or non-finite Rayleigh coefficient pumps energy in; give a value ≥ 0 {unit} (0 for none)",
+                        fmt_num(v)
                     ));
                 }
             }
@@ -712,13 +713,19 @@ impl ModelBuilder {
             analysis,
             resources,
             plugins,
-            mut errors,
+            errors,
         } = self;
-        if let Err(e) = analysis.validate(&origin) {
-            errors.push(e);
-        }
+        // The `[analysis]` settings are independent of the nodes and elements: their
+        // problems are listed with those of the next stage instead of hiding them.
+        // So are the names of the recorders' files (inside `--out`, unique, not railfem's own).
+        let analysis_problem = analysis.validate(&origin).err();
+        let files: Vec<&str> = recorders.iter().map(RecorderSpec::file).collect();
+        let output_problem = crate::outputs::check_recorder_files(&files)
+            .err()
+            .map(|(i, m)| FemError::input(format!("{origin}: recorder[{i}]"), m));
         FemError::from_list(errors)?;
-        let mut errors = Vec::new();
+        let mut errors: Vec<FemError> =
+            analysis_problem.into_iter().chain(output_problem).collect();
         // Carriers first: internal nodes inherit them.
         let mut carried: Vec<Option<(usize, CarriedNode)>> = vec![None; nodes.len()];
         let mut carrier_list = Vec::new();
@@ -851,13 +858,6 @@ impl ModelBuilder {
             if let Err(e) = r.validate_at(&model, Some(i)) {
                 errors.push(e);
             }
-        }
-        let files: Vec<&str> = recorders.iter().map(RecorderSpec::file).collect();
-        if let Err((i, m)) = crate::outputs::check_recorder_files(&files) {
-            errors.push(FemError::input(
-                format!("{}: recorder[{i}]", model.origin),
-                m,
-            ));
         }
         FemError::from_list(errors)?;
         model.recorders = recorders;

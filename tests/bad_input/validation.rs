@@ -128,11 +128,11 @@ fn negative_rayleigh_coefficients_are_refused() {
     for (table, key) in [
         (
             "rayleigh = {alpha = -0.5, beta = 0.0}",
-            "`rayleigh.alpha` = -5e-1",
+            "`rayleigh.alpha` = -0.5",
         ),
         (
             "rayleigh = {alpha = 0.0, beta = -1.0e-4}",
-            "`rayleigh.beta` = -1e-4",
+            "`rayleigh.beta` = -0.0001",
         ),
     ] {
         let text = edit(
@@ -360,6 +360,27 @@ fn check_lists_every_independent_problem() {
         "elem.toml",
         &text,
         &[&["element[0] (id 7, beam3d)", "`E` = 0", "positive"]],
+    );
+}
+
+/// The `[analysis]` settings and the recorders' file names do not depend on the elements:
+/// their problems are listed beside a bad element's instead of hiding it (and behind it).
+#[test]
+fn check_lists_analysis_and_output_problems_beside_element_ones() {
+    let text = edit(
+        "kind = \"static\"",
+        "kind = \"transient\"\ndt = 0.01\nduration = 0.1\nrayleigh = {alpha = -1.0, beta = 0.0}",
+    )
+    .replace("E = 2.1e11", "E = 0.0")
+    .replace("file = \"tip.csv\"", "file = \"../tip.csv\"");
+    check_lists_and_run_stops_at_the_first(
+        "stages.toml",
+        &text,
+        &[
+            &["[analysis]", "`rayleigh.alpha` = -1", "give a value ≥ 0"],
+            &["recorder[0]", "`..`", "relative file name"],
+            &["element[0] (id 7, beam3d)", "`E` = 0", "positive"],
+        ],
     );
 }
 
