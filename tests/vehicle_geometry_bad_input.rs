@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{railfem, temp_dir};
+use common::{railfem, refused_with, temp_dir};
 
 /// A lever: node 1 turns about z (translations and rx, ry fixed), node 2 is its rigid
 /// arm, node 3 a second arm on node 2; a grounded spring holds node 3.
@@ -55,17 +55,8 @@ fn check(name: &str, text: &str, expect: &[&str]) -> String {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write model");
     let o = railfem(&["check", path.to_str().expect("utf-8")]);
-    let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(o.status.code(), Some(2), "{name}: exit code; stderr: {err}");
-    assert!(
-        err.ends_with('\n') && err.lines().count() == 1,
-        "{name}: one line expected, got {err:?}"
-    );
-    assert!(!err.contains("panicked"), "{name}: {err}");
+    let err = refused_with(name, &o, expect);
     assert!(err.contains(name), "{name}: the file is not named: {err}");
-    for e in expect {
-        assert!(err.contains(e), "{name}: expected `{e}` in: {err}");
-    }
     let _ = std::fs::remove_dir_all(&dir);
     err
 }
