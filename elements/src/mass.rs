@@ -20,9 +20,7 @@
 
 use crate::beam3d::support;
 use nalgebra::{DMatrix, Matrix3, Vector3};
-use railfem_framework::element::{
-    Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, TrialState,
-};
+use railfem_framework::element::{Element, ElementError, ElementProperties, NodeDofs, TrialState};
 use railfem_framework::limits::fmt_num;
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use railfem_framework::{serde_json, FemError};
@@ -184,16 +182,13 @@ fn samples() -> Vec<Sample> {
             let pos = [Vector3::new(0.0, 0.0, 0.8)];
             let mut ctx = support::PointContext::new(&pos);
             let element = build(&support::spec("mass", &[1], params), &mut ctx).ok()?;
-            Some(Sample {
-                name: name.to_string(),
+            Some(support::sample_on_points(
+                name,
                 element,
-                nodes: vec![NodeKinematics::fixed(pos[0])],
-                disp: support::pseudo_random_state(500 + i as u64, 1, 1e-3, 1e-3),
-                vel: support::pseudo_random_state(600 + i as u64, 1, 1e-2, 1e-2),
-                fd_step: 1e-6,
-                committed_disp: None,
-                rebuild: None,
-            })
+                &pos,
+                500 + i as u64,
+                (1e-3, 1e-3),
+            ))
         })
         .collect()
 }

@@ -24,9 +24,7 @@
 
 use crate::beam3d::support;
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
-use railfem_framework::element::{
-    Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, TrialState,
-};
+use railfem_framework::element::{Element, ElementError, ElementProperties, NodeDofs, TrialState};
 use railfem_framework::limits::fmt_num;
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use railfem_framework::{serde_json, FemError};
@@ -322,16 +320,13 @@ fn samples() -> Vec<Sample> {
             let ids: Vec<u64> = (1..=pos.len() as u64).collect();
             let mut ctx = support::PointContext::new(&pos);
             let element = build(&support::spec("spring_damper", &ids, params), &mut ctx).ok()?;
-            Some(Sample {
-                name: name.to_string(),
+            Some(support::sample_on_points(
+                name,
                 element,
-                nodes: pos.iter().map(|p| NodeKinematics::fixed(*p)).collect(),
-                disp: support::pseudo_random_state(300 + i as u64, pos.len(), 1e-3, 1e-3),
-                vel: support::pseudo_random_state(400 + i as u64, pos.len(), 1e-2, 1e-2),
-                fd_step: 1e-6,
-                committed_disp: None,
-                rebuild: None,
-            })
+                &pos,
+                300 + i as u64,
+                (1e-3, 1e-3),
+            ))
         })
         .collect()
 }

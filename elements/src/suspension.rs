@@ -62,9 +62,7 @@
 
 use crate::beam3d::support;
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
-use railfem_framework::element::{
-    Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, TrialState,
-};
+use railfem_framework::element::{Element, ElementError, ElementProperties, NodeDofs, TrialState};
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use railfem_framework::rotation::{compose, exp, log, rotation_vector_from_spin, skew};
 use railfem_framework::{serde_json, FemError};
@@ -390,16 +388,13 @@ fn samples() -> Vec<Sample> {
         .filter_map(|(i, (name, params))| {
             let mut ctx = support::PointContext::new(&pts);
             let element = build(&support::spec("suspension", &[1, 2], params), &mut ctx).ok()?;
-            Some(Sample {
-                name: name.to_string(),
+            Some(support::sample_on_points(
+                name,
                 element,
-                nodes: pts.iter().map(|p| NodeKinematics::fixed(*p)).collect(),
-                disp: support::pseudo_random_state(700 + i as u64, 2, 0.1, 1e-6),
-                vel: support::pseudo_random_state(800 + i as u64, 2, 1e-2, 1e-2),
-                fd_step: 1e-6,
-                committed_disp: None,
-                rebuild: None,
-            })
+                &pts,
+                700 + i as u64,
+                (0.1, 1e-6),
+            ))
         })
         .collect()
 }

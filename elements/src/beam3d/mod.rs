@@ -669,20 +669,15 @@ fn samples() -> Vec<Sample> {
             let mut ctx = support::PointContext::new(&pos);
             let spec = support::spec("beam3d", &[1, 2], params);
             let element = build(&spec, &mut ctx).ok()?;
-            Some(Sample {
-                name: name.to_string(),
+            // Samples 4 on are strongly deformed (finite rotations for the corotational beam).
+            let scale = if i >= 4 { (0.2, 1.2) } else { (1e-3, 1e-3) };
+            Some(support::sample_on_points(
+                name,
                 element,
-                nodes: pos.iter().map(|p| NodeKinematics::fixed(*p)).collect(),
-                disp: if i >= 4 {
-                    support::pseudo_random_state(100 + i as u64, 2, 0.2, 1.2)
-                } else {
-                    support::pseudo_random_state(100 + i as u64, 2, 1e-3, 1e-3)
-                },
-                vel: support::pseudo_random_state(200 + i as u64, 2, 1e-2, 1e-2),
-                fd_step: 1e-6,
-                committed_disp: None,
-                rebuild: None,
-            })
+                &pos,
+                100 + i as u64,
+                scale,
+            ))
         })
         .collect()
 }
@@ -690,7 +685,7 @@ fn samples() -> Vec<Sample> {
 railfem_framework::inventory::submit! {
     ElementKind {
         name: "beam3d",
-        description: "linear 2-node 3-D Euler–Bernoulli/Timoshenko beam, 6 DOF per node",
+        description: "2-node 3-D Euler–Bernoulli/Timoshenko beam, 6 DOF per node; geometry linear, pdelta or corotational",
         params: <Beam3dParams as Params>::docs,
         build,
         samples,
@@ -818,6 +813,28 @@ pub(crate) mod support {
             .enumerate()
             .map(|(i, r)| r * if i % 6 < 3 { trans } else { rot })
             .collect()
+    }
+
+    /// A conformance sample of `element` on fixed nodes at `pos`: displacements up to
+    /// `(trans, rot)` drawn from `seed`, velocities up to 1e-2 from `seed + 100`, the kit's
+    /// default difference step, no committed history.
+    pub(crate) fn sample_on_points(
+        name: &str,
+        element: Box<dyn Element>,
+        pos: &[Vector3<f64>],
+        seed: u64,
+        (trans, rot): (f64, f64),
+    ) -> Sample {
+        Sample {
+            name: name.to_string(),
+            element,
+            nodes: pos.iter().map(|p| NodeKinematics::fixed(*p)).collect(),
+            disp: pseudo_random_state(seed, pos.len(), trans, rot),
+            vel: pseudo_random_state(seed + 100, pos.len(), 1e-2, 1e-2),
+            fd_step: 1e-6,
+            committed_disp: None,
+            rebuild: None,
+        }
     }
 }
 
