@@ -318,23 +318,14 @@ pub fn parse<S: AsRef<OsStr>>(argv: &[S]) -> Result<Args, FemError> {
 
 /// Hands `--max-memory` and `--max-steps` to the size guards ([`crate::framework::limits`]).
 fn set_limits(a: &Args) -> Result<(), FemError> {
-    use crate::framework::limits::{parse_bytes, parse_count, set_command_line, LimitSpec};
+    use crate::framework::limits::{set_command_line, set_from_text, LimitSpec, LIMIT_KEYS};
     let mut spec = LimitSpec::default();
-    if let Some(v) = a.opt("max-memory") {
-        spec.max_memory = Some(parse_bytes(v).ok_or_else(|| {
-            FemError::input(
-                "command line",
-                format!("--max-memory {v}: give bytes (e.g. 8e9) or a size such as 8G or 512M"),
-            )
-        })?);
-    }
-    if let Some(v) = a.opt("max-steps") {
-        spec.max_steps = Some(parse_count(v).ok_or_else(|| {
-            FemError::input(
-                "command line",
-                format!("--max-steps {v}: give a whole number of steps ≥ 1 (e.g. 1e8)"),
-            )
-        })?);
+    for key in LIMIT_KEYS {
+        let flag = key.replace('_', "-");
+        if let Some(v) = a.opt(&flag) {
+            set_from_text(&mut spec, key, v)
+                .map_err(|m| FemError::input("command line", format!("--{flag} {v}: {m}")))?;
+        }
     }
     set_command_line(spec);
     Ok(())

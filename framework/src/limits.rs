@@ -160,6 +160,27 @@ pub fn check_file(path: &std::path::Path, what: &str) -> Result<(), String> {
     ))
 }
 
+/// The names of the budgets, as `[limits]` keys (the command line spells them with `-`).
+pub const LIMIT_KEYS: [&str; 2] = ["max_memory", "max_steps"];
+
+/// Reads budget `key` (one of [`LIMIT_KEYS`]) from its text into `spec`, for the model
+/// file's `[limits]` and the command line alike; the error says what to give.
+pub fn set_from_text(spec: &mut LimitSpec, key: &str, text: &str) -> Result<(), String> {
+    match key {
+        "max_memory" => {
+            spec.max_memory = Some(
+                parse_bytes(text).ok_or("give bytes (e.g. 8e9) or a size such as 8G or 512M")?,
+            )
+        }
+        "max_steps" => {
+            spec.max_steps =
+                Some(parse_count(text).ok_or("give a whole number of steps ≥ 1 (e.g. 1e8)")?)
+        }
+        _ => return Err(format!("valid keys: {}", LIMIT_KEYS.join(", "))),
+    }
+    Ok(())
+}
+
 /// Parses a byte count: a number of bytes (`8e9`) or a number with a binary suffix
 /// `K`, `M`, `G`, `T` (optionally followed by `iB` or `B`: `8G`, `512MiB`).
 pub fn parse_bytes(text: &str) -> Option<u64> {

@@ -431,34 +431,20 @@ fn parse_limits(v: &Value, origin: &str) -> Result<LimitSpec, FemError> {
             Value::Number(n) => n.to_string(),
             _ => String::new(),
         };
-        match k.as_str() {
-            "max_memory" => {
-                spec.max_memory = Some(crate::limits::parse_bytes(&text).ok_or_else(|| {
-                    FemError::input(
-                        origin,
-                        format!(
-                            "`max_memory` = {x}; give bytes (e.g. 8e9) or a size such as \"8G\""
-                        ),
-                    )
-                })?)
-            }
-            "max_steps" => {
-                spec.max_steps = Some(crate::limits::parse_count(&text).ok_or_else(|| {
-                    FemError::input(
-                        origin,
-                        format!("`max_steps` = {x}; give a whole number of steps ≥ 1"),
-                    )
-                })?)
-            }
-            other => {
-                let hint = nearest(other, &["max_memory", "max_steps"])
-                    .map(|n| format!(" (did you mean `{n}`?)"))
-                    .unwrap_or_default();
-                return Err(FemError::input(
-                    origin,
-                    format!("unknown key `{other}`{hint}; valid keys: max_memory, max_steps"),
-                ));
-            }
+        if crate::limits::LIMIT_KEYS.contains(&k.as_str()) {
+            crate::limits::set_from_text(&mut spec, k, &text)
+                .map_err(|m| FemError::input(origin, format!("`{k}` = {x}; {m}")))?;
+        } else {
+            let hint = nearest(k, &crate::limits::LIMIT_KEYS)
+                .map(|n| format!(" (did you mean `{n}`?)"))
+                .unwrap_or_default();
+            return Err(FemError::input(
+                origin,
+                format!(
+                    "unknown key `{k}`{hint}; valid keys: {}",
+                    crate::limits::LIMIT_KEYS.join(", ")
+                ),
+            ));
         }
     }
     Ok(spec)
