@@ -12,6 +12,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod beam3d;
+pub mod force_law;
 pub mod mass;
 pub mod rail;
 pub mod spring_damper;

@@ -1,8 +1,9 @@
-//! `spring_damper`: six uncoupled linear springs and dashpots between two nodes (or one
-//! node and the ground) acting in a local frame — the zero-length link used for rail pads,
-//! fasteners, ballast and vehicle suspensions.
+//! `spring_damper`: six uncoupled springs and dashpots between two nodes (or one node and
+//! the ground) acting in a local frame — the zero-length link used for rail pads,
+//! fasteners, ballast and vehicle suspensions. Linear by default; a direction may instead
+//! follow a force table and/or a bump stop ([`crate::force_law`]).
 //!
-//! What does not live here: nonlinear or hysteretic springs (see the plugin example), and
+//! What does not live here: hysteretic springs (see the plugin example), and
 //! moment arms between distinct node positions (the element is *zero-length*: it connects
 //! the DOFs of its nodes directly, wherever the nodes are).
 //!
@@ -15,6 +16,12 @@
 //! `R₆ᵀ·f` as resisting force and node I its negative, so the nodal stiffness is
 //! `[[K_g, −K_g], [−K_g, K_g]]` with `K_g = R₆ᵀ·K·R₆` (and the same for `C`).
 //!
+//! **Nonlinear directions.** With a `force_table` or a `bump_stop` in any direction, the
+//! local force of direction `i` is `F_i(δ_i) + c_i·δ̇_i` with the law `F_i` of
+//! [`crate::force_law`] (the linear `k_i·δ_i` in the other directions) and the nodal
+//! stiffness `K_g = R₆ᵀ·diag(dF_i/dδ_i)·R₆` at the trial state; the element then declares
+//! itself not linear. Without them nothing changes: constant `K`, the same arithmetic.
+//!
 //! **Objectivity.** A rigid translation gives `δ = 0`. A rigid rotation `θ` about a point
 //! gives equal rotations at both nodes (no rotational spring force) but
 //! `u_J − u_I = θ × (x_J − x_I)`, which loads the translational springs unless the nodes
@@ -23,6 +30,7 @@
 //! Both nodes must have the same axes (ordinary nodes: global X-Y-Z).
 
 use crate::beam3d::support;
+use crate::force_law::{build_laws, zero_at_rest, BumpStops, ForceLaw, ForceTables};
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
 use railfem_framework::element::{Element, ElementError, ElementProperties, NodeDofs, TrialState};
 use railfem_framework::limits::fmt_num;
@@ -38,6 +46,10 @@ railfem_framework::element_params! {
         c: [f64; 6] ["N*s/m, N*m*s/rad"] = [0.0; 6],
         /// Local axes as rows in nodal axes: [] = the node's axes; [[x], [y]] (z = x × y, y made orthogonal to x); or [[x], [y], [z]] with z along x × y.
         axes: Vec<[f64; 3]> ["-"] = Vec::<[f64; 3]>::new(),
+        /// Force–deflection tables by local direction (ux uy uz rx ry rz): `{uz = [[d, F], …]}`, piecewise linear, replacing that direction's `k`.
+        force_table: ForceTables ["m, N; rad, N*m"] = ForceTables::new(),
+        /// Bump stops by local direction: `{uz = {gap = g or [compression, extension], k = k_stop}}`, free inside the gap, added to the spring.
+        bump_stop: BumpStops ["m, N/m; rad, N*m/rad"] = BumpStops::new(),
     }
 }
 
@@ -113,7 +125,16 @@ pub struct SpringDamper {
     rel: Vector6<f64>,
     /// Relative velocity (m/s, rad/s).
     rel_v: Vector6<f64>,
+    /// Nonlinear laws of the six local directions, `None` on the linear path.
+    laws: Option<Vec<ForceLaw>>,
+    /// Spring force in local axes (without dashpots) and the nodal tangent at the trial
+    /// state (nonlinear path only).
+    spring_local: Vector6<f64>,
+    kt: Matrix6<f64>,
 }
+
+/// The six local direction names, the keys of `force_table` and `bump_stop`.
+pub const DIRECTIONS: [&str; 6] = ["ux", "uy", "uz", "rx", "ry", "rz"];
 
 impl SpringDamper {
     /// Builds the element on `nodes` (one index: grounded; two: I, J) at reference
@@ -144,6 +165,13 @@ impl SpringDamper {
             }
         }
         let axes = spring_axes(&params.axes).map_err(bad)?;
+        let laws = build_laws(
+            &DIRECTIONS,
+            &params.k,
+            &params.force_table,
+            &params.bump_stop,
+        )
+        .map_err(bad)?;
         let coincident = pos.len() == 2 && {
             let scale = pos[0].norm().max(pos[1].norm()).max(1.0);
             (pos[1] - pos[0]).norm() <= 1e-9 * scale
@@ -157,7 +185,31 @@ impl SpringDamper {
             params,
             rel: Vector6::zeros(),
             rel_v: Vector6::zeros(),
+            laws,
+            spring_local: Vector6::zeros(),
+            kt: Matrix6::zeros(),
         })
+    }
+
+    /// Whether a direction follows a force table or a bump stop.
+    pub fn nonlinear(&self) -> bool {
+        self.laws.is_some()
+    }
+
+    /// The laws at the current relative displacement: local spring forces and the nodal
+    /// tangent `R₆ᵀ·diag(dF/dδ)·R₆`.
+    fn evaluate_laws(&mut self) {
+        let Some(laws) = &self.laws else { return };
+        let mut kd = [0.0; 6];
+        for b in 0..2 {
+            let d = self.axes * self.rel.fixed_rows::<3>(3 * b);
+            for i in 0..3 {
+                let (f, k) = laws[3 * b + i].force_and_tangent(d[i]);
+                self.spring_local[3 * b + i] = f;
+                kd[3 * b + i] = k;
+            }
+        }
+        self.kt = to_nodal(&self.axes, &kd);
     }
 
     /// Whether the element is grounded (one node).
@@ -174,6 +226,16 @@ impl SpringDamper {
     /// (N for translations, N·m for rotations); positive when node J moves (or turns)
     /// along the positive local axis relative to node I (tension positive).
     pub fn local_force(&self) -> Vector6<f64> {
+        if self.laws.is_some() {
+            let mut out = self.spring_local;
+            for b in 0..2 {
+                let dv = self.axes * self.rel_v.fixed_rows::<3>(3 * b);
+                for i in 0..3 {
+                    out[3 * b + i] += self.params.c[3 * b + i] * dv[i];
+                }
+            }
+            return out;
+        }
         let mut out = Vector6::zeros();
         for b in 0..2 {
             let d = self.axes * self.rel.fixed_rows::<3>(3 * b);
@@ -219,14 +281,14 @@ impl Element for SpringDamper {
 
     fn properties(&self) -> ElementProperties {
         ElementProperties {
-            linear: true,
+            linear: self.laws.is_none(),
             constant_mass: true,
             constant_damping: true,
             has_mass: false,
             has_damping: self.params.c.iter().any(|&c| c > 0.0),
             symmetric: true,
             connectivity_may_change: false,
-            objective: self.coincident,
+            objective: self.coincident && zero_at_rest(&self.laws),
             declared_mass: None,
             finite_rotations: false,
         }
@@ -237,11 +299,22 @@ impl Element for SpringDamper {
         support::check_trial(trial, n)?;
         self.rel = relative(trial.disp, self.grounded());
         self.rel_v = relative(trial.vel, self.grounded());
+        self.evaluate_laws();
         Ok(())
     }
 
     fn resisting_force(&self, f: &mut [f64]) {
-        let fj = self.kg * self.rel;
+        let fj = if self.laws.is_some() {
+            // R₆ᵀ·F: the local spring forces back in nodal axes.
+            let mut g = Vector6::zeros();
+            for b in 0..2 {
+                let v = self.axes.transpose() * self.spring_local.fixed_rows::<3>(3 * b);
+                g.fixed_rows_mut::<3>(3 * b).copy_from(&v);
+            }
+            g
+        } else {
+            self.kg * self.rel
+        };
         if self.grounded() {
             f.copy_from_slice(fj.as_slice());
         } else {
@@ -253,7 +326,11 @@ impl Element for SpringDamper {
     }
 
     fn tangent_stiffness(&self, k: &mut DMatrix<f64>) {
-        self.fill(&self.kg, k);
+        if self.laws.is_some() {
+            self.fill(&self.kt, k);
+        } else {
+            self.fill(&self.kg, k);
+        }
     }
 
     fn damping(&self, c: &mut DMatrix<f64>) {
@@ -290,8 +367,27 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
     Ok(Box::new(SpringDamper::new(p, &n, &pos, &spec.origin)?))
 }
 
+/// Parameters and local deflections of the nonlinear conformance sample: a hardening
+/// table on uz (sampled beyond its last point), a softening one on ry (inside a
+/// segment), bump stops engaged on ux (compression) and rx (extension) and open on uy.
+/// Every deflection lies ≥ 1e-4 from a kink, far beyond the kit's difference step.
+fn nonlinear_sample() -> (serde_json::Value, [f64; 6]) {
+    (
+        serde_json::json!({"k": [1e7, 2e7, 3e8, 1e5, 2e5, 3e5],
+            "c": [1e4, 0.0, 3e4, 10.0, 0.0, 30.0],
+            "axes": [[1.0, 1.0, 0.0], [-1.0, 1.0, 0.3]],
+            "force_table": {"uz": [[-2e-3, -2e5], [0.0, 0.0], [1e-3, 3e5], [2e-3, 9e5]],
+                            "ry": [[-1e-2, -3e3], [0.0, 0.0], [1e-2, 1e3]]},
+            "bump_stop": {"ux": {"gap": [1e-3, 5e-3], "k": 1e9},
+                          "uy": {"gap": 1e-2, "k": 1e9},
+                          "rx": {"gap": [0.0, 2e-3], "k": 1e7}}}),
+        [-1.6e-3, 4e-3, 2.7e-3, 3.1e-3, -4e-3, 1e-3],
+    )
+}
+
 /// Conformance samples: coincident nodes with rotated axes and dashpots (objective), a
-/// grounded spring, and a spring between distinct points (not objective).
+/// grounded spring, a spring between distinct points (not objective), and coincident
+/// nodes with force tables and bump stops at a state off their kinks.
 fn samples() -> Vec<Sample> {
     let cases: [(&str, Vec<[f64; 3]>, serde_json::Value); 3] = [
         (
@@ -312,7 +408,7 @@ fn samples() -> Vec<Sample> {
             serde_json::json!({"k": [1e7, 1e7, 1e9, 1e4, 1e4, 1e4]}),
         ),
     ];
-    cases
+    let mut out: Vec<Sample> = cases
         .into_iter()
         .enumerate()
         .filter_map(|(i, (name, pts, params))| {
@@ -328,13 +424,37 @@ fn samples() -> Vec<Sample> {
                 (1e-3, 1e-3),
             ))
         })
-        .collect()
+        .collect();
+    let (params, local) = nonlinear_sample();
+    let pos = [Vector3::new(1.0, 2.0, 0.5); 2];
+    let rows = [[1.0, 1.0, 0.0], [-1.0, 1.0, 0.3]];
+    let mut ctx = support::PointContext::new(&pos);
+    if let (Ok(element), Ok(r)) = (
+        build(&support::spec("spring_damper", &[1, 2], params), &mut ctx),
+        spring_axes(&rows),
+    ) {
+        let mut s = support::sample_on_points(
+            "force tables and bump stops, off the kinks",
+            element,
+            &pos,
+            310,
+            (1e-3, 1e-3),
+        );
+        // Node I at rest, node J at R₆ᵀ·δ: the local deflections are exactly `local`.
+        s.disp = vec![0.0; 12];
+        for b in 0..2 {
+            let v = r.transpose() * Vector3::from_column_slice(&local[3 * b..3 * b + 3]);
+            s.disp[6 + 3 * b..9 + 3 * b].copy_from_slice(v.as_slice());
+        }
+        out.push(s);
+    }
+    out
 }
 
 railfem_framework::inventory::submit! {
     ElementKind {
         name: "spring_damper",
-        description: "six uncoupled linear springs and dashpots in a local frame (zero-length; 1 node grounded or 2 nodes)",
+        description: "six uncoupled springs and dashpots in a local frame, linear or with force tables and bump stops (zero-length; 1 node grounded or 2 nodes)",
         params: <SpringDamperParams as Params>::docs,
         build,
         samples,
@@ -524,11 +644,128 @@ mod tests {
         .unwrap();
     }
 
+    /// With tables and stops (rotated axes): the local outputs equal the laws at the local
+    /// deflections plus the dashpots, the resisting force at J is `R₆ᵀ·F` and at I its
+    /// negative, and the element is not linear. Independent: the laws are evaluated here
+    /// from the key values by hand.
+    #[test]
+    fn nonlinear_force_follows_the_laws_in_local_axes() {
+        let (params, local) = nonlinear_sample();
+        let rows = [[1.0, 1.0, 0.0], [-1.0, 1.0, 0.3]];
+        let r = spring_axes(&rows).unwrap();
+        let mut e = build_at(&[[0.5; 3], [0.5; 3]], params).unwrap();
+        assert!(!e.properties().linear && e.properties().objective);
+        let mut d = vec![0.0; 12];
+        for b in 0..2 {
+            let v = r.transpose() * Vector3::from_column_slice(&local[3 * b..3 * b + 3]);
+            d[6 + 3 * b..9 + 3 * b].copy_from_slice(v.as_slice());
+        }
+        set(e.as_mut(), &d, &[]);
+        // By hand: ux stop engaged by 0.6 mm at 1e9 plus k; uy inside its gap; uz beyond
+        // the table's end, slope 6e8; rx stop engaged by 1.1 mrad at 1e7 plus k; ry inside
+        // [-1e-2, 0] at slope 3e5; rz linear.
+        let want = [
+            1e7 * -1.6e-3 + 1e9 * -0.6e-3,
+            2e7 * 4e-3,
+            9e5 + 6e8 * 0.7e-3,
+            1e5 * 3.1e-3 + 1e7 * 1.1e-3,
+            3e5 * -4e-3,
+            3e5 * 1e-3,
+        ];
+        let mut out = Vec::new();
+        e.outputs(&mut out);
+        let mut f = vec![0.0; 12];
+        e.resisting_force(&mut f);
+        for i in 0..6 {
+            assert!(
+                (out[i] - want[i]).abs() <= 1e-9 * want[i].abs(),
+                "{i}: {} vs {}",
+                out[i],
+                want[i]
+            );
+        }
+        for b in 0..2 {
+            let g = r.transpose() * Vector3::from_column_slice(&want[3 * b..3 * b + 3]);
+            for j in 0..3 {
+                assert!((f[6 + 3 * b + j] - g[j]).abs() <= 1e-9 * g.norm());
+                assert!((f[3 * b + j] + g[j]).abs() <= 1e-9 * g.norm());
+            }
+        }
+    }
+
+    /// Newton on a grounded spring with a four-segment hardening table and a bump stop,
+    /// loaded to a force in each segment from rest: it reaches the closed-form deflection
+    /// (the segment's line solved for the load) without stalling at the kinks, in at most
+    /// one iteration per segment crossed plus one.
+    #[test]
+    fn newton_crosses_the_kinks() {
+        let p = serde_json::json!({"k": [0.0, 0.0, 1.0, 0.0, 0.0, 0.0],
+            "force_table": {"uz": [[0.0, 0.0], [0.01, 1e4], [0.02, 3e4], [0.03, 7e4]]},
+            "bump_stop": {"uz": {"gap": [1.0, 0.035], "k": 1e7}}});
+        let mut e = build_at(&[[0.0; 3]], p).unwrap();
+        // Segments: slope 1e6, 2e6, 4e6, then 4e6 beyond 0.03, plus 1e7 beyond 0.035.
+        for (load, d_exact) in [
+            (5e3, 5e-3),
+            (2e4, 0.015),
+            (5e4, 0.025),
+            (8e4, 0.0325),
+            (1.5e5, 0.035 + (1.5e5 - 9e4) / 1.4e7),
+        ] {
+            let mut d = [0.0; 6];
+            let mut its = 0;
+            loop {
+                set(e.as_mut(), &d, &[]);
+                let mut f = vec![0.0; 6];
+                e.resisting_force(&mut f);
+                let r = load - f[2];
+                if r.abs() <= 1e-9 * load {
+                    break;
+                }
+                let mut k = DMatrix::zeros(6, 6);
+                e.tangent_stiffness(&mut k);
+                d[2] += r / k[(2, 2)];
+                its += 1;
+                assert!(its <= 6, "load {load}: no convergence, d = {}", d[2]);
+            }
+            assert!(
+                (d[2] - d_exact).abs() <= 1e-12,
+                "{load}: {} vs {d_exact}",
+                d[2]
+            );
+        }
+    }
+
+    #[test]
+    fn bad_tables_and_stops_are_refused_with_the_key_named() {
+        let two = [[0.0; 3], [0.0; 3]];
+        for (p, key) in [
+            (
+                serde_json::json!({"k": K, "force_table": {"uw": [[0.0, 0.0], [1.0, 1.0]]}}),
+                "`uw` is not a direction",
+            ),
+            (
+                serde_json::json!({"k": K, "force_table": {"uz": [[0.0, 0.0], [0.0, 1.0]]}}),
+                "`force_table.uz`[1]",
+            ),
+            (
+                serde_json::json!({"k": K, "bump_stop": {"rx": {"gap": [0.1, -0.1], "k": 1.0}}}),
+                "`bump_stop.rx` gap (extension)",
+            ),
+            (
+                serde_json::json!({"k": K, "bump_stop": {"rx": {"gap": 0.1, "k": 1.0, "kk": 2.0}}}),
+                "kk",
+            ),
+        ] {
+            let e = err(&two, p);
+            assert!(e.contains(key), "{e}");
+        }
+    }
+
     #[test]
     fn registered_with_samples() {
         let k = railfem_framework::registry::find("spring_damper").expect("registered");
         let s = (k.samples)();
-        assert_eq!(s.len(), 3);
+        assert_eq!(s.len(), 4);
         for x in &s {
             assert_eq!(x.disp.len(), x.element.ndof());
         }

@@ -45,6 +45,12 @@
 //! converges to the same equilibrium (the resisting force is exact) and near it almost as
 //! fast. `"consistent"` (the default) returns `K_t`.
 //!
+//! **Nonlinear axes.** A `force_table` or a `bump_stop` on axis 1, 2 or 3 replaces
+//! `K·d` along that axis by the law `F_a(d_a)` of [`crate::force_law`], so
+//! `g_a = F_a(d_a) + f₀_a`, and `K` in the material tangent by `diag(dF_a/dd_a)` at the
+//! trial deflection; the geometric terms are unchanged (they hold `G` whatever its law).
+//! The laws act on the translational deflection only, not on `k_rot`.
+//!
 //! **Rotational stiffness** (the anti-roll bar): `ρ = log(R_Iᵀ·R_J)`, potential
 //! `½·ρᵀ·K_r·ρ`, moment `m = R_I·T(ρ)⁻ᵀ·K_r·ρ` on J and `−m` on I (`T` the tangent
 //! operator, [`railfem_framework::rotation::spin_from_rotation_vector`]). Its 6×6 tangent
@@ -58,9 +64,11 @@
 //!
 //! **Objectivity.** A rigid motion of any size leaves `d` and `ρ` unchanged; the nodal
 //! forces then turn with the bodies. Without preload they are zero and the element declares
-//! itself objective; with preload the force is constant in the bodies' axes, not zero.
+//! itself objective; with preload (or a force table that does not pass through (0, 0))
+//! the force is constant in the bodies' axes, not zero.
 
 use crate::beam3d::support;
+use crate::force_law::{build_laws, zero_at_rest, BumpStops, ForceLaw, ForceTables};
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 use railfem_framework::element::{Element, ElementError, ElementProperties, NodeDofs, TrialState};
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
@@ -86,8 +94,15 @@ railfem_framework::element_params! {
         j_from_i: Vec<f64> ["m"] = Vec::<f64>::new(),
         /// "consistent" (exact, unsymmetric) or "symmetric" (its symmetric part, keeps Cholesky).
         tangent: String [""] = "consistent".to_string(),
+        /// Force–deflection tables by axis ("1", "2", "3"): `{3 = [[d, F], …]}`, piecewise linear, replacing that axis's `k` (the preload still adds).
+        force_table: ForceTables ["m, N"] = ForceTables::new(),
+        /// Bump stops by axis: `{3 = {gap = g or [compression, extension], k = k_stop}}`, free inside the gap, added to the spring.
+        bump_stop: BumpStops ["m, N/m"] = BumpStops::new(),
     }
 }
+
+/// The axis names, the keys of `force_table` and `bump_stop`.
+pub const AXES: [&str; 3] = ["1", "2", "3"];
 
 type Mat12 = SMatrix<f64, 12, 12>;
 type Mat3x12 = SMatrix<f64, 3, 12>;
@@ -106,6 +121,8 @@ pub struct Suspension {
     tangent: Mat12,
     /// Deflection `d` and local force `g` at the trial state.
     local: [Vector3<f64>; 2],
+    /// Laws of the three axes, `None` when every axis is the linear `k`.
+    laws: Option<Vec<ForceLaw>>,
 }
 
 /// `[v]×` into rows `r`, columns `c` of a 3×12 block.
@@ -143,6 +160,8 @@ impl Suspension {
                 return Err(bad(format!("`{key}` = {v:?} must be finite")));
             }
         }
+        let laws =
+            build_laws(&AXES, &params.k, &params.force_table, &params.bump_stop).map_err(bad)?;
         let symmetric = match params.tangent.as_str() {
             "consistent" => false,
             "symmetric" => true,
@@ -184,6 +203,7 @@ impl Suspension {
             force: [0.0; 12],
             tangent: Mat12::zeros(),
             local: [Vector3::zeros(); 2],
+            laws,
             params,
         })
     }
@@ -211,8 +231,20 @@ impl Suspension {
         let p_i = x_i + a;
         let p_j = self.x0[1] + v(6) + b;
         let d = r_i.transpose() * (p_j - p_i) - self.d0;
-        let k = Vector3::from(self.params.k);
-        let g = k.component_mul(&d) + Vector3::from(self.params.preload);
+        let (k, spring) = match &self.laws {
+            None => {
+                let k = Vector3::from(self.params.k);
+                (k, k.component_mul(&d))
+            }
+            Some(laws) => {
+                let (mut k, mut f) = (Vector3::zeros(), Vector3::zeros());
+                for a in 0..3 {
+                    (f[a], k[a]) = laws[a].force_and_tangent(d[a]);
+                }
+                (k, f)
+            }
+        };
+        let g = spring + Vector3::from(self.params.preload);
         let big_g = r_i * g;
         let arm = p_j - x_i;
         let mut f = [0.0; 12];
@@ -302,7 +334,7 @@ impl Element for Suspension {
             has_damping: self.params.c.iter().any(|&c| c > 0.0),
             symmetric: self.symmetric,
             connectivity_may_change: false,
-            objective: self.params.preload.iter().all(|&p| p == 0.0),
+            objective: self.params.preload.iter().all(|&p| p == 0.0) && zero_at_rest(&self.laws),
             declared_mass: None,
             finite_rotations: true,
         }
@@ -362,6 +394,17 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
     Ok(Box::new(Suspension::new(p, &n, &pos, &spec.origin)?))
 }
 
+/// The nonlinear sample: the first case with a hardening table on axis 3 and bump
+/// stops on axes 1 (engaged) and 2 (open); the module tests check that the sampled
+/// deflections lie ≥ 1e-3 m from every kink.
+fn nonlinear_sample_params() -> serde_json::Value {
+    serde_json::json!({"offset_i": [1.2, 0.4, 0.0], "offset_j": [1.2, -0.6, 8.0],
+        "k": [1.6e5, 1.9e5, 1.6e5], "c": [5e4, 4e4, 0.0],
+        "preload": [3e3, -1.07e5, 0.0], "k_rot": [0.0, 0.0, 2e6],
+        "force_table": {"3": [[-0.1, -1e4], [0.0, 0.0], [0.05, 1e4], [0.1, 3e4]]},
+        "bump_stop": {"1": {"gap": [0.3, 0.04], "k": 5e6}, "2": {"gap": 0.3, "k": 5e6}}})
+}
+
 /// Conformance samples: a preloaded secondary spring with an anti-roll bar, strongly
 /// deflected (10 cm) and an unloaded one (objective). Rotations stay at 1e-6 rad in the
 /// samples so that an additive finite difference of ψ equals the spin's to 1e-6; the
@@ -380,6 +423,10 @@ fn samples() -> Vec<Sample> {
             serde_json::json!({"offset_i": [-1.0, 0.0, 1.25], "offset_j": [-1.0, -0.05, 0.0],
                 "k": [6.5e6, 1.2e6, 1.5e7]}),
         ),
+        (
+            "force table and bump stops, off the kinks",
+            nonlinear_sample_params(),
+        ),
     ];
     let pts = [Vector3::new(0.0, 0.5, 0.0), Vector3::new(0.0, 1.5, -8.0)];
     cases
@@ -392,7 +439,7 @@ fn samples() -> Vec<Sample> {
                 name,
                 element,
                 &pts,
-                700 + i as u64,
+                700 + (i as u64 % 2),
                 (0.1, 1e-6),
             ))
         })
@@ -537,6 +584,60 @@ mod tests {
         assert!((e.force[7] + 1e5).abs() < 1e-9);
     }
 
+    /// The nonlinear conformance sample sits ≥ 1e-3 m from every kink of its laws (the
+    /// kit's difference step is ~1e-7 m), and its deflections engage the axis-1 stop and
+    /// the table's outer segment.
+    #[test]
+    fn nonlinear_sample_is_off_the_kinks() {
+        let s = samples().pop().unwrap();
+        let pts = [Vector3::new(0.0, 0.5, 0.0), Vector3::new(0.0, 1.5, -8.0)];
+        let p: SuspensionParams = spec("suspension", &[1, 2], nonlinear_sample_params())
+            .parse()
+            .unwrap();
+        let mut e = Suspension::new(p, &[0, 1], &pts, "test").unwrap();
+        e.evaluate(&s.disp);
+        let d = e.local[0];
+        let laws = e.laws.clone().unwrap();
+        for a in 0..3 {
+            for k in laws[a].kinks() {
+                assert!(
+                    (d[a] - k).abs() >= 1e-3,
+                    "axis {a}: d = {} near kink {k}",
+                    d[a]
+                );
+            }
+        }
+        assert!(d[0] > 0.04, "{d:?}");
+    }
+
+    /// A table and a bump stop on axis 3 of a zero-offset vertical spring: the force on
+    /// J is the table value plus the stop force plus the preload, and the tangent's
+    /// (u_J3, u_J3) entry is the segment slope plus the stop rate.
+    #[test]
+    fn table_and_stop_give_the_axial_force_and_rate() {
+        let mut e = element(
+            serde_json::json!({"k": [1e5, 1e5, 1e5], "preload": [0.0, 0.0, -2e4],
+            "force_table": {"3": [[-0.05, -1e4], [0.0, 0.0], [0.05, 5e3]]},
+            "bump_stop": {"3": {"gap": [0.04, 0.1], "k": 1e7}}}),
+        );
+        for (dz, f, k) in [
+            (0.02, 2e3 - 2e4, 1e5),
+            (-0.03, -6e3 - 2e4, 2e5),
+            (-0.045, -9e3 - 2e4 - 1e7 * 0.005, 2e5 + 1e7),
+        ] {
+            let mut u = [0.0; 12];
+            u[8] = dz;
+            e.evaluate(&u);
+            assert!(
+                (e.force[8] - f).abs() < 1e-9 * f.abs(),
+                "{dz}: {} vs {f}",
+                e.force[8]
+            );
+            assert!((e.tangent[(8, 8)] - k).abs() < 1e-9 * k, "{dz}");
+        }
+        assert!(!e.properties().objective);
+    }
+
     #[test]
     fn bad_keys_are_named() {
         let pts = [Vector3::zeros(), Vector3::zeros()];
@@ -549,6 +650,18 @@ mod tests {
             (
                 serde_json::json!({"k": [1.0, 1.0, 0.0], "j_from_i": [1.0]}),
                 "`j_from_i`",
+            ),
+            (
+                serde_json::json!({"k": [1.0, 1.0, 0.0], "force_table": {"z": [[0.0, 0.0], [1.0, 1.0]]}}),
+                "`z` is not a direction",
+            ),
+            (
+                serde_json::json!({"k": [1.0, 1.0, 0.0], "force_table": {"3": [[1.0, 0.0], [0.0, 1.0]]}}),
+                "`force_table.3`[1]",
+            ),
+            (
+                serde_json::json!({"k": [1.0, 1.0, 0.0], "bump_stop": {"3": {"gap": -0.1, "k": 1.0}}}),
+                "`bump_stop.3` gap",
             ),
         ] {
             let s = spec("suspension", &[1, 2], p);
