@@ -16,6 +16,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
+pub mod comfort;
 pub mod conformance;
 pub mod dof;
 pub mod dofmap;

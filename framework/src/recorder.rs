@@ -4,8 +4,13 @@
 //! recorders write displacements, velocities or accelerations of chosen DOFs (in the node's
 //! axes; for a carried node, the deviation from its reference motion); element recorders
 //! write the named outputs an element reports ([`crate::Element::output_names`]).
+//!
+//! The `comfort` recorder is the exception: it keeps the acceleration histories of its
+//! node DOFs through the run and writes, when the run finishes, one row per node and DOF
+//! with Sperling's ride index ([`crate::comfort`]).
 
 use crate::assembly::Assembler;
+use crate::comfort::{sperling_wz, Direction};
 use crate::dof::{Dof, DofSet};
 use crate::error::FemError;
 use crate::model::Model;
@@ -65,13 +70,46 @@ pub enum RecorderSpec {
         /// Output file name, relative to the output directory.
         file: String,
     },
+    /// Ride comfort index of node accelerations, written at the end of the run.
+    Comfort {
+        /// Node ids (`node = 3` or `nodes = [3, 4]`).
+        #[serde(default)]
+        node: Option<u64>,
+        /// More node ids.
+        #[serde(default)]
+        nodes: Vec<u64>,
+        /// Translational DOFs weighted as vertical (`["uz"]`).
+        #[serde(default)]
+        vertical: Vec<String>,
+        /// Translational DOFs weighted as lateral (`["uy"]`).
+        #[serde(default)]
+        lateral: Vec<String>,
+        /// `"sperling"` (the only method implemented).
+        #[serde(default = "default_comfort_method")]
+        method: String,
+        /// Output file name, relative to the output directory.
+        file: String,
+    },
 }
+
+fn default_comfort_method() -> String {
+    "sperling".to_string()
+}
+
+/// Bytes a comfort recorder keeps or allocates per column and recorded step: the
+/// history, its resampled copy (up to twice as long) and the transform's two buffers.
+const COMFORT_BYTES_PER_SAMPLE: f64 = 8.0 * 7.0;
+
+/// Sperling's weightings reach 30 Hz: the recorded steps must resolve it (Nyquist).
+const COMFORT_MAX_INTERVAL: f64 = 1.0 / (2.0 * crate::comfort::BAND_HZ.1);
 
 impl RecorderSpec {
     /// The node ids (node recorder) or element ids (element recorder) the recorder names.
     fn node_ids(&self, model: &Model) -> Vec<u64> {
         match self {
-            RecorderSpec::Node { node, nodes, .. } => node.iter().chain(nodes).copied().collect(),
+            RecorderSpec::Node { node, nodes, .. } | RecorderSpec::Comfort { node, nodes, .. } => {
+                node.iter().chain(nodes).copied().collect()
+            }
             RecorderSpec::Element {
                 element,
                 elements,
@@ -96,7 +134,9 @@ impl RecorderSpec {
     /// Output file name.
     pub fn file(&self) -> &str {
         match self {
-            RecorderSpec::Node { file, .. } | RecorderSpec::Element { file, .. } => file,
+            RecorderSpec::Node { file, .. }
+            | RecorderSpec::Element { file, .. }
+            | RecorderSpec::Comfort { file, .. } => file,
         }
     }
 
@@ -121,6 +161,25 @@ impl RecorderSpec {
             ));
         }
         // The file name is checked with every other output name ([`crate::outputs`]).
+        if let RecorderSpec::Comfort {
+            vertical,
+            lateral,
+            method,
+            ..
+        } = self
+        {
+            for id in &ids {
+                if model.node(*id).is_none() {
+                    return Err(FemError::input(
+                        &o,
+                        format!(
+                            "node {id} does not exist; define it in a [[node]] table or fix the id"
+                        ),
+                    ));
+                }
+            }
+            return validate_comfort(model, &o, ids.len(), vertical, lateral, method);
+        }
         match self {
             RecorderSpec::Node { dofs, .. } => {
                 for id in ids {
@@ -138,6 +197,7 @@ impl RecorderSpec {
                     )
                 })?;
             }
+            RecorderSpec::Comfort { .. } => {}
             RecorderSpec::Element { outputs, .. } => {
                 for id in ids {
                     let Some(e) = model.elements.iter().find(|e| e.id == id) else {
@@ -167,6 +227,115 @@ impl RecorderSpec {
     }
 }
 
+/// Checks a comfort recorder's directions, method, analysis and size (`o` names it).
+fn validate_comfort(
+    model: &Model,
+    o: &str,
+    nodes: usize,
+    vertical: &[String],
+    lateral: &[String],
+    method: &str,
+) -> Result<(), FemError> {
+    let bad = |m: String| FemError::input(o, m);
+    if method != "sperling" {
+        return Err(bad(format!(
+            "`method` = \"{method}\" is not offered; give \"sperling\" (Sperling's Wz; EN 12299 is not implemented)"
+        )));
+    }
+    if vertical.is_empty() && lateral.is_empty() {
+        return Err(bad(
+            "names no direction; add `vertical = [\"uz\"]` and/or `lateral = [\"uy\"]` (translational DOFs)".into(),
+        ));
+    }
+    for (key, list) in [("vertical", vertical), ("lateral", lateral)] {
+        for name in list {
+            if !matches!(name.as_str(), "ux" | "uy" | "uz") {
+                return Err(bad(format!(
+                    "`{key}` names `{name}`; Sperling's index weights translational accelerations: use ux, uy or uz"
+                )));
+            }
+        }
+    }
+    let a = &model.analysis;
+    if a.kind != crate::model::AnalysisKind::Transient {
+        return Err(bad(
+            "a comfort recorder needs a transient analysis (accelerations over time); set `[analysis] kind = \"transient\"` or remove it".into(),
+        ));
+    }
+    let interval = a.dt * a.record_every as f64;
+    if interval > COMFORT_MAX_INTERVAL {
+        return Err(bad(format!(
+            "records every {} s (`dt`·`record_every`), too coarse to resolve Sperling's band up to {} Hz; record at least every {} s",
+            crate::limits::fmt_num(interval),
+            crate::limits::fmt_num(crate::comfort::BAND_HZ.1),
+            crate::limits::fmt_num(COMFORT_MAX_INTERVAL)
+        )));
+    }
+    let samples = (a.duration / interval).ceil() + 2.0;
+    let columns = (nodes * (vertical.len() + lateral.len())) as f64;
+    crate::limits::check_memory(
+        &format!(
+            "`duration` = {} s recorded every {} s",
+            crate::limits::fmt_num(a.duration),
+            crate::limits::fmt_num(interval)
+        ),
+        samples * columns,
+        "comfort samples",
+        COMFORT_BYTES_PER_SAMPLE,
+        "record fewer nodes or directions, or a shorter run",
+    )
+    .map_err(bad)
+}
+
+/// One column of a comfort recorder: the node (id, index), the DOF and its weighting.
+struct ComfortColumn {
+    id: u64,
+    node: usize,
+    dof: Dof,
+    direction: Direction,
+}
+
+/// The histories of a comfort recorder, turned into indices by [`Recorders::finish`].
+struct ComfortHistory {
+    columns: Vec<ComfortColumn>,
+    time: Vec<f64>,
+    values: Vec<Vec<f64>>,
+}
+
+impl ComfortHistory {
+    fn push(&mut self, asm: &Assembler, t: f64, a: &[f64]) {
+        self.time.push(t);
+        for (c, v) in self.columns.iter().zip(&mut self.values) {
+            v.push(asm.dofmap.value(a, c.node, c.dof.index()));
+        }
+    }
+
+    /// Writes `node,dof,weighting,wz,duration_s,samples`, one row per column.
+    fn write(&self, out: &mut BufWriter<File>, path: &Path) -> Result<(), FemError> {
+        let io = |e: std::io::Error| FemError::output(path, e);
+        writeln!(out, "node,dof,weighting,wz,duration_s,samples").map_err(io)?;
+        let duration = match (self.time.first(), self.time.last()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        };
+        for (c, v) in self.columns.iter().zip(&self.values) {
+            let wz = sperling_wz(&self.time, v, c.direction).map_err(|e| {
+                FemError::output(path, format!("node {} {}: {e}", c.id, c.dof.name()))
+            })?;
+            writeln!(
+                out,
+                "{},{},{},{wz:.6},{duration:.6e},{}",
+                c.id,
+                c.dof.name(),
+                c.direction.name(),
+                self.time.len()
+            )
+            .map_err(io)?;
+        }
+        Ok(())
+    }
+}
+
 enum Column {
     Node { node: usize, dof: usize },
     Element { elem: usize, output: usize },
@@ -174,6 +343,8 @@ enum Column {
 
 struct Open {
     quantity: Quantity,
+    /// A comfort recorder's histories (its file is written at the end).
+    comfort: Option<ComfortHistory>,
     columns: Vec<Column>,
     out: BufWriter<File>,
     path: PathBuf,
@@ -200,7 +371,37 @@ impl Recorders {
             let mut out = BufWriter::new(f);
             let mut header = vec!["time".to_string()];
             let mut columns = Vec::new();
+            let mut comfort = None;
             let quantity = match spec {
+                RecorderSpec::Comfort {
+                    vertical, lateral, ..
+                } => {
+                    let mut cols = Vec::new();
+                    for id in spec.node_ids(model) {
+                        let n = model.node(id).expect("validated");
+                        for (list, direction) in [
+                            (vertical, Direction::Vertical),
+                            (lateral, Direction::Lateral),
+                        ] {
+                            for name in list {
+                                if let Some(dof) = Dof::parse(name) {
+                                    cols.push(ComfortColumn {
+                                        id,
+                                        node: n,
+                                        dof,
+                                        direction,
+                                    });
+                                }
+                            }
+                        }
+                    }
+                    comfort = Some(ComfortHistory {
+                        values: vec![Vec::new(); cols.len()],
+                        columns: cols,
+                        time: Vec::new(),
+                    });
+                    Quantity::Acc
+                }
                 RecorderSpec::Node { dofs, quantity, .. } => {
                     let set = DofSet::parse_names(dofs).unwrap_or(DofSet::NONE);
                     for id in spec.node_ids(model) {
@@ -236,9 +437,12 @@ impl Recorders {
                     Quantity::Disp
                 }
             };
-            writeln!(out, "{}", header.join(",")).map_err(|e| FemError::output(&path, e))?;
+            if comfort.is_none() {
+                writeln!(out, "{}", header.join(",")).map_err(|e| FemError::output(&path, e))?;
+            }
             open.push(Open {
                 quantity,
+                comfort,
                 columns,
                 out,
                 path,
@@ -263,6 +467,10 @@ impl Recorders {
         a: &[f64],
     ) -> Result<(), FemError> {
         for o in &mut self.open {
+            if let Some(c) = o.comfort.as_mut() {
+                c.push(asm, t, a);
+                continue;
+            }
             let src = match o.quantity {
                 Quantity::Disp => q,
                 Quantity::Vel => v,
@@ -291,9 +499,12 @@ impl Recorders {
         Ok(())
     }
 
-    /// Flushes every file.
+    /// Writes the comfort recorders' indices (once) and flushes every file.
     pub fn finish(&mut self) -> Result<(), FemError> {
         for o in &mut self.open {
+            if let Some(c) = o.comfort.take() {
+                c.write(&mut o.out, &o.path)?;
+            }
             o.out.flush().map_err(|e| FemError::output(&o.path, e))?;
         }
         Ok(())
