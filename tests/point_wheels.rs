@@ -422,6 +422,54 @@ fn contact_is_lost_over_a_deep_short_dip_and_recovers() {
     }
 }
 
+/// Moved slowly across a dipped joint on rigid rails (static solves at successive
+/// stations), the axle follows the rail top: its drop is the dip's depth there plus the
+/// contact's compression under the unchanged load, `z(s) − G·Q^(2/3)` (Hertz, with its
+/// 1 nm preload) or `z(s) − Q/k` (rigid), for both wheels' shared dip. The stations are
+/// 1 cm apart: between two the rail drops by at most 3.1e-5 m (the dip's largest slope
+/// is 3.06e-3), less than the Hertz compression of 6.7e-5 m, so each static solve starts in
+/// contact (a Hertz wheel in the air has no vertical stiffness: statics needs contact).
+#[test]
+fn axle_follows_the_dip_at_low_speed() {
+    let dip = JointDip {
+        station: 21.0,
+        depth: 1.5e-3,
+        length: 2.0,
+    };
+    let q = 50e3;
+    for kind in ["hertz_wheel", "rigid_wheel"] {
+        let mut v = build(&Case {
+            kind,
+            speed: 1.0,
+            mesh: TrackMesh {
+                dips: vec![dip],
+                ..Default::default()
+            },
+            ws_load: 2.0 * q,
+            ..Default::default()
+        })
+        .unwrap();
+        let contact = if kind == "hertz_wheel" {
+            G * q.powf(2.0 / 3.0) - HERTZ_PRELOAD
+        } else {
+            q / 1e10
+        };
+        let mut worst = 0.0f64;
+        for j in 0..=240 {
+            let t = 0.01 * j as f64;
+            v.d.static_solve(t, 1).unwrap();
+            let s = v.out(0, 0, "station");
+            let expect = dip.height(s) - contact;
+            let got = v.disp(v.ks[0], 1);
+            worst = worst.max((got - expect).abs());
+            assert!(rel(v.out(0, 0, "Q"), q) < 1e-8);
+        }
+        println!("{kind}: largest difference from the dip profile {worst:.2e} m");
+        // Newton's tolerance on the load (1e-11) moves the axle by far less than 1e-12 m.
+        assert!(worst < 1e-12, "{kind}: {worst}");
+    }
+}
+
 /// A model with one hertz_wheel or rigid_wheel element and the track, for bad input.
 fn wheel_model(kind: &str, keys: &str, track: bool) -> String {
     let t = if track {

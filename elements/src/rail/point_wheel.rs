@@ -19,11 +19,12 @@
 //! step between the contact point and the head centre). The rail-minus-wheel displacement
 //!
 //! ```text
-//! Δ = Wᵀ(u_C + θ_C × ρ) − (u_K + θ_K × r) + z(s)·e2 = T·q,
+//! Δ = Wᵀ(u_C + θ_C × ρ) − (u_K + θ_K × r) + z(s) = T·q + z(s),
 //! ```
 //!
-//! `W` the wheel frame, `z(s)` the rail-top irregularity at the station (today the dipped
-//! joints, [`PointWheel::rail_top`] is the one place it is read), is linear in the 18 DOFs.
+//! `W` the wheel frame, `z(s)` the irregularity of the rail head at the station as a
+//! wheel-frame displacement (today the dipped joints, vertical; `rail_irregularity` is the
+//! one place it is read), is linear in the 18 DOFs.
 //! The contact law ([`super::point_contact_law`]) gives the force on the wheel `φ(Δ)` and
 //! `D = ∂φ/∂Δ`; the element force and tangent are `Tᵀ·φ` and `Tᵀ·D·T` (symmetric). A rigid
 //! motion of K and the rail leaves `Δ` unchanged, so the element is objective.
@@ -227,14 +228,14 @@ pub struct PointWheel {
     elem: usize,
     xi: f64,
     station: f64,
-    /// Rail-top irregularity at the station (m, up positive).
-    z: f64,
+    /// Irregularity of the rail head at the station, wheel frame (m): (lateral, up, 0).
+    irregularity: Vector3<f64>,
     /// x_P − x_K and x_P − x_C in the wheel frame (m).
     r_pk: Vector3<f64>,
     rho: Vector3<f64>,
     /// Rail-point interpolation, rows rotated into the wheel frame: 6×12.
     rail_map: SMatrix<f64, 6, 12>,
-    /// Δ = T·q + z·e2 map (3×18).
+    /// The map T of Δ = T·q + z (3×18).
     t: SMatrix<f64, 3, 18>,
     committed_static: f64,
     dirty: bool,
@@ -267,7 +268,7 @@ impl PointWheel {
             elem: usize::MAX,
             xi: 0.0,
             station: f64::NAN,
-            z: 0.0,
+            irregularity: Vector3::zeros(),
             r_pk: Vector3::zeros(),
             rho: Vector3::zeros(),
             rail_map: SMatrix::zeros(),
@@ -307,10 +308,11 @@ impl PointWheel {
         self.contact.penetration
     }
 
-    /// The rail-top irregularity at station `s` (m, up positive): the one place a point
-    /// wheel reads it.
-    fn rail_top(&self, s: f64) -> f64 {
-        self.track.rail_top_height(s)
+    /// The irregularity of this wheel's rail head at station `s`, as a displacement of the
+    /// rail in the wheel frame (m): (lateral along axis 1, up, 0). The one place a point
+    /// wheel reads it; today the dipped joints (vertical only, both rails alike).
+    fn rail_irregularity(&self, s: f64) -> Vector3<f64> {
+        Vector3::new(0.0, self.track.rail_top_height(s), 0.0)
     }
 
     fn place(&mut self, kin: &[NodeKinematics]) -> Result<bool, ElementError> {
@@ -327,7 +329,7 @@ impl PointWheel {
             )));
         };
         self.station = s;
-        self.z = self.rail_top(s);
+        self.irregularity = self.rail_irregularity(s);
         let w = kk.frame;
         let p = self.track.track.at(s);
         // Height of K above the rail-top plane through the centre line.
@@ -371,7 +373,7 @@ impl PointWheel {
 
     fn evaluate(&mut self, q: &[f64]) {
         let qv = SMatrix::<f64, 18, 1>::from_column_slice(q);
-        self.delta = self.t * qv + Vector3::new(0.0, self.z, 0.0);
+        self.delta = self.t * qv + self.irregularity;
         self.contact = self.setup.law.evaluate(&self.delta);
         let f = self.t.transpose() * self.contact.phi;
         self.force.copy_from_slice(f.as_slice());
