@@ -1,5 +1,6 @@
 //! The rail toolkit: alignment and cant, track meshes, profiles, contact geometry, the
-//! moving wheel-axle element, vehicles and the simple theory of the paper's Section 3.
+//! moving wheel-axle element and the point-contact wheels, vehicles and the simple theory
+//! of the paper's Section 3.
 
 pub mod alignment;
 pub mod bridge;
@@ -9,6 +10,8 @@ pub mod contact_law;
 pub mod hertz_spring;
 pub mod lean;
 pub mod moving_axle;
+pub mod point_contact_law;
+pub mod point_wheel;
 pub mod profiles;
 pub mod rail_point;
 pub mod railline;
