@@ -140,7 +140,7 @@ fn wheel_off_the_rail_mesh() {
         &text,
         &[
             "wheelset[0] (body \"axle\")",
-            "starts at station 75 m",
+            "`start` = 75: the wheelset starts at station 75 m",
             "move `start` or lengthen the track",
         ],
     );
@@ -194,5 +194,32 @@ fn vehicle_without_wheelsets() {
             "no wheelsets",
             "give at least one [[wheelset]]",
         ],
+    );
+}
+
+#[test]
+fn force_table_not_sorted_and_bad_bump_stop() {
+    let susp = format!("{SUSP}\nforce_table = {{z = [[0.0, 0.0], [-0.05, -1e4]]}}");
+    check_bad_model(
+        "table.toml",
+        &model(WS_BODY, &susp, WS),
+        &[
+            "suspension[0] \"spring\"",
+            "`force_table.z`",
+            "row 1",
+            "sort the table",
+        ],
+    );
+    let susp = format!("{SUSP}\nbump_stop = {{w = {{gap = 0.02, k = 1e6}}}}");
+    check_bad_model(
+        "stop.toml",
+        &model(WS_BODY, &susp, WS),
+        &["`bump_stop.w`", "unknown direction", "x, y, z, rx, ry, rz"],
+    );
+    let susp = format!("{SUSP}\nbump_stop = {{y = {{gap = -0.02, k = 1e6}}}}");
+    check_bad_model(
+        "stop_gap.toml",
+        &model(WS_BODY, &susp, WS),
+        &["`bump_stop.y`", "≥ 0"],
     );
 }

@@ -94,9 +94,10 @@ fn element_direction(d: &str, nonlinear: bool) -> String {
         "x" => ("uz", "3"),
         "y" => ("ux", "1"),
         "z" => ("uy", "2"),
-        "rx" => ("rz", "r3"),
-        "ry" => ("rx", "r1"),
-        _ => ("ry", "r2"),
+        // Rotations: spring_damper only (refused on nonlinear suspensions before this).
+        "rx" => ("rz", "rz"),
+        "ry" => ("rx", "rx"),
+        _ => ("ry", "ry"),
     };
     (if nonlinear { nl } else { lin }).to_string()
 }
@@ -135,7 +136,8 @@ fn check_on_track(train: &Train, track: &TrackModel, s_v: &[f64]) -> Result<(), 
                 return Err((
                     format!("vehicle {vi}, wheelset[{wi}] (body \"{}\")", w.body),
                     format!(
-                        "starts at station {} m but the rail mesh covers {lo:.3} to {hi:.3} m; move `start` or lengthen the track",
+                        "`start` = {}: the wheelset starts at station {} m but the rail mesh covers {lo:.3} to {hi:.3} m; move `start` or lengthen the track",
+                        fmt_num(train.start),
                         fmt_num(s)
                     ),
                 ));
@@ -412,6 +414,17 @@ pub fn build(
                 let kr = [s.k_rot[1], s.k_rot[2], s.k_rot[0]];
                 let cr = [s.c_rot[1], s.c_rot[2], s.c_rot[0]];
                 let mut p = if nonlinear {
+                    let rot_table = [&s.force_table, &s.bump_stop]
+                        .into_iter()
+                        .flatten()
+                        .flat_map(|m| m.keys())
+                        .find(|d| d.starts_with('r'));
+                    if let Some(d) = rot_table {
+                        return Err(fail(
+                            &format!("vehicle {vi}, {}", v.suspension_label(si)),
+                            &format!("a table or stop on `{d}` is not available in nonlinear geometry (the `suspension` element has them on its three translations only); remove it or use geometry = \"linear\""),
+                        ));
+                    }
                     if cr.iter().any(|&c| c != 0.0) {
                         return Err(fail(
                             &format!("vehicle {vi}, {}", v.suspension_label(si)),
@@ -534,4 +547,26 @@ pub fn build(
         carried,
     );
     Ok(ids)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Vehicle directions land on the element axes of the wheel frame (1 lateral = y,
+    /// 2 vertical = z, 3 longitudinal = x): `spring_damper` ux/uy/uz and rx/ry/rz,
+    /// `suspension` 1/2/3.
+    #[test]
+    fn table_directions_map_to_element_axes() {
+        let lin: Vec<String> = ["x", "y", "z", "rx", "ry", "rz"]
+            .iter()
+            .map(|d| element_direction(d, false))
+            .collect();
+        assert_eq!(lin, ["uz", "ux", "uy", "rz", "rx", "ry"]);
+        let nl: Vec<String> = ["x", "y", "z"]
+            .iter()
+            .map(|d| element_direction(d, true))
+            .collect();
+        assert_eq!(nl, ["3", "1", "2"]);
+    }
 }

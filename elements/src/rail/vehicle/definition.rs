@@ -415,15 +415,63 @@ fn check_directions(
     key: &str,
     m: Option<&serde_json::Map<String, serde_json::Value>>,
 ) -> Result<(), (String, String)> {
-    for d in m.into_iter().flat_map(|m| m.keys()) {
+    let bad = |d: &str, m: String| Err((place.to_string(), format!("`{key}.{d}`: {m}")));
+    for (d, v) in m.into_iter().flat_map(|m| m.iter()) {
         if !DIRECTIONS.contains(&d.as_str()) {
-            return Err((
-                place.to_string(),
+            return bad(
+                d,
                 format!(
-                    "`{key}.{d}`: unknown direction; give one of {} (vehicle axes)",
+                    "unknown direction; give one of {} (vehicle axes)",
                     DIRECTIONS.join(", ")
                 ),
-            ));
+            );
+        }
+        if key == "force_table" {
+            // [[d, F], ...]: finite pairs, deflections strictly increasing.
+            let rows: Option<Vec<[f64; 2]>> = serde_json::from_value(v.clone()).ok();
+            let Some(rows) = rows.filter(|r| r.len() >= 2) else {
+                return bad(
+                    d,
+                    "give a table of at least two [deflection m, force N] pairs".into(),
+                );
+            };
+            if rows.iter().flatten().any(|x| !x.is_finite()) {
+                return bad(d, "has a non-finite entry; give finite numbers".into());
+            }
+            if let Some(i) = (1..rows.len()).find(|&i| rows[i][0] <= rows[i - 1][0]) {
+                return bad(
+                    d,
+                    format!("row {i}: deflections must increase strictly (m); sort the table"),
+                );
+            }
+        } else {
+            // {gap = m or [compression, extension], k = N/m}
+            let gap = v.get("gap");
+            let gaps: Vec<f64> = match gap {
+                Some(serde_json::Value::Array(a)) if a.len() == 2 => {
+                    a.iter().filter_map(|x| x.as_f64()).collect()
+                }
+                Some(x) => x.as_f64().into_iter().collect(),
+                None => Vec::new(),
+            };
+            let k = v.get("k").and_then(|x| x.as_f64());
+            let keys_ok = v
+                .as_object()
+                .is_some_and(|o| o.keys().all(|k| k == "gap" || k == "k"));
+            if gaps.is_empty()
+                || gaps.len() != gap.map_or(0, |g| g.as_array().map_or(1, |a| a.len()))
+                || !keys_ok
+            {
+                return bad(
+                    d,
+                    "give {gap = m or [compression, extension], k = N/m}".into(),
+                );
+            }
+            if gaps.iter().any(|g| !(g.is_finite() && *g >= 0.0))
+                || !k.is_some_and(|k| k.is_finite() && k >= 0.0)
+            {
+                return bad(d, "gaps and k must be finite and ≥ 0 (m, N/m)".into());
+            }
         }
     }
     Ok(())

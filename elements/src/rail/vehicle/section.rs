@@ -134,6 +134,16 @@ fn unit(map: &Map<String, Value>, o: &str, dir: &Path) -> Result<(VehicleDef, us
             format!("`{count_key}` must be at least 1"),
         ));
     }
+    // Size guard before the vehicles are repeated: a carriage is 66 DOFs (bodies, wheels'
+    // contact nodes); a vehicle's own size is checked again when it is built.
+    railfem_framework::limits::check_memory(
+        &format!("`{count_key}` = {count}"),
+        66.0 * count as f64,
+        "vehicle DOFs",
+        railfem_framework::limits::BYTES_PER_DOF,
+        &format!("give fewer `{count_key}`"),
+    )
+    .map_err(|m| FemError::input(o, m))?;
     let inline: Map<String, Value> = map
         .iter()
         .filter(|(k, _)| !UNIT_KEYS.contains(&k.as_str()))

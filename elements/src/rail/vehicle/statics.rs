@@ -171,7 +171,7 @@ fn cholesky_solve(k: &mut [f64], f: &mut [f64], n: usize) -> Result<Vec<f64>, us
         for p in 0..j {
             d -= k[j * n + p] * k[j * n + p];
         }
-        if !(d > 1e-12 * scale) {
+        if d.is_nan() || d <= 1e-12 * scale {
             return Err(j);
         }
         let d = d.sqrt();
