@@ -21,8 +21,8 @@
 
 use super::alignment::SegmentSpec;
 use super::cant::TrackSpec;
-use super::track_model::{generate, JointDip, RailSection, RailSupport, TrackMesh, TrackModel};
-use super::vehicle::{build_train_at, CarriageData, TrainSpec};
+use super::track_model::{generate, JointDip, RailSection, RailSupport, TrackMesh};
+use super::vehicle::section::apply_vehicles;
 use railfem_framework::error::FemError;
 use railfem_framework::model::ModelBuilder;
 use railfem_framework::modelfile::ModelSection;
@@ -79,76 +79,6 @@ fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemE
     Ok(())
 }
 
-/// Deep merge of `patch` into `base` (tables merge key by key, anything else replaces).
-fn merge(base: &mut Value, patch: &Value) {
-    match (base, patch) {
-        (Value::Object(b), Value::Object(p)) => {
-            for (k, v) in p {
-                merge(b.entry(k.clone()).or_insert(Value::Null), v);
-            }
-        }
-        (b, p) => *b = p.clone(),
-    }
-}
-
-fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemError> {
-    let list: Vec<&Value> = match v {
-        Value::Array(a) => a.iter().collect(),
-        o @ Value::Object(_) => vec![o],
-        _ => {
-            return Err(FemError::input(
-                origin,
-                "`vehicle` must be an array of tables ([[vehicle]])",
-            ))
-        }
-    };
-    for (i, item) in list.into_iter().enumerate() {
-        let o = format!("{origin}[{i}]");
-        let Value::Object(map) = item else {
-            return Err(FemError::input(&o, "must be a table"));
-        };
-        let mut map = map.clone();
-        let preset = map.remove("preset");
-        let mut carriage = match preset.as_ref().and_then(Value::as_str) {
-            Some("sks700") | None => {
-                serde_json::to_value(CarriageData::sks700()).unwrap_or(Value::Null)
-            }
-            Some(other) => {
-                return Err(FemError::input(
-                    &o,
-                    format!("unknown preset `{other}`; the presets are: sks700"),
-                ))
-            }
-        };
-        if let Some(over) = map.remove("carriage") {
-            merge(&mut carriage, &over);
-        }
-        map.insert("carriage".into(), carriage);
-        map.entry("carriages").or_insert(Value::from(1));
-        map.entry("wheel")
-            .or_insert(Value::Object(Default::default()));
-        let spec: TrainSpec = TrainSpec::deserialize(Value::Object(map))
-            .map_err(|e| FemError::input(&o, e.to_string()))?;
-        let track =
-            track_of(b).ok_or_else(|| FemError::input(&o, "a vehicle needs a [track] table"))?;
-        if let Value::Object(w) = &spec.wheel {
-            if w.contains_key("side") {
-                return Err(FemError::input(
-                    &o,
-                    "`wheel.side` would be ignored: the vehicle makes a left and a right wheel on every axle; remove `side` from the `wheel` table",
-                ));
-            }
-        }
-        build_train_at(b, &track, &spec, &format!("{o} (vehicle `{}`)", spec.name))?;
-    }
-    Ok(())
-}
-
-fn track_of(b: &ModelBuilder) -> Option<Arc<TrackModel>> {
-    b.resource_get("track")
-        .and_then(|r| r.downcast::<TrackModel>().ok())
-}
-
 railfem_framework::inventory::submit! {
     ModelSection {
         key: "track",
@@ -161,7 +91,7 @@ railfem_framework::inventory::submit! {
 railfem_framework::inventory::submit! {
     ModelSection {
         key: "vehicle",
-        description: "trains of carriages riding the track on moving-axle wheels",
+        description: "trains of vehicles (presets, vehicle files or inline bodies and suspensions) riding the track on wheel elements",
         order: 10,
         apply: apply_vehicles,
     }

@@ -1,0 +1,478 @@
+//! The generic vehicle definition: named rigid bodies, suspensions between them, anti-roll
+//! bars, wheelsets with their wheel model, and sensor points, as a model file or a vehicle
+//! file writes them (vehicle axes: x forwards from the vehicle centre, y left, z up from the
+//! rail-top plane). Also the checks of its numbers before anything is built.
+//!
+//! The order of `body`, `suspension` and `anti_roll_bar` entries is the build order (see
+//! [`super::build`]); a suspension with `mirror = true` stands for itself and its mirror
+//! image at −y, built right after it ([`VehicleDef::normalized`]).
+
+use railfem_framework::limits::fmt_num;
+use serde::{Deserialize, Serialize};
+
+/// A rigid body: mass, inertia about its mass centre in vehicle axes, and the mass centre.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDef {
+    /// Name, unique in the vehicle.
+    pub name: String,
+    /// Mass (kg).
+    pub mass: f64,
+    /// Roll inertia about x (kg·m²).
+    pub ixx: f64,
+    /// Pitch inertia about y (kg·m²).
+    pub iyy: f64,
+    /// Yaw inertia about z (kg·m²).
+    pub izz: f64,
+    /// Product of inertia ∫x·y dm (kg·m²).
+    #[serde(default)]
+    pub ixy: f64,
+    /// Product of inertia ∫x·z dm (kg·m²).
+    #[serde(default)]
+    pub ixz: f64,
+    /// Product of inertia ∫y·z dm (kg·m²).
+    #[serde(default)]
+    pub iyz: f64,
+    /// Mass centre forwards of the vehicle centre (m).
+    #[serde(default)]
+    pub x: f64,
+    /// Mass centre left of the track centre line (m).
+    #[serde(default)]
+    pub y: f64,
+    /// Mass centre above the rail-top plane (m).
+    pub z: f64,
+}
+
+/// A suspension between two bodies, attached at one point `at` of both.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SuspensionDef {
+    /// Name (for messages); default `suspension[i]`.
+    #[serde(default)]
+    pub name: Option<String>,
+    /// The lower body (its axes carry the spring in nonlinear geometry).
+    pub lower: String,
+    /// The upper body.
+    pub upper: String,
+    /// Attachment point [x, y, z] in vehicle axes (m).
+    pub at: [f64; 3],
+    /// Translational stiffnesses [kx, ky, kz] (N/m).
+    pub k: [f64; 3],
+    /// Translational dampers [cx, cy, cz] (N·s/m).
+    #[serde(default)]
+    pub c: [f64; 3],
+    /// Rotational stiffnesses about x, y, z (N·m/rad).
+    #[serde(default)]
+    pub k_rot: [f64; 3],
+    /// Rotational dampers about x, y, z (N·m·s/rad); linear geometry only.
+    #[serde(default)]
+    pub c_rot: [f64; 3],
+    /// Also build the mirror image at −y right after this one.
+    #[serde(default)]
+    pub mirror: bool,
+    /// Mass this suspension carries in the static state (kg): its preload in nonlinear
+    /// geometry is `carries·g`. Absent: the preload comes from the static solve.
+    #[serde(default)]
+    pub carries: Option<f64>,
+    /// Nonlinear force–deflection tables by vehicle direction (`x`, `y`, `z`, `rx`, `ry`,
+    /// `rz`): `[[d, F], …]`, passed to the element as its `force_table`.
+    #[serde(default)]
+    pub force_table: Option<serde_json::Map<String, serde_json::Value>>,
+    /// Bump stops by vehicle direction: `{gap = m or [compression, extension], k = N/m}`.
+    #[serde(default)]
+    pub bump_stop: Option<serde_json::Map<String, serde_json::Value>>,
+}
+
+/// An anti-roll bar: a roll stiffness between two bodies.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AntiRollBarDef {
+    /// The lower body.
+    pub lower: String,
+    /// The upper body.
+    pub upper: String,
+    /// Roll stiffness (N·m/rad).
+    pub k_roll: f64,
+}
+
+/// A wheelset: which body it is, where its wheels touch the rails and the wheel model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsetDef {
+    /// The body that is the wheelset (its node is the axle node K).
+    pub body: String,
+    /// Lateral distance of each wheel's contact point from the centre line (m); default
+    /// the wheel model's (0.75 m).
+    #[serde(default)]
+    pub contact_offset: Option<f64>,
+    /// The wheel model and its keys: `model` = "moving_axle" (default), "hertz_wheel" or
+    /// "rigid_wheel", any other key passed to both wheel elements.
+    #[serde(default)]
+    pub wheel: serde_json::Map<String, serde_json::Value>,
+}
+
+/// A point of a body whose acceleration is recorded.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorDef {
+    /// Name (column prefix and comfort hook).
+    pub name: String,
+    /// The body.
+    pub body: String,
+    /// Position [x, y, z] in vehicle axes (m).
+    pub at: [f64; 3],
+}
+
+/// A vehicle from scratch.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleDef {
+    /// What the vehicle is and where its data come from (free text).
+    #[serde(default)]
+    pub description: String,
+    /// Length coupler to coupler (m): the distance between consecutive vehicle centres is
+    /// the mean of the two lengths.
+    pub length: f64,
+    /// The body couplers attach to; default the first body.
+    #[serde(default)]
+    pub coupler_body: Option<String>,
+    /// Rigid bodies, in build order.
+    #[serde(rename = "body")]
+    pub bodies: Vec<BodyDef>,
+    /// Suspensions.
+    #[serde(rename = "suspension", default)]
+    pub suspensions: Vec<SuspensionDef>,
+    /// Anti-roll bars.
+    #[serde(rename = "anti_roll_bar", default)]
+    pub anti_roll_bars: Vec<AntiRollBarDef>,
+    /// Wheelsets.
+    #[serde(rename = "wheelset", default)]
+    pub wheelsets: Vec<WheelsetDef>,
+    /// Acceleration sensors.
+    #[serde(rename = "sensor", default)]
+    pub sensors: Vec<SensorDef>,
+}
+
+/// The wheel models a wheelset may name.
+pub const WHEEL_MODELS: [&str; 3] = ["moving_axle", "hertz_wheel", "rigid_wheel"];
+/// Directions a `force_table` or `bump_stop` may name (vehicle axes).
+pub const DIRECTIONS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+
+impl VehicleDef {
+    /// The definition with every `mirror = true` suspension written out as two (itself,
+    /// then its image at −y, named `<stem>_right` for `<stem>_left`, else `<name>_mirror`), so that a file using `mirror` and one
+    /// writing both sides compare equal.
+    pub fn normalized(&self) -> VehicleDef {
+        let mut v = self.clone();
+        v.suspensions.clear();
+        for s in &self.suspensions {
+            let mut a = s.clone();
+            a.mirror = false;
+            v.suspensions.push(a.clone());
+            if s.mirror {
+                let mut m = a;
+                m.at[1] = -m.at[1];
+                m.name = s.name.as_ref().map(|n| match n.strip_suffix("_left") {
+                    Some(stem) => format!("{stem}_right"),
+                    None => format!("{n}_mirror"),
+                });
+                v.suspensions.push(m);
+            }
+        }
+        v
+    }
+
+    /// Index of the body called `name`.
+    pub fn body_index(&self, name: &str) -> Option<usize> {
+        self.bodies.iter().position(|b| b.name == name)
+    }
+
+    /// Total mass (kg).
+    pub fn total_mass(&self) -> f64 {
+        self.bodies.iter().map(|b| b.mass).sum()
+    }
+
+    /// The name of suspension `i` for messages.
+    pub fn suspension_label(&self, i: usize) -> String {
+        match &self.suspensions[i].name {
+            Some(n) => format!("suspension[{i}] \"{n}\""),
+            None => format!("suspension[{i}]"),
+        }
+    }
+
+    /// Checks the numbers and names (a normalized definition). `Err((place, message))`:
+    /// the place inside the vehicle (`body "bogie_front"`) and what to do.
+    pub fn validate(&self) -> Result<(), (String, String)> {
+        let err = |place: String, m: String| Err((place, m));
+        if !(self.length.is_finite() && self.length > 0.0) {
+            return err(
+                "length".into(),
+                format!(
+                    "= {}; give the coupler-to-coupler length (m), > 0",
+                    fmt_num(self.length)
+                ),
+            );
+        }
+        if self.bodies.is_empty() {
+            return err(
+                "body".into(),
+                "no bodies; give at least one [[body]]".into(),
+            );
+        }
+        let names: Vec<&str> = self.bodies.iter().map(|b| b.name.as_str()).collect();
+        let known = || names.join(", ");
+        for (i, b) in self.bodies.iter().enumerate() {
+            let place = format!("body \"{}\"", b.name);
+            if names[..i].contains(&b.name.as_str()) {
+                return err(place, "appears twice; give every body its own name".into());
+            }
+            if !(b.mass.is_finite() && b.mass > 0.0) {
+                return err(
+                    place,
+                    format!("`mass` = {}; give a positive mass (kg)", fmt_num(b.mass)),
+                );
+            }
+            let all = [b.ixx, b.iyy, b.izz, b.ixy, b.ixz, b.iyz, b.x, b.y, b.z];
+            if all.iter().any(|v| !v.is_finite()) {
+                return err(
+                    place,
+                    "has a non-finite inertia or position; give finite numbers".into(),
+                );
+            }
+            // Inertia tensor [[ixx, -ixy, -ixz], [-ixy, iyy, -iyz], [-ixz, -iyz, izz]]:
+            // positive definite iff its leading principal minors are (Sylvester).
+            let m1 = b.ixx;
+            let m2 = b.ixx * b.iyy - b.ixy * b.ixy;
+            let m3 = b.ixx * (b.iyy * b.izz - b.iyz * b.iyz)
+                - b.ixy * (b.ixy * b.izz + b.iyz * b.ixz)
+                - b.ixz * (b.ixy * b.iyz + b.iyy * b.ixz);
+            if !(m1 > 0.0 && m2 > 0.0 && m3 > 0.0) {
+                return err(
+                    place,
+                    format!(
+                        "inertia (ixx {}, iyy {}, izz {}, ixy {}, ixz {}, iyz {} kg·m²) is not positive definite; give positive moments larger than the products",
+                        fmt_num(b.ixx), fmt_num(b.iyy), fmt_num(b.izz), fmt_num(b.ixy), fmt_num(b.ixz), fmt_num(b.iyz)
+                    ),
+                );
+            }
+            if b.z <= 0.0 {
+                return err(
+                    place,
+                    format!(
+                        "`z` = {}; the mass centre must be above the rail-top plane (m)",
+                        fmt_num(b.z)
+                    ),
+                );
+            }
+        }
+        if let Some(c) = &self.coupler_body {
+            if self.body_index(c).is_none() {
+                return err(
+                    "coupler_body".into(),
+                    format!(
+                        "names body \"{c}\", which does not exist; the bodies are: {}",
+                        known()
+                    ),
+                );
+            }
+        }
+        let check_body = |place: &str, key: &str, name: &str| -> Result<usize, (String, String)> {
+            self.body_index(name).ok_or_else(|| {
+                (
+                    place.to_string(),
+                    format!(
+                        "`{key}` names body \"{name}\", which does not exist; the bodies are: {}",
+                        known()
+                    ),
+                )
+            })
+        };
+        for (i, s) in self.suspensions.iter().enumerate() {
+            let place = self.suspension_label(i);
+            let lo = check_body(&place, "lower", &s.lower)?;
+            let up = check_body(&place, "upper", &s.upper)?;
+            if lo == up {
+                return err(
+                    place,
+                    "joins a body to itself; give two different bodies".into(),
+                );
+            }
+            for (v, key) in
+                s.k.iter()
+                    .map(|v| (v, "k"))
+                    .chain(s.c.iter().map(|v| (v, "c")))
+                    .chain(s.k_rot.iter().map(|v| (v, "k_rot")))
+                    .chain(s.c_rot.iter().map(|v| (v, "c_rot")))
+            {
+                if !(v.is_finite() && *v >= 0.0) {
+                    return err(
+                        place,
+                        format!("`{key}` has {}; give finite values ≥ 0", fmt_num(*v)),
+                    );
+                }
+            }
+            if s.at.iter().any(|v| !v.is_finite()) || s.at[2] <= 0.0 {
+                return err(
+                    place,
+                    "`at` must be finite with z above the rail-top plane (m)".into(),
+                );
+            }
+            if let Some(m) = s.carries {
+                if !(m.is_finite() && m >= 0.0) {
+                    return err(
+                        place,
+                        format!(
+                            "`carries` = {}; give the carried mass (kg), ≥ 0",
+                            fmt_num(m)
+                        ),
+                    );
+                }
+            }
+            check_directions(&place, "force_table", s.force_table.as_ref())?;
+            check_directions(&place, "bump_stop", s.bump_stop.as_ref())?;
+        }
+        for (i, a) in self.anti_roll_bars.iter().enumerate() {
+            let place = format!("anti_roll_bar[{i}]");
+            let lo = check_body(&place, "lower", &a.lower)?;
+            let up = check_body(&place, "upper", &a.upper)?;
+            if lo == up {
+                return err(
+                    place,
+                    "joins a body to itself; give two different bodies".into(),
+                );
+            }
+            if !(a.k_roll.is_finite() && a.k_roll >= 0.0) {
+                return err(
+                    place,
+                    format!("`k_roll` = {}; give N·m/rad ≥ 0", fmt_num(a.k_roll)),
+                );
+            }
+        }
+        for (i, w) in self.wheelsets.iter().enumerate() {
+            let place = format!("wheelset[{i}]");
+            check_body(&place, "body", &w.body)?;
+            if self.wheelsets[..i].iter().any(|o| o.body == w.body) {
+                return err(
+                    place,
+                    format!(
+                        "body \"{}\" is already a wheelset; give each wheelset its own body",
+                        w.body
+                    ),
+                );
+            }
+            let model = wheel_model(&w.wheel);
+            if !WHEEL_MODELS.contains(&model) {
+                return err(
+                    place,
+                    format!(
+                        "`wheel.model` = \"{model}\" is not known; give one of: {}",
+                        WHEEL_MODELS.join(", ")
+                    ),
+                );
+            }
+            if w.wheel.contains_key("side") {
+                return err(place, "`wheel.side` would be ignored: every wheelset has a left and a right wheel; remove it".into());
+            }
+            if let Some(c) = w.contact_offset {
+                if !(c.is_finite() && c > 0.0) {
+                    return err(place, format!("`contact_offset` = {}; give the lateral distance of the contact points from the centre line (m), > 0", fmt_num(c)));
+                }
+            }
+        }
+        if self.wheelsets.is_empty() {
+            return err(
+                "wheelset".into(),
+                "no wheelsets; give at least one [[wheelset]] so the vehicle rests on the rails"
+                    .into(),
+            );
+        }
+        for (i, s) in self.sensors.iter().enumerate() {
+            let place = format!("sensor[{i}] \"{}\"", s.name);
+            check_body(&place, "body", &s.body)?;
+            if s.at.iter().any(|v| !v.is_finite()) {
+                return err(place, "`at` must be finite (m)".into());
+            }
+            if self.sensors[..i].iter().any(|o| o.name == s.name) {
+                return err(
+                    place,
+                    "appears twice; give every sensor its own name".into(),
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The wheel model a wheelset's `wheel` table names (default `moving_axle`).
+pub fn wheel_model(w: &serde_json::Map<String, serde_json::Value>) -> &str {
+    w.get("model")
+        .and_then(|v| v.as_str())
+        .unwrap_or("moving_axle")
+}
+
+fn check_directions(
+    place: &str,
+    key: &str,
+    m: Option<&serde_json::Map<String, serde_json::Value>>,
+) -> Result<(), (String, String)> {
+    let bad = |d: &str, m: String| Err((place.to_string(), format!("`{key}.{d}`: {m}")));
+    for (d, v) in m.into_iter().flat_map(|m| m.iter()) {
+        if !DIRECTIONS.contains(&d.as_str()) {
+            return bad(
+                d,
+                format!(
+                    "unknown direction; give one of {} (vehicle axes)",
+                    DIRECTIONS.join(", ")
+                ),
+            );
+        }
+        if key == "force_table" {
+            // [[d, F], ...]: finite pairs, deflections strictly increasing.
+            let rows: Option<Vec<[f64; 2]>> = serde_json::from_value(v.clone()).ok();
+            let Some(rows) = rows.filter(|r| r.len() >= 2) else {
+                return bad(
+                    d,
+                    "give a table of at least two [deflection m, force N] pairs".into(),
+                );
+            };
+            if rows.iter().flatten().any(|x| !x.is_finite()) {
+                return bad(d, "has a non-finite entry; give finite numbers".into());
+            }
+            if let Some(i) = (1..rows.len()).find(|&i| rows[i][0] <= rows[i - 1][0]) {
+                return bad(
+                    d,
+                    format!("row {i}: deflections must increase strictly (m); sort the table"),
+                );
+            }
+        } else {
+            // {gap = m or [compression, extension], k = N/m}
+            let gap = v.get("gap");
+            let gaps: Vec<f64> = match gap {
+                Some(serde_json::Value::Array(a)) if a.len() == 2 => {
+                    a.iter().filter_map(|x| x.as_f64()).collect()
+                }
+                Some(x) => x.as_f64().into_iter().collect(),
+                None => Vec::new(),
+            };
+            let k = v.get("k").and_then(|x| x.as_f64());
+            let keys_ok = v
+                .as_object()
+                .is_some_and(|o| o.keys().all(|k| k == "gap" || k == "k"));
+            if gaps.is_empty()
+                || gaps.len() != gap.map_or(0, |g| g.as_array().map_or(1, |a| a.len()))
+                || !keys_ok
+            {
+                return bad(
+                    d,
+                    "give {gap = m or [compression, extension], k = N/m}".into(),
+                );
+            }
+            if gaps.iter().any(|g| !(g.is_finite() && *g >= 0.0))
+                || !k.is_some_and(|k| k.is_finite() && k >= 0.0)
+            {
+                return bad(d, "gaps and k must be finite and ≥ 0 (m, N/m)".into());
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,426 @@
+//! `[[vehicle]]` in a model file: a train of vehicles, each a preset (`preset = "sks700"`,
+//! with `carriage = {...}` overrides of the template), a vehicle file
+//! (`file = "vehicles/x.toml"`, relative to the model file) or an inline definition
+//! (`[[vehicle.body]]`, `[[vehicle.suspension]]`, ...), repeated `count` times, coupled in
+//! the order given; plus the train's motion, wheel keys, couplers and recorders.
+//!
+//! A train of one kind writes the vehicle keys on `[[vehicle]]` itself; a mixed train
+//! lists them: `vehicles = [{preset = "sks700", count = 2}, {file = "v.toml"}]`.
+
+use super::build::{self, CouplerDef, Train};
+use super::definition::VehicleDef;
+use super::track_model::TrackModel;
+use super::{build_train_at, CarriageData, TrainSpec};
+use railfem_framework::error::FemError;
+use railfem_framework::model::{Geometry, ModelBuilder};
+use railfem_framework::recorder::{Quantity, RecorderSpec};
+use serde::Deserialize;
+use serde_json::{Map, Value};
+use std::path::Path;
+use std::sync::Arc;
+
+/// The `sks700` preset written body by body (the template's numbers).
+pub const SKS700_TOML: &str = include_str!("../../../../examples/vehicles/sks700.toml");
+
+/// Keys of a vehicle unit that are not part of a definition.
+const UNIT_KEYS: [&str; 5] = ["preset", "carriage", "file", "count", "carriages"];
+/// Keys of the train.
+const TRAIN_KEYS: [&str; 11] = [
+    "name",
+    "start",
+    "speed",
+    "accel",
+    "wheel",
+    "first_node_id",
+    "geometry",
+    "suspension_tangent",
+    "coupler",
+    "record",
+    "vehicles",
+];
+
+/// Where a train's results go: `wheels` (every wheel's outputs) and `sensors` (the sensor
+/// points' accelerations), file names relative to the output directory.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Record {
+    #[serde(default)]
+    wheels: Option<String>,
+    #[serde(default)]
+    sensors: Option<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TrainKeys {
+    #[serde(default = "default_name")]
+    name: String,
+    start: f64,
+    speed: f64,
+    #[serde(default)]
+    accel: f64,
+    #[serde(default)]
+    wheel: Map<String, Value>,
+    #[serde(default)]
+    first_node_id: u64,
+    #[serde(default)]
+    geometry: Option<Geometry>,
+    #[serde(default = "default_tangent")]
+    suspension_tangent: String,
+    #[serde(default)]
+    coupler: Option<CouplerDef>,
+    #[serde(default)]
+    record: Option<Record>,
+    #[serde(default)]
+    vehicles: Option<Vec<Value>>,
+}
+
+fn default_name() -> String {
+    "train".into()
+}
+fn default_tangent() -> String {
+    "symmetric".into()
+}
+
+/// Deep merge of `patch` into `base` (tables merge key by key, anything else replaces).
+fn merge(base: &mut Value, patch: &Value) {
+    match (base, patch) {
+        (Value::Object(b), Value::Object(p)) => {
+            for (k, v) in p {
+                merge(b.entry(k.clone()).or_insert(Value::Null), v);
+            }
+        }
+        (b, p) => *b = p.clone(),
+    }
+}
+
+/// Parses a vehicle file's text (`name` for messages) into a normalized, validated
+/// definition.
+pub fn parse_vehicle(text: &str, name: &str) -> Result<VehicleDef, FemError> {
+    let v = railfem_framework::modelfile::parse_toml(text, name)?;
+    definition_from(&v, name)
+}
+
+fn definition_from(v: &Value, place: &str) -> Result<VehicleDef, FemError> {
+    let d = VehicleDef::deserialize(v).map_err(|e| FemError::input(place, e.to_string()))?;
+    let d = d.normalized();
+    d.validate()
+        .map_err(|(p, m)| FemError::input(format!("{place} {p}"), m))?;
+    Ok(d)
+}
+
+/// The `sks700` preset as a definition (from [`SKS700_TOML`]).
+pub fn sks700() -> Result<VehicleDef, FemError> {
+    parse_vehicle(SKS700_TOML, "preset sks700 (examples/vehicles/sks700.toml)")
+}
+
+/// One vehicle unit (a table with `preset`, `file` or inline keys, and `count`) into its
+/// definition and count. `o` is the place, `dir` the model file's directory.
+fn unit(map: &Map<String, Value>, o: &str, dir: &Path) -> Result<(VehicleDef, usize), FemError> {
+    let count_key = if map.contains_key("carriages") {
+        "carriages"
+    } else {
+        "count"
+    };
+    let count = match map.get(count_key) {
+        None => 1,
+        Some(v) => v.as_u64().map(|n| n as usize).ok_or_else(|| {
+            FemError::input(o, format!("`{count_key}` must be a whole number ≥ 1"))
+        })?,
+    };
+    if count == 0 {
+        return Err(FemError::input(
+            o,
+            format!("`{count_key}` must be at least 1"),
+        ));
+    }
+    // Size guard before the vehicles are repeated: a carriage is 66 DOFs (bodies, wheels'
+    // contact nodes); a vehicle's own size is checked again when it is built.
+    railfem_framework::limits::check_memory(
+        &format!("`{count_key}` = {count}"),
+        66.0 * count as f64,
+        "vehicle DOFs",
+        railfem_framework::limits::BYTES_PER_DOF,
+        &format!("give fewer `{count_key}`"),
+    )
+    .map_err(|m| FemError::input(o, m))?;
+    let inline: Map<String, Value> = map
+        .iter()
+        .filter(|(k, _)| !UNIT_KEYS.contains(&k.as_str()))
+        .map(|(k, v)| (k.clone(), v.clone()))
+        .collect();
+    let sources = [
+        map.contains_key("preset"),
+        map.contains_key("file"),
+        !inline.is_empty(),
+    ];
+    if sources.iter().filter(|s| **s).count() > 1 {
+        return Err(FemError::input(
+            o,
+            "give one of `preset`, `file` or an inline definition (`body`, `suspension`, ...), not several",
+        ));
+    }
+    if map.contains_key("carriage") && !map.contains_key("preset") && sources.iter().any(|s| *s) {
+        return Err(FemError::input(o, "`carriage` overrides only apply to `preset = \"sks700\"`; remove `carriage` or the other source"));
+    }
+    if let Some(f) = map.get("file") {
+        let rel = f.as_str().ok_or_else(|| {
+            FemError::input(
+                o,
+                "`file` must be a path (text), relative to the model file",
+            )
+        })?;
+        let path = dir.join(rel);
+        let name = path.display().to_string();
+        railfem_framework::limits::check_file(&path, "the vehicle file")
+            .map_err(|m| FemError::input(format!("{o} `file`"), m))?;
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            FemError::input(
+                format!("{o} `file`"),
+                format!("cannot read the vehicle file {name}: {e}; give a path relative to the model file"),
+            )
+        })?;
+        return Ok((parse_vehicle(&text, &name)?, count));
+    }
+    if !inline.is_empty() {
+        return Ok((definition_from(&Value::Object(inline), o)?, count));
+    }
+    match map.get("preset").map(|p| p.as_str()) {
+        Some(Some("sks700")) | None => {}
+        Some(other) => {
+            return Err(FemError::input(
+                o,
+                format!(
+                    "unknown preset `{}`; the presets are: sks700",
+                    other.unwrap_or("?")
+                ),
+            ))
+        }
+    }
+    match map.get("carriage") {
+        None => Ok((sks700()?, count)),
+        Some(over) => {
+            let mut c = serde_json::to_value(CarriageData::sks700()).unwrap_or(Value::Null);
+            merge(&mut c, over);
+            let c = CarriageData::deserialize(c)
+                .map_err(|e| FemError::input(o, format!("carriage: {e}")))?;
+            c.validate().map_err(|m| FemError::input(o, m))?;
+            Ok((c.expand(), count))
+        }
+    }
+}
+
+/// Applies `[[vehicle]]` (see the module documentation).
+pub fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemError> {
+    let list: Vec<&Value> = match v {
+        Value::Array(a) => a.iter().collect(),
+        o @ Value::Object(_) => vec![o],
+        _ => {
+            return Err(FemError::input(
+                origin,
+                "`vehicle` must be an array of tables ([[vehicle]])",
+            ))
+        }
+    };
+    let dir = Path::new(b.origin())
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_default();
+    for (i, item) in list.into_iter().enumerate() {
+        let o = format!("{origin}[{i}]");
+        let Value::Object(map) = item else {
+            return Err(FemError::input(&o, "must be a table"));
+        };
+        let track =
+            track_of(b).ok_or_else(|| FemError::input(&o, "a vehicle needs a [track] table"))?;
+        if map.contains_key("carriage") && !map.contains_key("vehicles") {
+            legacy(map, &o, b, &track)?;
+            continue;
+        }
+        let train_map: Map<String, Value> = map
+            .iter()
+            .filter(|(k, _)| TRAIN_KEYS.contains(&k.as_str()))
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect();
+        let keys = TrainKeys::deserialize(Value::Object(train_map))
+            .map_err(|e| FemError::input(&o, e.to_string()))?;
+        let named = format!("{o} (vehicle `{}`)", keys.name);
+        if keys.wheel.contains_key("side") {
+            return Err(FemError::input(
+                &o,
+                "`wheel.side` would be ignored: the vehicle makes a left and a right wheel on every axle; remove `side` from the `wheel` table",
+            ));
+        }
+        let unit_map: Map<String, Value> = map
+            .iter()
+            .filter(|(k, _)| !TRAIN_KEYS.contains(&k.as_str()))
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect();
+        let mut vehicles = Vec::new();
+        match &keys.vehicles {
+            Some(units) => {
+                if !unit_map.is_empty() {
+                    return Err(FemError::input(&o, "with `vehicles = [...]` give the vehicle keys in its entries, not on [[vehicle]]"));
+                }
+                for (j, u) in units.iter().enumerate() {
+                    let ou = format!("{named} vehicles[{j}]");
+                    let Value::Object(um) = u else {
+                        return Err(FemError::input(&ou, "must be a table"));
+                    };
+                    let (d, n) = unit(um, &ou, &dir)?;
+                    vehicles.extend(std::iter::repeat_n(d, n));
+                }
+            }
+            None => {
+                let (d, n) = unit(&unit_map, &named, &dir)?;
+                vehicles.extend(std::iter::repeat_n(d, n));
+            }
+        }
+        let train = Train {
+            name: keys.name.clone(),
+            vehicles,
+            coupler: keys.coupler.unwrap_or_default(),
+            start: keys.start,
+            speed: keys.speed,
+            accel: keys.accel,
+            wheel: keys.wheel.clone(),
+            first_node_id: keys.first_node_id,
+            geometry: keys.geometry,
+            suspension_tangent: keys.suspension_tangent.clone(),
+        };
+        let ids = build::build(b, &track, &train, &named)?;
+        if let Some(r) = keys.record {
+            record(b, &ids, &r, &named)?;
+        }
+    }
+    Ok(())
+}
+
+/// `record = {wheels, sensors}`: an element recorder of the train's wheels (all their
+/// outputs) and a node recorder of the sensors' accelerations.
+fn record(
+    b: &mut ModelBuilder,
+    ids: &super::TrainIds,
+    r: &Record,
+    o: &str,
+) -> Result<(), FemError> {
+    if let Some(f) = &r.wheels {
+        b.recorder(RecorderSpec::Element {
+            element: None,
+            elements: ids.wheels.clone(),
+            kind: None,
+            outputs: Vec::new(),
+            file: f.clone(),
+        });
+    }
+    if let Some(f) = &r.sensors {
+        if ids.sensors.is_empty() {
+            return Err(FemError::input(
+                format!("{o} record.sensors"),
+                "the train has no sensors; add [[vehicle.sensor]] entries (name, body, at) or remove `record.sensors`",
+            ));
+        }
+        b.recorder(RecorderSpec::Node {
+            node: None,
+            nodes: ids.sensors.iter().map(|s| s.1).collect(),
+            dofs: vec!["ux".into(), "uy".into(), "uz".into()],
+            quantity: Quantity::Acc,
+            file: f.clone(),
+        });
+    }
+    Ok(())
+}
+
+/// The template route: `preset` with `carriage` overrides and `carriages`, exactly as
+/// before the generic definition (its messages name the template's keys).
+fn legacy(
+    map: &Map<String, Value>,
+    o: &str,
+    b: &mut ModelBuilder,
+    track: &Arc<TrackModel>,
+) -> Result<(), FemError> {
+    let mut map = map.clone();
+    let preset = map.remove("preset");
+    let mut carriage = match preset.as_ref().and_then(Value::as_str) {
+        Some("sks700") | None => {
+            serde_json::to_value(CarriageData::sks700()).unwrap_or(Value::Null)
+        }
+        Some(other) => {
+            return Err(FemError::input(
+                o,
+                format!("unknown preset `{other}`; the presets are: sks700"),
+            ))
+        }
+    };
+    if let Some(over) = map.remove("carriage") {
+        merge(&mut carriage, &over);
+    }
+    let rec: Option<Record> = match map.remove("record") {
+        Some(r) => {
+            Some(Record::deserialize(r).map_err(|e| FemError::input(o, format!("record: {e}")))?)
+        }
+        None => None,
+    };
+    map.insert("carriage".into(), carriage);
+    map.entry("carriages").or_insert(Value::from(1));
+    map.entry("wheel")
+        .or_insert(Value::Object(Default::default()));
+    let spec: TrainSpec = TrainSpec::deserialize(Value::Object(map))
+        .map_err(|e| FemError::input(o, e.to_string()))?;
+    if let Value::Object(w) = &spec.wheel {
+        if w.contains_key("side") {
+            return Err(FemError::input(
+                o,
+                "`wheel.side` would be ignored: the vehicle makes a left and a right wheel on every axle; remove `side` from the `wheel` table",
+            ));
+        }
+    }
+    let named = format!("{o} (vehicle `{}`)", spec.name);
+    let ids = build_train_at(b, track, &spec, &named)?;
+    if let Some(r) = rec {
+        record(b, &ids, &r, &named)?;
+    }
+    Ok(())
+}
+
+fn track_of(b: &ModelBuilder) -> Option<Arc<TrackModel>> {
+    b.resource_get("track")
+        .and_then(|r| r.downcast::<TrackModel>().ok())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `examples/vehicles/sks700.toml`, the preset written body by body, parses to exactly
+    /// (f64 ==) the expansion of `CarriageData::sks700()`: every mass, inertia, position,
+    /// rate, damper and share, in the same order.
+    #[test]
+    fn sks700_file_equals_the_template_expansion() {
+        let mut parsed = sks700().expect("the preset file parses");
+        let expanded = CarriageData::sks700().expand();
+        parsed.description = expanded.description.clone();
+        assert_eq!(parsed, expanded);
+    }
+
+    /// `mirror` writes the image at −y right after the spring, `_left` becoming `_right`.
+    #[test]
+    fn mirror_expands_in_place() {
+        let v = sks700().expect("parses");
+        let names: Vec<&str> = v
+            .suspensions
+            .iter()
+            .filter_map(|s| s.name.as_deref())
+            .collect();
+        assert_eq!(
+            &names[..4],
+            [
+                "secondary_front_left",
+                "secondary_front_right",
+                "primary_1_left",
+                "primary_1_right"
+            ]
+        );
+        assert_eq!(v.suspensions[1].at[1], -v.suspensions[0].at[1]);
+    }
+}
