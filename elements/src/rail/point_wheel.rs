@@ -40,10 +40,15 @@
 //!
 //! Like `moving_axle`, the wheel starts just touching: at zero displacement P sits on the
 //! rail top. The initial static solve then compresses the contact under the vehicle's
-//! weight. The Hertz law has zero stiffness at zero penetration, so the `hertz_wheel` starts
-//! 1 nm into the rail ([`super::point_contact_law::HERTZ_PRELOAD`]): from there Newton's first step overshoots into the
-//! rail and the next ones come back monotonically (the 3/2 law is convex), which converges
-//! from zero load (tested). `rigid_wheel` is linear and needs nothing.
+//! weight. The Hertz law has zero stiffness at zero penetration, so the `hertz_wheel`
+//! starts 1 nm into the rail ([`super::point_contact_law::HERTZ_PRELOAD`]): from there
+//! Newton's first step overshoots into the rail and the next ones come back monotonically
+//! (the 3/2 law is convex), which converges from zero load in one load step (tested: 10
+//! iterations for a two-axle vehicle). A wheel in the air has no vertical stiffness, so a
+//! static solve needs its wheels in contact at the first iterate (docs/wheel-models.md).
+//! `rigid_wheel` is linear and needs nothing. Like every wheel model, neither holds the
+//! wheelset's rolling (spin about the axle with the matching forward motion of K): the
+//! vehicle's spin spring does, in statics.
 
 use super::point_contact_law::{ContactForce, PointLaw};
 use super::rail_point::{beam_axes, rail_point_matrix};
