@@ -71,7 +71,12 @@ fn averaged_welch_psd_matches_target() {
                 .sum();
             worst = worst.max((est / tgt - 1.0).abs());
         }
-        eprintln!("{} {}: worst group {:.2} %", class.name(), comp.name(), worst * 100.0);
+        eprintln!(
+            "{} {}: worst group {:.2} %",
+            class.name(),
+            comp.name(),
+            worst * 100.0
+        );
         assert!(worst < 0.10, "{class:?} {comp:?}: {worst}");
     }
 }
@@ -112,27 +117,48 @@ fn rms_matches_integral_of_target() {
         let z = req.generate(Component::Alignment).unwrap();
         var += z.iter().map(|v| v * v).sum::<f64>() / z.len() as f64 / 16.0;
     }
-    let target = band_variance(PsdClass::Fra(6), Component::Alignment, 2.0 * PI / 25.0, 2.0 * PI);
-    assert!((var.sqrt() / target.sqrt() - 1.0).abs() < 0.05, "{var} vs {target}");
+    let target = band_variance(
+        PsdClass::Fra(6),
+        Component::Alignment,
+        2.0 * PI / 25.0,
+        2.0 * PI,
+    );
+    assert!(
+        (var.sqrt() / target.sqrt() - 1.0).abs() < 0.05,
+        "{var} vs {target}"
+    );
 }
 
 /// Same seed, same bits; another seed, another profile (differing by about its RMS, not
 /// by rounding); the components of one seed are independent streams.
 #[test]
 fn seeds_reproduce_and_differ() {
-    let a = request(PsdClass::GermanLow, 42).generate(Component::Vertical).unwrap();
-    let b = request(PsdClass::GermanLow, 42).generate(Component::Vertical).unwrap();
+    let a = request(PsdClass::GermanLow, 42)
+        .generate(Component::Vertical)
+        .unwrap();
+    let b = request(PsdClass::GermanLow, 42)
+        .generate(Component::Vertical)
+        .unwrap();
     assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()));
-    let c = request(PsdClass::GermanLow, 43).generate(Component::Vertical).unwrap();
+    let c = request(PsdClass::GermanLow, 43)
+        .generate(Component::Vertical)
+        .unwrap();
     let rms = (a.iter().map(|v| v * v).sum::<f64>() / a.len() as f64).sqrt();
-    let diff = (a.iter().zip(&c).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / a.len() as f64).sqrt();
+    let diff =
+        (a.iter().zip(&c).map(|(x, y)| (x - y).powi(2)).sum::<f64>() / a.len() as f64).sqrt();
     assert!(diff > 0.5 * rms, "seeds 42 and 43: {diff} vs rms {rms}");
     // Alignment of seed 42 is not the vertical profile rescaled: correlation near 0.
-    let al = request(PsdClass::GermanLow, 42).generate(Component::Alignment).unwrap();
+    let al = request(PsdClass::GermanLow, 42)
+        .generate(Component::Alignment)
+        .unwrap();
     let dot: f64 = a.iter().zip(&al).map(|(x, y)| x * y).sum();
     let na: f64 = a.iter().map(|x| x * x).sum::<f64>().sqrt();
     let nl: f64 = al.iter().map(|x| x * x).sum::<f64>().sqrt();
-    assert!((dot / (na * nl)).abs() < 0.2, "correlation {}", dot / (na * nl));
+    assert!(
+        (dot / (na * nl)).abs() < 0.2,
+        "correlation {}",
+        dot / (na * nl)
+    );
 }
 
 /// `railfem irregularity` writes the profile in mm; read back it gives the generator's
@@ -172,7 +198,10 @@ fn command_writes_profile_that_reads_back() {
     for (c, v) in &t.columns {
         let z = req.generate(*c).unwrap();
         for (i, (x, y)) in v.iter().zip(&z).enumerate() {
-            assert!((x - y).abs() <= 1e-15 * y.abs().max(1e-6), "{c:?}[{i}]: {x} vs {y}");
+            assert!(
+                (x - y).abs() <= 1e-15 * y.abs().max(1e-6),
+                "{c:?}[{i}]: {x} vs {y}"
+            );
             assert_eq!(t.stations[i], i as f64 * 0.5);
         }
     }
@@ -245,8 +274,13 @@ fn csv_irregularity_runs_and_wheelset_follows_it() {
         worst = worst.max((u[i] - u0 - profile(s)).abs());
         peak = peak.max(u[i] - u0);
     }
-    eprintln!("worst {worst:.3e} m, tolerance {tol:.3e} m (ΔQ {dq:.1} N of {q0:.0} N), peak {peak:.3e} m");
-    assert!(peak > 1.9e-3, "the wheelset did not ride over the 2 mm bumps: {peak}");
+    eprintln!(
+        "worst {worst:.3e} m, tolerance {tol:.3e} m (ΔQ {dq:.1} N of {q0:.0} N), peak {peak:.3e} m"
+    );
+    assert!(
+        peak > 1.9e-3,
+        "the wheelset did not ride over the 2 mm bumps: {peak}"
+    );
     assert!(worst < tol, "worst {worst} > {tol}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -264,7 +298,10 @@ fn bad_case(name: &str, irr: &str, csv: Option<&str>, expect: &[&str]) {
     std::fs::write(&path, model).unwrap();
     let o = railfem(&["check", path.to_str().unwrap()]);
     let err = refused_with(name, &o, expect);
-    assert!(err.contains(&format!("{name}.toml")), "{name}: file not named: {err}");
+    assert!(
+        err.contains(&format!("{name}.toml")),
+        "{name}: file not named: {err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -284,25 +321,41 @@ fn bad_irregularities_are_refused() {
         "unsorted",
         "{file = \"irr.csv\"}",
         Some("station_m,vertical_mm\n0,0\n1,0.5\n3,0.2\n2,0\n4,0\n"),
-        &["irr.csv:5", "station 2 m does not follow 3 m", "sort the rows"],
+        &[
+            "irr.csv:5",
+            "station 2 m does not follow 3 m",
+            "sort the rows",
+        ],
     );
     bad_case(
         "mm_as_m",
         "{file = \"irr.csv\"}",
         Some("station_m,vertical_m\n0,0\n1,1.5\n2,2.5\n3,0\n"),
-        &["irr.csv:4", "look like millimetres", "declare `vertical_mm`"],
+        &[
+            "irr.csv:4",
+            "look like millimetres",
+            "declare `vertical_mm`",
+        ],
     );
     bad_case(
         "missing",
         "{file = \"nowhere.csv\"}",
         None,
-        &["nowhere.csv", "cannot read the irregularity file", "check the path"],
+        &[
+            "nowhere.csv",
+            "cannot read the irregularity file",
+            "check the path",
+        ],
     );
     bad_case(
         "band",
         "{psd = \"german_low\", seed = 1, wavelengths = [30, 2]}",
         None,
-        &["irregularity[0]", "`wavelengths` = [30, 2]", "0 < λmin < λmax"],
+        &[
+            "irregularity[0]",
+            "`wavelengths` = [30, 2]",
+            "0 < λmin < λmax",
+        ],
     );
     bad_case(
         "both",
@@ -311,7 +364,11 @@ fn bad_irregularities_are_refused() {
         &["irregularity[0]", "either `file` or `psd`"],
     );
     let o = railfem(&["irregularity", "--psd", "fra0"]);
-    refused_with("cli class", &o, &["--psd fra0 is not offered", "german_high"]);
+    refused_with(
+        "cli class",
+        &o,
+        &["--psd fra0 is not offered", "german_high"],
+    );
     let o = railfem(&["irregularity", "--psd", "fra3", "--wavelengths", "5,5"]);
     refused_with("cli band", &o, &["--wavelengths", "λmin < λmax"]);
 }

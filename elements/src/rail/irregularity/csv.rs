@@ -111,7 +111,7 @@ pub fn read_table(text: &str, file: &str) -> Result<IrregularityTable, Irregular
     // Size guard before reading the rows.
     let rows = text.lines().count() as f64;
     limits::check_memory(
-        &format!("{file}"),
+        file,
         rows,
         "irregularity rows",
         BYTES_PER_VALUE * (cols.len() + 1) as f64,

@@ -51,7 +51,7 @@ impl SplitMix64 {
 /// to about `|q|·2e-16`: within 1e-15 for `|x| ≤ 4π` (the generator's arguments lie in
 /// `[0, 2π)`). The same bits on every IEEE-754 machine.
 pub fn sin_cos(x: f64) -> (f64, f64) {
-    const PIO2_HI: f64 = 1.570_796_326_794_896_6;
+    const PIO2_HI: f64 = std::f64::consts::FRAC_PI_2;
     const PIO2_LO: f64 = 6.123_233_995_736_766e-17;
     let q = (x * (2.0 / PI)).round();
     let r = (x - q * PIO2_HI) - q * PIO2_LO;
