@@ -156,9 +156,9 @@ pub fn command(a: &crate::cli::Args) -> Result<i32, FemError> {
     };
     req.validate().map_err(|m| {
         // The checks name the model-file keys; here they are options.
-        let m = ["wavelengths", "step", "length"].iter().fold(m, |m, k| {
-            m.replacen(&format!("`{k}`"), &format!("--{k}"), 1)
-        });
+        let m = ["wavelengths", "step", "length"]
+            .iter()
+            .fold(m, |m, k| m.replace(&format!("`{k}`"), &format!("--{k}")));
         FemError::input(cl, m)
     })?;
     let components = match a.opt("components") {

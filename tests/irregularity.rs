@@ -371,4 +371,19 @@ fn bad_irregularities_are_refused() {
     );
     let o = railfem(&["irregularity", "--psd", "fra3", "--wavelengths", "5,5"]);
     refused_with("cli band", &o, &["--wavelengths", "λmin < λmax"]);
+    // A profile no memory holds is refused before anything is allocated.
+    let o = railfem(&[
+        "irregularity",
+        "--psd",
+        "fra3",
+        "--length",
+        "1e15",
+        "--max-memory",
+        "1G",
+    ]);
+    refused_with(
+        "cli size",
+        &o,
+        &["--length", "memory limit", "larger --step"],
+    );
 }

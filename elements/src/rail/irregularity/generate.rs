@@ -17,6 +17,7 @@
 //! [`sin_cos`] (a fixed polynomial), not from the platform's libm.
 
 use super::psd::{Component, PsdClass};
+use railfem_framework::limits::{self, fmt_num};
 use std::f64::consts::PI;
 
 /// SplitMix64 (Steele, Lea & Flood 2014): a 64-bit state advanced by a constant, then
@@ -168,6 +169,24 @@ impl PsdRequest {
         if !(l.is_finite() && l >= hi) {
             return Err(format!(
                 "`length` = {l} m: give a profile at least λmax = {hi} m long (one longest wave)"
+            ));
+        }
+        // The size guard (memory) is the caller's; this only keeps the sample count an
+        // integer that cannot overflow (2^40 samples is far beyond any memory budget).
+        let samples = l / h + 1.0;
+        limits::check_memory(
+            &format!("`length` = {} m at `step` = {} m", fmt_num(l), fmt_num(h)),
+            2.0 * samples,
+            "irregularity samples (rounded up to a power of two)",
+            BYTES_PER_SAMPLE,
+            "give a larger `step` or a shorter `length`",
+        )?;
+        if samples > (1u64 << 40) as f64 {
+            return Err(format!(
+                "`length` = {} m at `step` = {} m is {} samples; give a larger `step` or a shorter `length`",
+                fmt_num(l),
+                fmt_num(h),
+                fmt_num(samples)
             ));
         }
         Ok(())

@@ -196,6 +196,7 @@ pub fn generate_part(
 ) -> Result<IrregularityPart, String> {
     req.validate()?;
     let (n, m) = req.sizes();
+    // All components are held at once (the validation checked one).
     limits::check_memory(
         &format!(
             "`length` = {} m at `step` = {} m",
@@ -204,7 +205,7 @@ pub fn generate_part(
         ),
         m as f64,
         "irregularity samples",
-        generate::BYTES_PER_SAMPLE * components.len() as f64,
+        generate::BYTES_PER_SAMPLE * components.len().max(1) as f64,
         "give a larger `step` or a shorter `length`",
     )?;
     let stations: Vec<f64> = (0..n).map(|j| start + j as f64 * req.step).collect();
