@@ -19,8 +19,8 @@
 //! and `Ω_c`, `Ω_s` in rad/m ([`FRA`]). The cross-level is the height difference of the
 //! two rails (m). FRA gives no gauge spectrum.
 //!
-//! **German** high-speed spectra (the DB spectra used for the ICE/ TGV era studies, in the
-//! form quoted by the vehicle–track literature):
+//! **German** high-speed spectra, low and high disturbance (in the form quoted throughout
+//! the vehicle–track literature, e.g. Zhai, *Vehicle–Track Coupled Dynamics*):
 //!
 //! ```text
 //! vertical profile  S_v(Ω) = A_v·Ω_c² / ((Ω² + Ω_r²)·(Ω² + Ω_c²))
@@ -108,7 +108,7 @@ pub struct GermanConstants {
     pub omega_s: f64,
 }
 
-/// The German low-disturbance spectrum (lines for speeds above 250 km/h).
+/// The German low-disturbance spectrum.
 pub const GERMAN_LOW: GermanConstants = GermanConstants {
     a_v: 4.032e-7,
     a_a: 2.119e-7,
