@@ -64,6 +64,12 @@ USAGE:
   railfem pareto [--out DIR] [--cases force,sprung,curve]
                                                      run time against error over dt, mesh and
                                                      integrator; pareto.csv and pareto-*.svg
+  railfem irregularity --psd CLASS [--seed S] [--wavelengths MIN,MAX] [--step H]
+                [--length L] [--components vertical,alignment,..] [--out DIR]
+                                                     a track irregularity from a standard
+                                                     spectrum (fra1..fra6, german_low,
+                                                     german_high): irregularity.csv, psd.csv
+                                                     and irregularity-psd.svg (Welch vs target)
   railfem help                                       this text
 
 OPTIONS OF EVERY COMMAND:
@@ -148,7 +154,7 @@ const PATH_OPTIONS: [&str; 5] = ["out", "plugin", "quake", "quake-out", "export"
 const GLOBAL_OPTIONS: [&str; 4] = ["plugin", "help", "max-memory", "max-steps"];
 
 /// The options (with or without value) each command accepts besides [`GLOBAL_OPTIONS`].
-const COMMAND_OPTIONS: [(&str, &[&str]); 12] = [
+const COMMAND_OPTIONS: [(&str, &[&str]); 13] = [
     ("run", &["out"]),
     ("check", &[]),
     ("elements", &[]),
@@ -243,6 +249,18 @@ const COMMAND_OPTIONS: [(&str, &[&str]); 12] = [
         ],
     ),
     ("pareto", &["out", "cases"]),
+    (
+        "irregularity",
+        &[
+            "psd",
+            "seed",
+            "wavelengths",
+            "step",
+            "length",
+            "components",
+            "out",
+        ],
+    ),
 ];
 
 /// Refuses an option `command` does not know, naming the nearest it does.
@@ -445,6 +463,7 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "train-bridge" => train_bridge(a),
         "stress" => stress(a),
         "pareto" => pareto(a),
+        "irregularity" => crate::irregularity::command(a),
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),

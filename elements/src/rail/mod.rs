@@ -8,6 +8,7 @@ pub mod cant;
 pub mod contact_geometry;
 pub mod contact_law;
 pub mod hertz_spring;
+pub mod irregularity;
 pub mod lean;
 pub mod moving_axle;
 pub mod point_contact_law;

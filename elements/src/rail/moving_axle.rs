@@ -524,9 +524,11 @@ impl MovingAxle {
         let w = self.frame;
         let xb = kin[self.b].position;
         self.r_bk = w.transpose() * (xb - kk.position);
-        // A dipped joint lowers the rail top under the wheel (a prescribed irregularity).
-        let xc = self.track.rail_position(self.setup.rail, s)
-            + w.column(1) * self.track.rail_top_height(s);
+        // Dipped joints and the track irregularity move the rail head under the wheel
+        // (prescribed functions of the station): lateral along axis 1, vertical along 2.
+        let [lat, vert] = self.track.rail_offset(self.setup.rail, s);
+        let xc =
+            self.track.rail_position(self.setup.rail, s) + w.column(0) * lat + w.column(1) * vert;
         self.r_cb = w.transpose() * (xc - xb);
         let (ni, nj) = (self.rail_node(e), self.rail_node(e + 1));
         if !self.track.rigid {
@@ -978,6 +980,7 @@ fn sample_scene() -> (Arc<TrackModel>, Vec<NodeKinematics>, f64) {
         slab: None,
         bridge: None,
         dips: Vec::new(),
+        irregularity: None,
     });
     let s = 2.45;
     let p = track.at(s);

@@ -23,8 +23,8 @@
 //! ```
 //!
 //! `W` the wheel frame, `z(s)` the irregularity of the rail head at the station as a
-//! wheel-frame displacement (today the dipped joints, vertical; `rail_irregularity` is the
-//! one place it is read), is linear in the 18 DOFs.
+//! wheel-frame displacement (the track's irregularity and dipped joints; `rail_irregularity` is
+//! the one place it is read), is linear in the 18 DOFs.
 //! The contact law ([`super::point_contact_law`]) gives the force on the wheel `φ(Δ)` and
 //! `D = ∂φ/∂Δ`; the element force and tangent are `Tᵀ·φ` and `Tᵀ·D·T` (symmetric). A rigid
 //! motion of K and the rail leaves `Δ` unchanged, so the element is objective.
@@ -315,9 +315,11 @@ impl PointWheel {
 
     /// The irregularity of this wheel's rail head at station `s`, as a displacement of the
     /// rail in the wheel frame (m): (lateral along axis 1, up, 0). The one place a point
-    /// wheel reads it; today the dipped joints (vertical only, both rails alike).
+    /// wheel reads it: the track's irregularity of this rail plus the dipped joints
+    /// ([`TrackModel::rail_offset`]).
     fn rail_irregularity(&self, s: f64) -> Vector3<f64> {
-        Vector3::new(0.0, self.track.rail_top_height(s), 0.0)
+        let [lateral, vertical] = self.track.rail_offset(self.setup.rail, s);
+        Vector3::new(lateral, vertical, 0.0)
     }
 
     fn place(&mut self, kin: &[NodeKinematics]) -> Result<bool, ElementError> {

@@ -18,10 +18,13 @@
 //! speed = 80.0             # m/s
 //! wheel = {mu = 0.3}       # moving_axle keys
 //! ```
+//!
+//! `[track] irregularity` takes a table or a list of tables, `{file = "irr.csv"}` or
+//! `{psd = "fra4", seed = 1, wavelengths = [1, 50]}` ([`super::irregularity`]).
 
 use super::alignment::SegmentSpec;
 use super::cant::TrackSpec;
-use super::track_model::{generate, JointDip, RailSection, RailSupport, TrackMesh};
+use super::track_model::{generate_with, JointDip, RailSection, RailSupport, TrackMesh};
 use super::vehicle::section::apply_vehicles;
 use railfem_framework::error::FemError;
 use railfem_framework::model::ModelBuilder;
@@ -52,6 +55,9 @@ struct TrackSection {
     window: Option<[f64; 2]>,
     #[serde(default)]
     dips: Vec<JointDip>,
+    /// Track irregularity: one table or a list ([`super::irregularity::from_value`]).
+    #[serde(default)]
+    irregularity: Option<Value>,
 }
 
 fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemError> {
@@ -75,7 +81,21 @@ fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemE
         window: t.window,
         dips: t.dips,
     };
-    generate(b, Arc::new(track), &mesh)?;
+    let irregularity = match &t.irregularity {
+        None => None,
+        Some(v) => {
+            // Files are relative to the model file (the builder's origin is its path).
+            let base = std::path::Path::new(b.origin())
+                .parent()
+                .map(std::path::Path::to_path_buf)
+                .unwrap_or_default();
+            let range = mesh.window.unwrap_or([0.0, track.alignment.length()]);
+            Some(Arc::new(super::irregularity::from_value(
+                v, &base, range, origin,
+            )?))
+        }
+    };
+    generate_with(b, Arc::new(track), &mesh, irregularity)?;
     Ok(())
 }
 

@@ -22,6 +22,7 @@ use super::bridge::{
     generate_structure, picks, BridgeLayout, BridgeSpec, RailsInfo, SlabLayout, SlabTrack,
 };
 use super::cant::Track;
+use super::irregularity::Irregularity;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::{self, fmt_num};
 use railfem_framework::model::ModelBuilder;
@@ -214,6 +215,8 @@ pub struct TrackModel {
     pub bridge: Option<BridgeLayout>,
     /// Dipped rail joints.
     pub dips: Vec<JointDip>,
+    /// The track irregularity (`[track] irregularity`), if any.
+    pub irregularity: Option<Arc<Irregularity>>,
 }
 
 impl TrackModel {
@@ -233,6 +236,21 @@ impl TrackModel {
     /// Rail-top height change of the dipped joints at station `s` (m, negative down).
     pub fn rail_top_height(&self, s: f64) -> f64 {
         self.dips.iter().map(|d| d.height(s)).sum()
+    }
+
+    /// `[lateral (axis 1), vertical (axis 2)]` displacement of the head of rail `rail`
+    /// (0 left, 1 right) at station `s` (m) in the wheel frame: the irregularity
+    /// ([`super::irregularity`]) plus the dipped joints (vertical). A wheel's contact
+    /// point C is moved by it; the rails' beam lines are not.
+    pub fn rail_offset(&self, rail: usize, s: f64) -> [f64; 2] {
+        let dip = self.rail_top_height(s);
+        match &self.irregularity {
+            None => [0.0, dip],
+            Some(irr) => {
+                let [y, z] = irr.rail_offset(rail, s);
+                [y, z + dip]
+            }
+        }
     }
 }
 
@@ -320,6 +338,16 @@ pub fn generate(
     track: Arc<Track>,
     mesh: &TrackMesh,
 ) -> Result<Arc<TrackModel>, FemError> {
+    generate_with(b, track, mesh, None)
+}
+
+/// [`generate`] with a track irregularity that every wheel sees at its station.
+pub fn generate_with(
+    b: &mut ModelBuilder,
+    track: Arc<Track>,
+    mesh: &TrackMesh,
+    irregularity: Option<Arc<Irregularity>>,
+) -> Result<Arc<TrackModel>, FemError> {
     let origin = format!("{}: [track]", b.origin());
     let h = mesh.element_length;
     if !(h.is_finite() && h > 0.0) {
@@ -375,6 +403,7 @@ pub fn generate(
         slab: None,
         bridge: None,
         dips: mesh.dips.clone(),
+        irregularity,
     };
     for (i, d) in mesh.dips.iter().enumerate() {
         if !(d.station.is_finite()
