@@ -286,3 +286,52 @@ speed = 0.0
         "nonlinear: car {car_n}, wheelset {ws_n}"
     );
 }
+
+/// The sensors of a model file's trains are published by name for recorders (the comfort
+/// hook): the Manchester file's three car-body sensors, twice for `count = 2`, each a
+/// node of the model at its point — the front one 9.5 m ahead of the centre, 1.0 m above
+/// the rail top.
+#[test]
+fn sensors_are_published_by_name() {
+    railfem::elements::link();
+    let text = format!(
+        r#"
+[track]
+segments = [{{type = "straight", length = 120.0}}]
+support = {{type = "rigid"}}
+
+[[vehicle]]
+name = "pair"
+file = "{ROOT}/examples/vehicles/manchester_benchmark.toml"
+count = 2
+start = 70.0
+speed = 0.0
+"#
+    );
+    let value = modelfile::parse_toml(&text, "s.toml").expect("toml");
+    let b = modelfile::from_value(&value, "s.toml", Path::new(ROOT)).expect("model");
+    let list = b
+        .resource_get(railfem::elements::rail::vehicle::section::SENSORS_RESOURCE)
+        .and_then(|r| r.downcast::<Vec<(String, u64)>>().ok())
+        .expect("sensors published");
+    let names: Vec<&str> = list.iter().map(|s| s.0.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "pair/v0_floor_front",
+            "pair/v0_floor_centre",
+            "pair/v0_floor_rear",
+            "pair/v1_floor_front",
+            "pair/v1_floor_centre",
+            "pair/v1_floor_rear"
+        ]
+    );
+    let model = b.build().expect("build");
+    // Second vehicle's centre at 70 − 25 = 45 m; its front sensor at 54.5 m, 1.0 m up.
+    let i = model.node(list[3].1).expect("sensor node");
+    let p = model.nodes[i].position;
+    assert!(
+        (p.x - 54.5).abs() < 1e-9 && p.y.abs() < 1e-9 && (p.z - 1.0).abs() < 1e-9,
+        "{p:?}"
+    );
+}

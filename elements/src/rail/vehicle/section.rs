@@ -289,11 +289,31 @@ pub fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(
             suspension_tangent: keys.suspension_tangent.clone(),
         };
         let ids = build::build(b, &track, &train, &named)?;
+        publish_sensors(b, &keys.name, &ids);
         if let Some(r) = keys.record {
             record(b, &ids, &r, &named)?;
         }
     }
     Ok(())
+}
+
+/// Name of the builder resource listing every train's sensor nodes as
+/// `("<train>/<sensor>", node id)`: the hook a comfort recorder finds them by.
+pub const SENSORS_RESOURCE: &str = "vehicle_sensors";
+
+/// Appends the train's sensors to [`SENSORS_RESOURCE`].
+fn publish_sensors(b: &mut ModelBuilder, train: &str, ids: &super::TrainIds) {
+    let mut all: Vec<(String, u64)> = b
+        .resource_get(SENSORS_RESOURCE)
+        .and_then(|r| r.downcast::<Vec<(String, u64)>>().ok())
+        .map(|a| (*a).clone())
+        .unwrap_or_default();
+    all.extend(
+        ids.sensors
+            .iter()
+            .map(|(n, id)| (format!("{train}/{n}"), *id)),
+    );
+    b.resource(SENSORS_RESOURCE, Arc::new(all));
 }
 
 /// `record = {wheels, sensors}`: an element recorder of the train's wheels (all their
