@@ -583,6 +583,7 @@ pub(crate) fn sample_scene(s: f64, rigid: bool) -> (Arc<TrackModel>, Vec<NodeKin
         slab: None,
         bridge: None,
         dips: Vec::new(),
+        irregularity: None,
     });
     let mut nodes = Vec::new();
     for r in 0..2 {
