@@ -10,7 +10,7 @@
 //! with Sperling's ride index ([`crate::comfort`]).
 
 use crate::assembly::Assembler;
-use crate::comfort::{sperling_wz, Direction};
+use crate::comfort::{en12299_p95, n_mv, sperling_wz, Direction, EN12299_WINDOW_S, W_B, W_D};
 use crate::dof::{Dof, DofSet};
 use crate::error::FemError;
 use crate::model::Model;
@@ -84,7 +84,10 @@ pub enum RecorderSpec {
         /// Translational DOFs weighted as lateral (`["uy"]`).
         #[serde(default)]
         lateral: Vec<String>,
-        /// `"sperling"` (the only method implemented).
+        /// The longitudinal DOF (`["ux"]`), EN 12299 only.
+        #[serde(default)]
+        longitudinal: Vec<String>,
+        /// `"sperling"` (Sperling's Wz) or `"en12299"` (the simplified N_MV).
         #[serde(default = "default_comfort_method")]
         method: String,
         /// Output file name, relative to the output directory.
@@ -164,6 +167,7 @@ impl RecorderSpec {
         if let RecorderSpec::Comfort {
             vertical,
             lateral,
+            longitudinal,
             method,
             ..
         } = self
@@ -178,7 +182,13 @@ impl RecorderSpec {
                     ));
                 }
             }
-            return validate_comfort(model, &o, ids.len(), vertical, lateral, method);
+            return validate_comfort(
+                model,
+                &o,
+                ids.len(),
+                [vertical, lateral, longitudinal],
+                method,
+            );
         }
         match self {
             RecorderSpec::Node { dofs, .. } => {
@@ -232,28 +242,47 @@ fn validate_comfort(
     model: &Model,
     o: &str,
     nodes: usize,
-    vertical: &[String],
-    lateral: &[String],
+    [vertical, lateral, longitudinal]: [&Vec<String>; 3],
     method: &str,
 ) -> Result<(), FemError> {
     let bad = |m: String| FemError::input(o, m);
-    if method != "sperling" {
-        return Err(bad(format!(
-            "`method` = \"{method}\" is not offered; give \"sperling\" (Sperling's Wz; EN 12299 is not implemented)"
-        )));
-    }
-    if vertical.is_empty() && lateral.is_empty() {
+    let en = match method {
+        "sperling" => false,
+        "en12299" => true,
+        _ => {
+            return Err(bad(format!(
+                "`method` = \"{method}\" is not offered; give \"sperling\" (Sperling's Wz) or \"en12299\" (the simplified mean comfort N_MV)"
+            )))
+        }
+    };
+    if vertical.is_empty() && lateral.is_empty() && longitudinal.is_empty() {
         return Err(bad(
             "names no direction; add `vertical = [\"uz\"]` and/or `lateral = [\"uy\"]` (translational DOFs)".into(),
         ));
     }
-    for (key, list) in [("vertical", vertical), ("lateral", lateral)] {
+    if !en && !longitudinal.is_empty() {
+        return Err(bad(
+            "`longitudinal` is read by `method = \"en12299\"` only (Sperling rates vertical and lateral motion); remove it or change the method".into(),
+        ));
+    }
+    for (key, list) in [
+        ("vertical", vertical),
+        ("lateral", lateral),
+        ("longitudinal", longitudinal),
+    ] {
         for name in list {
             if !matches!(name.as_str(), "ux" | "uy" | "uz") {
                 return Err(bad(format!(
-                    "`{key}` names `{name}`; Sperling's index weights translational accelerations: use ux, uy or uz"
+                    "`{key}` names `{name}`; the comfort indices weight translational accelerations: use ux, uy or uz"
                 )));
             }
+        }
+        if en && list.len() > 1 {
+            return Err(bad(format!(
+                "`{key}` names {} DOFs; EN 12299's N_MV takes one DOF per direction (e.g. `{key} = [\"{}\"]`)",
+                list.len(),
+                list[0]
+            )));
         }
     }
     let a = &model.analysis;
@@ -261,6 +290,14 @@ fn validate_comfort(
         return Err(bad(
             "a comfort recorder needs a transient analysis (accelerations over time); set `[analysis] kind = \"transient\"` or remove it".into(),
         ));
+    }
+    if en && a.duration < EN12299_WINDOW_S {
+        return Err(bad(format!(
+            "`duration` = {} s is shorter than one {} s window of EN 12299; run at least {} s (the standard asks for 5 min)",
+            crate::limits::fmt_num(a.duration),
+            EN12299_WINDOW_S,
+            EN12299_WINDOW_S
+        )));
     }
     let interval = a.dt * a.record_every as f64;
     if interval > COMFORT_MAX_INTERVAL {
@@ -272,7 +309,7 @@ fn validate_comfort(
         )));
     }
     let samples = (a.duration / interval).ceil() + 2.0;
-    let columns = (nodes * (vertical.len() + lateral.len())) as f64;
+    let columns = (nodes * (vertical.len() + lateral.len() + longitudinal.len())) as f64;
     crate::limits::check_memory(
         &format!(
             "`duration` = {} s recorded every {} s",
@@ -297,6 +334,8 @@ struct ComfortColumn {
 
 /// The histories of a comfort recorder, turned into indices by [`Recorders::finish`].
 struct ComfortHistory {
+    /// EN 12299's N_MV (else Sperling's Wz).
+    en12299: bool,
     columns: Vec<ComfortColumn>,
     time: Vec<f64>,
     values: Vec<Vec<f64>>,
@@ -310,8 +349,13 @@ impl ComfortHistory {
         }
     }
 
-    /// Writes `node,dof,weighting,wz,duration_s,samples`, one row per column.
+    /// Writes the indices: Sperling's as `node,dof,weighting,wz,duration_s,samples`, one
+    /// row per column; EN 12299's as
+    /// `node,n_mv,ax_p95_m_s2,ay_p95_m_s2,az_p95_m_s2,windows,duration_s`, one row per node.
     fn write(&self, out: &mut BufWriter<File>, path: &Path) -> Result<(), FemError> {
+        if self.en12299 {
+            return self.write_en12299(out, path);
+        }
         let io = |e: std::io::Error| FemError::output(path, e);
         writeln!(out, "node,dof,weighting,wz,duration_s,samples").map_err(io)?;
         let duration = match (self.time.first(), self.time.last()) {
@@ -329,6 +373,53 @@ impl ComfortHistory {
                 c.dof.name(),
                 c.direction.name(),
                 self.time.len()
+            )
+            .map_err(io)?;
+        }
+        Ok(())
+    }
+}
+
+impl ComfortHistory {
+    fn write_en12299(&self, out: &mut BufWriter<File>, path: &Path) -> Result<(), FemError> {
+        let io = |e: std::io::Error| FemError::output(path, e);
+        writeln!(
+            out,
+            "node,n_mv,ax_p95_m_s2,ay_p95_m_s2,az_p95_m_s2,windows,duration_s"
+        )
+        .map_err(io)?;
+        let duration = match (self.time.first(), self.time.last()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        };
+        let mut ids: Vec<u64> = self.columns.iter().map(|c| c.id).collect();
+        ids.dedup();
+        for id in ids {
+            // [longitudinal (Wd), lateral (Wd), vertical (Wb)]; a direction not given is 0.
+            let mut p95 = [0.0; 3];
+            let mut windows = 0;
+            for (c, v) in self.columns.iter().zip(&self.values) {
+                if c.id != id {
+                    continue;
+                }
+                let (slot, w) = match c.direction {
+                    Direction::Longitudinal => (0, &W_D),
+                    Direction::Lateral => (1, &W_D),
+                    Direction::Vertical => (2, &W_B),
+                };
+                let (p, n) = en12299_p95(&self.time, v, w).map_err(|e| {
+                    FemError::output(path, format!("node {} {}: {e}", c.id, c.dof.name()))
+                })?;
+                p95[slot] = p;
+                windows = n;
+            }
+            writeln!(
+                out,
+                "{id},{:.6},{:.6e},{:.6e},{:.6e},{windows},{duration:.6e}",
+                n_mv(p95[0], p95[1], p95[2]),
+                p95[0],
+                p95[1],
+                p95[2]
             )
             .map_err(io)?;
         }
@@ -374,7 +465,11 @@ impl Recorders {
             let mut comfort = None;
             let quantity = match spec {
                 RecorderSpec::Comfort {
-                    vertical, lateral, ..
+                    vertical,
+                    lateral,
+                    longitudinal,
+                    method,
+                    ..
                 } => {
                     let mut cols = Vec::new();
                     for id in spec.node_ids(model) {
@@ -382,6 +477,7 @@ impl Recorders {
                         for (list, direction) in [
                             (vertical, Direction::Vertical),
                             (lateral, Direction::Lateral),
+                            (longitudinal, Direction::Longitudinal),
                         ] {
                             for name in list {
                                 if let Some(dof) = Dof::parse(name) {
@@ -396,6 +492,7 @@ impl Recorders {
                         }
                     }
                     comfort = Some(ComfortHistory {
+                        en12299: method == "en12299",
                         values: vec![Vec::new(); cols.len()],
                         columns: cols,
                         time: Vec::new(),
