@@ -318,7 +318,9 @@ file = "comfort/wz.csv"
 /// |H(i·2πf)| of an ISO 8041 weighting from its parameters (written here from the
 /// standard's product of band limiting, transition and step, independently of the
 /// library): `(f1, f2, f3, f4, q4, step, k)`.
-fn iso_weighting(f: f64, p: (f64, f64, f64, f64, f64, Option<(f64, f64, f64, f64)>, f64)) -> f64 {
+type IsoParams = (f64, f64, f64, f64, f64, Option<(f64, f64, f64, f64)>, f64);
+
+fn iso_weighting(f: f64, p: IsoParams) -> f64 {
     let (f1, f2, f3, f4, q4, step, k) = p;
     let w = 2.0 * PI * f;
     // |a + i·b| of a second-order factor s² + ω·s/Q + ω² at s = iw: (ω² − w²) + i·w·ω/Q.
