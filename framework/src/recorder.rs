@@ -6,8 +6,8 @@
 //! write the named outputs an element reports ([`crate::Element::output_names`]).
 //!
 //! The `comfort` recorder is the exception: it keeps the acceleration histories of its
-//! node DOFs through the run and writes, when the run finishes, one row per node and DOF
-//! with Sperling's ride index ([`crate::comfort`]).
+//! node DOFs through the run and writes, when the run finishes, a ride-comfort index
+//! (Sperling's `Wz` per node and DOF, or EN 12299's `N_MV` per node; [`crate::comfort`]).
 
 use crate::assembly::Assembler;
 use crate::comfort::{en12299_p95, n_mv, sperling_wz, Direction, EN12299_WINDOW_S, W_B, W_D};
@@ -107,7 +107,8 @@ const COMFORT_BYTES_PER_SAMPLE: f64 = 8.0 * 7.0;
 const COMFORT_MAX_INTERVAL: f64 = 1.0 / (2.0 * crate::comfort::BAND_HZ.1);
 
 impl RecorderSpec {
-    /// The node ids (node recorder) or element ids (element recorder) the recorder names.
+    /// The node ids (node and comfort recorders) or element ids (element recorder) the
+    /// recorder names.
     fn node_ids(&self, model: &Model) -> Vec<u64> {
         match self {
             RecorderSpec::Node { node, nodes, .. } | RecorderSpec::Comfort { node, nodes, .. } => {
@@ -164,32 +165,6 @@ impl RecorderSpec {
             ));
         }
         // The file name is checked with every other output name ([`crate::outputs`]).
-        if let RecorderSpec::Comfort {
-            vertical,
-            lateral,
-            longitudinal,
-            method,
-            ..
-        } = self
-        {
-            for id in &ids {
-                if model.node(*id).is_none() {
-                    return Err(FemError::input(
-                        &o,
-                        format!(
-                            "node {id} does not exist; define it in a [[node]] table or fix the id"
-                        ),
-                    ));
-                }
-            }
-            return validate_comfort(
-                model,
-                &o,
-                ids.len(),
-                [vertical, lateral, longitudinal],
-                method,
-            );
-        }
         match self {
             RecorderSpec::Node { dofs, .. } => {
                 for id in ids {
@@ -207,7 +182,29 @@ impl RecorderSpec {
                     )
                 })?;
             }
-            RecorderSpec::Comfort { .. } => {}
+            RecorderSpec::Comfort {
+                vertical,
+                lateral,
+                longitudinal,
+                method,
+                ..
+            } => {
+                for id in &ids {
+                    if model.node(*id).is_none() {
+                        return Err(FemError::input(
+                            &o,
+                            format!("node {id} does not exist; define it in a [[node]] table or fix the id"),
+                        ));
+                    }
+                }
+                validate_comfort(
+                    model,
+                    &o,
+                    ids.len(),
+                    [vertical, lateral, longitudinal],
+                    method,
+                )?;
+            }
             RecorderSpec::Element { outputs, .. } => {
                 for id in ids {
                     let Some(e) = model.elements.iter().find(|e| e.id == id) else {
