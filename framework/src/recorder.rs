@@ -6,11 +6,11 @@
 //! write the named outputs an element reports ([`crate::Element::output_names`]).
 //!
 //! The `comfort` recorder is the exception: it keeps the acceleration histories of its
-//! node DOFs through the run and writes, when the run finishes, one row per node and DOF
-//! with Sperling's ride index ([`crate::comfort`]).
+//! node DOFs through the run and writes, when the run finishes, a ride-comfort index
+//! (Sperling's `Wz` per node and DOF, or EN 12299's `N_MV` per node; [`crate::comfort`]).
 
 use crate::assembly::Assembler;
-use crate::comfort::{sperling_wz, Direction};
+use crate::comfort::{en12299_p95, n_mv, sperling_wz, Direction, EN12299_WINDOW_S, W_B, W_D};
 use crate::dof::{Dof, DofSet};
 use crate::error::FemError;
 use crate::model::Model;
@@ -84,7 +84,10 @@ pub enum RecorderSpec {
         /// Translational DOFs weighted as lateral (`["uy"]`).
         #[serde(default)]
         lateral: Vec<String>,
-        /// `"sperling"` (the only method implemented).
+        /// The longitudinal DOF (`["ux"]`), EN 12299 only.
+        #[serde(default)]
+        longitudinal: Vec<String>,
+        /// `"sperling"` (Sperling's Wz) or `"en12299"` (the simplified N_MV).
         #[serde(default = "default_comfort_method")]
         method: String,
         /// Output file name, relative to the output directory.
@@ -104,7 +107,8 @@ const COMFORT_BYTES_PER_SAMPLE: f64 = 8.0 * 7.0;
 const COMFORT_MAX_INTERVAL: f64 = 1.0 / (2.0 * crate::comfort::BAND_HZ.1);
 
 impl RecorderSpec {
-    /// The node ids (node recorder) or element ids (element recorder) the recorder names.
+    /// The node ids (node and comfort recorders) or element ids (element recorder) the
+    /// recorder names.
     fn node_ids(&self, model: &Model) -> Vec<u64> {
         match self {
             RecorderSpec::Node { node, nodes, .. } | RecorderSpec::Comfort { node, nodes, .. } => {
@@ -161,25 +165,6 @@ impl RecorderSpec {
             ));
         }
         // The file name is checked with every other output name ([`crate::outputs`]).
-        if let RecorderSpec::Comfort {
-            vertical,
-            lateral,
-            method,
-            ..
-        } = self
-        {
-            for id in &ids {
-                if model.node(*id).is_none() {
-                    return Err(FemError::input(
-                        &o,
-                        format!(
-                            "node {id} does not exist; define it in a [[node]] table or fix the id"
-                        ),
-                    ));
-                }
-            }
-            return validate_comfort(model, &o, ids.len(), vertical, lateral, method);
-        }
         match self {
             RecorderSpec::Node { dofs, .. } => {
                 for id in ids {
@@ -197,7 +182,29 @@ impl RecorderSpec {
                     )
                 })?;
             }
-            RecorderSpec::Comfort { .. } => {}
+            RecorderSpec::Comfort {
+                vertical,
+                lateral,
+                longitudinal,
+                method,
+                ..
+            } => {
+                for id in &ids {
+                    if model.node(*id).is_none() {
+                        return Err(FemError::input(
+                            &o,
+                            format!("node {id} does not exist; define it in a [[node]] table or fix the id"),
+                        ));
+                    }
+                }
+                validate_comfort(
+                    model,
+                    &o,
+                    ids.len(),
+                    [vertical, lateral, longitudinal],
+                    method,
+                )?;
+            }
             RecorderSpec::Element { outputs, .. } => {
                 for id in ids {
                     let Some(e) = model.elements.iter().find(|e| e.id == id) else {
@@ -232,28 +239,47 @@ fn validate_comfort(
     model: &Model,
     o: &str,
     nodes: usize,
-    vertical: &[String],
-    lateral: &[String],
+    [vertical, lateral, longitudinal]: [&Vec<String>; 3],
     method: &str,
 ) -> Result<(), FemError> {
     let bad = |m: String| FemError::input(o, m);
-    if method != "sperling" {
-        return Err(bad(format!(
-            "`method` = \"{method}\" is not offered; give \"sperling\" (Sperling's Wz; EN 12299 is not implemented)"
-        )));
-    }
-    if vertical.is_empty() && lateral.is_empty() {
+    let en = match method {
+        "sperling" => false,
+        "en12299" => true,
+        _ => {
+            return Err(bad(format!(
+                "`method` = \"{method}\" is not offered; give \"sperling\" (Sperling's Wz) or \"en12299\" (the simplified mean comfort N_MV)"
+            )))
+        }
+    };
+    if vertical.is_empty() && lateral.is_empty() && longitudinal.is_empty() {
         return Err(bad(
             "names no direction; add `vertical = [\"uz\"]` and/or `lateral = [\"uy\"]` (translational DOFs)".into(),
         ));
     }
-    for (key, list) in [("vertical", vertical), ("lateral", lateral)] {
+    if !en && !longitudinal.is_empty() {
+        return Err(bad(
+            "`longitudinal` is read by `method = \"en12299\"` only (Sperling rates vertical and lateral motion); remove it or change the method".into(),
+        ));
+    }
+    for (key, list) in [
+        ("vertical", vertical),
+        ("lateral", lateral),
+        ("longitudinal", longitudinal),
+    ] {
         for name in list {
             if !matches!(name.as_str(), "ux" | "uy" | "uz") {
                 return Err(bad(format!(
-                    "`{key}` names `{name}`; Sperling's index weights translational accelerations: use ux, uy or uz"
+                    "`{key}` names `{name}`; the comfort indices weight translational accelerations: use ux, uy or uz"
                 )));
             }
+        }
+        if en && list.len() > 1 {
+            return Err(bad(format!(
+                "`{key}` names {} DOFs; EN 12299's N_MV takes one DOF per direction (e.g. `{key} = [\"{}\"]`)",
+                list.len(),
+                list[0]
+            )));
         }
     }
     let a = &model.analysis;
@@ -261,6 +287,14 @@ fn validate_comfort(
         return Err(bad(
             "a comfort recorder needs a transient analysis (accelerations over time); set `[analysis] kind = \"transient\"` or remove it".into(),
         ));
+    }
+    if en && a.duration < EN12299_WINDOW_S {
+        return Err(bad(format!(
+            "`duration` = {} s is shorter than one {} s window of EN 12299; run at least {} s (the standard asks for 5 min)",
+            crate::limits::fmt_num(a.duration),
+            EN12299_WINDOW_S,
+            EN12299_WINDOW_S
+        )));
     }
     let interval = a.dt * a.record_every as f64;
     if interval > COMFORT_MAX_INTERVAL {
@@ -272,7 +306,7 @@ fn validate_comfort(
         )));
     }
     let samples = (a.duration / interval).ceil() + 2.0;
-    let columns = (nodes * (vertical.len() + lateral.len())) as f64;
+    let columns = (nodes * (vertical.len() + lateral.len() + longitudinal.len())) as f64;
     crate::limits::check_memory(
         &format!(
             "`duration` = {} s recorded every {} s",
@@ -297,6 +331,8 @@ struct ComfortColumn {
 
 /// The histories of a comfort recorder, turned into indices by [`Recorders::finish`].
 struct ComfortHistory {
+    /// EN 12299's N_MV (else Sperling's Wz).
+    en12299: bool,
     columns: Vec<ComfortColumn>,
     time: Vec<f64>,
     values: Vec<Vec<f64>>,
@@ -310,8 +346,13 @@ impl ComfortHistory {
         }
     }
 
-    /// Writes `node,dof,weighting,wz,duration_s,samples`, one row per column.
+    /// Writes the indices: Sperling's as `node,dof,weighting,wz,duration_s,samples`, one
+    /// row per column; EN 12299's as
+    /// `node,n_mv,ax_p95_m_s2,ay_p95_m_s2,az_p95_m_s2,windows,duration_s`, one row per node.
     fn write(&self, out: &mut BufWriter<File>, path: &Path) -> Result<(), FemError> {
+        if self.en12299 {
+            return self.write_en12299(out, path);
+        }
         let io = |e: std::io::Error| FemError::output(path, e);
         writeln!(out, "node,dof,weighting,wz,duration_s,samples").map_err(io)?;
         let duration = match (self.time.first(), self.time.last()) {
@@ -329,6 +370,53 @@ impl ComfortHistory {
                 c.dof.name(),
                 c.direction.name(),
                 self.time.len()
+            )
+            .map_err(io)?;
+        }
+        Ok(())
+    }
+}
+
+impl ComfortHistory {
+    fn write_en12299(&self, out: &mut BufWriter<File>, path: &Path) -> Result<(), FemError> {
+        let io = |e: std::io::Error| FemError::output(path, e);
+        writeln!(
+            out,
+            "node,n_mv,ax_p95_m_s2,ay_p95_m_s2,az_p95_m_s2,windows,duration_s"
+        )
+        .map_err(io)?;
+        let duration = match (self.time.first(), self.time.last()) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        };
+        let mut ids: Vec<u64> = self.columns.iter().map(|c| c.id).collect();
+        ids.dedup();
+        for id in ids {
+            // [longitudinal (Wd), lateral (Wd), vertical (Wb)]; a direction not given is 0.
+            let mut p95 = [0.0; 3];
+            let mut windows = 0;
+            for (c, v) in self.columns.iter().zip(&self.values) {
+                if c.id != id {
+                    continue;
+                }
+                let (slot, w) = match c.direction {
+                    Direction::Longitudinal => (0, &W_D),
+                    Direction::Lateral => (1, &W_D),
+                    Direction::Vertical => (2, &W_B),
+                };
+                let (p, n) = en12299_p95(&self.time, v, w).map_err(|e| {
+                    FemError::output(path, format!("node {} {}: {e}", c.id, c.dof.name()))
+                })?;
+                p95[slot] = p;
+                windows = n;
+            }
+            writeln!(
+                out,
+                "{id},{:.6},{:.6e},{:.6e},{:.6e},{windows},{duration:.6e}",
+                n_mv(p95[0], p95[1], p95[2]),
+                p95[0],
+                p95[1],
+                p95[2]
             )
             .map_err(io)?;
         }
@@ -374,7 +462,11 @@ impl Recorders {
             let mut comfort = None;
             let quantity = match spec {
                 RecorderSpec::Comfort {
-                    vertical, lateral, ..
+                    vertical,
+                    lateral,
+                    longitudinal,
+                    method,
+                    ..
                 } => {
                     let mut cols = Vec::new();
                     for id in spec.node_ids(model) {
@@ -382,6 +474,7 @@ impl Recorders {
                         for (list, direction) in [
                             (vertical, Direction::Vertical),
                             (lateral, Direction::Lateral),
+                            (longitudinal, Direction::Longitudinal),
                         ] {
                             for name in list {
                                 if let Some(dof) = Dof::parse(name) {
@@ -396,6 +489,7 @@ impl Recorders {
                         }
                     }
                     comfort = Some(ComfortHistory {
+                        en12299: method == "en12299",
                         values: vec![Vec::new(); cols.len()],
                         columns: cols,
                         time: Vec::new(),
