@@ -46,6 +46,11 @@
 //! (the 3/2 law is convex), which converges from zero load in one load step (tested: 10
 //! iterations for a two-axle vehicle). A wheel in the air has no vertical stiffness, so a
 //! static solve needs its wheels in contact at the first iterate (docs/wheel-models.md).
+//! The same holds on an irregular rail: the wheel starts just touching the rail head at
+//! its first station, irregularity included (its vertical irregularity is measured from
+//! the value there, as `moving_axle` shifts its wheel profile at build), so differences of
+//! the rail height between the wheels at t = 0 do not preload the suspensions; start a
+//! vehicle on smooth track (or where the profile is flat) when that matters.
 //! `rigid_wheel` is linear and needs nothing. Like every wheel model, neither holds the
 //! wheelset's rolling (spin about the axle with the matching forward motion of K): the
 //! vehicle's spin spring does, in statics.
@@ -233,8 +238,11 @@ pub struct PointWheel {
     elem: usize,
     xi: f64,
     station: f64,
-    /// Irregularity of the rail head at the station, wheel frame (m): (lateral, up, 0).
+    /// Irregularity of the rail head at the station, wheel frame (m): (lateral, up, 0),
+    /// its vertical part taken from the value at the wheel's first station.
     irregularity: Vector3<f64>,
+    /// Vertical irregularity at the wheel's first station (m); `NaN` until placed.
+    start_height: f64,
     /// x_P − x_K and x_P − x_C in the wheel frame (m).
     r_pk: Vector3<f64>,
     rho: Vector3<f64>,
@@ -274,6 +282,7 @@ impl PointWheel {
             xi: 0.0,
             station: f64::NAN,
             irregularity: Vector3::zeros(),
+            start_height: f64::NAN,
             r_pk: Vector3::zeros(),
             rho: Vector3::zeros(),
             rail_map: SMatrix::zeros(),
@@ -336,7 +345,13 @@ impl PointWheel {
             )));
         };
         self.station = s;
-        self.irregularity = self.rail_irregularity(s);
+        // The wheel starts just touching the rail where it stands (see "Initial state"):
+        // the vertical irregularity is measured from its value at the first station.
+        let z = self.rail_irregularity(s);
+        if self.start_height.is_nan() {
+            self.start_height = z.y;
+        }
+        self.irregularity = Vector3::new(z.x, z.y - self.start_height, 0.0);
         let w = kk.frame;
         let p = self.track.track.at(s);
         // Height of K above the rail-top plane through the centre line.

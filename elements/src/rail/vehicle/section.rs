@@ -39,8 +39,9 @@ const TRAIN_KEYS: [&str; 11] = [
     "vehicles",
 ];
 
-/// Where a train's results go: `wheels` (every wheel's outputs) and `sensors` (the sensor
-/// points' accelerations), file names relative to the output directory.
+/// Where a train's results go: `wheels` (every wheel's outputs), `sensors` (the sensor
+/// points' accelerations) and `comfort` (the ride-comfort index at every sensor, by
+/// `comfort_method`), file names relative to the output directory.
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct Record {
@@ -48,6 +49,10 @@ struct Record {
     wheels: Option<String>,
     #[serde(default)]
     sensors: Option<String>,
+    #[serde(default)]
+    comfort: Option<String>,
+    #[serde(default)]
+    comfort_method: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -316,8 +321,9 @@ fn publish_sensors(b: &mut ModelBuilder, train: &str, ids: &super::TrainIds) {
     b.resource(SENSORS_RESOURCE, Arc::new(all));
 }
 
-/// `record = {wheels, sensors}`: an element recorder of the train's wheels (all their
-/// outputs) and a node recorder of the sensors' accelerations.
+/// `record = {wheels, sensors, comfort}`: an element recorder of the train's wheels (all
+/// their outputs), a node recorder of the sensors' accelerations and a `comfort` recorder
+/// of the sensors (vehicle nodes' axes: `ux` lateral, `uy` vertical, `uz` longitudinal).
 fn record(
     b: &mut ModelBuilder,
     ids: &super::TrainIds,
@@ -345,6 +351,36 @@ fn record(
             nodes: ids.sensors.iter().map(|s| s.1).collect(),
             dofs: vec!["ux".into(), "uy".into(), "uz".into()],
             quantity: Quantity::Acc,
+            file: f.clone(),
+        });
+    }
+    if r.comfort_method.is_some() && r.comfort.is_none() {
+        return Err(FemError::input(
+            format!("{o} record.comfort_method"),
+            "`comfort_method` needs `comfort = \"file.csv\"` beside it (the file the index goes to)",
+        ));
+    }
+    if let Some(f) = &r.comfort {
+        if ids.sensors.is_empty() {
+            return Err(FemError::input(
+                format!("{o} record.comfort"),
+                "the ride-comfort index is taken at the train's sensors and it has none; add [[vehicle.sensor]] entries (name, body, at) or remove `record.comfort`",
+            ));
+        }
+        let method = r.comfort_method.clone().unwrap_or_else(|| "sperling".into());
+        // Sperling has no longitudinal weighting; EN 12299 uses all three axes.
+        let longitudinal = if method == "en12299" {
+            vec!["uz".to_string()]
+        } else {
+            Vec::new()
+        };
+        b.recorder(RecorderSpec::Comfort {
+            node: None,
+            nodes: ids.sensors.iter().map(|s| s.1).collect(),
+            vertical: vec!["uy".into()],
+            lateral: vec!["ux".into()],
+            longitudinal,
+            method,
             file: f.clone(),
         });
     }
