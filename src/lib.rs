@@ -18,6 +18,7 @@ pub mod bench_train;
 pub mod cli;
 pub mod critical;
 pub mod curve;
+pub mod oscillators;
 pub mod pareto;
 pub mod stress;
 pub mod train_bridge;

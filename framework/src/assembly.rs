@@ -999,7 +999,9 @@ impl Assembler {
                 let gv: Vec<f64> = map
                     .dofs
                     .iter()
-                    .map(|&(node, d)| kinematic_vector(&self.kin[node], d, &grav, &Vector3::zeros()))
+                    .map(|&(node, d)| {
+                        kinematic_vector(&self.kin[node], d, &grav, &Vector3::zeros())
+                    })
                     .collect();
                 let f = m * nalgebra::DVector::from_vec(gv);
                 scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);

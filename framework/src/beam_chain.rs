@@ -55,7 +55,7 @@ impl BeamChain {
             prev_end = Some(b);
             let (xa, xb) = (position(a), position(b));
             let len = (xb - xa).norm();
-            if !(len > 0.0) {
+            if len.is_nan() || len <= 0.0 {
                 return Err(format!(
                     "element {id} has zero length; a path needs beams of positive length"
                 ));

@@ -250,12 +250,18 @@ mod tests {
 
     #[test]
     fn backwards_histories_are_refused_with_the_key_and_row() {
-        let e = SpeedHistory::from_table(0.0, &[[0.0, 5.0], [1.0, -1.0]], "speed_table")
-            .unwrap_err();
-        assert!(e.contains("`speed_table`[1]") && e.contains("backwards"), "{e}");
+        let e =
+            SpeedHistory::from_table(0.0, &[[0.0, 5.0], [1.0, -1.0]], "speed_table").unwrap_err();
+        assert!(
+            e.contains("`speed_table`[1]") && e.contains("backwards"),
+            "{e}"
+        );
         let e = SpeedHistory::from_table(0.0, &[[0.0, 5.0], [2.0, 3.0], [1.0, 1.0]], "speed_table")
             .unwrap_err();
-        assert!(e.contains("`speed_table`[2]") && e.contains("increasing"), "{e}");
+        assert!(
+            e.contains("`speed_table`[2]") && e.contains("increasing"),
+            "{e}"
+        );
         let e = SpeedHistory::uniform(0.0, -3.0, 0.0).unwrap_err();
         assert!(e.contains("`speed`"), "{e}");
         assert!(SpeedHistory::from_table(0.0, &[], "speed_table").is_err());

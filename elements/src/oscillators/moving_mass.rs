@@ -84,7 +84,7 @@ impl MovingMass {
         path: ContactPath,
         origin: &str,
     ) -> Result<MovingMass, FemError> {
-        if !(params.m > 0.0) {
+        if !(params.m.is_finite() && params.m > 0.0) {
             return Err(FemError::input(
                 origin,
                 format!("moving_mass: `m` = {} kg must be > 0", fmt_num(params.m)),
@@ -209,10 +209,16 @@ impl Element for MovingMass {
     }
 
     fn output_names(&self) -> Vec<String> {
-        ["station", "speed", "contact_force", "contact_disp", "contact_acc"]
-            .iter()
-            .map(|s| s.to_string())
-            .collect()
+        [
+            "station",
+            "speed",
+            "contact_force",
+            "contact_disp",
+            "contact_acc",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
     }
 
     fn outputs(&self, out: &mut Vec<f64>) {
@@ -282,8 +288,12 @@ fn samples() -> Vec<Sample> {
         .filter_map(|(i, (name, params))| {
             let element = rebuild(&params).ok()?;
             let pos = sample_positions();
-            let mut s = support::sample_on_points(name, element, &pos[1..], 900 + i as u64, (1e-4, 1e-4));
-            s.nodes = pos.iter().map(|p| railfem_framework::NodeKinematics::fixed(*p)).collect();
+            let mut s =
+                support::sample_on_points(name, element, &pos[1..], 900 + i as u64, (1e-4, 1e-4));
+            s.nodes = pos
+                .iter()
+                .map(|p| railfem_framework::NodeKinematics::fixed(*p))
+                .collect();
             s.rebuild = Some(rebuild);
             Some(s)
         })

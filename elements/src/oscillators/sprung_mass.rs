@@ -119,13 +119,17 @@ impl MovingSprungMass {
         origin: &str,
     ) -> Result<MovingSprungMass, FemError> {
         let bad = |m: String| Err(FemError::input(origin, format!("moving_sprung_mass: {m}")));
-        if !(params.m > 0.0) {
+        if !(params.m.is_finite() && params.m > 0.0) {
             return bad(format!("`m` = {} kg must be > 0", fmt_num(params.m)));
         }
-        if !(params.k > 0.0) {
+        if !(params.k.is_finite() && params.k > 0.0) {
             return bad(format!("`k` = {} N/m must be > 0", fmt_num(params.k)));
         }
-        for (key, v) in [("c", params.c), ("m_w", params.m_w), ("gravity", params.gravity)] {
+        for (key, v) in [
+            ("c", params.c),
+            ("m_w", params.m_w),
+            ("gravity", params.gravity),
+        ] {
             if v < 0.0 {
                 return bad(format!("`{key}` = {} must be ≥ 0", fmt_num(v)));
             }
@@ -411,7 +415,12 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
     let n = support::resolve_nodes(spec, ctx, &[1], KIND, "the node of the sprung mass")?;
     let history = speed_history(spec, KIND, p.start, p.speed, p.accel, &p.speed_table)?;
     let path = ContactPath::resolve(spec, ctx, KIND, &p.path, &p.track, &p.rail, history)?;
-    Ok(Box::new(MovingSprungMass::new(p, n[0], path, &spec.origin)?))
+    Ok(Box::new(MovingSprungMass::new(
+        p,
+        n[0],
+        path,
+        &spec.origin,
+    )?))
 }
 
 fn sample_params() -> [(&'static str, serde_json::Value); 3] {
@@ -453,7 +462,8 @@ fn samples() -> Vec<Sample> {
         .filter_map(|(i, (name, params))| {
             let element = rebuild(&params).ok()?;
             let pos = sample_positions();
-            let mut s = support::sample_on_points(name, element, &pos, 700 + i as u64, (1e-3, 1e-3));
+            let mut s =
+                support::sample_on_points(name, element, &pos, 700 + i as u64, (1e-3, 1e-3));
             // Element order: z, then the two beam nodes; compress the spring (z down).
             let n = s.element.ndof();
             s.disp = std::iter::once(-0.02)
@@ -493,11 +503,19 @@ mod tests {
     /// Hermite functions (N1, N3 sum to one) on the beam nodes' uz.
     #[test]
     fn spring_force_distribution() {
-        let mut e = make(serde_json::json!({"m": 1000.0, "k": 2.0e6, "path": [10], "start": 0.5})).unwrap();
+        let mut e =
+            make(serde_json::json!({"m": 1000.0, "k": 2.0e6, "path": [10], "start": 0.5})).unwrap();
         let mut q = vec![0.0; 13];
         q[0] = -0.01;
         let z = vec![0.0; 13];
-        e.update(&TrialState { time: 0.0, dt: 1e-3, disp: &q, vel: &z, acc: &z }).unwrap();
+        e.update(&TrialState {
+            time: 0.0,
+            dt: 1e-3,
+            disp: &q,
+            vel: &z,
+            acc: &z,
+        })
+        .unwrap();
         let mut f = vec![0.0; 13];
         e.resisting_force(&mut f);
         assert!((f[0] + 2.0e4).abs() < 1e-9);
@@ -511,12 +529,22 @@ mod tests {
     /// A unilateral spring that would pull lifts off: no force, no stiffness.
     #[test]
     fn unilateral_lifts_off() {
-        let mut e = make(serde_json::json!({"m": 1000.0, "k": 2.0e6, "contact": "unilateral",
-            "path": [10], "start": 0.5})).unwrap();
+        let mut e = make(
+            serde_json::json!({"m": 1000.0, "k": 2.0e6, "contact": "unilateral",
+            "path": [10], "start": 0.5}),
+        )
+        .unwrap();
         let mut q = vec![0.0; 13];
         q[0] = 0.01;
         let z = vec![0.0; 13];
-        e.update(&TrialState { time: 0.0, dt: 1e-3, disp: &q, vel: &z, acc: &z }).unwrap();
+        e.update(&TrialState {
+            time: 0.0,
+            dt: 1e-3,
+            disp: &q,
+            vel: &z,
+            acc: &z,
+        })
+        .unwrap();
         let mut f = vec![1.0; 13];
         e.resisting_force(&mut f);
         assert!(f.iter().all(|x| *x == 0.0));
@@ -539,7 +567,10 @@ mod tests {
         assert!(e.contains("`start`") && e.contains("off the path"), "{e}");
         let e = err(serde_json::json!({"m": 1.0, "k": 1.0, "path": [10],
             "speed_table": [[0.0, 1.0], [1.0, -1.0]]}));
-        assert!(e.contains("`speed_table`[1]") && e.contains("backwards"), "{e}");
+        assert!(
+            e.contains("`speed_table`[1]") && e.contains("backwards"),
+            "{e}"
+        );
         let e = err(serde_json::json!({"m": 1.0, "k": 1.0, "path": [10], "contact": "sticky"}));
         assert!(e.contains("`contact`"), "{e}");
         let e = err(serde_json::json!({"m": 1.0, "k": 1.0}));
