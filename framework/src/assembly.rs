@@ -109,8 +109,8 @@ pub struct Assembler {
     mass_elems: Vec<usize>,
     /// Cached element mass matrices of elements on carried nodes (for Eq. 5 loads).
     carried_mass: Vec<(usize, DMatrix<f64>)>,
-    /// Non-carried elements whose mass changes between steps (a moving mass): their
-    /// gravity `M(t)·g` is formed at every call of [`Assembler::external_force`].
+    /// Non-carried moving elements whose mass changes between steps (a mass rolling along a
+    /// beam): their gravity `M(t)·g` is formed at every call of [`Assembler::external_force`].
     gravity_variable: Vec<usize>,
     /// Gravity load of elements on fixed (non-carried) nodes, constant.
     gravity_fixed: Vec<f64>,
@@ -509,7 +509,11 @@ impl Assembler {
                 self.carried_mass.push((ei, m));
                 continue;
             }
-            if !e.properties().constant_mass {
+            // A moving element whose mass follows its position (a mass rolling along a
+            // beam): its gravity is formed per step. Other changing masses (the finite-link
+            // wrapper's) keep the gravity of the reference state, as before.
+            let props = e.properties();
+            if !props.constant_mass && props.connectivity_may_change {
                 self.gravity_variable.push(ei);
             } else if let Some(g) = grav {
                 let gv: Vec<f64> = map
