@@ -10,8 +10,8 @@
 //!   relative to the series' peak.
 //! - **sprung** — a mass M = 5750 kg on a spring k = 1.595 MN/m riding over the same span
 //!   at the same speed, weighed down by gravity; the spring's foot follows the beam's
-//!   Hermite deflection under the moving contact point ([`SprungContact`], an element
-//!   registered at run time by this module). Reference: the beam's modal equations coupled
+//!   Hermite deflection under the moving contact point (the `moving_sprung_mass` element,
+//!   see `docs/moving-oscillators.md`). Reference: the beam's modal equations coupled
 //!   with the mass, integrated by classical RK4 with a step far below anything the FE runs
 //!   use ([`sprung_reference`]); error as for the force case.
 //! - **curve** — the paper's curved-track case on the shortened (`--quick`) track, rigid
@@ -24,16 +24,11 @@
 //! every step; the reference is computed outside the timed region. Timings depend on the
 //! machine's load and are never asserted.
 
-use crate::framework::element::{
-    Element, ElementError, ElementProperties, NodeDofs, StepContext, TrialState,
-};
 use crate::framework::loads::{LoadSpec, TimeSeries};
 use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder};
 use crate::framework::plot::{Corner, Figure, Panel, Series, Style};
-use crate::framework::registry::{self, BuildContext, ElementKind, ElementSpec, Params, Sample};
 use crate::framework::{Dof, DofSet, FemError, Model};
 use crate::solvers::Driver;
-use nalgebra::DMatrix;
 use serde_json::json;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -251,7 +246,7 @@ pub fn sample_at(hist: &[f64], t_end: f64, t: f64) -> f64 {
 /// A simply supported span of `ne` `beam3d` elements along X, nodes `1..=ne+1`, element
 /// ids `1..=ne`; only vertical bending is free (ux, uy, rx, rz held at every node; uz held
 /// at both ends). Section: E = 210 GPa, ρ = 7850 kg/m³, `Iy = EI/E`, `A = m/ρ`.
-fn span(ne: usize) -> ModelBuilder {
+pub(crate) fn span(ne: usize) -> ModelBuilder {
     crate::elements::link();
     let mut b = ModelBuilder::new(format!("pareto span ({ne} elements)"));
     let plane = DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Rz]);
@@ -332,7 +327,6 @@ pub fn sprung_run(
     scheme: Scheme,
     reference: &[f64],
 ) -> Result<(f64, f64, usize), FemError> {
-    register_sprung_contact()?;
     let t_end = SPAN / SPEED;
     let steps = (t_end / dt).floor() as usize;
     let t0 = Instant::now();
@@ -343,18 +337,12 @@ pub fn sprung_run(
         [0.0, 0.0, 1.0],
         DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Ry, Dof::Rz]),
     );
+    let path: Vec<u64> = (1..=ne as u64).collect();
     b.element(
-        "mass",
-        ne as u64 + 1,
-        &[mass_node],
-        &json!({"m": SPRUNG_MASS}),
-    );
-    let beam_nodes: Vec<u64> = (1..=ne as u64 + 1).collect();
-    b.element(
-        SPRUNG_KIND,
+        "moving_sprung_mass",
         ne as u64 + 2,
         &[mass_node],
-        &json!({"k": SPRUNG_K, "speed": SPEED, "beam_nodes": beam_nodes}),
+        &json!({"m": SPRUNG_MASS, "k": SPRUNG_K, "speed": SPEED, "path": path}),
     );
     b.load(LoadSpec::Nodal {
         node: mass_node,
@@ -628,197 +616,6 @@ pub fn run(grid: &Grid, out: &Path) -> Result<Vec<Run>, FemError> {
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     eprintln!("load average at end: {}", load.trim());
     Ok(runs)
-}
-
-/// Registered name of [`SprungContact`].
-pub const SPRUNG_KIND: &str = "pareto_sprung_contact";
-
-/// Registers [`SprungContact`] once per process (it lives with the benchmark, not among
-/// the library's elements).
-pub fn register_sprung_contact() -> Result<(), FemError> {
-    if registry::find(SPRUNG_KIND).is_some() {
-        return Ok(());
-    }
-    registry::register(ElementKind {
-        name: SPRUNG_KIND,
-        description: "benchmark only: a spring from a mass node to the deflection of a beam under a point moving at constant speed",
-        params: SprungParams::docs,
-        build: build_sprung,
-        samples: no_samples,
-    })
-}
-
-fn no_samples() -> Vec<Sample> {
-    Vec::new()
-}
-
-crate::framework::element_params! {
-    /// Keys of [`SprungContact`] (SI units).
-    pub struct SprungParams {
-        /// Spring stiffness k (N/m), > 0.
-        k: f64 ["N/m"],
-        /// Speed of the contact point along the beam (m/s), > 0; it starts at the first beam node at t = 0.
-        speed: f64 ["m/s"],
-        /// Node ids of the beam, in order along global X, equally spaced.
-        beam_nodes: Vec<u64> ["-"],
-    }
-}
-
-/// A linear spring between a mass node's `uz` and the beam's vertical deflection under a
-/// point moving at constant speed along a straight, uniformly meshed beam on global X.
-///
-/// Under the point, at `ξ` in the beam element from node I to node J (length h), the
-/// deflection is the cubic Hermite interpolation `w = N1·w_I + N2·φ_I + N3·w_J + N4·φ_J`
-/// with `φ = dw/dx = −θy` (beam3d's sign for the x-z plane), `N1 = 1 − 3ξ² + 2ξ³`,
-/// `N2 = h(ξ − 2ξ² + ξ³)`, `N3 = 3ξ² − 2ξ³`, `N4 = h(ξ³ − ξ²)`. With the element vector
-/// `q = (z, w_I, θy_I, w_J, θy_J)` the stretch is `δ = z − w = bᵀq`,
-/// `b = (1, −N1, N2, −N3, N4)`; the resisting force is `k·δ·b` and the tangent `k·b·bᵀ`
-/// (symmetric; the same work-equivalent nodal forces as `moving_force`). The element
-/// re-picks I and J when the point crosses a node.
-#[derive(Debug, Clone)]
-pub struct SprungContact {
-    params: SprungParams,
-    /// Node indices of the beam, in order (the mass node is `conn[0]`).
-    beam: Vec<usize>,
-    h: f64,
-    conn: [NodeDofs; 3],
-    segment: usize,
-    b: [f64; 5],
-    delta: f64,
-}
-
-impl SprungContact {
-    fn locate(&self, t: f64) -> (usize, f64) {
-        let s = (self.params.speed * t).max(0.0) / self.h;
-        let last = self.beam.len() - 2;
-        let k = (s.floor() as usize).min(last);
-        (k, (s - k as f64).clamp(0.0, 1.0))
-    }
-
-    fn set_position(&mut self, t: f64) -> bool {
-        let (k, xi) = self.locate(t);
-        let changed = k != self.segment;
-        self.segment = k;
-        let bend = DofSet::of(&[Dof::Uz, Dof::Ry]);
-        self.conn[1] = NodeDofs {
-            node: self.beam[k],
-            dofs: bend,
-        };
-        self.conn[2] = NodeDofs {
-            node: self.beam[k + 1],
-            dofs: bend,
-        };
-        let (x2, x3) = (xi * xi, xi * xi * xi);
-        let h = self.h;
-        self.b = [
-            1.0,
-            -(1.0 - 3.0 * x2 + 2.0 * x3),
-            h * (xi - 2.0 * x2 + x3),
-            -(3.0 * x2 - 2.0 * x3),
-            h * (x3 - x2),
-        ];
-        changed
-    }
-}
-
-fn build_sprung(
-    spec: &ElementSpec,
-    ctx: &mut dyn BuildContext,
-) -> Result<Box<dyn Element>, FemError> {
-    let p: SprungParams = spec.parse()?;
-    let bad = |m: String| Err(FemError::input(&spec.origin, m));
-    if !(p.k > 0.0 && p.speed > 0.0) {
-        return bad("`k` and `speed` must be > 0".into());
-    }
-    if spec.nodes.len() != 1 {
-        return bad("give one node, the mass node (`nodes = [id]`)".into());
-    }
-    if p.beam_nodes.len() < 2 {
-        return bad("`beam_nodes` needs at least two node ids".into());
-    }
-    let idx = |id: u64| {
-        ctx.node_index(id)
-            .ok_or_else(|| FemError::input(&spec.origin, format!("node {id} does not exist")))
-    };
-    let mass_node = idx(spec.nodes[0])?;
-    let beam: Vec<usize> = p
-        .beam_nodes
-        .iter()
-        .map(|&id| idx(id))
-        .collect::<Result<_, _>>()?;
-    let h = (ctx.node_position(beam[1]) - ctx.node_position(beam[0])).norm();
-    let mut e = SprungContact {
-        params: p,
-        h,
-        conn: [NodeDofs {
-            node: mass_node,
-            dofs: DofSet::of(&[Dof::Uz]),
-        }; 3],
-        beam,
-        segment: usize::MAX,
-        b: [0.0; 5],
-        delta: 0.0,
-    };
-    e.set_position(0.0);
-    Ok(Box::new(e))
-}
-
-impl Element for SprungContact {
-    fn kind(&self) -> &str {
-        SPRUNG_KIND
-    }
-
-    fn connectivity(&self) -> &[NodeDofs] {
-        &self.conn
-    }
-
-    fn properties(&self) -> ElementProperties {
-        ElementProperties {
-            connectivity_may_change: true,
-            objective: false,
-            ..Default::default()
-        }
-    }
-
-    fn advance(&mut self, ctx: &StepContext) -> Result<bool, ElementError> {
-        Ok(self.set_position(ctx.time))
-    }
-
-    fn update(&mut self, trial: &TrialState) -> Result<(), ElementError> {
-        self.delta = self.b.iter().zip(trial.disp).map(|(b, q)| b * q).sum();
-        if !self.delta.is_finite() {
-            return Err(ElementError::NonFinite {
-                what: "spring stretch".into(),
-            });
-        }
-        Ok(())
-    }
-
-    fn resisting_force(&self, f: &mut [f64]) {
-        for (fi, b) in f.iter_mut().zip(&self.b) {
-            *fi = self.params.k * self.delta * b;
-        }
-    }
-
-    fn tangent_stiffness(&self, k: &mut DMatrix<f64>) {
-        for i in 0..5 {
-            for j in 0..5 {
-                k[(i, j)] = self.params.k * self.b[i] * self.b[j];
-            }
-        }
-    }
-
-    fn output_names(&self) -> Vec<String> {
-        vec!["spring_force".into()]
-    }
-
-    fn outputs(&self, out: &mut Vec<f64>) {
-        out.push(self.params.k * self.delta);
-    }
-
-    fn parameters(&self) -> serde_json::Value {
-        serde_json::to_value(&self.params).unwrap_or(serde_json::Value::Null)
-    }
 }
 
 #[cfg(test)]

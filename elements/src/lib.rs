@@ -1,7 +1,8 @@
 //! railfem-elements: the built-in element kinds and the rail toolkit.
 //!
 //! What lives here: `beam3d` (Euler–Bernoulli / Timoshenko 3-D beam), `spring_damper`
-//! (six springs and dashpots in a local frame), `mass` (lumped mass with rotary inertia),
+//! (six springs and dashpots in a local frame), `mass` (lumped mass with rotary inertia), the moving oscillators
+//! [`oscillators`] (`moving_sprung_mass`, `moving_mass`),
 //! and [`rail`]: track alignment and cant, rail and wheel profiles, the moving wheel-axle
 //! contact element of Ju & Ro (2021), vehicles and the simple theory. Each element kind
 //! registers itself with the framework's registry; nothing else lists them.
@@ -14,6 +15,7 @@
 pub mod beam3d;
 pub mod force_law;
 pub mod mass;
+pub mod oscillators;
 pub mod rail;
 pub mod spring_damper;
 pub mod suspension;

@@ -109,6 +109,9 @@ pub struct Assembler {
     mass_elems: Vec<usize>,
     /// Cached element mass matrices of elements on carried nodes (for Eq. 5 loads).
     carried_mass: Vec<(usize, DMatrix<f64>)>,
+    /// Non-carried moving elements whose mass changes between steps (a mass rolling along a
+    /// beam): their gravity `M(t)·g` is formed at every call of [`Assembler::external_force`].
+    gravity_variable: Vec<usize>,
     /// Gravity load of elements on fixed (non-carried) nodes, constant.
     gravity_fixed: Vec<f64>,
     /// `−M·r` per ground-motion load, constant part.
@@ -183,6 +186,7 @@ impl Assembler {
             variable: Vec::new(),
             mass_elems: Vec::new(),
             carried_mass: Vec::new(),
+            gravity_variable: Vec::new(),
             gravity_fixed: vec![0.0; n],
             ground_unit: Vec::new(),
             symmetric: true,
@@ -476,6 +480,7 @@ impl Assembler {
         self.c_const = c_const;
         // Constant loads: gravity on non-carried masses, ground-motion influence.
         self.carried_mass.clear();
+        self.gravity_variable.clear();
         self.gravity_fixed = vec![0.0; n];
         self.ground_unit = Vec::new();
         let grav = model.analysis.gravity.map(Vector3::from);
@@ -504,7 +509,13 @@ impl Assembler {
                 self.carried_mass.push((ei, m));
                 continue;
             }
-            if let Some(g) = grav {
+            // A moving element whose mass follows its position (a mass rolling along a
+            // beam): its gravity is formed per step. Other changing masses (the finite-link
+            // wrapper's) keep the gravity of the reference state, as before.
+            let props = e.properties();
+            if !props.constant_mass && props.connectivity_may_change {
+                self.gravity_variable.push(ei);
+            } else if let Some(g) = grav {
                 let gv: Vec<f64> = map
                     .dofs
                     .iter()
@@ -981,6 +992,24 @@ impl Assembler {
             }
             let f = m * nalgebra::DVector::from_vec(w);
             scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);
+        }
+        // Masses that change between steps (a mass moving along a beam): M(t)·g now.
+        if model.analysis.gravity.is_some() {
+            for &ei in &self.gravity_variable {
+                let map = &self.maps[ei];
+                let nd = map.dofs.len();
+                let mut m = DMatrix::zeros(nd, nd);
+                model.elements[ei].element.mass(&mut m);
+                let gv: Vec<f64> = map
+                    .dofs
+                    .iter()
+                    .map(|&(node, d)| {
+                        kinematic_vector(&self.kin[node], d, &grav, &Vector3::zeros())
+                    })
+                    .collect();
+                let f = m * nalgebra::DVector::from_vec(gv);
+                scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);
+            }
         }
         let mut gi = 0;
         for l in &model.loads {

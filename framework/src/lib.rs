@@ -5,7 +5,8 @@
 //! [`conformance`]), equation numbering
 //! with constraints ([`dofmap`]), finite rotations ([`rotation`], on the dual numbers of
 //! [`dual`]), sparse assembly ([`sparse`], [`assembly`]), loads and time series ([`loads`]),
-//! moving reference frames ([`moving`]), model files ([`modelfile`], [`strict_json`]),
+//! moving reference frames ([`moving`]), paths along beam chains ([`beam_chain`]), speed
+//! histories ([`speed`]), model files ([`modelfile`], [`strict_json`]),
 //! recorders and the names of every output ([`recorder`], [`outputs`]), and the size
 //! guards of generators ([`limits`]). What does not: concrete elements (railfem-elements) and
 //! solvers (railfem-solvers).
@@ -16,6 +17,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod assembly;
+pub mod beam_chain;
 pub mod comfort;
 pub mod conformance;
 pub mod dof;
@@ -38,6 +40,7 @@ pub mod recorder;
 pub mod registry;
 pub mod rotation;
 pub mod sparse;
+pub mod speed;
 pub mod strict_json;
 pub mod vtk;
 

@@ -760,12 +760,17 @@ impl ModelBuilder {
             }
             carrier_list.push(c);
         }
+        let element_nodes = element_specs
+            .iter()
+            .map(|e| (e.id, (e.kind.clone(), e.nodes.clone())))
+            .collect();
         let mut ctx = Ctx {
             nodes,
             node_index,
             carried,
             resources,
             carriers: carrier_list.clone(),
+            element_nodes,
         };
         let mut elements = Vec::with_capacity(element_specs.len());
         let mut seen_ids = HashMap::new();
@@ -932,9 +937,19 @@ struct Ctx {
     carried: Vec<Option<(usize, CarriedNode)>>,
     resources: Resources,
     carriers: Vec<Carrier>,
+    /// Type and node ids of every element spec, by element id.
+    element_nodes: HashMap<u64, (String, Vec<u64>)>,
 }
 
 impl BuildContext for Ctx {
+    fn element_nodes(&self, id: u64) -> Option<(String, Vec<usize>)> {
+        let (kind, ids) = self.element_nodes.get(&id)?;
+        let idx = ids
+            .iter()
+            .map(|n| self.node_index.get(n).copied())
+            .collect::<Option<Vec<usize>>>()?;
+        Some((kind.clone(), idx))
+    }
     fn node_index(&self, id: u64) -> Option<usize> {
         self.node_index.get(&id).copied()
     }

@@ -201,6 +201,13 @@ pub trait BuildContext {
     fn add_internal_node(&mut self, position: Vector3<f64>, like: Option<usize>) -> usize;
     /// A shared resource the model defines (the track, profiles), by name.
     fn resource(&self, name: &str) -> Option<std::sync::Arc<dyn std::any::Any + Send + Sync>>;
+    /// The type and node indices of the model's element with user id `id` (built yet or
+    /// not), for elements that ride along other elements (a path of beams); `None` if there
+    /// is no such element or the context does not know.
+    fn element_nodes(&self, id: u64) -> Option<(String, Vec<usize>)> {
+        let _ = id;
+        None
+    }
     /// Whether the node with index `index` rides on a carrier (a vehicle's moving frame);
     /// `None` where the context does not know (a test or conformance context).
     fn node_carried(&self, index: usize) -> Option<bool> {
