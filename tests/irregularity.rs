@@ -213,7 +213,7 @@ fn command_writes_profile_that_reads_back() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The example model: one sks700 carriage at 10 m/s, frictionless wheels, over a CSV
+/// The example model: one sks700 carriage at 10 m/s (μ = 0.3), over a CSV
 /// vertical profile of two C² bumps of 2 mm (examples/models/irregular_straight.csv). The
 /// front wheelset's vertical displacement follows the profile at its station:
 /// `u(t) − u(0) = z(s(t))` up to the change of the wheel–rail compression. Derivation of the

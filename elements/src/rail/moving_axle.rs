@@ -140,6 +140,12 @@ pub struct MovingAxle {
     elem: usize,
     xi: f64,
     station: f64,
+    /// Rail-head offset (dips and irregularity: lateral, vertical; m) at the wheel's first
+    /// station, from which the offsets it rides over are measured; `NaN` until placed.
+    start_offset: [f64; 2],
+    /// Prescribed vertical displacement of the rail head under the wheel from the dips and
+    /// the irregularity, measured from `start_offset` (wheel frame: 0, vertical, 0; m).
+    rail_offset: Vector3<f64>,
     /// Wheel frame at the station (columns e1 e2 e3, global).
     frame: Matrix3<f64>,
     /// B − K and C − B at the reference, wheel-frame components (m).
@@ -409,6 +415,8 @@ impl MovingAxle {
             elem: 0,
             xi: 0.0,
             station: f64::NAN,
+            start_offset: [f64::NAN; 2],
+            rail_offset: Vector3::zeros(),
             frame: Matrix3::identity(),
             r_bk: Vector3::zeros(),
             r_cb: Vector3::zeros(),
@@ -526,9 +534,26 @@ impl MovingAxle {
         self.r_bk = w.transpose() * (xb - kk.position);
         // Dipped joints and the track irregularity move the rail head under the wheel
         // (prescribed functions of the station): lateral along axis 1, vertical along 2.
+        // The wheel profile was placed just touching the nominal rail, so the offsets are
+        // measured from their values at the wheel's first station: every wheel starts
+        // just touching the rail where it stands (zero there unless a wheel starts on an
+        // irregularity or in a dip).
         let [lat, vert] = self.track.rail_offset(self.setup.rail, s);
-        let xc =
-            self.track.rail_position(self.setup.rail, s) + w.column(0) * lat + w.column(1) * vert;
+        if self.start_offset[0].is_nan() {
+            self.start_offset = [lat, vert];
+        }
+        // The vertical offset is a prescribed displacement of the rail head: it enters
+        // every rail node's relative displacement Δ in `evaluate` (as the rail beam's own
+        // deflection under the wheel does), so a wheel that rises and falls with the rail
+        // has no relative motion and the stick anchors see no slip. The lateral offset
+        // (alignment, gauge) moves the reference geometry instead: the wheel meets the
+        // rail profile elsewhere (normal force and contact position change), but Coulomb
+        // sticking does not drag the wheelset after every lateral wiggle of the rail —
+        // with no rolling kinematics (the paper's law) that would be a false slip of
+        // v·dy/ds per second (docs/irregularities.md).
+        self.rail_offset = Vector3::new(0.0, vert - self.start_offset[1], 0.0);
+        let lat = lat - self.start_offset[0];
+        let xc = self.track.rail_position(self.setup.rail, s) + w.column(0) * lat;
         self.r_cb = w.transpose() * (xc - xb);
         let (ni, nj) = (self.rail_node(e), self.rail_node(e + 1));
         if !self.track.rigid {
@@ -605,7 +630,8 @@ impl MovingAxle {
             let rho_c = Vector3::new(set.rail_nodes[kx].x, set.rail_nodes[kx].y, 0.0);
             let t = self.t_matrix(&rho_c);
             let delta: Vector3<f64> =
-                Vector3::from_fn(|i, _| (0..21).map(|j| t[(i, j)] * qv[j]).sum());
+                Vector3::from_fn(|i, _| (0..21).map(|j| t[(i, j)] * qv[j]).sum())
+                    + self.rail_offset;
             self.deltas[kx] = delta;
             if !window.contains(&kx) {
                 continue;

@@ -47,8 +47,8 @@
 //! iterations for a two-axle vehicle). A wheel in the air has no vertical stiffness, so a
 //! static solve needs its wheels in contact at the first iterate (docs/wheel-models.md).
 //! The same holds on an irregular rail: the wheel starts just touching the rail head at
-//! its first station, irregularity included (its vertical irregularity is measured from
-//! the value there, as `moving_axle` shifts its wheel profile at build), so differences of
+//! its first station, irregularity included (the irregularity is measured from its value
+//! there, as `moving_axle` does), so differences of
 //! the rail height between the wheels at t = 0 do not preload the suspensions; start a
 //! vehicle on smooth track (or where the profile is flat) when that matters.
 //! `rigid_wheel` is linear and needs nothing. Like every wheel model, neither holds the
@@ -239,10 +239,10 @@ pub struct PointWheel {
     xi: f64,
     station: f64,
     /// Irregularity of the rail head at the station, wheel frame (m): (lateral, up, 0),
-    /// its vertical part taken from the value at the wheel's first station.
+    /// measured from its value at the wheel's first station.
     irregularity: Vector3<f64>,
-    /// Vertical irregularity at the wheel's first station (m); `NaN` until placed.
-    start_height: f64,
+    /// Irregularity at the wheel's first station (m); `NaN` until placed.
+    start_offset: Vector3<f64>,
     /// x_P − x_K and x_P − x_C in the wheel frame (m).
     r_pk: Vector3<f64>,
     rho: Vector3<f64>,
@@ -282,7 +282,7 @@ impl PointWheel {
             xi: 0.0,
             station: f64::NAN,
             irregularity: Vector3::zeros(),
-            start_height: f64::NAN,
+            start_offset: Vector3::new(f64::NAN, f64::NAN, 0.0),
             r_pk: Vector3::zeros(),
             rho: Vector3::zeros(),
             rail_map: SMatrix::zeros(),
@@ -346,12 +346,12 @@ impl PointWheel {
         };
         self.station = s;
         // The wheel starts just touching the rail where it stands (see "Initial state"):
-        // the vertical irregularity is measured from its value at the first station.
+        // the irregularity is measured from its value at the first station.
         let z = self.rail_irregularity(s);
-        if self.start_height.is_nan() {
-            self.start_height = z.y;
+        if self.start_offset.x.is_nan() {
+            self.start_offset = z;
         }
-        self.irregularity = Vector3::new(z.x, z.y - self.start_height, 0.0);
+        self.irregularity = z - self.start_offset;
         let w = kk.frame;
         let p = self.track.track.at(s);
         // Height of K above the rail-top plane through the centre line.
