@@ -367,7 +367,10 @@ fn record(
                 "the ride-comfort index is taken at the train's sensors and it has none; add [[vehicle.sensor]] entries (name, body, at) or remove `record.comfort`",
             ));
         }
-        let method = r.comfort_method.clone().unwrap_or_else(|| "sperling".into());
+        let method = r
+            .comfort_method
+            .clone()
+            .unwrap_or_else(|| "sperling".into());
         // Sperling has no longitudinal weighting; EN 12299 uses all three axes.
         let longitudinal = if method == "en12299" {
             vec!["uz".to_string()]
