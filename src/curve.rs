@@ -254,6 +254,7 @@ impl CurveCase {
             start: self.start,
             speed: self.speed,
             accel: 0.0,
+            speed_table: None,
             wheel: serde_json::json!({
                 "mu": self.mu, "k": self.penalty, "k_v": self.penalty,
                 "sliding_tangent": self.sliding_tangent,

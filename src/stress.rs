@@ -307,6 +307,7 @@ fn wheelset(s: &WheelsetSpec) -> Result<Wheelset, FemError> {
             start: s.start,
             speed: s.speed,
             accel: 0.0,
+            speed_table: None,
             nodes: Vec::new(),
         },
         vec![(1, 0.0, [0.0, R0, 0.0])],

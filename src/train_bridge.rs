@@ -528,6 +528,7 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         start: case.approach() - 15.0,
         speed: case.speed,
         accel: 0.0,
+        speed_table: None,
         wheel: serde_json::json!({"mu": case.mu, "k": case.penalty, "k_v": case.penalty}),
         first_node_id: 0,
         geometry: Some(case.geometry),

@@ -111,6 +111,7 @@ fn build(s: &Setup) -> Wheelset {
             start: s.start,
             speed: s.speed,
             accel: 0.0,
+            speed_table: None,
             nodes: Vec::new(),
         },
         vec![(K_ID, 0.0, [0.0, R0, 0.0])],

@@ -181,6 +181,7 @@ fn carried_body(track: Track, start: f64, speed: f64, accel: f64, body: &Body) -
             start,
             speed,
             accel,
+            speed_table: None,
             nodes: vec![],
         },
         vec![(1, 0.0, [0.0, 0.0, 0.0])],

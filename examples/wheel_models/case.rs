@@ -220,6 +220,7 @@ pub fn build(c: &Case) -> Result<Built, FemError> {
             start: c.start,
             speed: c.speed,
             accel: 0.0,
+            speed_table: None,
             nodes: Vec::new(),
         },
         carried,

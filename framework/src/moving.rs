@@ -17,6 +17,7 @@
 //! elements crate) and the [`Carrier`]; the loads they produce are assembled in
 //! [`crate::loads`].
 
+use crate::speed::SpeedHistory;
 use nalgebra::{Matrix3, Vector3};
 use std::fmt::Debug;
 use std::sync::Arc;
@@ -68,7 +69,8 @@ pub struct CarriedNode {
     pub longitudinal: f64,
 }
 
-/// A moving reference frame: prescribed motion `s(t) = s0 + v·t + ½·a·t²` along a path.
+/// A moving reference frame: prescribed motion `s(t) = s0 + v·t + ½·a·t²` along a path
+/// (a deceleration stops at rest at `t = v/|a|` and stays there), or a speed table.
 #[derive(Debug, Clone)]
 pub struct Carrier {
     /// Name used in messages and outputs.
@@ -81,6 +83,9 @@ pub struct Carrier {
     pub speed: f64,
     /// Constant acceleration along the path (m/s²).
     pub accel: f64,
+    /// A speed history that replaces `start`, `speed` and `accel` when given (a table of
+    /// speed against time, [`SpeedHistory`]).
+    pub speed_table: Option<Arc<SpeedHistory>>,
     /// The nodes it carries.
     pub nodes: Vec<CarriedNode>,
 }
@@ -99,14 +104,45 @@ pub struct ReferenceMotion {
 }
 
 impl Carrier {
+    /// Time at which a deceleration brings the carrier to rest (s); infinite otherwise.
+    fn stop_time(&self) -> f64 {
+        if self.accel < 0.0 && self.speed > 0.0 {
+            self.speed / -self.accel
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// Station of the carrier's reference point at time `t` (s).
     pub fn station(&self, t: f64) -> f64 {
+        if let Some(h) = &self.speed_table {
+            return h.station(t);
+        }
+        let t = t.min(self.stop_time());
         self.start + self.speed * t + 0.5 * self.accel * t * t
     }
 
     /// Speed at time `t` (m/s).
     pub fn speed_at(&self, t: f64) -> f64 {
+        if let Some(h) = &self.speed_table {
+            return h.speed(t);
+        }
+        if t >= self.stop_time() {
+            return 0.0;
+        }
         self.speed + self.accel * t
+    }
+
+    /// Acceleration along the path at time `t` (m/s²): zero once a deceleration has
+    /// brought the carrier to rest.
+    pub fn accel_at(&self, t: f64) -> f64 {
+        if let Some(h) = &self.speed_table {
+            return h.accel(t);
+        }
+        if t >= self.stop_time() {
+            return 0.0;
+        }
+        self.accel
     }
 
     /// Reference motion of a carried node at time `t`.
@@ -120,14 +156,15 @@ impl Carrier {
         let s = self.station(t) + cn.station_offset;
         let p = self.path.at(s);
         let v = self.speed_at(t);
+        let a = self.accel_at(t);
         let up = Vector3::z();
         let normal = up.cross(&p.tangent);
         let position = p.position
             + p.frame.column(0) * cn.lateral
             + p.frame.column(1) * cn.vertical
             + p.frame.column(2) * cn.longitudinal;
-        let acceleration = p.tangent * self.accel + normal * (v * v * p.curvature);
-        let angular_acceleration = up * (p.curvature * self.accel + v * v * p.curvature_rate);
+        let acceleration = p.tangent * a + normal * (v * v * p.curvature);
+        let angular_acceleration = up * (p.curvature * a + v * v * p.curvature_rate);
         ReferenceMotion {
             point: p,
             position,

@@ -418,6 +418,7 @@ mod tests {
                 start: 7000.0,
                 speed: 80.0,
                 accel: 0.0,
+                speed_table: None,
                 nodes: vec![],
             };
             let node = CarriedNode {

@@ -24,6 +24,7 @@ use railfem_framework::limits::fmt_num;
 use railfem_framework::model::{Geometry, ModelBuilder};
 use railfem_framework::moving::{Carrier, Path};
 use railfem_framework::registry::ElementSpec;
+use railfem_framework::speed::SpeedHistory;
 use railfem_framework::DofSet;
 use serde_json::{json, Map, Value};
 use std::sync::Arc;
@@ -75,8 +76,11 @@ pub struct Train {
     pub start: f64,
     /// Speed at t = 0 (m/s).
     pub speed: f64,
-    /// Acceleration (m/s²).
+    /// Acceleration (m/s²); a deceleration brings the train to rest and holds it there.
     pub accel: f64,
+    /// Speed table `[[t s, v m/s], …]` replacing `speed` and `accel` (piecewise-linear
+    /// speed from `start`; [`SpeedHistory`]).
+    pub speed_table: Option<Vec<[f64; 2]>>,
     /// Wheel keys for every wheel (override the wheelsets' own).
     pub wheel: Map<String, Value>,
     /// First node id.
@@ -192,6 +196,12 @@ pub fn build(
     if !(train.speed.is_finite() && train.start.is_finite() && train.accel.is_finite()) {
         return Err(fail("", "`speed`, `start` and `accel` must be finite"));
     }
+    let train_speed_table = match &train.speed_table {
+        Some(rows) => Some(Arc::new(
+            SpeedHistory::from_table(train.start, rows, "speed_table").map_err(|m| fail("", &m))?,
+        )),
+        None => None,
+    };
     for (vi, v) in train.vehicles.iter().enumerate() {
         v.validate()
             .map_err(|(p, m)| fail(&format!("vehicle {vi}, {p}"), &m))?;
@@ -542,6 +552,7 @@ pub fn build(
             start: train.start,
             speed: train.speed,
             accel: train.accel,
+            speed_table: train_speed_table,
             nodes: Vec::new(),
         },
         carried,

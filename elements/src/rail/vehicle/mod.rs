@@ -74,9 +74,12 @@ pub struct TrainSpec {
     pub start: f64,
     /// Speed at t = 0 (m/s).
     pub speed: f64,
-    /// Acceleration along the track (m/s²).
+    /// Acceleration along the track (m/s²); a deceleration stops the train at rest.
     #[serde(default)]
     pub accel: f64,
+    /// Speed table `[[t s, v m/s], …]` replacing `speed` and `accel` when given.
+    #[serde(default)]
+    pub speed_table: Option<Vec<[f64; 2]>>,
     /// Contact settings of every wheel (the `moving_axle` keys except `side`).
     pub wheel: serde_json::Value,
     /// First node id to use.
@@ -203,6 +206,7 @@ pub fn build_train_at(
         start: spec.start,
         speed: spec.speed,
         accel: spec.accel,
+        speed_table: spec.speed_table.clone(),
         wheel,
         first_node_id: spec.first_node_id,
         geometry: spec.geometry,

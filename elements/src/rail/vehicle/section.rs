@@ -25,11 +25,12 @@ pub const SKS700_TOML: &str = include_str!("../../../../examples/vehicles/sks700
 /// Keys of a vehicle unit that are not part of a definition.
 const UNIT_KEYS: [&str; 5] = ["preset", "carriage", "file", "count", "carriages"];
 /// Keys of the train.
-const TRAIN_KEYS: [&str; 11] = [
+const TRAIN_KEYS: [&str; 12] = [
     "name",
     "start",
     "speed",
     "accel",
+    "speed_table",
     "wheel",
     "first_node_id",
     "geometry",
@@ -61,9 +62,12 @@ struct TrainKeys {
     #[serde(default = "default_name")]
     name: String,
     start: f64,
-    speed: f64,
+    #[serde(default)]
+    speed: Option<f64>,
     #[serde(default)]
     accel: f64,
+    #[serde(default)]
+    speed_table: Option<Vec<[f64; 2]>>,
     #[serde(default)]
     wheel: Map<String, Value>,
     #[serde(default)]
@@ -286,8 +290,9 @@ pub fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(
             vehicles,
             coupler: keys.coupler.unwrap_or_default(),
             start: keys.start,
-            speed: keys.speed,
+            speed: motion(keys.speed, keys.accel, keys.speed_table.is_some(), &named)?,
             accel: keys.accel,
+            speed_table: keys.speed_table.clone(),
             wheel: keys.wheel.clone(),
             first_node_id: keys.first_node_id,
             geometry: keys.geometry,
@@ -390,6 +395,28 @@ fn record(
     Ok(())
 }
 
+/// The train's speed at t = 0 from its motion keys: `speed` (with `accel`), or a
+/// `speed_table` instead of both (its own first row gives the speed; the value returned
+/// then is a placeholder the table replaces). `o` names the place.
+fn motion(speed: Option<f64>, accel: f64, table: bool, o: &str) -> Result<f64, FemError> {
+    match (speed, table) {
+        (Some(v), false) => Ok(v),
+        (None, true) if accel == 0.0 => Ok(0.0),
+        (None, true) => Err(FemError::input(
+            o,
+            "`accel` and `speed_table` both set the motion; give the braking or accelerating in the table's rows and remove `accel`",
+        )),
+        (Some(_), true) => Err(FemError::input(
+            o,
+            "`speed` and `speed_table` both set the motion; remove `speed` (the table's first row is the speed at t = 0)",
+        )),
+        (None, false) => Err(FemError::input(
+            o,
+            "the train needs its motion: `speed` (m/s, with an optional `accel` in m/s²) or `speed_table = [[t s, v m/s], …]`",
+        )),
+    }
+}
+
 /// The template route: `preset` with `carriage` overrides and `carriages`, exactly as
 /// before the generic definition (its messages name the template's keys).
 fn legacy(
@@ -420,6 +447,10 @@ fn legacy(
         }
         None => None,
     };
+    let speed = map.get("speed").and_then(Value::as_f64);
+    let accel = map.get("accel").and_then(Value::as_f64).unwrap_or(0.0);
+    let speed = motion(speed, accel, map.contains_key("speed_table"), o)?;
+    map.insert("speed".into(), Value::from(speed));
     map.insert("carriage".into(), carriage);
     map.entry("carriages").or_insert(Value::from(1));
     map.entry("wheel")
