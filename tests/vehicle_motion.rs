@@ -75,7 +75,10 @@ fn a_speed_table_moves_the_train_by_its_exact_integral() {
     for (ti, si) in t.iter().zip(&s) {
         worst = worst.max((si - s[0] - exact(*ti)).abs());
     }
-    assert!(worst < 1e-9, "station off the table's integral by {worst} m");
+    assert!(
+        worst < 1e-9,
+        "station off the table's integral by {worst} m"
+    );
     assert!((s[s.len() - 1] - s[0] - 30.0).abs() < 1e-9);
 }
 
