@@ -26,6 +26,7 @@ pub mod dual;
 pub mod element;
 pub mod elf;
 pub mod error;
+pub mod fft;
 pub mod finite_link;
 pub mod limits;
 pub mod loads;
