@@ -104,9 +104,11 @@ pub struct ReferenceMotion {
 }
 
 impl Carrier {
-    /// Time at which a deceleration brings the carrier to rest (s); infinite otherwise.
+    /// Time at which a deceleration brings the carrier to rest (s; zero for a carrier at
+    /// rest), as [`SpeedHistory`] does; infinite otherwise (no deceleration, or a carrier
+    /// already running backwards).
     fn stop_time(&self) -> f64 {
-        if self.accel < 0.0 && self.speed > 0.0 {
+        if self.accel < 0.0 && self.speed >= 0.0 {
             self.speed / -self.accel
         } else {
             f64::INFINITY
@@ -171,5 +173,60 @@ impl Carrier {
             acceleration,
             angular_acceleration,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[derive(Debug)]
+    struct Line;
+
+    impl Path for Line {
+        fn length(&self) -> f64 {
+            1000.0
+        }
+        fn at(&self, station: f64) -> PathPoint {
+            PathPoint {
+                station,
+                position: Vector3::new(station, 0.0, 0.0),
+                tangent: Vector3::x(),
+                curvature: 0.0,
+                curvature_rate: 0.0,
+                cant: 0.0,
+                frame: Matrix3::new(0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0),
+            }
+        }
+    }
+
+    fn carrier(speed: f64, accel: f64) -> Carrier {
+        Carrier {
+            name: "c".into(),
+            path: Arc::new(Line),
+            start: 10.0,
+            speed,
+            accel,
+            speed_table: None,
+            nodes: Vec::new(),
+        }
+    }
+
+    /// A deceleration stops the carrier at t = v/|a| after v²/(2|a|) and holds it there
+    /// (speed and acceleration zero); a carrier at rest stays at rest; without a
+    /// deceleration the motion is the closed form s0 + v·t + ½·a·t².
+    #[test]
+    fn braking_stops_at_rest_and_holds() {
+        let c = carrier(10.0, -5.0);
+        assert_eq!(c.station(1.0), 10.0 + 10.0 - 2.5);
+        assert_eq!(c.station(2.0), 20.0);
+        assert_eq!(c.station(7.0), 20.0);
+        assert_eq!((c.speed_at(3.0), c.accel_at(3.0)), (0.0, 0.0));
+        assert_eq!((c.speed_at(1.0), c.accel_at(1.0)), (5.0, -5.0));
+        let rest = carrier(0.0, -5.0);
+        assert_eq!((rest.station(4.0), rest.speed_at(4.0)), (10.0, 0.0));
+        let go = carrier(3.0, 2.0);
+        assert_eq!(go.station(4.0), 10.0 + 12.0 + 16.0);
+        assert_eq!(go.speed_at(4.0), 11.0);
     }
 }
