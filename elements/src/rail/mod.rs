@@ -7,6 +7,7 @@ pub mod bridge;
 pub mod cant;
 pub mod contact_geometry;
 pub mod contact_law;
+pub mod creep;
 pub mod hertz_spring;
 pub mod irregularity;
 pub mod lean;
