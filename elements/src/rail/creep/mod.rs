@@ -4,3 +4,4 @@
 //! element yet; see docs/creep.md for what remains.
 
 pub mod hertz;
+pub mod kalker;
