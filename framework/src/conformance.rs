@@ -423,6 +423,23 @@ fn prepare(
     trial(e, disp, vel, &z)
 }
 
+/// Force and tangent of `e` at the static trial state `u` (time 0, Δt 0, zero velocity
+/// and acceleration), for element authors' own tests.
+pub fn static_force_tangent(
+    e: &mut dyn Element,
+    u: &[f64],
+) -> Result<(Vec<f64>, DMatrix<f64>), crate::element::ElementError> {
+    let z = vec![0.0; u.len()];
+    e.update(&TrialState {
+        time: 0.0,
+        dt: 0.0,
+        disp: u,
+        vel: &z,
+        acc: &z,
+    })?;
+    Ok((force(e), tangent(e)))
+}
+
 fn trial(e: &mut dyn Element, u: &[f64], v: &[f64], a: &[f64]) -> Result<(), String> {
     e.update(&TrialState {
         time: KIT_TIME,

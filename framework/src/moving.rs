@@ -104,15 +104,10 @@ pub struct ReferenceMotion {
 }
 
 impl Carrier {
-    /// Time at which a deceleration brings the carrier to rest (s; zero for a carrier at
-    /// rest), as [`SpeedHistory`] does; infinite otherwise (no deceleration, or a carrier
-    /// already running backwards).
+    /// Time at which a deceleration brings the carrier to rest (s), as [`SpeedHistory`]
+    /// has it ([`crate::speed::braking_stop`]).
     fn stop_time(&self) -> f64 {
-        if self.accel < 0.0 && self.speed >= 0.0 {
-            self.speed / -self.accel
-        } else {
-            f64::INFINITY
-        }
+        crate::speed::braking_stop(self.speed, self.accel)
     }
 
     /// Station of the carrier's reference point at time `t` (s).

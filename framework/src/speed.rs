@@ -19,6 +19,17 @@
 
 use crate::limits::fmt_num;
 
+/// Time (s) at which a constant deceleration `accel < 0` brings a traveller moving at
+/// `speed ≥ 0` to rest (zero when it is at rest already); infinite without a deceleration
+/// or for a traveller running backwards. Shared with [`crate::moving::Carrier`].
+pub fn braking_stop(speed: f64, accel: f64) -> f64 {
+    if accel < 0.0 && speed >= 0.0 {
+        speed / -accel
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// How the speed varies.
 #[derive(Debug, Clone, PartialEq)]
 enum Law {
@@ -123,8 +134,7 @@ impl SpeedHistory {
                     return speed * t;
                 }
                 if *accel < 0.0 {
-                    let t_stop = speed / -accel;
-                    let tt = t.min(t_stop);
+                    let tt = t.min(braking_stop(*speed, *accel));
                     return speed * tt + 0.5 * accel * tt * tt;
                 }
                 speed * t + 0.5 * accel * t * t
@@ -184,7 +194,7 @@ impl SpeedHistory {
     pub fn accel(&self, t: f64) -> f64 {
         match &self.law {
             Law::Uniform { speed, accel } => {
-                if t < 0.0 || (*accel < 0.0 && t >= speed / -accel) {
+                if t < 0.0 || t >= braking_stop(*speed, *accel) {
                     0.0
                 } else {
                     *accel

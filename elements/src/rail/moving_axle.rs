@@ -47,7 +47,7 @@ use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent};
 use super::hertz_spring::HertzSpring;
 use super::profiles::{Inclination, RailProfile, WheelProfile};
 use super::rail_point::{beam_axes, rail_point_matrix};
-use super::track_model::TrackModel;
+use super::track_model::{OffsetFromStart, TrackModel};
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector2, Vector3};
 use railfem_framework::element::*;
 use railfem_framework::error::FemError;
@@ -140,9 +140,8 @@ pub struct MovingAxle {
     elem: usize,
     xi: f64,
     station: f64,
-    /// Rail-head offset (dips and irregularity: lateral, vertical; m) at the wheel's first
-    /// station, from which the offsets it rides over are measured; `NaN` until placed.
-    start_offset: [f64; 2],
+    /// Rail-head offsets (dips and irregularity) measured from the wheel's first station.
+    start_offset: OffsetFromStart,
     /// Prescribed vertical displacement of the rail head under the wheel from the dips and
     /// the irregularity, measured from `start_offset` (wheel frame: 0, vertical, 0; m).
     rail_offset: Vector3<f64>,
@@ -415,7 +414,7 @@ impl MovingAxle {
             elem: 0,
             xi: 0.0,
             station: f64::NAN,
-            start_offset: [f64::NAN; 2],
+            start_offset: OffsetFromStart::default(),
             rail_offset: Vector3::zeros(),
             frame: Matrix3::identity(),
             r_bk: Vector3::zeros(),
@@ -535,13 +534,8 @@ impl MovingAxle {
         // Dipped joints and the track irregularity move the rail head under the wheel
         // (prescribed functions of the station): lateral along axis 1, vertical along 2.
         // The wheel profile was placed just touching the nominal rail, so the offsets are
-        // measured from their values at the wheel's first station: every wheel starts
-        // just touching the rail where it stands (zero there unless a wheel starts on an
-        // irregularity or in a dip).
-        let [lat, vert] = self.track.rail_offset(self.setup.rail, s);
-        if self.start_offset[0].is_nan() {
-            self.start_offset = [lat, vert];
-        }
+        // measured from their values at the wheel's first station ([`OffsetFromStart`]).
+        let [lat, vert] = self.start_offset.at(&self.track, self.setup.rail, s);
         // The vertical offset is a prescribed displacement of the rail head: it enters
         // every rail node's relative displacement Δ in `evaluate` (as the rail beam's own
         // deflection under the wheel does), so a wheel that rises and falls with the rail
@@ -551,8 +545,7 @@ impl MovingAxle {
         // sticking does not drag the wheelset after every lateral wiggle of the rail —
         // with no rolling kinematics (the paper's law) that would be a false slip of
         // v·dy/ds per second (docs/irregularities.md).
-        self.rail_offset = Vector3::new(0.0, vert - self.start_offset[1], 0.0);
-        let lat = lat - self.start_offset[0];
+        self.rail_offset = Vector3::new(0.0, vert, 0.0);
         let xc = self.track.rail_position(self.setup.rail, s) + w.column(0) * lat;
         self.r_cb = w.transpose() * (xc - xb);
         let (ni, nj) = (self.rail_node(e), self.rail_node(e + 1));
@@ -1127,20 +1120,7 @@ mod tests {
     use super::*;
 
     fn eval(e: &mut dyn Element, u: &[f64]) -> (Vec<f64>, DMatrix<f64>) {
-        let z = vec![0.0; u.len()];
-        e.update(&TrialState {
-            time: 0.0,
-            dt: 0.0,
-            disp: u,
-            vel: &z,
-            acc: &z,
-        })
-        .unwrap();
-        let mut f = vec![0.0; u.len()];
-        e.resisting_force(&mut f);
-        let mut k = DMatrix::zeros(u.len(), u.len());
-        e.tangent_stiffness(&mut k);
-        (f, k)
+        railfem_framework::conformance::static_force_tangent(e, u).unwrap()
     }
 
     fn prepare(s: &mut Sample) {

@@ -57,7 +57,7 @@
 
 use super::point_contact_law::{ContactForce, PointLaw};
 use super::rail_point::{beam_axes, rail_point_matrix};
-use super::track_model::TrackModel;
+use super::track_model::{OffsetFromStart, TrackModel};
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 use railfem_framework::element::*;
 use railfem_framework::error::FemError;
@@ -241,8 +241,8 @@ pub struct PointWheel {
     /// Irregularity of the rail head at the station, wheel frame (m): (lateral, up, 0),
     /// measured from its value at the wheel's first station.
     irregularity: Vector3<f64>,
-    /// Irregularity at the wheel's first station (m); `NaN` until placed.
-    start_offset: Vector3<f64>,
+    /// Rail-head offsets (dips and irregularity) measured from the wheel's first station.
+    start_offset: OffsetFromStart,
     /// x_P − x_K and x_P − x_C in the wheel frame (m).
     r_pk: Vector3<f64>,
     rho: Vector3<f64>,
@@ -282,7 +282,7 @@ impl PointWheel {
             xi: 0.0,
             station: f64::NAN,
             irregularity: Vector3::zeros(),
-            start_offset: Vector3::new(f64::NAN, f64::NAN, 0.0),
+            start_offset: OffsetFromStart::default(),
             r_pk: Vector3::zeros(),
             rho: Vector3::zeros(),
             rail_map: SMatrix::zeros(),
@@ -323,11 +323,11 @@ impl PointWheel {
     }
 
     /// The irregularity of this wheel's rail head at station `s`, as a displacement of the
-    /// rail in the wheel frame (m): (lateral along axis 1, up, 0). The one place a point
-    /// wheel reads it: the track's irregularity of this rail plus the dipped joints
-    /// ([`TrackModel::rail_offset`]).
-    fn rail_irregularity(&self, s: f64) -> Vector3<f64> {
-        let [lateral, vertical] = self.track.rail_offset(self.setup.rail, s);
+    /// rail in the wheel frame (m): (lateral along axis 1, up, 0), measured from its value
+    /// at the wheel's first station. The one place a point wheel reads it: the track's
+    /// irregularity of this rail plus the dipped joints ([`OffsetFromStart`]).
+    fn rail_irregularity(&mut self, s: f64) -> Vector3<f64> {
+        let [lateral, vertical] = self.start_offset.at(&self.track, self.setup.rail, s);
         Vector3::new(lateral, vertical, 0.0)
     }
 
@@ -347,11 +347,7 @@ impl PointWheel {
         self.station = s;
         // The wheel starts just touching the rail where it stands (see "Initial state"):
         // the irregularity is measured from its value at the first station.
-        let z = self.rail_irregularity(s);
-        if self.start_offset.x.is_nan() {
-            self.start_offset = z;
-        }
-        self.irregularity = z - self.start_offset;
+        self.irregularity = self.rail_irregularity(s);
         let w = kk.frame;
         let p = self.track.track.at(s);
         // Height of K above the rail-top plane through the centre line.
@@ -736,20 +732,7 @@ mod tests {
     use crate::rail::point_contact_law::HERTZ_PRELOAD;
 
     fn eval(e: &mut dyn Element, u: &[f64]) -> (Vec<f64>, DMatrix<f64>) {
-        let z = vec![0.0; u.len()];
-        e.update(&TrialState {
-            time: 0.0,
-            dt: 0.0,
-            disp: u,
-            vel: &z,
-            acc: &z,
-        })
-        .unwrap();
-        let mut f = vec![0.0; u.len()];
-        e.resisting_force(&mut f);
-        let mut k = DMatrix::zeros(u.len(), u.len());
-        e.tangent_stiffness(&mut k);
-        (f, k)
+        railfem_framework::conformance::static_force_tangent(e, u).unwrap()
     }
 
     /// The vertical contact force equals the law at the penetration computed by hand from

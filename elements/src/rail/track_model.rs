@@ -254,6 +254,26 @@ impl TrackModel {
     }
 }
 
+/// The rail-head offsets ([`TrackModel::rail_offset`]) a wheel rides over, measured from
+/// their value at the wheel's first station, so that every wheel starts just touching the
+/// rail where it stands (zero there unless it starts on an irregularity or in a dip).
+/// Differences of rail height between the wheels at t = 0 therefore do not preload the
+/// suspensions. One per wheel: the first call fixes the reference.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct OffsetFromStart {
+    start: Option<[f64; 2]>,
+}
+
+impl OffsetFromStart {
+    /// `[lateral, vertical]` offset of rail `rail` at station `s` minus its value at the
+    /// station of the first call (m, wheel frame).
+    pub fn at(&mut self, track: &TrackModel, rail: usize, s: f64) -> [f64; 2] {
+        let [lat, vert] = track.rail_offset(rail, s);
+        let [lat0, vert0] = *self.start.get_or_insert([lat, vert]);
+        [lat - lat0, vert - vert0]
+    }
+}
+
 /// Mesh stations on `[a, b]`: every segment joint inside, the rest evenly at about `h`.
 pub fn mesh_stations(track: &Track, a: f64, b: f64, h: f64) -> Vec<f64> {
     mesh_stations_cut(track, a, b, h, &[], false)
