@@ -369,11 +369,7 @@ fn prepare(
     estimate_factor: bool,
 ) -> Result<(crate::solvers::Driver, crate::solvers::preflight::Preflight), FemError> {
     let file = path.display().to_string();
-    let model = crate::load_model(path).map_err(|e| e.in_file(&file))?;
-    let mut driver = crate::solvers::Driver::new(model).map_err(|e| e.in_file(&file))?;
-    let pre = driver
-        .preflight(estimate_factor)
-        .map_err(|e| e.in_file(&file))?;
+    let (driver, pre) = crate::prepare(crate::load_model(path), &file, estimate_factor)?;
     for w in &pre.warnings {
         eprintln!("warning: {w}");
     }

@@ -30,5 +30,33 @@ pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework:
     framework::modelfile::read(path)?.build()
 }
 
+/// Builds a model from an already-parsed model-file value (the JSON form of the file;
+/// `name` stands for the file in messages, `base` resolves relative plugin paths).
+pub fn model_from_value(
+    value: &serde_json::Value,
+    name: &str,
+    base: &std::path::Path,
+) -> Result<framework::Model, framework::FemError> {
+    elements::link();
+    framework::modelfile::from_value(value, name, base)?.build()
+}
+
+/// The one validation `railfem check`, `railfem run` and the Python bindings share: build
+/// the driver for `model` (equation numbering, pattern, constant matrices) and run the
+/// preflight checks (singularity, stability, size). Errors name `file`; the preflight's
+/// warnings are returned for the caller to show.
+pub fn prepare(
+    model: Result<framework::Model, framework::FemError>,
+    file: &str,
+    estimate_factor: bool,
+) -> Result<(solvers::Driver, solvers::preflight::Preflight), framework::FemError> {
+    let model = model.map_err(|e| e.in_file(file))?;
+    let mut driver = solvers::Driver::new(model).map_err(|e| e.in_file(file))?;
+    let pre = driver
+        .preflight(estimate_factor)
+        .map_err(|e| e.in_file(file))?;
+    Ok((driver, pre))
+}
+
 #[doc = include_str!("../docs/custom-element.md")]
 pub mod custom_element_tutorial {}

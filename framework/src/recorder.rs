@@ -8,6 +8,10 @@
 //! The `comfort` recorder is the exception: it keeps the acceleration histories of its
 //! node DOFs through the run and writes, when the run finishes, a ride-comfort index
 //! (Sperling's `Wz` per node and DOF, or EN 12299's `N_MV` per node; [`crate::comfort`]).
+//!
+//! A run may also keep every recorder's rows in memory ([`Recorders::open_with`],
+//! [`History`]) — the exact doubles, where the CSV holds 13 significant digits — with or
+//! without writing the files; the Python bindings hand these to numpy.
 
 use crate::assembly::Assembler;
 use crate::comfort::{en12299_p95, n_mv, sperling_wz, Direction, EN12299_WINDOW_S, W_B, W_D};
@@ -434,8 +438,25 @@ struct Open {
     /// A comfort recorder's histories (its file is written at the end).
     comfort: Option<ComfortHistory>,
     columns: Vec<Column>,
-    out: BufWriter<File>,
+    /// The CSV file, when the run writes files.
+    out: Option<BufWriter<File>>,
     path: PathBuf,
+    /// The rows kept in memory, when asked for.
+    kept: Option<History>,
+}
+
+/// One recorder's rows kept in memory: the recorded values exactly as computed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct History {
+    /// The recorder's file name (`file` in the model), which names it.
+    pub file: String,
+    /// Column names, the CSV header without its leading `time`. A comfort recorder keeps
+    /// its acceleration histories (`<node>_<dof>`, m/s² or rad/s²), not its indices.
+    pub columns: Vec<String>,
+    /// Recorded times (s), one per row.
+    pub time: Vec<f64>,
+    /// The values, row-major: `time.len()` rows of `columns.len()` values.
+    pub values: Vec<f64>,
 }
 
 /// The open recorders of a run.
@@ -447,16 +468,29 @@ pub struct Recorders {
 impl Recorders {
     /// Opens every recorder of `model` in `dir` (created if needed) and writes headers.
     pub fn open(model: &Model, dir: &Path) -> Result<Recorders, FemError> {
-        std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
+        Recorders::open_with(model, Some(dir), false)
+    }
+
+    /// Opens every recorder of `model`: writing CSV files into `dir` when given, keeping
+    /// the rows in memory when `keep` ([`Recorders::histories`]).
+    pub fn open_with(model: &Model, dir: Option<&Path>, keep: bool) -> Result<Recorders, FemError> {
+        if let Some(dir) = dir {
+            std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
+        }
         let mut open = Vec::new();
         for spec in &model.recorders {
-            let path = dir.join(spec.file());
-            // A file in a subdirectory of the output directory (`wheels/left.csv`).
-            if let Some(parent) = path.parent() {
-                std::fs::create_dir_all(parent).map_err(|e| FemError::output(parent, e))?;
-            }
-            let f = File::create(&path).map_err(|e| FemError::output(&path, e))?;
-            let mut out = BufWriter::new(f);
+            let path = dir.unwrap_or(Path::new("")).join(spec.file());
+            let mut out = match dir {
+                Some(_) => {
+                    // A file in a subdirectory of the output directory (`wheels/left.csv`).
+                    if let Some(parent) = path.parent() {
+                        std::fs::create_dir_all(parent).map_err(|e| FemError::output(parent, e))?;
+                    }
+                    let f = File::create(&path).map_err(|e| FemError::output(&path, e))?;
+                    Some(BufWriter::new(f))
+                }
+                None => None,
+            };
             let mut header = vec!["time".to_string()];
             let mut columns = Vec::new();
             let mut comfort = None;
@@ -531,15 +565,29 @@ impl Recorders {
                     Quantity::Disp
                 }
             };
-            if comfort.is_none() {
+            if let (None, Some(out)) = (&comfort, out.as_mut()) {
                 writeln!(out, "{}", header.join(",")).map_err(|e| FemError::output(&path, e))?;
             }
+            let kept = keep.then(|| History {
+                file: spec.file().to_string(),
+                columns: match &comfort {
+                    Some(c) => c
+                        .columns
+                        .iter()
+                        .map(|k| format!("{}_{}", k.id, k.dof.name()))
+                        .collect(),
+                    None => header[1..].to_vec(),
+                },
+                time: Vec::new(),
+                values: Vec::new(),
+            });
             open.push(Open {
                 quantity,
                 comfort,
                 columns,
                 out,
                 path,
+                kept,
             });
         }
         Ok(Recorders {
@@ -570,7 +618,13 @@ impl Recorders {
                 Quantity::Vel => v,
                 Quantity::Acc => a,
             };
-            let mut line = format!("{t:.9e}");
+            let mut line = String::new();
+            if o.out.is_some() {
+                line = format!("{t:.9e}");
+            }
+            if let Some(k) = o.kept.as_mut() {
+                k.time.push(t);
+            }
             let mut cached: Option<usize> = None;
             for c in &o.columns {
                 let val = match c {
@@ -585,10 +639,17 @@ impl Recorders {
                         self.buf.get(*output).copied().unwrap_or(f64::NAN)
                     }
                 };
-                line.push(',');
-                line.push_str(&format!("{val:.12e}"));
+                if o.out.is_some() {
+                    line.push(',');
+                    line.push_str(&format!("{val:.12e}"));
+                }
+                if let Some(k) = o.kept.as_mut() {
+                    k.values.push(val);
+                }
             }
-            writeln!(o.out, "{line}").map_err(|e| FemError::output(&o.path, e))?;
+            if let Some(out) = o.out.as_mut() {
+                writeln!(out, "{line}").map_err(|e| FemError::output(&o.path, e))?;
+            }
         }
         Ok(())
     }
@@ -596,12 +657,30 @@ impl Recorders {
     /// Writes the comfort recorders' indices (once) and flushes every file.
     pub fn finish(&mut self) -> Result<(), FemError> {
         for o in &mut self.open {
-            if let Some(c) = o.comfort.take() {
-                c.write(&mut o.out, &o.path)?;
+            let Some(c) = o.comfort.take() else {
+                if let Some(out) = o.out.as_mut() {
+                    out.flush().map_err(|e| FemError::output(&o.path, e))?;
+                }
+                continue;
+            };
+            if let Some(k) = o.kept.as_mut() {
+                k.time.clone_from(&c.time);
+                k.values = (0..c.time.len())
+                    .flat_map(|i| c.values.iter().map(move |v| v[i]))
+                    .collect();
             }
-            o.out.flush().map_err(|e| FemError::output(&o.path, e))?;
+            if let Some(out) = o.out.as_mut() {
+                c.write(out, &o.path)?;
+                out.flush().map_err(|e| FemError::output(&o.path, e))?;
+            }
         }
         Ok(())
+    }
+
+    /// The rows kept in memory, one [`History`] per recorder in the model's order (empty
+    /// unless opened with `keep`). Call after [`Recorders::finish`].
+    pub fn histories(self) -> Vec<History> {
+        self.open.into_iter().filter_map(|o| o.kept).collect()
     }
 }
 

@@ -37,7 +37,7 @@ use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
 use railfem_framework::model::{AnalysisKind, Model, NewtonKind};
-use railfem_framework::recorder::Recorders;
+use railfem_framework::recorder::{History, Recorders};
 use railfem_framework::sparse::CscMatrix;
 use railfem_framework::DofSet;
 use std::path::Path;
@@ -877,11 +877,25 @@ impl Driver {
         out: Option<&Path>,
         progress: &mut dyn FnMut(f64),
     ) -> Result<RunSummary, FemError> {
+        self.run_keeping(out, false, progress).map(|(s, _)| s)
+    }
+
+    /// [`Driver::run`], and when `keep`, every recorder's rows in memory as well (the
+    /// exact values; [`railfem_framework::recorder::History`]), whether or not `out` is
+    /// given. Recording is the same whether rows go to files, memory or both, so a run
+    /// keeping rows takes the same steps as `railfem run`.
+    pub fn run_keeping(
+        &mut self,
+        out: Option<&Path>,
+        keep: bool,
+        progress: &mut dyn FnMut(f64),
+    ) -> Result<(RunSummary, Vec<History>), FemError> {
         let start = Instant::now();
         let spec = self.model.analysis.clone();
-        let mut rec = match out {
-            Some(dir) => Some(Recorders::open(&self.model, dir)?),
-            None => None,
+        let mut rec = if out.is_some() || keep {
+            Some(Recorders::open_with(&self.model, out, keep)?)
+        } else {
+            None
         };
         match spec.kind {
             AnalysisKind::Static => {
@@ -958,6 +972,7 @@ impl Driver {
         let st = self.solver.stats();
         self.summary.symbolic = st.symbolic_analyses;
         self.summary.wall = start.elapsed().as_secs_f64();
-        Ok(self.summary)
+        let kept = rec.map(Recorders::histories).unwrap_or_default();
+        Ok((self.summary, kept))
     }
 }
