@@ -618,10 +618,10 @@ impl Recorders {
                 Quantity::Vel => v,
                 Quantity::Acc => a,
             };
-            let mut line = String::new();
-            if o.out.is_some() {
-                line = format!("{t:.9e}");
-            }
+            let mut line = match o.out {
+                Some(_) => format!("{t:.9e}"),
+                None => String::new(),
+            };
             if let Some(k) = o.kept.as_mut() {
                 k.time.push(t);
             }
