@@ -27,7 +27,7 @@ fn kept_rows_are_the_csv_rows_and_do_not_depend_on_files() {
             let text = std::fs::read_to_string(dir.join(&h.file)).expect("csv");
             let mut lines = text.lines();
             let header: Vec<&str> = lines.next().expect("header").split(',').collect();
-            assert_eq!(header[0], "time");
+            assert!(header[0].starts_with("time"), "{}", header[0]);
             assert_eq!(
                 header[1..],
                 h.columns.iter().map(String::as_str).collect::<Vec<_>>()[..]

@@ -53,3 +53,8 @@ def cli_error_lines(proc):
         for line in proc.stderr.splitlines()
         if line.startswith("error: ")
     ]
+
+
+def bare(name):
+    """A CSV column name without a unit suffix (`Q_fe [N]` -> `Q_fe`)."""
+    return name.split(" [")[0]
