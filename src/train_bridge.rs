@@ -747,10 +747,18 @@ pub fn run(
     let every = case.record_every.max(1);
     let mut iterations = 0;
     let mut samples = 0usize;
+    let mut interrupted = None;
+    let mut bar = crate::progress::Progress::new("train-bridge", total as u64, "steps");
     for k in 1..=total {
         let r = d.step(dt)?;
         iterations += r.iterations;
-        if k % every != 0 && k != total {
+        bar.set(k as u64);
+        // Asked to stop (SIGINT/SIGTERM): record this step, then end as a whole run would.
+        let stop = crate::framework::interrupt::requested() && k < total;
+        if stop {
+            interrupted = Some(d.state.t);
+        }
+        if k % every != 0 && k != total && !stop {
             continue;
         }
         let t = d.state.t;
@@ -784,7 +792,11 @@ pub fn run(
             writeln!(wf, "{row}").map_err(|e| FemError::output("wheels.csv", e))?;
             writeln!(mf, "{mrow}").map_err(|e| FemError::output("midspan.csv", e))?;
         }
+        if stop {
+            break;
+        }
     }
+    bar.finish();
     for e in &mut ext {
         e.mean_q /= samples.max(1) as f64;
     }
@@ -821,6 +833,9 @@ pub fn run(
         }
         let p = dir.join("summary.csv");
         std::fs::write(&p, s).map_err(|e| FemError::output(&p, e))?;
+    }
+    if let Some(t) = interrupted {
+        return Err(FemError::Interrupted { t });
     }
     Ok(TrainBridgeReport {
         wheel_names,
