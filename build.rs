@@ -4,11 +4,33 @@
 
 use std::process::Command;
 
-fn main() {
-    let rev = Command::new("git")
-        .args(["rev-parse", "--short", "HEAD"])
+/// Whether this package's directory is the top of a git work tree (not a crates.io
+/// source unpacked somewhere inside another project's repository).
+fn is_checkout() -> bool {
+    let Ok(manifest) = std::env::var("CARGO_MANIFEST_DIR") else {
+        return false;
+    };
+    Command::new("git")
+        .args(["rev-parse", "--show-toplevel"])
+        .current_dir(&manifest)
         .output()
         .ok()
+        .filter(|o| o.status.success())
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .and_then(|top| std::fs::canonicalize(top.trim()).ok())
+        .zip(std::fs::canonicalize(&manifest).ok())
+        .is_some_and(|(top, here)| top == here)
+}
+
+fn main() {
+    let rev = is_checkout()
+        .then(|| {
+            Command::new("git")
+                .args(["rev-parse", "--short", "HEAD"])
+                .output()
+                .ok()
+        })
+        .flatten()
         .filter(|o| o.status.success())
         .and_then(|o| String::from_utf8(o.stdout).ok())
         .map(|s| s.trim().to_string())

@@ -550,24 +550,24 @@ pub fn write_outputs(case: &CurveCase, r: &CurveReport, dir: &FsPath) -> Result<
     let f = std::fs::File::create(&path).map_err(|e| FemError::output(&path, e))?;
     let mut w = std::io::BufWriter::new(f);
     let n = r.samples.first().map_or(0, |s| s.wheels.len());
-    let mut header = vec!["time".to_string(), "station".to_string()];
+    let mut header = vec!["time [s]".to_string(), "station [m]".to_string()];
     for i in 0..n {
         let side = if i % 2 == 0 { "L" } else { "R" };
         let ax = i / 2 + 1;
-        for c in [
-            "station",
-            "radius",
-            "cant",
-            "Q_fe",
-            "Y_fe",
-            "n_contact",
-            "n_slide",
-            "Q_statics",
-            "Q_printed",
-            "Y_theory",
-            "Q_lean",
+        for (c, unit) in [
+            ("station", "m"),
+            ("radius", "m"),
+            ("cant", "rad"),
+            ("Q_fe", "N"),
+            ("Y_fe", "N"),
+            ("n_contact", "-"),
+            ("n_slide", "-"),
+            ("Q_statics", "N"),
+            ("Q_printed", "N"),
+            ("Y_theory", "N"),
+            ("Q_lean", "N"),
         ] {
-            header.push(format!("w{ax}{side}_{c}"));
+            header.push(format!("w{ax}{side}_{c} [{unit}]"));
         }
     }
     let io = |e: std::io::Error| FemError::output(&path, e);

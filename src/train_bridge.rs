@@ -710,15 +710,15 @@ pub fn run(
         };
         let mut wf = open("wheels.csv")?;
         let mut mf = open("midspan.csv")?;
-        let mut head = String::from("t");
+        let mut head = String::from("time [s]");
         for n in &wheel_names {
-            for q in ["Q", "Y", "YQ", "dQQ"] {
-                head.push_str(&format!(",{n}_{q}"));
+            for (q, unit) in [("Q", "N"), ("Y", "N"), ("YQ", "-"), ("dQQ", "-")] {
+                head.push_str(&format!(",{n}_{q} [{unit}]"));
             }
         }
         writeln!(wf, "{head}").map_err(|e| FemError::output(dir, e))?;
-        let mh: Vec<String> = spans.iter().map(|k| format!("span{k}")).collect();
-        writeln!(mf, "t,{}", mh.join(",")).map_err(|e| FemError::output(dir, e))?;
+        let mh: Vec<String> = spans.iter().map(|k| format!("span{k} [m]")).collect();
+        writeln!(mf, "time [s],{}", mh.join(",")).map_err(|e| FemError::output(dir, e))?;
         files = Some((wf, mf));
     }
     // The initial state (self-weight, train at rest on the approach) as the first sample.

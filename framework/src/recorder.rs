@@ -32,6 +32,21 @@ pub enum Quantity {
     Acc,
 }
 
+impl Quantity {
+    /// The unit of this quantity of a translation (`m`, `m/s`, `m/s²`) or of a rotation
+    /// (`rad`, `rad/s`, `rad/s²`), as CSV headers write it (`2_uz [m]`).
+    pub fn unit(self, rotation: bool) -> &'static str {
+        match (self, rotation) {
+            (Quantity::Disp, false) => "m",
+            (Quantity::Vel, false) => "m/s",
+            (Quantity::Acc, false) => "m/s²",
+            (Quantity::Disp, true) => "rad",
+            (Quantity::Vel, true) => "rad/s",
+            (Quantity::Acc, true) => "rad/s²",
+        }
+    }
+}
+
 /// A `[[recorder]]` entry.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
@@ -457,7 +472,7 @@ impl Recorders {
             }
             let f = File::create(&path).map_err(|e| FemError::output(&path, e))?;
             let mut out = BufWriter::new(f);
-            let mut header = vec!["time".to_string()];
+            let mut header = vec!["time [s]".to_string()];
             let mut columns = Vec::new();
             let mut comfort = None;
             let quantity = match spec {
@@ -501,7 +516,11 @@ impl Recorders {
                     for id in spec.node_ids(model) {
                         let n = model.node(id).expect("validated");
                         for d in set.iter() {
-                            header.push(format!("{id}_{}", d.name()));
+                            header.push(format!(
+                                "{id}_{} [{}]",
+                                d.name(),
+                                quantity.unit(d.index() >= 3)
+                            ));
                             columns.push(Column::Node {
                                 node: n,
                                 dof: d.index(),
