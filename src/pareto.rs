@@ -537,7 +537,7 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
 
 /// The runs as CSV.
 pub fn csv(runs: &[Run]) -> String {
-    let mut s = String::from("case,integrator,elements,dt_s,steps,wall_s,error,pareto\n");
+    let mut s = String::from("case,integrator,elements,dt [s],steps,wall [s],error [-],pareto\n");
     for r in runs {
         s.push_str(&format!(
             "{},{},{},{:.6e},{},{:.6e},{:.6e},{}\n",

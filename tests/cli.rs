@@ -474,8 +474,8 @@ fn an_absurd_duration_is_refused_before_the_run_starts() {
 }
 
 /// Starts `railfem ARGS`, waits for its first progress line on stderr (the run is under
-/// way, its signal handler in place), sends SIGINT and returns (exit code, stderr).
-fn interrupt(args: &[&str]) -> (Option<i32>, String) {
+/// way, its signal handler in place), sends `signal` and returns (exit code, stderr).
+fn interrupt(args: &[&str], signal: libc::c_int) -> (Option<i32>, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_railfem"))
         .args(args)
         .stdout(Stdio::null())
@@ -497,13 +497,21 @@ fn interrupt(args: &[&str]) -> (Option<i32>, String) {
         all
     });
     // The first progress line comes after 1 s and 10 % of the steps (or 10 s).
-    let first = rx.recv_timeout(Duration::from_secs(300));
-    assert!(first.is_ok(), "no progress line");
+    let first = rx
+        .recv_timeout(Duration::from_secs(300))
+        .expect("no progress line");
+    // In a pipe, progress is plain lines: `curve: 10 % (2021/20205 steps, …, ETA 16 s)`.
+    assert!(
+        first.contains(" % (") && first.contains("steps/s, ETA"),
+        "{first}"
+    );
     // SAFETY: kill(2) with a valid pid of our own child and a valid signal number.
-    let r = unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGINT) };
+    let r = unsafe { libc::kill(child.id() as libc::pid_t, signal) };
     assert_eq!(r, 0);
     let status = child.wait().unwrap();
-    (status.code(), reader.join().unwrap())
+    let err = reader.join().unwrap();
+    assert!(!err.contains('\r'), "a progress frame in a pipe: {err:?}");
+    (status.code(), err)
 }
 
 /// The time `t` of `interrupted at t = … s` in the sidecar's status.
@@ -556,12 +564,15 @@ fn sigint_stops_a_model_run_at_a_step_with_whole_files() {
     let path = dir.join("long.toml");
     std::fs::write(&path, model).unwrap();
     let out = dir.join("out");
-    let (code, err) = interrupt(&[
-        "run",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (code, err) = interrupt(
+        &[
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        libc::SIGINT,
+    );
     assert_eq!(code, Some(130), "{err}");
     assert!(err.contains("interrupted at t ="), "{err}");
     let t = interrupted_at(&out);
@@ -576,12 +587,12 @@ fn sigint_stops_a_model_run_at_a_step_with_whole_files() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// `railfem curve` (the paper's full case, 20 205 steps): SIGINT stops it; curve.csv is
-/// written up to the step named by the sidecar, whole lines, exit 130.
+/// `railfem curve` (the paper's full case, 20 205 steps): SIGTERM stops it as SIGINT does;
+/// curve.csv is written up to the step named by the sidecar, whole lines, exit 130.
 #[test]
-fn sigint_stops_the_curve_case_with_whole_files() {
-    let dir = temp_dir("sigint_curve");
-    let (code, err) = interrupt(&["curve", "--out", dir.to_str().unwrap()]);
+fn sigterm_stops_the_curve_case_with_whole_files() {
+    let dir = temp_dir("sigterm_curve");
+    let (code, err) = interrupt(&["curve", "--out", dir.to_str().unwrap()], libc::SIGTERM);
     assert_eq!(code, Some(130), "{err}");
     let t = interrupted_at(&dir);
     let last = whole_lines(&dir.join("curve.csv"));
@@ -591,4 +602,76 @@ fn sigint_stops_the_curve_case_with_whole_files() {
     );
     assert!(t < 200.0, "t = {t}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A run refused after its output directory exists (here: made beforehand) leaves a
+/// sidecar that says it failed and why; a completed one says `completed`, with its argv.
+#[test]
+fn the_sidecar_says_completed_or_failed() {
+    let dir = temp_dir("sidecar");
+    let bad = dir.join("bad.toml");
+    std::fs::write(&bad, "[[node]]\nid = 1\n").unwrap();
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let o = railfem(&["run", bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    refused_with("bad model", &o, &["bad.toml"]);
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    let status = v["status"].as_str().unwrap();
+    assert!(
+        status.starts_with("failed: ") && status.contains("bad.toml"),
+        "{status}"
+    );
+    assert_eq!(v["command"], "run");
+
+    let good = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/models/sdof.toml");
+    let out = dir.join("good");
+    let o = railfem(&[
+        "run",
+        good.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(o.status.code(), Some(0));
+    assert!(
+        o.stderr.is_empty(),
+        "--quiet: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("run.json")).unwrap()).unwrap();
+    assert_eq!(v["status"], "completed");
+    assert_eq!(v["argv"][1], good.to_str().unwrap());
+    assert_eq!(v["options"]["out"], out.to_str().unwrap());
+    assert_eq!(v["options"]["quiet"], true);
+    // Start and end are UTC ISO 8601 to the second, end not before start.
+    let (start, end) = (v["start"].as_str().unwrap(), v["end"].as_str().unwrap());
+    for t in [start, end] {
+        let b = t.as_bytes();
+        assert!(
+            t.len() == 20 && b[4] == b'-' && b[10] == b'T' && b[19] == b'Z',
+            "{t}"
+        );
+    }
+    assert!(end >= start, "{start} .. {end}");
+    // The recorder's header carries units (quantity disp of ux: m).
+    let head = std::fs::read_to_string(out.join("disp.csv")).unwrap();
+    assert_eq!(head.lines().next(), Some("time [s],1_ux [m]"));
+    let head = std::fs::read_to_string(out.join("vel.csv")).unwrap();
+    assert_eq!(head.lines().next(), Some("time [s],1_ux [m/s]"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `railfem help` (and a bare `railfem`) lists every command.
+#[test]
+fn help_lists_every_command() {
+    for argv in [&["help"][..], &[]] {
+        let o = railfem(argv);
+        assert_eq!(o.status.code(), Some(0));
+        let text = String::from_utf8_lossy(&o.stdout);
+        for (name, _) in commands() {
+            assert!(text.contains(&name), "{argv:?}: {name} missing");
+        }
+    }
 }
