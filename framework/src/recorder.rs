@@ -1,9 +1,11 @@
 //! Recorders: what a run writes, one CSV file per recorder.
 //!
-//! Every file has a header `time,<column>…` and one row per recorded step, SI units. Node
-//! recorders write displacements, velocities or accelerations of chosen DOFs (in the node's
-//! axes; for a carried node, the deviation from its reference motion); element recorders
-//! write the named outputs an element reports ([`crate::Element::output_names`]).
+//! Every file has a header `time [s],<column>…` and one row per recorded step, SI units.
+//! Node recorders write displacements, velocities or accelerations of chosen DOFs (in the
+//! node's axes; for a carried node, the deviation from its reference motion), each column
+//! with its unit (`2_uz [m]`, [`Quantity::unit`]); element recorders write the named outputs
+//! an element reports ([`crate::Element::output_names`]), without a unit (the element
+//! contract declares none for outputs).
 //!
 //! The `comfort` recorder is the exception: it keeps the acceleration histories of its
 //! node DOFs through the run and writes, when the run finishes, a ride-comfort index
