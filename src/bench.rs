@@ -320,17 +320,20 @@ pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<BenchRow>, F
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     eprintln!("load average at start: {}", load.trim());
     let mut rows = Vec::new();
+    let mut bar = crate::progress::Progress::new("bench", sizes.len() as u64, "sizes");
     for &n in sizes {
-        eprintln!("bench: {n} DOF, {steps} steps ...");
+        bar.note(&format!("bench: {n} DOF, {steps} steps ..."));
         let r = run_size(n, steps)?;
-        eprintln!(
+        bar.note(&format!(
             "bench: {} equations, {:.3} ms/step, peak {:.0} MiB",
             r.equations,
             r.per_step * 1e3,
             r.peak_mib
-        );
+        ));
         rows.push(r);
+        bar.set(rows.len() as u64);
     }
+    bar.finish();
     let mut md = markdown(&rows);
     let pts: Vec<(f64, f64)> = rows
         .iter()

@@ -209,7 +209,9 @@ pub fn run(
         crate::framework::parallel::threads(0),
         geometry.name()
     );
-    for &n in sizes {
+    let mut bar = crate::progress::Progress::new("bench train-bridge", sizes.len() as u64, "sizes");
+    for (k, &n) in sizes.iter().enumerate() {
+        bar.set(k as u64);
         let case = case_for(n, cars, dt, geometry);
         let r = measure(&case, steps)?;
         println!(
@@ -233,6 +235,7 @@ pub fn run(
             .collect();
         println!("          per iteration (ms): {}", parts.join(", "));
         rows.push(r);
+        bar.set(rows.len() as u64);
     }
     if rows.len() >= 2 {
         let pts: Vec<(f64, f64)> = rows

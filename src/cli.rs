@@ -1,88 +1,17 @@
-//! The `railfem` command line: parse arguments, run a subcommand, turn any error into one
-//! line and an exit code.
+//! The `railfem` command line: parse arguments (grammar in [`crate::commands`], clap),
+//! run a subcommand, turn any error into one line and an exit code.
 //!
 //! Exit codes: 0 success; 2 bad input or a failed run (one line on stderr naming the file,
-//! the place and the fix); 1 a check that ran and failed (the conformance kit).
+//! the place and the fix — clap's own usage errors included); 1 a check that ran and failed
+//! (the conformance kit); 130 a run stopped by SIGINT or SIGTERM ([`crate::interrupt`]).
 
+use crate::commands::Cli;
 use crate::framework::error::nearest;
 use crate::framework::FemError;
+use clap::parser::ValueSource;
+use clap::{ArgAction, CommandFactory};
 use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
-
-/// Usage text printed by `railfem help` and on a usage error.
-pub const USAGE: &str = "\
-railfem — nonlinear dynamic finite elements for trains on curved, canted track
-
-USAGE:
-  railfem run MODEL [--out DIR] [--plugin PATH]...   run a model file (TOML or JSON)
-  railfem check MODEL [--plugin PATH]...             validate a model file as run would, without
-                                                     running: its size and every problem found
-  railfem elements [--plugin PATH]...                list registered element kinds and keys
-  railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
-                [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick] [--vtk EVERY]
-                [--geometry linear|nonlinear] [--anti-roll K]
-                                                     the paper's curved-track validation (Fig. 6)
-  railfem critical-radius --criterion sliding|separation --speed V --ct CT --mu MU
-                [--clothoid L] [--dt DT] [--geometry linear|nonlinear]
-                                                     critical radius, FE vs theory (Figs. 7, 9)
-  railfem critical-radius --sweep --criterion C [--speeds ..] [--cts ..] [--mus ..] [--out DIR]
-                                                     a whole figure, on all cores
-  railfem conformance [--plugin PATH]... [--element NAME]
-                                                     run the conformance kit on every kind
-                                                     (or those whose name contains NAME);
-                                                     exit 1 if a check fails
-  railfem track [--radius R] [--ct CT] [--out DIR]   the paper's track (default R = 6250 m,
-                                                     Ct = 200 m): track.csv and track.svg
-  railfem bench [--sizes 1e4,1e5,1e6] [--steps N] [--out DIR]
-                                                     time linear transient steps of a long
-                                                     continuous beam per DOF count; writes
-                                                     bench.md and bench.csv (default out/bench)
-  railfem bench --case train-bridge [--sizes 1e4,1e5,1e6] [--cars N] [--steps N] [--dt DT]
-                [--geometry linear|nonlinear]
-                                                     time per Newton iteration and per step of
-                                                     the train-bridge model by phase (search,
-                                                     elements, assembly, blocks, top, solve,
-                                                     loads); writes phases.md and phases.csv
-  railfem train-bridge [--cars N] [--spans M] [--span L] [--element-length H | --dof N]
-                [--speed V] [--radius R] [--ct CT] [--duration T] [--dt DT]
-                [--quake FILE.csv | --quake synthetic [--seed S] [--pga G] [--quake-duration T]]
-                [--quake-out FILE.csv] [--midspans 1,2,..] [--record-every N] [--steps N]
-                [--build-only] [--geometry linear|nonlinear] [--out DIR]
-                                                     a train of sks700 carriages over a viaduct
-                                                     of simply supported spans (default 12 cars,
-                                                     113 spans of 29.75 m): wheels.csv,
-                                                     midspan.csv, summary.csv (default
-                                                     out/train_bridge)
-  railfem stress [--case all|sdof|beam|penalty|speed|drop|stick-slip|dip] [--scheme S]
-                [--omega-dt W] [--penalty K] [--speed V] [--height H] [--depth D] [--overshoot F]
-                [--steps N] [--duration T] [--dt DT] [--out DIR]
-                                                     the numerical stress suite: one table row
-                                                     per case (docs/stability.md)
-  railfem bench --export DIR [--sizes ..] [--steps N] write the benchmark model, its load
-                                                     vectors and railfem's answer per size
-                                                     (DIR/dofN) for scripts/opensees_compare.sh
-  railfem pareto [--out DIR] [--cases force,sprung,curve]
-                                                     run time against error over dt, mesh and
-                                                     integrator; pareto.csv and pareto-*.svg
-  railfem irregularity --psd CLASS [--seed S] [--wavelengths MIN,MAX] [--step H]
-                [--length L] [--components vertical,alignment,..] [--out DIR]
-                                                     a track irregularity from a standard
-                                                     spectrum (fra1..fra6, german_low,
-                                                     german_high): irregularity.csv, psd.csv
-                                                     and irregularity-psd.svg (Welch vs target)
-  railfem help                                       this text
-
-OPTIONS OF EVERY COMMAND:
-  --plugin PATH        load an element plugin (repeatable)
-  --max-memory BYTES   memory a model may be estimated to need (e.g. 8G; default half the
-                       available memory); overrides a model file's [limits] max_memory
-  --max-steps N        most time or load steps of an analysis (default 1e7); overrides
-                       [limits] max_steps
-  --help               this text
-
-Each command accepts only its own options; a mistyped one is refused with the nearest.
-Units are SI (m, kg, s, N, rad). Bad input exits with code 2 and one line naming the file,
-the place and the fix (docs/robustness.md).";
 
 /// A parsed command line. Paths stay `OsString`/`PathBuf` from `argv` to every message
 /// (a path need not be UTF-8); every other value must be UTF-8.
@@ -98,10 +27,16 @@ pub struct Args {
     pub plugins: Vec<PathBuf>,
     /// Other `--key value` options whose value is text.
     pub options: Vec<(String, String)>,
-    /// Options whose value is a path ([`PATH_OPTIONS`] other than `out` and `plugin`).
+    /// Options whose value is a path (fields typed `PathBuf` in [`crate::commands`]) other
+    /// than `out` and `plugin`.
     pub paths: Vec<(String, PathBuf)>,
     /// `--flag` options without value.
     pub flags: Vec<String>,
+    /// Text clap rendered for `--help`, `--version` or `railfem help`: printed by [`run`],
+    /// which then exits 0 without running anything.
+    pub message: Option<String>,
+    /// `argv` as given (without the program name), for the run sidecar (`run.json`).
+    pub argv: Vec<OsString>,
 }
 
 impl Args {
@@ -144,149 +79,130 @@ impl Args {
     }
 }
 
-/// Options that take no value.
-const FLAGS: [&str; 5] = ["quick", "quiet", "help", "sweep", "build-only"];
+/// The clap command with the settings every subcommand shares: a value may start with `-`
+/// (`--penalty -1` reaches the command, which says why it is refused).
+pub fn clap_command() -> clap::Command {
+    Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true))
+}
 
-/// Options whose value is a path: kept as given, UTF-8 or not.
-const PATH_OPTIONS: [&str; 5] = ["out", "plugin", "quake", "quake-out", "export"];
-
-/// Options every command accepts.
-const GLOBAL_OPTIONS: [&str; 4] = ["plugin", "help", "max-memory", "max-steps"];
-
-/// The options (with or without value) each command accepts besides [`GLOBAL_OPTIONS`].
-const COMMAND_OPTIONS: [(&str, &[&str]); 13] = [
-    ("run", &["out"]),
-    ("check", &[]),
-    ("elements", &[]),
-    ("help", &[]),
-    (
-        "curve",
-        &[
-            "out",
-            "radius",
-            "ct",
-            "speed",
-            "mu",
-            "dt",
-            "penalty",
-            "duration",
-            "vtk",
-            "lengths",
-            "quick",
-            "quiet",
-            "geometry",
-            "anti-roll",
-        ],
-    ),
-    (
-        "critical-radius",
-        &[
-            "criterion",
-            "sweep",
-            "speeds",
-            "cts",
-            "mus",
-            "out",
-            "quiet",
-            "speed",
-            "ct",
-            "mu",
-            "clothoid",
-            "dt",
-            "geometry",
-        ],
-    ),
-    ("conformance", &["element"]),
-    ("track", &["radius", "ct", "out"]),
-    (
-        "bench",
-        &[
-            "case", "sizes", "steps", "export", "out", "cars", "dt", "geometry",
-        ],
-    ),
-    (
-        "train-bridge",
-        &[
-            "cars",
-            "spans",
-            "span",
-            "element-length",
-            "dof",
-            "speed",
-            "radius",
-            "ct",
-            "duration",
-            "dt",
-            "record-every",
-            "pier-height",
-            "midspans",
-            "quake",
-            "seed",
-            "pga",
-            "quake-duration",
-            "quake-out",
-            "steps",
-            "out",
-            "build-only",
-            "geometry",
-        ],
-    ),
-    (
-        "stress",
-        &[
-            "case",
-            "scheme",
-            "omega-dt",
-            "penalty",
-            "speed",
-            "height",
-            "depth",
-            "overshoot",
-            "steps",
-            "duration",
-            "dt",
-            "out",
-        ],
-    ),
-    ("pareto", &["out", "cases"]),
-    (
-        "irregularity",
-        &[
-            "psd",
-            "seed",
-            "wavelengths",
-            "step",
-            "length",
-            "components",
-            "out",
-        ],
-    ),
-];
-
-/// Refuses an option `command` does not know, naming the nearest it does.
-fn check_option(command: &str, key: &str) -> Result<(), FemError> {
-    let Some((_, own)) = COMMAND_OPTIONS.iter().find(|(c, _)| *c == command) else {
-        return Ok(()); // an unknown command is reported by `run`
-    };
-    if own.contains(&key) || GLOBAL_OPTIONS.contains(&key) {
-        return Ok(());
+/// Turns a clap error into today's contract: one line naming the command line, the place
+/// and the fix.
+fn usage_error(e: &clap::Error, argv: &[OsString]) -> FemError {
+    let text = e.render().to_string();
+    // clap's message: the lines before its usage block, then its tips, on one line.
+    let mut what = Vec::new();
+    let mut tips = Vec::new();
+    for l in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if l.starts_with("Usage:") || l.starts_with("For more information") {
+            break;
+        }
+        match l.strip_prefix("tip: ") {
+            Some(t) => tips.push(t.to_string()),
+            None => what.push(l.trim_start_matches("error: ").to_string()),
+        }
     }
-    let valid: Vec<&str> = own.iter().chain(&GLOBAL_OPTIONS).copied().collect();
+    let first = what.join(" ");
+    let tip: String = tips.iter().map(|t| format!("; {t}")).collect();
+    // The command the user meant, for the pointer to its help.
+    let sub = argv
+        .first()
+        .and_then(|c| c.to_str())
+        .filter(|c| clap_command().find_subcommand(c).is_some())
+        .map(|c| format!(" {c}"))
+        .unwrap_or_default();
+    FemError::input(
+        "command line",
+        format!("{first}{tip}; see `railfem{sub} --help`"),
+    )
+}
+
+/// An option `command` does not know, refused naming the nearest it does and listing its
+/// options (its own, then those of every command).
+fn unknown_option(command: &clap::Command, key: &str) -> FemError {
+    let (global, own): (Vec<&clap::Arg>, Vec<&clap::Arg>) = command
+        .get_arguments()
+        .filter(|a| a.get_long().is_some_and(|l| l != "help"))
+        .partition(|a| a.is_global_set());
+    let valid: Vec<&str> = own
+        .iter()
+        .chain(&global)
+        .filter_map(|a| a.get_long())
+        .chain(["help"])
+        .collect();
     let hint = nearest(key, &valid)
         .map(|n| format!("did you mean `--{n}`? "))
         .unwrap_or_default();
     let list: Vec<String> = valid.iter().map(|v| format!("--{v}")).collect();
-    Err(FemError::input(
+    FemError::input(
         "command line",
         format!(
-            "`railfem {command}` has no option `--{key}`; {hint}its options are {}",
+            "`railfem {}` has no option `--{key}`; {hint}its options are {}",
+            command.get_name(),
             list.join(", ")
         ),
-    ))
+    )
 }
 
 /// Parses `argv` (without the program name).
 pub fn parse<S: AsRef<OsStr>>(argv: &[S]) -> Result<Args, FemError> {
+    let argv: Vec<OsString> = argv.iter().map(|s| s.as_ref().to_os_string()).collect();
+    if let Some(c) = argv.first().filter(|c| c.to_str().is_none()) {
+        return Err(FemError::input(
+            "command line",
+            format!(
+                "the command {} is not valid UTF-8; give it in plain text",
+                c.to_string_lossy()
+            ),
+        ));
+    }
+    let mut cmd = clap_command();
+    let full = std::iter::once(OsString::from("railfem")).chain(argv.iter().cloned());
+    let m = match cmd.try_get_matches_from_mut(full) {
+        Ok(m) => m,
+        Err(e) => {
+            use clap::error::ErrorKind as K;
+            return match e.kind() {
+                K::DisplayHelp | K::DisplayVersion => Ok(Args {
+                    command: "help".into(),
+                    message: Some(e.render().to_string()),
+                    argv,
+                    ..Args::default()
+                }),
+                K::UnknownArgument => {
+                    let key = match e.get(clap::error::ContextKind::InvalidArg) {
+                        Some(clap::error::ContextValue::String(k)) => k.clone(),
+                        _ => String::new(),
+                    };
+                    let key = key.split('=').next().unwrap_or("").to_string();
+                    let sub = argv
+                        .first()
+                        .and_then(|c| c.to_str())
+                        .and_then(|c| cmd.find_subcommand(c));
+                    match (key.strip_prefix("--"), sub) {
+                        (Some(k), Some(sub)) => Err(unknown_option(sub, k)),
+                        _ => Err(usage_error(&e, &argv)),
+                    }
+                }
+                _ => Err(usage_error(&e, &argv)),
+            };
+        }
+    };
+    let Some((name, sub)) = m.subcommand() else {
+        return Ok(Args {
+            command: "help".into(),
+            message: Some(cmd.render_long_help().to_string()),
+            argv,
+            ..Args::default()
+        });
+    };
+    let def = cmd
+        .find_subcommand(name)
+        .expect("clap matched a declared subcommand");
+    let mut a = Args {
+        command: name.to_string(),
+        argv: argv.clone(),
+        ..Args::default()
+    };
     let text = |x: &OsStr, what: &str| -> Result<String, FemError> {
         x.to_str().map(str::to_string).ok_or_else(|| {
             FemError::input(
@@ -298,35 +214,34 @@ pub fn parse<S: AsRef<OsStr>>(argv: &[S]) -> Result<Args, FemError> {
             )
         })
     };
-    let mut a = Args::default();
-    let mut it = argv.iter().map(AsRef::as_ref);
-    a.command = match it.next() {
-        Some(c) => text(c, "the command")?,
-        None => "help".into(),
-    };
-    while let Some(x) = it.next() {
-        let Some(key) = x.to_str().and_then(|s| s.strip_prefix("--")) else {
-            a.positional.push(x.to_os_string());
-            continue;
-        };
-        check_option(&a.command, key)?;
-        if FLAGS.contains(&key) {
-            a.flags.push(key.to_string());
+    for arg in def.get_arguments() {
+        let id = arg.get_id().as_str();
+        if sub.value_source(id) != Some(ValueSource::CommandLine) {
             continue;
         }
-        let Some(v) = it.next() else {
-            return Err(FemError::input(
-                "command line",
-                format!("--{key} needs a value; see `railfem help`"),
-            ));
+        let Some(long) = arg.get_long() else {
+            // Positional (the model file, the shell of `completions`).
+            if let Some(vs) = sub.get_raw(id) {
+                a.positional.extend(vs.map(OsStr::to_os_string));
+            }
+            continue;
         };
-        match key {
-            "out" => a.out = Some(PathBuf::from(v)),
-            "plugin" => a.plugins.push(PathBuf::from(v)),
-            k if PATH_OPTIONS.contains(&k) => a.paths.push((k.to_string(), PathBuf::from(v))),
-            _ => {
-                let v = text(v, &format!("the value of --{key}"))?;
-                a.options.push((key.to_string(), v));
+        if matches!(arg.get_action(), ArgAction::SetTrue) {
+            if sub.get_flag(id) {
+                a.flags.push(long.to_string());
+            }
+            continue;
+        }
+        let is_path = arg.get_value_parser().type_id() == clap::value_parser!(PathBuf).type_id();
+        for v in sub.get_raw(id).into_iter().flatten() {
+            match long {
+                "out" => a.out = Some(PathBuf::from(v)),
+                "plugin" => a.plugins.push(PathBuf::from(v)),
+                _ if is_path => a.paths.push((long.to_string(), PathBuf::from(v))),
+                _ => {
+                    let v = text(v, &format!("the value of --{long}"))?;
+                    a.options.push((long.to_string(), v));
+                }
             }
         }
     }
@@ -376,20 +291,153 @@ fn prepare(
     Ok((driver, pre))
 }
 
-/// Runs a parsed command; returns the process exit code.
+/// Commands whose time loops stop at the end of a step when asked
+/// ([`crate::framework::interrupt`]); the others stop at once on SIGINT/SIGTERM.
+const STOPS_AT_STEP: [&str; 3] = ["run", "curve", "train-bridge"];
+
+/// The output directory of a command as it resolves it (its `--out` or its default);
+/// `None` for commands that write no directory.
+pub fn out_dir(a: &Args) -> Option<PathBuf> {
+    if a.message.is_some() {
+        return None;
+    }
+    let default = match a.command.as_str() {
+        "run" => "out",
+        "curve" => "out/curve",
+        "critical-radius" if a.flag("sweep") => "out/critical",
+        "track" => "out/track",
+        "bench" if a.path("export").is_some() => return a.path("export").map(Path::to_path_buf),
+        "bench" => "out/bench",
+        "train-bridge" => "out/train_bridge",
+        "pareto" => "out/pareto",
+        "irregularity" => "out/irregularity",
+        "critical-radius" | "stress" => return a.out.clone(),
+        _ => return None,
+    };
+    Some(a.out.clone().unwrap_or_else(|| PathBuf::from(default)))
+}
+
+/// What the sidecar says about the command's inputs: the options as parsed.
+fn options_json(a: &Args, dir: &Path) -> serde_json::Value {
+    let mut o = serde_json::Map::new();
+    o.insert("out".into(), dir.display().to_string().into());
+    for (k, v) in &a.options {
+        o.insert(k.clone(), v.clone().into());
+    }
+    for (k, v) in &a.paths {
+        o.insert(k.clone(), v.display().to_string().into());
+    }
+    for f in &a.flags {
+        o.insert(f.clone(), true.into());
+    }
+    if !a.plugins.is_empty() {
+        let p: Vec<String> = a.plugins.iter().map(|p| p.display().to_string()).collect();
+        o.insert("plugin".into(), p.into());
+    }
+    if !a.positional.is_empty() {
+        let p: Vec<String> = a
+            .positional
+            .iter()
+            .map(|p| p.to_string_lossy().into_owned())
+            .collect();
+        o.insert("positional".into(), p.into());
+    }
+    serde_json::Value::Object(o)
+}
+
+/// The sidecar of the command running in this process, for the signal handler.
+static RUNNING: std::sync::Mutex<Option<crate::sidecar::RunRecord>> = std::sync::Mutex::new(None);
+
+/// SIGINT/SIGTERM: a command that stops at a step boundary is asked to
+/// ([`crate::framework::interrupt::request`]); a second signal, or a command that cannot,
+/// marks the sidecar and exits at once with 130.
+fn install_interrupt_handler(command: &str) {
+    let at_step = STOPS_AT_STEP.contains(&command);
+    // An error means a handler is in place already (a test calling `run` twice): keep it.
+    let _ = ctrlc::set_handler(move || {
+        if at_step && !crate::framework::interrupt::requested() {
+            crate::framework::interrupt::request();
+            eprintln!("railfem: stopping at the end of this step (signal again to stop at once)");
+            return;
+        }
+        if let Ok(g) = RUNNING.lock() {
+            if let Some(r) = g.as_ref() {
+                let _ = r.write("interrupted before the end; outputs may be incomplete");
+            }
+        }
+        eprintln!("railfem: interrupted");
+        std::process::exit(130);
+    });
+}
+
+/// Runs a parsed command with its progress setting, interrupt handler and sidecar
+/// (`run.json`, [`crate::sidecar`]); returns the process exit code.
 pub fn run(a: &Args) -> Result<i32, FemError> {
+    crate::progress::set_quiet(a.flag("quiet"));
+    let record = out_dir(a).map(|dir| crate::sidecar::RunRecord {
+        command: a.command.clone(),
+        argv: a
+            .argv
+            .iter()
+            .map(|s| s.to_string_lossy().into_owned())
+            .collect(),
+        options: options_json(a, &dir),
+        dir,
+        start: std::time::SystemTime::now(),
+    });
+    if let Some(r) = &record {
+        if let Ok(mut g) = RUNNING.lock() {
+            *g = Some(r.clone());
+        }
+        install_interrupt_handler(&a.command);
+    }
+    let result = dispatch(a);
+    if let Some(r) = &record {
+        let status = match &result {
+            Ok(0) => "completed".to_string(),
+            Ok(code) => format!("failed: exit code {code}"),
+            Err(e @ FemError::Interrupted { .. }) => e.to_string(),
+            Err(e) => format!("failed: {}", e.to_string().replace('\n', " ")),
+        };
+        r.write(&status)
+            .map_err(|e| FemError::output(r.dir.join(crate::sidecar::RUN_JSON), e))?;
+        if let Ok(mut g) = RUNNING.lock() {
+            *g = None;
+        }
+    }
+    result
+}
+
+/// Runs a parsed command; returns the process exit code.
+fn dispatch(a: &Args) -> Result<i32, FemError> {
     crate::elements::link();
     for p in &a.plugins {
         crate::framework::plugin::load(p)?;
     }
-    let asked_help = a.flag("help") || a.positional.iter().any(|p| p == "-h");
+    if let Some(text) = &a.message {
+        print!("{text}");
+        return Ok(0);
+    }
     match a.command.as_str() {
-        _ if asked_help => {
-            println!("{USAGE}");
+        "help" => {
+            print!("{}", clap_command().render_long_help());
             Ok(0)
         }
-        "help" | "--help" | "-h" => {
-            println!("{USAGE}");
+        "completions" => {
+            use clap::ValueEnum;
+            let name = a.positional.first().and_then(|s| s.to_str()).unwrap_or("");
+            let shell = clap_complete::Shell::from_str(name, true).map_err(|_| {
+                FemError::input(
+                    "command line",
+                    format!("completions {name}: give bash, zsh, fish, elvish or powershell"),
+                )
+            })?;
+            clap_complete::generate(
+                shell,
+                &mut clap_command(),
+                "railfem",
+                &mut std::io::stdout(),
+            );
             Ok(0)
         }
         "check" => {
@@ -420,9 +468,18 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
             let path = model_arg(a)?;
             let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out"));
             let (mut driver, _) = prepare(path, false)?;
+            let an = &driver.model.analysis;
+            let steps = match an.kind {
+                crate::framework::model::AnalysisKind::Transient => {
+                    (an.duration / an.dt - 1e-9).ceil().max(1.0) as u64
+                }
+                _ => 1,
+            };
+            let mut bar = crate::progress::Progress::new("run", steps, "steps");
             let s = driver
-                .run(Some(&out), &mut |_| {})
+                .run(Some(&out), &mut |f| bar.fraction(f))
                 .map_err(|e| e.in_file(&path.display().to_string()))?;
+            bar.finish();
             println!(
                 "{}: {} steps, {} Newton iterations, {} factorizations, {} equations, {:.3} s; results in {}",
                 path.display(),
@@ -512,18 +569,10 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     }
     case.geometry = geometry(a)?;
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/curve"));
-    let mut last = 0;
-    let quiet = a.flags.iter().any(|f| f == "quiet");
-    let r = crate::curve::run(&case, Some(&out), &mut |f| {
-        let pct = (f * 100.0) as usize;
-        if !quiet && pct / 5 != last / 5 {
-            last = pct;
-            eprint!("\r[{:<20}] {pct:>3}%", "#".repeat(pct / 5));
-        }
-    })?;
-    if !quiet {
-        eprintln!();
-    }
+    let steps = case.steps_estimate();
+    let mut bar = crate::progress::Progress::new("curve", steps, "steps");
+    let r = crate::curve::run(&case, Some(&out), &mut |f| bar.fraction(f))?;
+    bar.finish();
     println!(
         "curve: R = {} m, Ct = {} m, V = {} m/s, mu = {}, dt = {} s: {} steps, {} Newton iterations, {:.2} s",
         case.radius, case.ct, case.speed, case.mu, case.dt, r.steps, r.iterations, r.wall
@@ -787,11 +836,15 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             .out
             .clone()
             .unwrap_or_else(|| PathBuf::from("out/critical"));
-        let quiet = a.flags.iter().any(|f| f == "quiet");
+        let points = speeds.len() * cts.len() * mus.len();
+        let bar = std::sync::Mutex::new(crate::progress::Progress::new(
+            "critical-radius",
+            points as u64,
+            "points",
+        ));
         let progress = |f: f64| {
-            if !quiet {
-                let pct = (f * 100.0) as usize;
-                eprint!("\r[{:<20}] {pct:>3}%", "#".repeat(pct / 5));
+            if let Ok(mut b) = bar.lock() {
+                b.fraction(f);
             }
         };
         let pts = crate::critical::sweep(
@@ -805,8 +858,8 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             std::thread::available_parallelism().map_or(2, |n| n.get()),
             &progress,
         );
-        if !quiet {
-            eprintln!();
+        if let Ok(mut b) = bar.lock() {
+            b.finish();
         }
         crate::critical::write_sweep(&pts, criterion, &out)?;
         let mut worst = 0.0f64;

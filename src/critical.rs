@@ -448,7 +448,7 @@ pub fn write_sweep(
         Criterion::Separation => "separation",
     };
     let mut csv = String::from(
-        "speed,ct,mu,r_fe,r_theory_statics,r_theory_at_contact,r_theory_printed,r_fe_gross_sliding,r_lean_at_contact,rel_diff,note\n",
+        "speed [m/s],ct [m],mu [-],r_fe [m],r_theory_statics [m],r_theory_at_contact [m],r_theory_printed [m],r_fe_gross_sliding [m],r_lean_at_contact [m],rel_diff [-],note\n",
     );
     let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.3}"));
     for (c, r) in points {

@@ -71,6 +71,26 @@ pub struct CurveCase {
     pub anti_roll: f64,
 }
 
+impl CurveCase {
+    /// Time steps of the run, for progress displays: `duration / dt`, the duration being
+    /// the time the carriage takes to the track's end when not given (as [`CurveCase::build`]
+    /// sets it, with the track's length taken as the sum of its five segments).
+    pub fn steps_estimate(&self) -> u64 {
+        let end = self.lengths.iter().sum::<f64>() - 15.0 - self.start;
+        let duration = if self.duration > 0.0 {
+            self.duration
+        } else {
+            end / self.speed.max(1e-9)
+        };
+        let n = (duration / self.dt).ceil();
+        if n.is_finite() && n >= 1.0 {
+            n.min(u64::MAX as f64) as u64
+        } else {
+            1
+        }
+    }
+}
+
 impl Default for CurveCase {
     /// The Fig. 6 case: V = 80 m/s, Ct = 200 m, arc radius 6250 m (100° over
     /// 10 908.3078 m), μ = 0.3, dt = 0.01 s.
@@ -374,6 +394,7 @@ pub fn run(
         _ => None,
     };
     let body = m.ids.car_bodies.first().and_then(|id| d.model.node(*id));
+    let mut interrupted = None;
     for k in 1..=nsteps {
         d.step(spec.dt)?;
         if let (Some(v), Some(b)) = (vtk.as_mut(), body) {
@@ -473,7 +494,10 @@ pub fn run(
                 rel_y = rel_y.max((mean - ys).abs() / ys.abs().max(1e-9 * pair[0].q_statics.abs()));
             }
         }
-        if k % spec.record_every == 0 || k == nsteps {
+        // Asked to stop (SIGINT/SIGTERM): this step is kept and recorded, then the loop
+        // ends and the outputs are written as for a whole run.
+        let stop = crate::framework::interrupt::requested() && k < nsteps;
+        if k % spec.record_every == 0 || k == nsteps || stop {
             samples.push(Sample {
                 t,
                 station: case.start + case.speed * t,
@@ -481,6 +505,10 @@ pub fn run(
             });
         }
         progress(k as f64 / nsteps as f64);
+        if stop {
+            interrupted = Some(t);
+            break;
+        }
     }
     if let Some(v) = &vtk {
         v.finish()?;
@@ -509,6 +537,9 @@ pub fn run(
         write_outputs(case, &report, dir)?;
         d.write_energy(dir)?;
     }
+    if let Some(t) = interrupted {
+        return Err(FemError::Interrupted { t });
+    }
     Ok(report)
 }
 
@@ -519,24 +550,24 @@ pub fn write_outputs(case: &CurveCase, r: &CurveReport, dir: &FsPath) -> Result<
     let f = std::fs::File::create(&path).map_err(|e| FemError::output(&path, e))?;
     let mut w = std::io::BufWriter::new(f);
     let n = r.samples.first().map_or(0, |s| s.wheels.len());
-    let mut header = vec!["time".to_string(), "station".to_string()];
+    let mut header = vec!["time [s]".to_string(), "station [m]".to_string()];
     for i in 0..n {
         let side = if i % 2 == 0 { "L" } else { "R" };
         let ax = i / 2 + 1;
-        for c in [
-            "station",
-            "radius",
-            "cant",
-            "Q_fe",
-            "Y_fe",
-            "n_contact",
-            "n_slide",
-            "Q_statics",
-            "Q_printed",
-            "Y_theory",
-            "Q_lean",
+        for (c, unit) in [
+            ("station", "m"),
+            ("radius", "m"),
+            ("cant", "rad"),
+            ("Q_fe", "N"),
+            ("Y_fe", "N"),
+            ("n_contact", "-"),
+            ("n_slide", "-"),
+            ("Q_statics", "N"),
+            ("Q_printed", "N"),
+            ("Y_theory", "N"),
+            ("Q_lean", "N"),
         ] {
-            header.push(format!("w{ax}{side}_{c}"));
+            header.push(format!("w{ax}{side}_{c} [{unit}]"));
         }
     }
     let io = |e: std::io::Error| FemError::output(&path, e);

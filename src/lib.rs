@@ -16,11 +16,14 @@ pub use railfem_solvers as solvers;
 pub mod bench;
 pub mod bench_train;
 pub mod cli;
+pub mod commands;
 pub mod critical;
 pub mod curve;
 pub mod irregularity;
 pub mod oscillators;
 pub mod pareto;
+pub mod progress;
+pub mod sidecar;
 pub mod stress;
 pub mod train_bridge;
 

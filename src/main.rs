@@ -24,6 +24,12 @@ fn main() {
         railfem::cli::parse(&argv).and_then(|a| railfem::cli::run(&a))
     }) {
         Ok(Ok(code)) => code,
+        Ok(Err(e @ railfem::framework::FemError::Interrupted { .. })) => {
+            // SIGINT/SIGTERM: the outputs are whole up to that step; the shell's code for
+            // a run stopped by Ctrl-C (128 + SIGINT).
+            eprintln!("railfem: {e}; outputs are whole up to that step (run.json says so)");
+            130
+        }
         Ok(Err(e)) => {
             eprintln!("error: {}", e.to_string().replace('\n', " "));
             2

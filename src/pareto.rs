@@ -437,10 +437,21 @@ pub fn mark_pareto(runs: &mut [Run]) {
     }
 }
 
-/// Runs the grid; progress lines go to stderr.
+/// Runs the grid; progress ([`crate::progress`]) and one line per run go to stderr.
 pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
     let mut runs = Vec::new();
     let t1 = period1();
+    let schemes = Scheme::ALL.len();
+    let total: usize = grid
+        .cases
+        .iter()
+        .map(|c| match c.as_str() {
+            "curve" => grid.curve_dt.len() * schemes,
+            _ => grid.elements.len() * grid.steps_per_period.len() * schemes,
+        })
+        .sum();
+    let mut bar = crate::progress::Progress::new("pareto", total as u64, "runs");
+    let mut done = 0u64;
     for case in &grid.cases {
         match case.as_str() {
             "force" | "sprung" => {
@@ -458,10 +469,12 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
                             } else {
                                 sprung_run(ne, dt, scheme, &reference)?
                             };
-                            eprintln!(
+                            done += 1;
+                            bar.set(done);
+                            bar.note(&format!(
                                 "pareto {case}: {ne} elements, dt = T1/{spp} = {dt:.3e} s, {}: {wall:.4} s, error {error:.3e}",
                                 scheme.name()
-                            );
+                            ));
                             runs.push(Run {
                                 case: if case == "force" { "force" } else { "sprung" },
                                 scheme,
@@ -481,20 +494,22 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
                     for scheme in Scheme::ALL {
                         // A step too coarse for the contact (Newton gives up) is a
                         // result, not a failure of the benchmark: report it and go on.
+                        done += 1;
+                        bar.set(done);
                         let (wall, error, steps) = match curve_run(dt, scheme) {
                             Ok(r) => r,
                             Err(e) => {
-                                eprintln!(
+                                bar.note(&format!(
                                     "pareto curve: dt = {dt} s, {}: no result ({e})",
                                     scheme.name()
-                                );
+                                ));
                                 continue;
                             }
                         };
-                        eprintln!(
+                        bar.note(&format!(
                             "pareto curve: dt = {dt} s, {}: {wall:.3} s, error {error:.3e}",
                             scheme.name()
-                        );
+                        ));
                         runs.push(Run {
                             case: "curve",
                             scheme,
@@ -522,7 +537,7 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
 
 /// The runs as CSV.
 pub fn csv(runs: &[Run]) -> String {
-    let mut s = String::from("case,integrator,elements,dt_s,steps,wall_s,error,pareto\n");
+    let mut s = String::from("case,integrator,elements,dt [s],steps,wall [s],error [-],pareto\n");
     for r in runs {
         s.push_str(&format!(
             "{},{},{},{:.6e},{},{:.6e},{:.6e},{}\n",

@@ -789,28 +789,34 @@ pub fn table(rows: &[StressRow]) -> String {
 /// The full suite of `railfem stress` (the long versions).
 pub fn full_suite() -> Result<Vec<StressRow>, FemError> {
     let mut rows = Vec::new();
+    // 18 sdof, 4 beam, 8 penalty, 5 speed, 4 drop, 2 stick-slip, 3 dip.
+    let mut bar = crate::progress::Progress::new("stress", 44, "cases");
+    let mut add = |rows: &mut Vec<StressRow>, r: StressRow| {
+        rows.push(r);
+        bar.set(rows.len() as u64);
+    };
     for scheme in ["newmark", "hht:0.1", "galpha:0.5"] {
         for om in [0.01, 0.1, 1.0, 10.0, 100.0, 1000.0] {
-            rows.push(sdof(om, scheme, 2000)?);
+            add(&mut rows, sdof(om, scheme, 2000)?);
         }
     }
     for om in [0.01, 1.0, 100.0, 1000.0] {
-        rows.push(beam(om, "newmark", 2000)?);
+        add(&mut rows, beam(om, "newmark", 2000)?);
     }
     for p in [1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13] {
-        rows.push(penalty(p, 500)?);
+        add(&mut rows, penalty(p, 500)?);
     }
     for v in [20.0, 50.0, 80.0, 110.0, 150.0] {
-        rows.push(speed(v, 0.3)?);
+        add(&mut rows, speed(v, 0.3)?);
     }
     for p in [1e6, 1e8, 1e10, 1e13] {
-        rows.push(drop(0.01, 2e-5, 0.2, p)?.0);
+        add(&mut rows, drop(0.01, 2e-5, 0.2, p)?.0);
     }
     for o in [0.9, 1.5] {
-        rows.push(stick_slip(o, 400)?.0);
+        add(&mut rows, stick_slip(o, 400)?.0);
     }
     for v in [5.0, 15.0, 25.0] {
-        rows.push(joint_dip(v, 0.002)?);
+        add(&mut rows, joint_dip(v, 0.002)?);
     }
     Ok(rows)
 }

@@ -710,15 +710,15 @@ pub fn run(
         };
         let mut wf = open("wheels.csv")?;
         let mut mf = open("midspan.csv")?;
-        let mut head = String::from("t");
+        let mut head = String::from("time [s]");
         for n in &wheel_names {
-            for q in ["Q", "Y", "YQ", "dQQ"] {
-                head.push_str(&format!(",{n}_{q}"));
+            for (q, unit) in [("Q", "N"), ("Y", "N"), ("YQ", "-"), ("dQQ", "-")] {
+                head.push_str(&format!(",{n}_{q} [{unit}]"));
             }
         }
         writeln!(wf, "{head}").map_err(|e| FemError::output(dir, e))?;
-        let mh: Vec<String> = spans.iter().map(|k| format!("span{k}")).collect();
-        writeln!(mf, "t,{}", mh.join(",")).map_err(|e| FemError::output(dir, e))?;
+        let mh: Vec<String> = spans.iter().map(|k| format!("span{k} [m]")).collect();
+        writeln!(mf, "time [s],{}", mh.join(",")).map_err(|e| FemError::output(dir, e))?;
         files = Some((wf, mf));
     }
     // The initial state (self-weight, train at rest on the approach) as the first sample.
@@ -747,10 +747,18 @@ pub fn run(
     let every = case.record_every.max(1);
     let mut iterations = 0;
     let mut samples = 0usize;
+    let mut interrupted = None;
+    let mut bar = crate::progress::Progress::new("train-bridge", total as u64, "steps");
     for k in 1..=total {
         let r = d.step(dt)?;
         iterations += r.iterations;
-        if k % every != 0 && k != total {
+        bar.set(k as u64);
+        // Asked to stop (SIGINT/SIGTERM): record this step, then end as a whole run would.
+        let stop = crate::framework::interrupt::requested() && k < total;
+        if stop {
+            interrupted = Some(d.state.t);
+        }
+        if k % every != 0 && k != total && !stop {
             continue;
         }
         let t = d.state.t;
@@ -784,7 +792,11 @@ pub fn run(
             writeln!(wf, "{row}").map_err(|e| FemError::output("wheels.csv", e))?;
             writeln!(mf, "{mrow}").map_err(|e| FemError::output("midspan.csv", e))?;
         }
+        if stop {
+            break;
+        }
     }
+    bar.finish();
     for e in &mut ext {
         e.mean_q /= samples.max(1) as f64;
     }
@@ -821,6 +833,9 @@ pub fn run(
         }
         let p = dir.join("summary.csv");
         std::fs::write(&p, s).map_err(|e| FemError::output(&p, e))?;
+    }
+    if let Some(t) = interrupted {
+        return Err(FemError::Interrupted { t });
     }
     Ok(TrainBridgeReport {
         wheel_names,

@@ -144,10 +144,14 @@ fn wagon_on_generated_irregularity_balances_its_weight_and_rates_its_ride() {
     let vertical = floor
         .header
         .iter()
-        .find(|h| h.ends_with("_uy"))
+        .find(|h| common::strip_unit(h).ends_with("_uy"))
         .expect("uy column")
         .clone();
-    let node = vertical.trim_end_matches("_uy").to_string();
+    // The header carries the unit of the sensors' quantity (acc): `12_uy [m/s²]`.
+    assert!(vertical.ends_with(" [m/s²]"), "{vertical}");
+    let node = common::strip_unit(&vertical)
+        .trim_end_matches("_uy")
+        .to_string();
     let wz = sperling_wz(
         &floor.column("time"),
         &floor.column(&vertical),

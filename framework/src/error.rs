@@ -52,6 +52,13 @@ pub enum FemError {
     /// lists them all (what `railfem check` prints).
     #[error("{}", many_line(.0))]
     Many(Vec<FemError>),
+    /// The run was asked to stop (SIGINT, SIGTERM: [`crate::interrupt`]) and stopped at the
+    /// end of the step that reached time `t`; its outputs are flushed and whole.
+    #[error("interrupted at t = {t:.6} s")]
+    Interrupted {
+        /// Time (s) of the last completed step.
+        t: f64,
+    },
 }
 
 fn fold_repeats(list: Vec<FemError>) -> Vec<FemError> {
@@ -144,6 +151,7 @@ impl FemError {
                 FemError::input(format!("{file}: element {id} ({kind})"), message)
             }
             FemError::Output { path, message } => FemError::Output { path, message },
+            FemError::Interrupted { t } => FemError::Interrupted { t },
             FemError::Many(list) => {
                 FemError::Many(list.into_iter().map(|e| e.in_file(file)).collect())
             }

@@ -28,6 +28,7 @@ pub mod elf;
 pub mod error;
 pub mod fft;
 pub mod finite_link;
+pub mod interrupt;
 pub mod limits;
 pub mod loads;
 pub mod model;

@@ -23,6 +23,11 @@ use std::sync::{OnceLock, RwLock};
 pub const FALLBACK_MEMORY: u64 = 4 << 30;
 /// Default largest number of time or load steps of one analysis.
 pub const DEFAULT_MAX_STEPS: u64 = 10_000_000;
+/// The step budget no setting can raise: 1e9 steps. At the fastest step measured (a few
+/// microseconds, a single-DOF model) that is about an hour; a real model takes days. A run
+/// asking for more is a mistake in `duration` or `dt` (`duration = 1e300`), refused before
+/// its first step instead of never ending.
+pub const ABSOLUTE_MAX_STEPS: u64 = 1_000_000_000;
 /// Estimated bytes per equation (DOF) of an assembled model: the smallest per-DOF cost
 /// measured for the train–bridge models (docs/performance.md, "KiB per DOF": 2.9–4.9),
 /// so that an estimate never refuses what the measurements show to run.
@@ -173,8 +178,15 @@ pub fn set_from_text(spec: &mut LimitSpec, key: &str, text: &str) -> Result<(), 
             )
         }
         "max_steps" => {
-            spec.max_steps =
-                Some(parse_count(text).ok_or("give a whole number of steps ≥ 1 (e.g. 1e8)")?)
+            let n = parse_count(text).ok_or("give a whole number of steps ≥ 1 (e.g. 1e8)")?;
+            if n > ABSOLUTE_MAX_STEPS {
+                return Err(format!(
+                    "{} steps is more than any run can take; give at most {} (1e9)",
+                    fmt_count(n as f64),
+                    ABSOLUTE_MAX_STEPS
+                ));
+            }
+            spec.max_steps = Some(n);
         }
         _ => return Err(format!("valid keys: {}", LIMIT_KEYS.join(", "))),
     }

@@ -1,9 +1,11 @@
 //! Recorders: what a run writes, one CSV file per recorder.
 //!
-//! Every file has a header `time,<column>…` and one row per recorded step, SI units. Node
-//! recorders write displacements, velocities or accelerations of chosen DOFs (in the node's
-//! axes; for a carried node, the deviation from its reference motion); element recorders
-//! write the named outputs an element reports ([`crate::Element::output_names`]).
+//! Every file has a header `time [s],<column>…` and one row per recorded step, SI units.
+//! Node recorders write displacements, velocities or accelerations of chosen DOFs (in the
+//! node's axes; for a carried node, the deviation from its reference motion), each column
+//! with its unit (`2_uz [m]`, [`Quantity::unit`]); element recorders write the named outputs
+//! an element reports ([`crate::Element::output_names`]), without a unit (the element
+//! contract declares none for outputs).
 //!
 //! The `comfort` recorder is the exception: it keeps the acceleration histories of its
 //! node DOFs through the run and writes, when the run finishes, a ride-comfort index
@@ -34,6 +36,21 @@ pub enum Quantity {
     Vel,
     /// Acceleration (m/s², rad/s²).
     Acc,
+}
+
+impl Quantity {
+    /// The unit of this quantity of a translation (`m`, `m/s`, `m/s²`) or of a rotation
+    /// (`rad`, `rad/s`, `rad/s²`), as CSV headers write it (`2_uz [m]`).
+    pub fn unit(self, rotation: bool) -> &'static str {
+        match (self, rotation) {
+            (Quantity::Disp, false) => "m",
+            (Quantity::Vel, false) => "m/s",
+            (Quantity::Acc, false) => "m/s²",
+            (Quantity::Disp, true) => "rad",
+            (Quantity::Vel, true) => "rad/s",
+            (Quantity::Acc, true) => "rad/s²",
+        }
+    }
 }
 
 /// A `[[recorder]]` entry.
@@ -491,7 +508,7 @@ impl Recorders {
                 }
                 None => None,
             };
-            let mut header = vec!["time".to_string()];
+            let mut header = vec!["time [s]".to_string()];
             let mut columns = Vec::new();
             let mut comfort = None;
             let quantity = match spec {
@@ -535,7 +552,11 @@ impl Recorders {
                     for id in spec.node_ids(model) {
                         let n = model.node(id).expect("validated");
                         for d in set.iter() {
-                            header.push(format!("{id}_{}", d.name()));
+                            header.push(format!(
+                                "{id}_{} [{}]",
+                                d.name(),
+                                quantity.unit(d.index() >= 3)
+                            ));
                             columns.push(Column::Node {
                                 node: n,
                                 dof: d.index(),

@@ -871,7 +871,9 @@ impl Driver {
     }
 
     /// Runs the model's analysis, writing its recorders into `out` (if given).
-    /// `progress` is called with the fraction done after each step.
+    /// `progress` is called with the fraction done after each step. A transient stops at
+    /// the end of a step when [`railfem_framework::interrupt`] is requested: recorders
+    /// flushed, [`FemError::Interrupted`] returned with the time reached.
     pub fn run(
         &mut self,
         out: Option<&Path>,
@@ -953,6 +955,27 @@ impl Driver {
                         }
                     }
                     progress(k as f64 / nsteps as f64);
+                    if railfem_framework::interrupt::requested() && k < nsteps {
+                        // Stop at the end of this step: the last state on file, the
+                        // recorders flushed (whole lines), then say when.
+                        if let Some(r) = rec.as_mut() {
+                            if k % spec.record_every != 0 {
+                                r.record(
+                                    &mut self.model,
+                                    &self.asm,
+                                    self.state.t,
+                                    &self.state.q,
+                                    &self.state.v,
+                                    &self.state.a,
+                                )?;
+                            }
+                            r.finish()?;
+                        }
+                        if let Some(dir) = out {
+                            self.write_energy(dir)?;
+                        }
+                        return Err(FemError::Interrupted { t: self.state.t });
+                    }
                 }
             }
             AnalysisKind::Modal => {

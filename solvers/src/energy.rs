@@ -218,7 +218,7 @@ impl EnergyLedger {
     /// Writes the rows as CSV:
     /// `time,external_work,kinetic,strain,damping,friction,integrator` (J).
     pub fn write_csv(&self, path: &Path) -> Result<(), FemError> {
-        let mut s = String::from("time,external_work,kinetic,strain,damping,friction,integrator\n");
+        let mut s = String::from("time [s],external_work [J],kinetic [J],strain [J],damping [J],friction [J],integrator [J]\n");
         for r in &self.history {
             let _ = writeln!(
                 s,

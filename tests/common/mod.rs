@@ -26,6 +26,11 @@ pub fn railfem(args: &[&str]) -> Output {
         .expect("run railfem")
 }
 
+/// A CSV header's name without its unit: `Q_fe [N]` → `Q_fe`.
+pub fn strip_unit(header: &str) -> &str {
+    header.split(" [").next().unwrap_or(header)
+}
+
 /// A recorder CSV: header names and rows of numbers.
 pub struct Csv {
     /// Column names (`time`, `2_uz`, …).
@@ -56,12 +61,13 @@ impl Csv {
         Csv { header, rows }
     }
 
-    /// The values of column `name`.
+    /// The values of column `name`: the header's name before its unit (`time` finds
+    /// `time [s]`), or the whole header text (`time [s]`).
     pub fn column(&self, name: &str) -> Vec<f64> {
         let j = self
             .header
             .iter()
-            .position(|h| h == name)
+            .position(|h| h == name || strip_unit(h) == name)
             .unwrap_or_else(|| panic!("no column {name} in {:?}", self.header));
         self.rows.iter().map(|r| r[j]).collect()
     }

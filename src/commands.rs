@@ -1,0 +1,438 @@
+//! The grammar of the `railfem` command line, declared with clap's derive: every command,
+//! every option with its value name, unit and default. From these declarations clap makes
+//! each command's `--help`, the shell completions (`railfem completions bash|zsh|fish`) and
+//! the refusal of an unknown or misplaced option (with the nearest valid one).
+//!
+//! The values themselves reach the commands through [`crate::cli::Args`], built generically
+//! from clap's matches ([`crate::cli::parse`]): an option's value stays the text the user
+//! typed until the command checks it, so every command keeps its own one-line messages
+//! (`--dt -1: give a time step > 0 s`, docs/robustness.md). Adding an option is therefore
+//! one field here (a doc comment with unit and default, a `long` name) and one read
+//! (`a.num("key")`, `a.opt`, `a.path`, `a.flag`) in the command. Fields typed `PathBuf` are
+//! paths (kept byte for byte, UTF-8 or not); `bool` fields are flags; `OsString` fields are
+//! text, checked for UTF-8 by the parser so that the message names the option.
+//!
+//! The fields are never read from these structs (the matches are), hence `dead_code` allowed.
+// The enum is a declaration (never built at run time), so its variant sizes do not matter.
+#![allow(dead_code, clippy::large_enum_variant)]
+
+use clap::{Args as ClapArgs, Parser, Subcommand};
+use std::ffi::OsString;
+use std::path::PathBuf;
+
+/// `railfem --version`: the package version and the git revision it was built from.
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (git ",
+    env!("RAILFEM_GIT_REVISION"),
+    ")"
+);
+
+/// The whole command line.
+#[derive(Parser, Debug)]
+#[command(
+    name = "railfem",
+    version = VERSION,
+    about = "Nonlinear dynamic finite elements for trains on curved, canted track",
+    long_about = "Nonlinear dynamic finite elements for trains on curved, canted track \
+                  (Ju & Ro 2021). Units are SI throughout: m, kg, s, N, rad.",
+    after_help = "Bad input exits with code 2 and one line naming the file, the place and the \
+                  fix (docs/robustness.md). An interrupted run (Ctrl-C, SIGTERM) stops at the \
+                  end of its step, keeps whole CSV lines, marks run.json and exits with 130.",
+    max_term_width = 100
+)]
+pub struct Cli {
+    /// Options every command accepts.
+    #[command(flatten)]
+    pub global: Global,
+    /// The command; none prints this help.
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Options of every command.
+#[derive(ClapArgs, Debug)]
+pub struct Global {
+    /// Load an element plugin (a shared library; repeatable).
+    #[arg(
+        long,
+        global = true,
+        help_heading = "Options of every command",
+        value_name = "PATH"
+    )]
+    pub plugin: Vec<PathBuf>,
+    /// Memory a model may be estimated to need, in bytes (e.g. 8G) [default: half the
+    /// available memory]; overrides a model file's `[limits] max_memory`.
+    #[arg(
+        long,
+        global = true,
+        help_heading = "Options of every command",
+        value_name = "BYTES"
+    )]
+    pub max_memory: Option<OsString>,
+    /// Most time or load steps of an analysis [default: 1e7; at most 1e9]; overrides
+    /// `[limits] max_steps`.
+    #[arg(
+        long,
+        global = true,
+        help_heading = "Options of every command",
+        value_name = "N"
+    )]
+    pub max_steps: Option<OsString>,
+    /// No progress bar and no progress lines on stderr.
+    #[arg(
+        long,
+        short = 'q',
+        global = true,
+        help_heading = "Options of every command"
+    )]
+    pub quiet: bool,
+}
+
+/// The commands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Run a model file (TOML or JSON); recorders write CSV into --out.
+    Run(RunCmd),
+    /// Validate a model file as `run` would, without running: its size and every problem.
+    Check(CheckCmd),
+    /// List the registered element kinds and their keys (units, defaults).
+    Elements,
+    /// The paper's curved-track validation (Fig. 6): FE against theory.
+    Curve(CurveCmd),
+    /// Critical radius, FE against theory (Figs. 7, 9); `--sweep` for a whole figure.
+    CriticalRadius(CriticalCmd),
+    /// Run the conformance kit on every element kind; exit 1 if a check fails.
+    Conformance(ConformanceCmd),
+    /// The paper's five-segment track: track.csv and track.svg.
+    Track(TrackCmd),
+    /// Time linear transient steps per DOF count (bench.md, bench.csv), the train-bridge
+    /// model by phase (`--case train-bridge`), or export the benchmark (`--export DIR`).
+    Bench(BenchCmd),
+    /// A train of sks700 carriages over a viaduct of simply supported spans.
+    TrainBridge(TrainBridgeCmd),
+    /// The numerical stress suite: one table row per case (docs/stability.md).
+    Stress(StressCmd),
+    /// Run time against error over dt, mesh and integrator: pareto.csv and pareto-*.svg.
+    Pareto(ParetoCmd),
+    /// A track irregularity from a standard spectrum: irregularity.csv, psd.csv and
+    /// irregularity-psd.svg (Welch estimate vs target).
+    Irregularity(IrregularityCmd),
+    /// Print a shell completion script (e.g. `railfem completions bash > ~/.local/share/bash-completion/completions/railfem`).
+    Completions(CompletionsCmd),
+}
+
+/// `railfem run`.
+#[derive(ClapArgs, Debug)]
+pub struct RunCmd {
+    /// The model file (TOML or JSON).
+    #[arg(value_name = "MODEL")]
+    pub model: PathBuf,
+    /// Output directory of the recorders and run.json [default: out].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `railfem check`.
+#[derive(ClapArgs, Debug)]
+pub struct CheckCmd {
+    /// The model file (TOML or JSON).
+    #[arg(value_name = "MODEL")]
+    pub model: PathBuf,
+}
+
+/// `railfem curve`.
+#[derive(ClapArgs, Debug)]
+pub struct CurveCmd {
+    /// Output directory: curve.csv, figures, run.json [default: out/curve].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Arc radius R in m [default: 6250].
+    #[arg(long, value_name = "R")]
+    pub radius: Option<OsString>,
+    /// Cant parameter Ct in m (cant θ = Ct/R, Eq. 21) [default: 200].
+    #[arg(long, value_name = "CT")]
+    pub ct: Option<OsString>,
+    /// Train speed V in m/s [default: 80].
+    #[arg(long, value_name = "V")]
+    pub speed: Option<OsString>,
+    /// Wheel-rail friction coefficient μ [default: 0.3].
+    #[arg(long, value_name = "MU")]
+    pub mu: Option<OsString>,
+    /// Time step in s [default: 0.01].
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<OsString>,
+    /// Contact penalty stiffness in N/m [default: 1e10].
+    #[arg(long, value_name = "K")]
+    pub penalty: Option<OsString>,
+    /// Duration in s [default: 0 = the whole track].
+    #[arg(long, value_name = "T")]
+    pub duration: Option<OsString>,
+    /// Write a VTK frame every N steps [default: 0 = none].
+    #[arg(long, value_name = "EVERY")]
+    pub vtk: Option<OsString>,
+    /// The five segment lengths in m: straight, clothoid, arc, clothoid, straight
+    /// [default: 500,2000,10908.3078,2000,800].
+    #[arg(long, value_name = "L0,L1,L2,L3,L4")]
+    pub lengths: Option<OsString>,
+    /// Short track (60,300,700,300,60 m) for a quick look.
+    #[arg(long)]
+    pub quick: bool,
+    /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
+    #[arg(long, value_name = "linear|nonlinear")]
+    pub geometry: Option<OsString>,
+    /// Anti-roll bar stiffness in N·m/rad [default: 0].
+    #[arg(long, value_name = "K")]
+    pub anti_roll: Option<OsString>,
+}
+
+/// `railfem critical-radius`.
+#[derive(ClapArgs, Debug)]
+pub struct CriticalCmd {
+    /// Onset criterion: sliding or separation [default: sliding].
+    #[arg(long, value_name = "sliding|separation")]
+    pub criterion: Option<OsString>,
+    /// Sweep speeds × cts × mus on all cores (a whole figure).
+    #[arg(long)]
+    pub sweep: bool,
+    /// Sweep speeds in m/s, comma-separated [default: 100,140,180,220,260].
+    #[arg(long, value_name = "V1,V2,..")]
+    pub speeds: Option<OsString>,
+    /// Sweep Ct values in m, comma-separated [default: 200,400,900].
+    #[arg(long, value_name = "CT1,CT2,..")]
+    pub cts: Option<OsString>,
+    /// Sweep friction coefficients [default: 0.1,0.2,0.3 (sliding), 0.3 (separation)].
+    #[arg(long, value_name = "MU1,MU2,..")]
+    pub mus: Option<OsString>,
+    /// Output directory [default: out/critical for a sweep; none for one point].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Speed V in m/s [default: 120].
+    #[arg(long, value_name = "V")]
+    pub speed: Option<OsString>,
+    /// Cant parameter Ct in m [default: 200].
+    #[arg(long, value_name = "CT")]
+    pub ct: Option<OsString>,
+    /// Friction coefficient μ [default: 0.3].
+    #[arg(long, value_name = "MU")]
+    pub mu: Option<OsString>,
+    /// Clothoid length in m [default: 2000].
+    #[arg(long, value_name = "L")]
+    pub clothoid: Option<OsString>,
+    /// Time step in s [default: 0.01].
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<OsString>,
+    /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
+    #[arg(long, value_name = "linear|nonlinear")]
+    pub geometry: Option<OsString>,
+}
+
+/// `railfem conformance`.
+#[derive(ClapArgs, Debug)]
+pub struct ConformanceCmd {
+    /// Check only the kinds whose name contains NAME [default: all].
+    #[arg(long, value_name = "NAME")]
+    pub element: Option<OsString>,
+}
+
+/// `railfem track`.
+#[derive(ClapArgs, Debug)]
+pub struct TrackCmd {
+    /// Arc radius R in m [default: 6250].
+    #[arg(long, value_name = "R")]
+    pub radius: Option<OsString>,
+    /// Cant parameter Ct in m [default: 200].
+    #[arg(long, value_name = "CT")]
+    pub ct: Option<OsString>,
+    /// Output directory [default: out/track].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `railfem bench`.
+#[derive(ClapArgs, Debug)]
+pub struct BenchCmd {
+    /// beam (linear multi-span beam) or train-bridge [default: beam].
+    #[arg(long, value_name = "beam|train-bridge")]
+    pub case: Option<OsString>,
+    /// DOF counts, comma-separated [default: 1e4,1e5,1e6].
+    #[arg(long, value_name = "N1,N2,..")]
+    pub sizes: Option<OsString>,
+    /// Time steps per size [default: 20].
+    #[arg(long, value_name = "N")]
+    pub steps: Option<OsString>,
+    /// Write the benchmark model, its load vectors and railfem's answer per size into
+    /// DIR/dofN (for scripts/opensees_compare.sh) instead of timing.
+    #[arg(long, value_name = "DIR")]
+    pub export: Option<PathBuf>,
+    /// Output directory [default: out/bench].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Carriages of the train-bridge case [default: 1].
+    #[arg(long, value_name = "N")]
+    pub cars: Option<OsString>,
+    /// Time step of the train-bridge case in s [default: 5e-4].
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<OsString>,
+    /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
+    #[arg(long, value_name = "linear|nonlinear")]
+    pub geometry: Option<OsString>,
+}
+
+/// `railfem train-bridge`.
+#[derive(ClapArgs, Debug)]
+pub struct TrainBridgeCmd {
+    /// Carriages [default: 12].
+    #[arg(long, value_name = "N")]
+    pub cars: Option<OsString>,
+    /// Simply supported spans [default: 113].
+    #[arg(long, value_name = "M")]
+    pub spans: Option<OsString>,
+    /// Span length in m [default: 29.75].
+    #[arg(long, value_name = "L")]
+    pub span: Option<OsString>,
+    /// Beam element length in m [default: 0.6].
+    #[arg(long, value_name = "H")]
+    pub element_length: Option<OsString>,
+    /// Aim at about N DOFs (sets the element length) [default: none; --element-length rules].
+    #[arg(long, value_name = "N")]
+    pub dof: Option<OsString>,
+    /// Train speed in m/s [default: 80].
+    #[arg(long, value_name = "V")]
+    pub speed: Option<OsString>,
+    /// Viaduct on an arc of radius R in m [default: straight].
+    #[arg(long, value_name = "R")]
+    pub radius: Option<OsString>,
+    /// Cant parameter Ct in m [default: 200].
+    #[arg(long, value_name = "CT")]
+    pub ct: Option<OsString>,
+    /// Duration in s [default: until the train has crossed].
+    #[arg(long, value_name = "T")]
+    pub duration: Option<OsString>,
+    /// Time step in s [default: 0.005].
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<OsString>,
+    /// Record every N steps [default: 1].
+    #[arg(long, value_name = "N")]
+    pub record_every: Option<OsString>,
+    /// Pier height in m [default: 10].
+    #[arg(long, value_name = "H")]
+    pub pier_height: Option<OsString>,
+    /// Spans whose midspan is recorded (1-based, comma-separated) [default: a few].
+    #[arg(long, value_name = "1,2,..")]
+    pub midspans: Option<OsString>,
+    /// Ground motion: a CSV file (t [s], ax, ay, az [m/s²]) or `synthetic` [default: none].
+    #[arg(long, value_name = "FILE.csv|synthetic")]
+    pub quake: Option<PathBuf>,
+    /// Seed of the synthetic ground motion [default: 1].
+    #[arg(long, value_name = "S")]
+    pub seed: Option<OsString>,
+    /// Peak ground acceleration of the synthetic motion in g [default: 0.3].
+    #[arg(long, value_name = "G")]
+    pub pga: Option<OsString>,
+    /// Duration of the synthetic motion in s [default: 30].
+    #[arg(long, value_name = "T")]
+    pub quake_duration: Option<OsString>,
+    /// Write the ground motion used to this CSV file.
+    #[arg(long, value_name = "FILE.csv")]
+    pub quake_out: Option<PathBuf>,
+    /// Stop after N steps [default: all].
+    #[arg(long, value_name = "N")]
+    pub steps: Option<OsString>,
+    /// Build the model, report its size and stop.
+    #[arg(long)]
+    pub build_only: bool,
+    /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
+    #[arg(long, value_name = "linear|nonlinear")]
+    pub geometry: Option<OsString>,
+    /// Output directory: wheels.csv, midspan.csv, summary.csv, run.json
+    /// [default: out/train_bridge].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `railfem stress`.
+#[derive(ClapArgs, Debug)]
+pub struct StressCmd {
+    /// all, sdof, beam, penalty, speed, drop, stick-slip or dip [default: all].
+    #[arg(long, value_name = "CASE")]
+    pub case: Option<OsString>,
+    /// Integrator: newmark, hht:ALPHA or galpha:RHO_INF [default: newmark].
+    #[arg(long, value_name = "S")]
+    pub scheme: Option<OsString>,
+    /// ω·Δt of the sdof and beam cases [default: 1].
+    #[arg(long, value_name = "W")]
+    pub omega_dt: Option<OsString>,
+    /// Contact penalty stiffness in N/m [default: 1e10].
+    #[arg(long, value_name = "K")]
+    pub penalty: Option<OsString>,
+    /// Speed in m/s (speed case: 80; dip case: 15).
+    #[arg(long, value_name = "V")]
+    pub speed: Option<OsString>,
+    /// Drop height in m [default: 0.01].
+    #[arg(long, value_name = "H")]
+    pub height: Option<OsString>,
+    /// Rail joint dip depth in m [default: 0.002].
+    #[arg(long, value_name = "D")]
+    pub depth: Option<OsString>,
+    /// Stick-slip load over the friction limit, as a factor [default: 1.5].
+    #[arg(long, value_name = "F")]
+    pub overshoot: Option<OsString>,
+    /// Time steps (per case default: 2000, 500, 400, …).
+    #[arg(long, value_name = "N")]
+    pub steps: Option<OsString>,
+    /// Duration in s (speed case: 0.3; drop case: 0.2).
+    #[arg(long, value_name = "T")]
+    pub duration: Option<OsString>,
+    /// Time step in s of the drop case [default: 2e-5].
+    #[arg(long, value_name = "DT")]
+    pub dt: Option<OsString>,
+    /// Also write the table to DIR/stress.md.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `railfem pareto`.
+#[derive(ClapArgs, Debug)]
+pub struct ParetoCmd {
+    /// Output directory [default: out/pareto].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Cases, comma-separated, from force, sprung, curve [default: force,sprung,curve].
+    #[arg(long, value_name = "force,sprung,curve")]
+    pub cases: Option<OsString>,
+}
+
+/// `railfem irregularity`.
+#[derive(ClapArgs, Debug)]
+pub struct IrregularityCmd {
+    /// Spectrum: fra1..fra6, german_low, german_high (required).
+    #[arg(long, value_name = "CLASS")]
+    pub psd: Option<OsString>,
+    /// Random seed [default: 1].
+    #[arg(long, value_name = "S")]
+    pub seed: Option<OsString>,
+    /// Wavelength band in m [default: 1,50].
+    #[arg(long, value_name = "MIN,MAX")]
+    pub wavelengths: Option<OsString>,
+    /// Sample spacing in m [default: MIN/8].
+    #[arg(long, value_name = "H")]
+    pub step: Option<OsString>,
+    /// Track length in m [default: 2000].
+    #[arg(long, value_name = "L")]
+    pub length: Option<OsString>,
+    /// Components, comma-separated (vertical, alignment, ...) [default: all of the class].
+    #[arg(long, value_name = "C1,C2,..")]
+    pub components: Option<OsString>,
+    /// Output directory [default: out/irregularity].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `railfem completions`.
+#[derive(ClapArgs, Debug)]
+pub struct CompletionsCmd {
+    /// The shell: bash, zsh, fish, elvish or powershell.
+    #[arg(value_name = "SHELL")]
+    pub shell: clap_complete::Shell,
+}
