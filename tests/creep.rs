@@ -94,10 +94,12 @@ fn build(law: &str, torque: f64, rail_nodes: usize, k_long: f64) -> Wheelset {
             series: TimeSeries::Constant,
         });
     }
-    let mut analysis = AnalysisSpec::default();
-    analysis.integrator = IntegratorKind::GeneralizedAlpha;
-    analysis.rho_inf = 0.5;
-    analysis.dt = DT;
+    let mut analysis = AnalysisSpec {
+        integrator: IntegratorKind::GeneralizedAlpha,
+        rho_inf: 0.5,
+        dt: DT,
+        ..Default::default()
+    };
     analysis.newton.tol = 1e-10;
     analysis.newton.abs_tol = 1e-6;
     analysis.newton.max_iter = 40;

@@ -85,6 +85,8 @@ impl Sub for D4 {
 
 impl Mul for D4 {
     type Output = D4;
+    // The product rule: d(xy) = y·dx + x·dy.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     fn mul(self, o: D4) -> D4 {
         D4 {
             v: self.v * o.v,
@@ -95,6 +97,8 @@ impl Mul for D4 {
 
 impl Div for D4 {
     type Output = D4;
+    // The quotient rule: d(x/y) = (dx − (x/y)·dy)/y.
+    #[allow(clippy::suspicious_arithmetic_impl)]
     fn div(self, o: D4) -> D4 {
         let q = self.v / o.v;
         D4 {
