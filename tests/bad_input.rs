@@ -665,6 +665,24 @@ fn non_physical_vehicle_values_are_refused() {
             &["moving_axle", "`polach_b` = -1", "0 ≤ B ≤ 100 s/m"][..],
         ),
         (
+            "pignored",
+            "wheel = {tangential = \"kalker_linear\", polach_b = 0.2}",
+            &[
+                "moving_axle",
+                "`polach_b` would be ignored",
+                "set `tangential = \"polach\"`",
+            ][..],
+        ),
+        (
+            "gignored",
+            "wheel = {shear_modulus = 8.0e10}",
+            &[
+                "moving_axle",
+                "`shear_modulus` would be ignored",
+                "\"kalker_linear\"",
+            ][..],
+        ),
+        (
             "wheelkey",
             "wheel = {muu = 0.3}",
             &["moving_axle", "unknown key `muu`", "did you mean `mu`?"][..],

@@ -252,6 +252,25 @@ pub fn ignored_keys(params: &serde_json::Map<String, serde_json::Value>) -> Opti
             ));
         }
     }
+    // The creep material and Polach's constants are read only by the laws that use them.
+    let law = params
+        .get("tangential")
+        .and_then(|v| v.as_str())
+        .unwrap_or("coulomb");
+    for key in ["polach_ka", "polach_ks", "polach_a", "polach_b"] {
+        if params.contains_key(key) && law != "polach" {
+            return Some(format!(
+                "`{key}` would be ignored: it is a constant of `tangential = \"polach\"`, but the law is \"{law}\"; remove `{key}` or set `tangential = \"polach\"`"
+            ));
+        }
+    }
+    for key in ["shear_modulus", "poisson"] {
+        if params.contains_key(key) && law == "coulomb" {
+            return Some(format!(
+                "`{key}` would be ignored: the \"coulomb\" law has no contact ellipse; remove `{key}` or choose `tangential = \"kalker_linear\"` or \"polach\""
+            ));
+        }
+    }
     None
 }
 
