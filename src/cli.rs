@@ -567,6 +567,9 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     if a.flags.iter().any(|f| f == "quick") {
         case.lengths = [60.0, 300.0, 700.0, 300.0, 60.0];
     }
+    if let Some(t) = a.opt("tangential") {
+        case.tangential = t.to_string();
+    }
     case.geometry = geometry(a)?;
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/curve"));
     let steps = case.steps_estimate();
@@ -574,8 +577,10 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     let r = crate::curve::run(&case, Some(&out), &mut |f| bar.fraction(f))?;
     bar.finish();
     println!(
-        "curve: R = {} m, Ct = {} m, V = {} m/s, mu = {}, dt = {} s: {} steps, {} Newton iterations, {:.2} s",
-        case.radius, case.ct, case.speed, case.mu, case.dt, r.steps, r.iterations, r.wall
+        "curve: R = {} m, Ct = {} m, V = {} m/s, mu = {}, dt = {} s{}: {} steps, {} Newton iterations, {:.2} s",
+        case.radius, case.ct, case.speed, case.mu, case.dt,
+        if case.tangential == "coulomb" { String::new() } else { format!(", tangential {}", case.tangential) },
+        r.steps, r.iterations, r.wall
     );
     println!(
         "on the arc, largest relative difference FE vs theory: normal vs statics {:.3e}, axle shear vs Eq. 26 {:.3e} (single wheel {:.3e}); normal vs Eq. 25 as printed {:.3e}",

@@ -184,6 +184,10 @@ pub struct CurveCmd {
     /// Anti-roll bar stiffness in N·m/rad [default: 0].
     #[arg(long, value_name = "K")]
     pub anti_roll: Option<OsString>,
+    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear or
+    /// polach (rolling-contact creep, docs/creep.md) [default: coulomb].
+    #[arg(long, value_name = "coulomb|kalker_linear|polach")]
+    pub tangential: Option<OsString>,
 }
 
 /// `railfem critical-radius`.

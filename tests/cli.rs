@@ -157,6 +157,7 @@ fn todays_invocations_parse_to_the_same_options() {
             "o",
         ],
         &["curve", "--quiet", "--out", "/tmp/x"],
+        &["curve", "--quick", "--tangential", "kalker_linear"],
         &[
             "curve",
             "--lengths",
