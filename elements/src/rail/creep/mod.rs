@@ -3,5 +3,6 @@
 //! theory and their Shen–Hedrick–Elkins saturation ([`kalker`]). Nothing here is wired into an
 //! element yet; see docs/creep.md for what remains.
 
+pub mod conicity;
 pub mod hertz;
 pub mod kalker;
