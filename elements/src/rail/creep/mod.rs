@@ -6,3 +6,4 @@
 pub mod conicity;
 pub mod hertz;
 pub mod kalker;
+pub mod linear_wheelset;
