@@ -21,6 +21,7 @@ pub mod curve;
 pub mod irregularity;
 pub mod oscillators;
 pub mod pareto;
+pub mod rolling_contact;
 pub mod stress;
 pub mod train_bridge;
 
