@@ -21,6 +21,7 @@ USAGE:
   railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
                 [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick] [--vtk EVERY]
                 [--geometry linear|nonlinear] [--anti-roll K]
+                [--tangential coulomb|kalker_linear|polach]
                                                      the paper's curved-track validation (Fig. 6)
   railfem critical-radius --criterion sliding|separation --speed V --ct CT --mu MU
                 [--clothoid L] [--dt DT] [--geometry linear|nonlinear]
@@ -176,6 +177,7 @@ const COMMAND_OPTIONS: [(&str, &[&str]); 13] = [
             "quiet",
             "geometry",
             "anti-roll",
+            "tangential",
         ],
     ),
     (
@@ -514,6 +516,9 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     if a.flags.iter().any(|f| f == "quick") {
         case.lengths = [60.0, 300.0, 700.0, 300.0, 60.0];
     }
+    if let Some(t) = a.opt("tangential") {
+        case.tangential = t.to_string();
+    }
     case.geometry = geometry(a)?;
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/curve"));
     let mut last = 0;
@@ -529,8 +534,10 @@ fn curve(a: &Args) -> Result<i32, FemError> {
         eprintln!();
     }
     println!(
-        "curve: R = {} m, Ct = {} m, V = {} m/s, mu = {}, dt = {} s: {} steps, {} Newton iterations, {:.2} s",
-        case.radius, case.ct, case.speed, case.mu, case.dt, r.steps, r.iterations, r.wall
+        "curve: R = {} m, Ct = {} m, V = {} m/s, mu = {}, dt = {} s{}: {} steps, {} Newton iterations, {:.2} s",
+        case.radius, case.ct, case.speed, case.mu, case.dt,
+        if case.tangential == "coulomb" { String::new() } else { format!(", tangential {}", case.tangential) },
+        r.steps, r.iterations, r.wall
     );
     println!(
         "on the arc, largest relative difference FE vs theory: normal vs statics {:.3e}, axle shear vs Eq. 26 {:.3e} (single wheel {:.3e}); normal vs Eq. 25 as printed {:.3e}",

@@ -69,6 +69,9 @@ pub struct CurveCase {
     /// Roll stiffness of an anti-roll bar per bogie (N·m/rad) added to the `sks700`
     /// carriage; 0 = none (the stand-in data have none).
     pub anti_roll: f64,
+    /// Tangential law of the wheels (`moving_axle` key `tangential`): "coulomb" (the
+    /// paper's), "kalker_linear" or "polach" (docs/creep.md).
+    pub tangential: String,
 }
 
 impl Default for CurveCase {
@@ -94,6 +97,7 @@ impl Default for CurveCase {
             vtk_every: 0,
             geometry: Geometry::Linear,
             anti_roll: 0.0,
+            tangential: "coulomb".into(),
         }
     }
 }
@@ -247,6 +251,13 @@ impl CurveCase {
         let track = Arc::new(self.track()?);
         let mut b = ModelBuilder::new("curve case");
         let tm = track_model::generate(&mut b, track.clone(), &TrackMesh::default())?;
+        let mut wheel = serde_json::json!({
+            "mu": self.mu, "k": self.penalty, "k_v": self.penalty,
+            "sliding_tangent": self.sliding_tangent,
+        });
+        if self.tangential != "coulomb" {
+            wheel["tangential"] = serde_json::Value::String(self.tangential.clone());
+        }
         let spec = TrainSpec {
             name: "sks700".into(),
             carriage: self.carriage(),
@@ -255,10 +266,7 @@ impl CurveCase {
             speed: self.speed,
             accel: 0.0,
             speed_table: None,
-            wheel: serde_json::json!({
-                "mu": self.mu, "k": self.penalty, "k_v": self.penalty,
-                "sliding_tangent": self.sliding_tangent,
-            }),
+            wheel,
             first_node_id: 0,
             geometry: Some(self.geometry),
             suspension_tangent: "symmetric".into(),

@@ -17,6 +17,7 @@ pub mod point_wheel;
 pub mod profiles;
 pub mod rail_point;
 pub mod railline;
+pub mod rolling;
 pub mod section_plot;
 pub mod sections;
 pub mod theory;

@@ -44,11 +44,15 @@
 
 use super::contact_geometry::{candidate_window, rail_node_gap};
 use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent};
+use super::creep::hertz::{hertz_ellipse, Curvatures};
+use super::creep::kalker::kalker_coefficients;
+use super::creep::law::{EllipseShape, Material, TangentialLaw};
 use super::hertz_spring::HertzSpring;
 use super::profiles::{Inclination, RailProfile, WheelProfile};
 use super::rail_point::{beam_axes, rail_point_matrix};
+use super::rolling::{point_creep, PointInput, Rolling};
 use super::track_model::{OffsetFromStart, TrackModel};
-use nalgebra::{DMatrix, Matrix3, SMatrix, Vector2, Vector3};
+use nalgebra::{DMatrix, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use railfem_framework::element::*;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
@@ -96,6 +100,21 @@ railfem_framework::element_params! {
         track: String [""] = "track",
         /// Static wheel load for ΔQ/Q (N); 0 = the load at the first converged state.
         static_load: f64 ["N"] = 0.0,
+        /// Tangential law: "coulomb" (the paper's penalty friction), "kalker_linear"
+        /// (Kalker's linear creep, Shen–Hedrick–Elkins saturation) or "polach" (Polach 2005).
+        tangential: String [""] = "coulomb",
+        /// Shear modulus G of wheel and rail steel (Pa), creep laws only.
+        shear_modulus: f64 ["Pa"] = 8.0e10,
+        /// Poisson's ratio ν of wheel and rail steel (-), creep laws only.
+        poisson: f64 ["-"] = 0.28,
+        /// Polach's reduction factor of the initial creep slope kA (-), 0 < kS ≤ kA ≤ 1.
+        polach_ka: f64 ["-"] = 1.0,
+        /// Polach's reduction factor in the slip area kS (-).
+        polach_ks: f64 ["-"] = 0.4,
+        /// Polach's falling friction: ratio A = μ∞/μ0 (-), 0 < A ≤ 1.
+        polach_a: f64 ["-"] = 0.4,
+        /// Polach's falling friction: decay B (s/m), 0 ≤ B ≤ 100.
+        polach_b: f64 ["s/m"] = 0.6,
     }
 }
 
@@ -117,6 +136,10 @@ struct Setup {
     wheel_z_min: f64,
     /// Rail profile nodes, in their side's orientation (sorted by y).
     rail_nodes: Vec<Vector2<f64>>,
+    /// Rolling-contact law (None: Coulomb) and its material.
+    creep: Option<(TangentialLaw, Material)>,
+    /// Transverse curvature of the rail head at each rail node (1/m, convex positive).
+    rail_curvature: Vec<f64>,
 }
 
 /// The committed (history) state of the element.
@@ -125,6 +148,13 @@ struct History {
     anchors: Vec<Anchor>,
     dissipated: f64,
     static_load: f64,
+    /// Station (m), element DOFs and rail nodes (I, J) at the last commit; rail nodes
+    /// `None` before the first commit (every displacement is then zero).
+    station: f64,
+    q: Vec<f64>,
+    rail_ids: Option<[usize; 2]>,
+    /// Relative displacement Δ of every rail node at the last commit (m).
+    deltas: Vec<Vector3<f64>>,
 }
 
 /// The moving wheel-axle element (one wheel).
@@ -177,9 +207,26 @@ pub struct MovingAxle {
     /// distance is 1-Lipschitz, so a node whose gap exceeds how far it has moved since is
     /// still open and needs no search.
     last_gap: Vec<Option<(Vector2<f64>, f64)>>,
+    /// Rolling radius of the tape circle (m): the axle's height above it.
+    r0: f64,
+    /// Ellipse shape of each rail node for this step (creep laws), computed once per step
+    /// from the committed contact position.
+    shapes: Vec<Option<EllipseShape>>,
+    /// Per contact point (parallel to `points`): ξx, ξy, φ (1/m), Fx, Fy (N), rolling
+    /// radius (m).
+    creep_out: Vec<[f64; 6]>,
+    /// Yaw θ2 of the axle node at the trial (rad): the angle of attack.
+    attack: f64,
+    /// Rolling over the current step (None: no rolling, the Coulomb law applies).
+    rolling: Option<Rolling>,
+    /// Element DOFs of the last evaluation.
+    last_q: Vec<f64>,
 }
 
 pub use super::profiles::MAX_PROFILE_POINTS;
+/// Contact points (largest normal force first) whose creepages and creep forces are output.
+pub const CREEP_SLOTS: usize = 2;
+use super::rolling::YAW_DOF;
 /// Fewest points of the built-in wheel profile (`wheel_points`).
 pub const MIN_WHEEL_POINTS: usize = 20;
 /// Fewest nodes of the built-in rail profile (`rail_nodes`).
@@ -248,12 +295,13 @@ impl Setup {
                 fmt_num(params.c)
             )));
         }
-        if !(params.mu.is_finite() && params.mu >= 0.0) {
+        if !(params.mu.is_finite() && (0.0..=2.0).contains(&params.mu)) {
             return Err(err(format!(
-                "`mu` = {}; give a friction coefficient ≥ 0",
+                "`mu` = {}; give a friction coefficient between 0 and 2",
                 fmt_num(params.mu)
             )));
         }
+        let creep = creep_law(&params).map_err(err)?;
         if !(params.contact_offset.is_finite() && params.contact_offset > 0.0) {
             return Err(err("`contact_offset` must be > 0 m".into()));
         }
@@ -369,8 +417,131 @@ impl Setup {
             wheel_shift: shift,
             wheel_y: (wheel_y.0 + shift.x, wheel_y.1 + shift.x),
             wheel_z_min,
+            rail_curvature: rail_curvatures(&rail_nodes),
             rail_nodes,
+            creep,
         })
+    }
+}
+
+/// The tangential law named by the keys, checked: None for "coulomb".
+fn creep_law(p: &MovingAxleParams) -> Result<Option<(TangentialLaw, Material)>, String> {
+    let law = match p.tangential.as_str() {
+        "coulomb" => return Ok(None),
+        "kalker_linear" => TangentialLaw::KalkerLinear,
+        "polach" => TangentialLaw::Polach {
+            ka: p.polach_ka,
+            ks: p.polach_ks,
+            a: p.polach_a,
+            b: p.polach_b,
+        },
+        s => {
+            return Err(format!(
+                "`tangential` = \"{s}\"; use \"coulomb\", \"kalker_linear\" or \"polach\""
+            ))
+        }
+    };
+    // Steels and other engineering metals have 2e10 < G < 2e11 Pa; outside 1e9..1e12 the
+    // value is a unit slip (GPa or MPa given as Pa).
+    if !(p.shear_modulus.is_finite() && (1e9..=1e12).contains(&p.shear_modulus)) {
+        return Err(format!(
+            "`shear_modulus` = {}; give the shear modulus in Pa between 1e9 and 1e12 (steel: 8.0e10)",
+            fmt_num(p.shear_modulus)
+        ));
+    }
+    if !(p.poisson.is_finite() && p.poisson > 0.0 && p.poisson < 0.5) {
+        return Err(format!(
+            "`poisson` = {}; give Poisson's ratio with 0 < ν < 0.5 (steel: 0.28)",
+            fmt_num(p.poisson)
+        ));
+    }
+    if let TangentialLaw::Polach { ka, ks, a, b } = law {
+        if !(ka.is_finite() && ka > 0.0 && ka <= 1.0) {
+            return Err(format!(
+                "`polach_ka` = {}; give 0 < kA ≤ 1 (Polach's dry rail: 1.0)",
+                fmt_num(ka)
+            ));
+        }
+        if !(ks.is_finite() && ks > 0.0 && ks <= ka) {
+            return Err(format!(
+                "`polach_ks` = {}; give 0 < kS ≤ kA = {} (Polach's dry rail: 0.4)",
+                fmt_num(ks),
+                fmt_num(ka)
+            ));
+        }
+        if !(a.is_finite() && a > 0.0 && a <= 1.0) {
+            return Err(format!(
+                "`polach_a` = {}; give 0 < A ≤ 1 (the ratio μ∞/μ0; Polach's dry rail: 0.4)",
+                fmt_num(a)
+            ));
+        }
+        if !(b.is_finite() && (0.0..=100.0).contains(&b)) {
+            return Err(format!(
+                "`polach_b` = {}; give 0 ≤ B ≤ 100 s/m (Polach's dry rail: 0.6)",
+                fmt_num(b)
+            ));
+        }
+    }
+    Ok(Some((
+        law,
+        Material {
+            shear_modulus: p.shear_modulus,
+            mu: p.mu,
+        },
+    )))
+}
+
+/// Transverse curvature of the rail head at each node (1/m, convex positive): the circle
+/// through the node and its two neighbours; the end nodes take their neighbour's value.
+fn rail_curvatures(nodes: &[Vector2<f64>]) -> Vec<f64> {
+    let n = nodes.len();
+    let mut k = vec![0.0; n];
+    for i in 1..n.saturating_sub(1) {
+        let (a, b, c) = (nodes[i - 1], nodes[i], nodes[i + 1]);
+        let (u, v) = (b - a, c - b);
+        let cross = u.x * v.y - u.y * v.x;
+        // Traversed towards +y, a crown (convex upwards) turns clockwise: cross < 0.
+        k[i] = -2.0 * cross / (u.norm() * v.norm() * (c - a).norm());
+    }
+    if n >= 3 {
+        k[0] = k[1];
+        k[n - 1] = k[n - 2];
+    }
+    k
+}
+
+/// Smallest lateral curvature sum used for the Hertz ellipse (1/m): a conforming or nearly
+/// conforming contact (flange root on gauge corner) is treated as this one, a 20 m radius.
+const MIN_LATERAL_CURVATURE: f64 = 0.05;
+/// Reference load of the per-step ellipse shape (N); the ellipse scales with N^{1/3}.
+const SHAPE_LOAD: f64 = 1.0e4;
+
+/// The ellipse shape at rolling radius `r` (m) and transverse curvatures (1/m): Hertz at
+/// [`SHAPE_LOAD`], Kalker's coefficients of its ratio clamped to his table (0.1–10).
+fn ellipse_shape(r: f64, wheel_k: f64, rail_k: f64, young: f64, poisson: f64) -> EllipseShape {
+    let lateral = (wheel_k + rail_k).max(MIN_LATERAL_CURVATURE);
+    let curv = Curvatures {
+        wheel_rolling_radius: r,
+        wheel_transverse: lateral,
+        rail_transverse: 0.0,
+    };
+    let (a, b) = match hertz_ellipse(&curv, SHAPE_LOAD, young, poisson) {
+        Ok(e) => (e.a, e.b),
+        // Only an absurd geometry gets here (the inputs are checked): a circle of the
+        // rolling radius.
+        Err(_) => {
+            let c = (3.0 * SHAPE_LOAD * r * (1.0 - poisson * poisson) / (2.0 * young)).cbrt();
+            (c, c)
+        }
+    };
+    let ratio = (a / b).clamp(0.1, 10.0);
+    let c = kalker_coefficients(ratio, poisson)
+        .unwrap_or(kalker_coefficients(1.0, 0.28).expect("table"));
+    EllipseShape {
+        n_ref: SHAPE_LOAD,
+        a_ref: a,
+        b_ref: b,
+        c,
     }
 }
 
@@ -398,6 +569,10 @@ impl MovingAxle {
             anchors,
             dissipated: 0.0,
             static_load: setup.params.static_load,
+            station: f64::NAN,
+            q: vec![0.0; 21],
+            rail_ids: None,
+            deltas: vec![Vector3::zeros(); n],
         };
         MovingAxle {
             setup,
@@ -434,6 +609,12 @@ impl MovingAxle {
             frames: vec![(Vector3::x(), Vector3::z()); n],
             relative: (Vector2::zeros(), 0.0),
             last_gap: vec![None; n],
+            r0: 0.0,
+            shapes: vec![None; n],
+            creep_out: Vec::new(),
+            attack: 0.0,
+            rolling: None,
+            last_q: vec![0.0; 21],
         }
     }
 
@@ -531,6 +712,9 @@ impl MovingAxle {
         let w = self.frame;
         let xb = kin[self.b].position;
         self.r_bk = w.transpose() * (xb - kk.position);
+        // The tape circle (the wheel profile's origin) lies `wheel_shift` from B.
+        self.r0 = -(self.r_bk.y + self.setup.wheel_shift.y);
+        self.shapes.iter_mut().for_each(|x| *x = None);
         // Dipped joints and the track irregularity move the rail head under the wheel
         // (prescribed functions of the station): lateral along axis 1, vertical along 2.
         // The wheel profile was placed just touching the nominal rail, so the offsets are
@@ -567,6 +751,76 @@ impl MovingAxle {
         self.conn[2] = NodeDofs::all(ni);
         self.conn[3] = NodeDofs::all(nj);
         Ok(changed && !self.track.rigid)
+    }
+
+    /// `q − q_n`: the element DOFs' change since the last commit. A rail node that was not
+    /// one of the element's at the last commit (the wheel just crossed into the next rail
+    /// element) has no committed value here: its increment is taken as zero for that one
+    /// step; the wheel is then at the new element's start, where that node's weight is
+    /// `O(V·dt/L)`.
+    fn step_increment(&self, q: &[f64]) -> SVector<f64, 21> {
+        let c = &self.committed;
+        let mut dq = SVector::<f64, 21>::zeros();
+        for i in 0..9 {
+            dq[i] = q[i] - c.q[i];
+        }
+        for (blk, nd) in [(9, self.conn[2].node), (15, self.conn[3].node)] {
+            let from = match c.rail_ids {
+                None => Some(None),
+                Some([i, _]) if nd == i => Some(Some(9)),
+                Some([_, j]) if nd == j => Some(Some(15)),
+                Some(_) => None,
+            };
+            for d in 0..6 {
+                dq[blk + d] = match from {
+                    Some(None) => q[blk + d],
+                    Some(Some(off)) => q[blk + d] - c.q[off + d],
+                    None => 0.0,
+                };
+            }
+        }
+        dq
+    }
+
+    /// The 3×21 map to the wheelset's rotation minus the rail point's (wheel frame).
+    fn rotation_map(&self) -> SMatrix<f64, 3, 21> {
+        let mut m = SMatrix::<f64, 3, 21>::zeros();
+        m.fixed_view_mut::<3, 3>(0, 6)
+            .copy_from(&Matrix3::identity());
+        if !self.track.rigid {
+            let b = self.rail_map.fixed_view::<3, 12>(3, 0).into_owned();
+            m.fixed_view_mut::<3, 12>(0, 9).copy_from(&(-b));
+        }
+        m
+    }
+
+    /// The ellipse shape of rail node `kx` for this step, from where the node touched the
+    /// wheel at the last commit (`y0`: its reference position in the wheel's profile plane):
+    /// rolling radius and wheel curvature there, the rail head's curvature at the node.
+    /// Fixed within the step, so the element's tangent differentiates only the load.
+    fn shape_at(&mut self, kx: usize, y0: Vector2<f64>) -> EllipseShape {
+        if let Some(s) = self.shapes[kx] {
+            return s;
+        }
+        let set = &self.setup;
+        let d = self.committed.deltas[kx];
+        let pc = y0 + Vector2::new(d.x, d.y);
+        let spline = set.wheel.spline();
+        let (z, kw) = match rail_node_gap(spline, pc) {
+            Some(cp) => {
+                let [_, d1, d2] = spline.eval_all(cp.t);
+                // Convex (towards the rail) positive: the negative of the signed-distance
+                // curvature κ = c''·n/|c'|².
+                (cp.point.y, -d2.dot(&cp.normal) / d1.norm_squared())
+            }
+            None => (0.0, 0.0),
+        };
+        let (law_mat, nu) = (set.creep.map(|c| c.1), set.params.poisson);
+        let g = law_mat.map_or(set.params.shear_modulus, |m| m.shear_modulus);
+        let r = (self.r0 - z).max(0.1 * self.r0);
+        let shape = ellipse_shape(r, kw, set.rail_curvature[kx], 2.0 * g * (1.0 + nu), nu);
+        self.shapes[kx] = Some(shape);
+        shape
     }
 
     #[allow(clippy::needless_range_loop)]
@@ -619,6 +873,13 @@ impl MovingAxle {
         let margin = 0.01;
         let ys: Vec<Vector2<f64>> = set.rail_nodes.iter().map(|p| p + origin).collect();
         let window = candidate_window(&ys, set.wheel_y.0 - margin, set.wheel_y.1 + margin);
+        self.creep_out.clear();
+        self.last_q.copy_from_slice(q);
+        self.attack = q[YAW_DOF];
+        let creep = match (&set.creep, self.rolling) {
+            (Some(c), Some(r)) => Some((*c, r, self.step_increment(q), self.rotation_map())),
+            _ => None,
+        };
         for kx in 0..n {
             let rho_c = Vector3::new(set.rail_nodes[kx].x, set.rail_nodes[kx].y, 0.0);
             let t = self.t_matrix(&rho_c);
@@ -655,20 +916,71 @@ impl MovingAxle {
             let kappa = d2.dot(&cp.normal) / d1.norm_squared();
             let hscale = -kappa / (1.0 - kappa * cp.gap);
             let hess = u3 * u3.transpose() * hscale;
-            let anchor = self.committed.anchors[kx];
-            let st = set.law.evaluate(cp.gap, &w3, &hess, &delta, &anchor);
-            let f21 = t.transpose() * st.phi;
-            for i in 0..21 {
-                self.force[i] += f21[i];
-            }
-            if form_tangent {
-                let kt = t.transpose() * st.d * t;
-                for j in 0..21 {
-                    for i in 0..21 {
-                        self.tangent[(i, j)] += kt[(i, j)];
+            let radius = self.r0 - p.y;
+            let st = if let Some(((law, mat), roll, dq, theta)) = &creep {
+                let shape = self.shape_at(kx, ys[kx]);
+                let pc = point_creep(
+                    law,
+                    &shape,
+                    mat,
+                    roll,
+                    &PointInput {
+                        t: &t,
+                        theta,
+                        dq,
+                        psi: q[YAW_DOF],
+                        z_w: p.y,
+                        gap: cp.gap,
+                        w: w3,
+                        hess: &hess,
+                        k: set.law.k,
+                    },
+                );
+                let f21 = t.transpose() * pc.force;
+                for i in 0..21 {
+                    self.force[i] += f21[i];
+                }
+                if form_tangent {
+                    let kt = t.transpose() * pc.d_force;
+                    for j in 0..21 {
+                        for i in 0..21 {
+                            self.tangent[(i, j)] += kt[(i, j)];
+                        }
                     }
                 }
-            }
+                let [xi_x, xi_y, spin] = pc.creepage;
+                self.creep_out
+                    .push([xi_x, xi_y, spin, pc.fx, pc.fy, radius]);
+                // Reported as sliding once the creep force is within 1 % of μN.
+                let saturated = pc.fx.hypot(pc.fy) >= 0.99 * mat.mu * pc.f_n;
+                PointState {
+                    mode: if saturated { Mode::Slide } else { Mode::Stick },
+                    phi: pc.force,
+                    d: Matrix3::zeros(),
+                    f_n: pc.f_n,
+                    f_u: pc.fy,
+                    f_v: pc.fx,
+                    s_u: 0.0,
+                    u: Vector3::z().cross(&w3),
+                }
+            } else {
+                let anchor = self.committed.anchors[kx];
+                let st = set.law.evaluate(cp.gap, &w3, &hess, &delta, &anchor);
+                let f21 = t.transpose() * st.phi;
+                for i in 0..21 {
+                    self.force[i] += f21[i];
+                }
+                if form_tangent {
+                    let kt = t.transpose() * st.d * t;
+                    for j in 0..21 {
+                        for i in 0..21 {
+                            self.tangent[(i, j)] += kt[(i, j)];
+                        }
+                    }
+                }
+                self.creep_out.push([0.0, 0.0, 0.0, st.f_v, st.f_u, radius]);
+                st
+            };
             self.contact_force += st.phi;
             self.points
                 .push((kx, st, set.rail_nodes[kx].x, cp.point.x + set.wheel_shift.x));
@@ -695,7 +1007,8 @@ impl Element for MovingAxle {
     fn properties(&self) -> ElementProperties {
         ElementProperties {
             linear: false,
-            symmetric: self.setup.law.tangent == SlidingTangent::Symmetric,
+            symmetric: self.setup.law.tangent == SlidingTangent::Symmetric
+                && self.setup.creep.is_none(),
             connectivity_may_change: !self.track.rigid,
             objective: true,
             ..Default::default()
@@ -712,6 +1025,20 @@ impl Element for MovingAxle {
                 what: format!("trial displacement at element DOF {i}"),
             });
         }
+        // Rolling over this step: the station advanced since the last commit, in a dynamic
+        // step. A static step (dt = 0) or a wheel at rest rolls no distance: no creepage
+        // can be defined and the Coulomb penalty law holds the contact (stick/slide).
+        self.rolling = match &self.setup.creep {
+            Some(_) if trial.dt > 0.0 => {
+                let ds = self.station - self.committed.station;
+                (ds.is_finite() && ds > 1e-9 && self.r0 > 0.0).then_some(Rolling {
+                    ds,
+                    speed: ds / trial.dt,
+                    r0: self.r0,
+                })
+            }
+            _ => None,
+        };
         self.evaluate(trial.disp, true);
         self.dirty = true;
         Ok(())
@@ -734,6 +1061,32 @@ impl Element for MovingAxle {
         self.dirty = false;
         let law = self.setup.law;
         let mut next = self.committed.clone();
+        next.station = self.station;
+        next.q.copy_from_slice(&self.last_q);
+        next.rail_ids = Some([self.conn[2].node, self.conn[3].node]);
+        next.deltas.copy_from_slice(&self.deltas);
+        self.shapes.iter_mut().for_each(|x| *x = None);
+        if let Some(roll) = self.rolling {
+            // Rolling contact: no stick anchors (each anchor restarts at the current Δ, as
+            // for an open point); the creep forces' work over the step is dissipated,
+            // −(Fx·ξx + Fy·ξy)·ds.
+            for kx in 0..self.deltas.len() {
+                next.anchors[kx] = Anchor {
+                    delta: self.deltas[kx],
+                    u: self.frames[kx].0,
+                    v: self.frames[kx].1,
+                };
+            }
+            for c in &self.creep_out {
+                next.dissipated -= (c[3] * c[0] + c[4] * c[1]) * roll.ds;
+            }
+            if next.static_load == 0.0 && self.contact_force.y > 0.0 {
+                next.static_load = self.contact_force.y;
+            }
+            self.committed = next.clone();
+            self.trial = next;
+            return;
+        }
         let in_contact: std::collections::HashMap<usize, PointState> =
             self.points.iter().map(|(k, st, _, _)| (*k, *st)).collect();
         for kx in 0..self.deltas.len() {
@@ -794,6 +1147,13 @@ impl Element for MovingAxle {
                 v.push(format!("p{i}_{f}"));
             }
         }
+        v.push("rolling_radius".into());
+        v.push("attack_angle".into());
+        for i in 1..=CREEP_SLOTS {
+            for f in ["radius", "xi_x", "xi_y", "spin", "fx", "fy"] {
+                v.push(format!("c{i}_{f}"));
+            }
+        }
         v
     }
 
@@ -846,6 +1206,24 @@ impl Element for MovingAxle {
             match order.get(i).map(|&k| &self.points[k]) {
                 Some((_, st, yr, yw)) => out.extend_from_slice(&[*yr, *yw, st.f_n, st.mode.code()]),
                 None => out.extend_from_slice(&[0.0, 0.0, 0.0, 0.0]),
+            }
+        }
+        // Rolling radius: normal-force-weighted mean over the contact points.
+        let r = if fsum > 0.0 {
+            self.points
+                .iter()
+                .zip(&self.creep_out)
+                .map(|(p, c)| p.1.f_n * c[5])
+                .sum::<f64>()
+                / fsum
+        } else {
+            0.0
+        };
+        out.extend_from_slice(&[r, self.attack]);
+        for i in 0..CREEP_SLOTS {
+            match order.get(i).and_then(|&k| self.creep_out.get(k)) {
+                Some(c) => out.extend_from_slice(&[c[5], c[0], c[1], c[2], c[3], c[4]]),
+                None => out.extend_from_slice(&[0.0; 6]),
             }
         }
     }
@@ -918,13 +1296,12 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
     let h = (xk - p.position).dot(&up);
     let xb = xk + frame.column(0) * (sign * setup.params.contact_offset) - up * h;
     let b = ctx.add_internal_node(xb, Some(k));
-    Ok(Box::new(MovingAxle::with(
-        Arc::new(setup),
-        track,
-        b,
-        k,
-        first,
-    )))
+    let s0 = station_of(&track, &xk);
+    let mut e = MovingAxle::with(Arc::new(setup), track, b, k, first);
+    // The first step rolls from the wheel's station at t = 0.
+    e.committed.station = s0;
+    e.trial.station = s0;
+    Ok(Box::new(e))
 }
 
 /// The station of the centre-line point nearest to `x` (m), by a coarse search along the
@@ -952,7 +1329,122 @@ fn guess_frame(track: &TrackModel, x: &Vector3<f64>) -> Matrix3<f64> {
 }
 
 fn samples() -> Vec<Sample> {
-    sample_states(SlidingTangent::Consistent)
+    let mut v = sample_states(SlidingTangent::Consistent);
+    v.extend(creep_samples("kalker_linear"));
+    v.extend(creep_samples("polach"));
+    v
+}
+
+/// Distance the sample wheelset rolls in its one step (m) and the step's station.
+const SAMPLE_ROLL: f64 = 0.05;
+const SAMPLE_STATION: f64 = 2.45;
+
+/// The sample scene's nodes with the wheelset rolled on by [`SAMPLE_ROLL`].
+fn rolled_nodes(nodes: &[NodeKinematics]) -> Vec<NodeKinematics> {
+    let mut out = nodes.to_vec();
+    for n in out.iter_mut().filter(|n| n.carried) {
+        n.position += n.frame.column(2) * SAMPLE_ROLL;
+        n.station = n.station.map(|s| s + SAMPLE_ROLL);
+    }
+    out
+}
+
+/// The committed state of every rolling sample: wheel pressed 30 µm into the rail.
+fn rolling_history() -> Vec<f64> {
+    let mut u = vec![0.0; 21];
+    u[1] = -3e-5 + 1e-5;
+    u[4] = -3e-5;
+    u
+}
+
+/// A sample wheel with a rolling history: committed at [`SAMPLE_STATION`] with
+/// [`rolling_history`], then advanced [`SAMPLE_ROLL`] further.
+fn sample_rolling_wheel(
+    params: &MovingAxleParams,
+    tm: &Arc<TrackModel>,
+    nodes: &[NodeKinematics],
+    offset: f64,
+) -> MovingAxle {
+    let mut e = sample_wheel(params, tm, nodes, offset);
+    e.committed.station = SAMPLE_STATION;
+    let q0 = rolling_history();
+    let z = vec![0.0; 21];
+    e.update(&TrialState {
+        time: 0.0,
+        dt: railfem_framework::conformance::KIT_DT,
+        disp: &q0,
+        vel: &z,
+        acc: &z,
+    })
+    .expect("sample history");
+    e.commit();
+    let rolled = rolled_nodes(nodes);
+    e.advance(&StepContext {
+        time: railfem_framework::conformance::KIT_DT,
+        dt: railfem_framework::conformance::KIT_DT,
+        nodes: &rolled,
+    })
+    .expect("on the mesh");
+    e
+}
+
+/// Rolling samples of a creep law: unsaturated creep (small yaw and a longitudinal slip of
+/// the wheel), saturated creep (large yaw) and two-point contact while rolling. Every
+/// creepage is nonzero; the first is below, the other two above the friction limit.
+fn creep_samples(law: &str) -> Vec<Sample> {
+    let (tm, nodes, offset) = sample_scene();
+    let mut params: MovingAxleParams = ElementSpec {
+        id: 1,
+        kind: "moving_axle".into(),
+        nodes: vec![1],
+        params: serde_json::json!({"side": "left", "tangential": law, "k": 1e9, "k_v": 1e9})
+            .as_object()
+            .cloned()
+            .unwrap_or_default(),
+        origin: "sample".into(),
+    }
+    .parse()
+    .expect("defaults parse");
+    params.sliding_tangent = "consistent".into();
+    let rolled = rolled_nodes(&nodes);
+    let state = |yaw: f64, slip: f64, dz: f64, dy: f64| -> Vec<f64> {
+        let mut u = rolling_history();
+        u[1] += -dz;
+        u[4] += -dz;
+        u[0] = dy;
+        u[3] = dy;
+        u[2] = slip;
+        u[7] = yaw;
+        u[6] = 2e-6;
+        u[10] = 1e-6;
+        u[16] = -2e-6;
+        u[14] = 1e-6;
+        u
+    };
+    let mk = |name: String, disp: Vec<f64>| Sample {
+        name,
+        element: Box::new(sample_rolling_wheel(&params, &tm, &nodes, offset)),
+        nodes: rolled.clone(),
+        vel: vec![0.0; 21],
+        disp,
+        fd_step: 1e-4,
+        committed_disp: None,
+        rebuild: Some(rebuild_sample),
+    };
+    vec![
+        mk(
+            format!("{law}: rolling, unsaturated"),
+            state(2e-5, 1e-6, 0.0, 1e-6),
+        ),
+        mk(
+            format!("{law}: rolling, saturated"),
+            state(1e-2, 2e-5, 0.0, 0.0),
+        ),
+        mk(
+            format!("{law}: rolling, two-point contact"),
+            state(1e-3, 1e-6, -6.3e-4, 7e-3),
+        ),
+    ]
 }
 
 fn sample_wheel(
@@ -1037,6 +1529,9 @@ fn rebuild_sample(params: &serde_json::Value) -> Result<Box<dyn Element>, FemErr
     };
     let p: MovingAxleParams = spec.parse()?;
     let (tm, nodes, offset) = sample_scene();
+    if p.tangential != "coulomb" {
+        return Ok(Box::new(sample_rolling_wheel(&p, &tm, &nodes, offset)));
+    }
     Ok(Box::new(sample_wheel(&p, &tm, &nodes, offset)))
 }
 
