@@ -119,6 +119,20 @@ impl Case {
     }
 }
 
+/// The slope of the 60E1 head (built-in, `rail_nodes` nodes, 1:40) at node `node` of the
+/// left rail: the chord between its neighbours, which on a circular arc sampled at equal
+/// arc lengths is exactly parallel to the tangent at the node. A cone of this slope touches
+/// that one node (a knife edge) over a band of rolls of ± half the angle between chords.
+pub fn node_tangent_slope(rail_nodes: usize, node: usize) -> f64 {
+    use crate::elements::rail::profiles::{Inclination, RailProfile};
+    let r = RailProfile::uic60(rail_nodes, Inclination::OneIn40);
+    let n = r.nodes();
+    let d = n[node + 1] - n[node - 1];
+    // The wheel surface z = λ·y rises towards the field side; the rail there must fall away
+    // from it: its tangent at the contact is the wheel's, slope d.y/d.x.
+    d.y / d.x
+}
+
 /// Histories of a run, one entry per step.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct History {
@@ -166,7 +180,8 @@ pub fn write_model(case: &Case, dir: &Path) -> Result<PathBuf, FemError> {
                 let _ = writeln!(cone, "{y},{}", lambda * y);
             }
             std::fs::write(dir.join("cone.csv"), cone).map_err(io)?;
-            "wheel_profile = \"cone.csv\", ".to_string()
+            // A wheel profile path is read as given (relative to the working directory).
+            format!("wheel_profile = \"{}\", ", dir.join("cone.csv").display())
         }
         Wheel::S1002 => String::new(),
     };
@@ -388,4 +403,64 @@ mod tests {
         let g = growth_rate(&t, &y, 0.1).unwrap();
         assert!((g / sigma - 1.0).abs() < 1e-3, "{g}");
     }
+}
+
+/// Gravity of the models (m/s²).
+pub const GRAVITY: f64 = 9.81;
+/// Shear modulus and Poisson's ratio of the `moving_axle` creep laws' defaults.
+pub const SHEAR_MODULUS: f64 = 8.0e10;
+/// See [`SHEAR_MODULUS`].
+pub const POISSON: f64 = 0.28;
+/// Transverse curvature of the 60E1 crown (1/m), R 300 mm.
+pub const CROWN_CURVATURE: f64 = 1.0 / 0.3;
+
+/// The linear wheelset model of a cone case whose contact is a single rail node on the
+/// crown (a knife edge, [`node_tangent_slope`]), with the half contact distance `b` (m)
+/// measured in the FE run: the axle load `W = (m_w + m_frame)·g`, Kalker's `f11, f22, f23`
+/// of the Hertz ellipse at `N = W/2` (cone: no transverse wheel curvature; the crown's),
+/// `ε' = 2λ/b` (a rolled cone on knife edges, `δ_L,R = atan λ ± φ`, `φ = λy/b`), the
+/// gravitational stiffness `(W/2)·ε'` and the spin terms of the element.
+pub fn linear_model(
+    case: &Case,
+    b: f64,
+) -> Result<
+    (
+        crate::elements::rail::creep::linear_wheelset::Wheelset,
+        crate::elements::rail::creep::linear_wheelset::Primary,
+    ),
+    FemError,
+> {
+    use crate::elements::rail::creep::linear_wheelset::{creep_coefficients, Primary, Wheelset};
+    let lambda = match case.wheel {
+        Wheel::Cone(l) => l,
+        Wheel::S1002 => {
+            return Err(FemError::input(
+                "rolling_contact::linear_model",
+                "only cone cases have a closed-form contact geometry; give Wheel::Cone",
+            ))
+        }
+    };
+    let frame = case.suspended.map_or(0.0, |s| s.frame_mass);
+    let w = (WHEELSET_MASS + frame) * GRAVITY;
+    let young = 2.0 * SHEAR_MODULUS * (1.0 + POISSON);
+    let (f11, f22, f23) = creep_coefficients(R0, 0.0, CROWN_CURVATURE, 0.5 * w, young, POISSON)
+        .map_err(|e| FemError::input("rolling_contact::linear_model", e.to_string()))?;
+    let slope = 2.0 * lambda / b;
+    let ws = Wheelset {
+        mass: WHEELSET_MASS,
+        yaw_inertia: WHEELSET_INERTIA,
+        rolling_radius: R0,
+        half_gauge: b,
+        conicity: lambda,
+        f11,
+        f22,
+        gravitational_stiffness: 0.5 * w * slope,
+        f23,
+        contact_angle_slope: slope,
+    };
+    let primary = case.suspended.map_or(Primary::default(), |s| Primary {
+        lateral: s.lateral(),
+        yaw: s.yaw(),
+    });
+    Ok((ws, primary))
 }

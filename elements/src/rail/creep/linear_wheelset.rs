@@ -35,9 +35,16 @@
 //! in the track frame stayed equal, which a rolled rigid wheelset does not do. The FE model
 //! (rigid wheel profile spline in the wheelset's frame, which rolls with the wheelset's
 //! rotation DOF) contains exactly this effect; [`gravitational_stiffness`] takes it from the
-//! contact geometry of [`super::conicity`]. Spin creep (`f23`, `f33`) is left out, as in the
-//! classical Wickens/Klingel analysis; its lateral force is of the order
-//! `f23·(δ_L − δ_R)/r0`, which partly cancels `k_g` (docs/rolling-contact.md).
+//! contact geometry of [`super::conicity`].
+//!
+//! **Spin.** The classical Wickens/Klingel analysis leaves spin out (`f23 = 0`, the default
+//! of the tests against closed forms). The `moving_axle` element's creep laws include the
+//! spin's lateral force `−f23·φ` but no spin moment (Kalker's `C33` is not available,
+//! docs/creep.md), with the spin `φ = ∓sin δ/r0 + ψ̇ cos δ/V` (left/right wheel). Summed over
+//! both wheels that is a lateral force `f23(sin δ_L − sin δ_R)/r0 − 2f23 ψ̇/V`: a negative
+//! lateral stiffness `−f23·ε'/r0` (`ε' = d(δ_L − δ_R)/dy`) that partly cancels `k_g`, and a
+//! yaw-rate coupling. Both are in [`Wheelset`] when `f23` is given, so the model has the
+//! same terms as the FE element.
 //!
 //! Primary suspension (per wheelset, to a frame moving at `V`): lateral stiffness `k_y` (N/m,
 //! both sides together) and yaw stiffness `k_ψ = 2·k_x·b1²` (N·m/rad) from longitudinal
@@ -124,6 +131,12 @@ pub struct Wheelset {
     pub f22: f64,
     /// Gravitational stiffness k_g (N/m).
     pub gravitational_stiffness: f64,
+    /// Spin creep coefficient f23 = G·(a·b_c)^{3/2}·C23 of one contact (N·m); 0 leaves
+    /// spin out (the classical analysis).
+    pub f23: f64,
+    /// Slope ε' = d(δ_L − δ_R)/dy of the contact-angle difference (1/m); with `f23` it gives
+    /// the lateral spin force `f23·ε'·y/r0` (see the module doc).
+    pub contact_angle_slope: f64,
 }
 
 /// Primary suspension of one wheelset: lateral and yaw stiffness to its frame.
@@ -148,9 +161,10 @@ pub struct LinearSystem {
     pub f: DVector<f64>,
 }
 
-/// Kalker's `f11`, `f22` (N) of one contact: Hertz ellipse from the rolling radius
-/// `rolling_radius`, the wheel's and rail's transverse curvatures (1/m, convex > 0) and the
-/// normal load (N), then `G·a·b·C11`, `G·a·b·C22` with `G = E/(2(1 + ν))`.
+/// Kalker's `f11`, `f22` (N) and `f23` (N·m) of one contact: Hertz ellipse from the
+/// rolling radius `rolling_radius`, the wheel's and rail's transverse curvatures (1/m,
+/// convex > 0) and the normal load (N), then `G·a·b·C11`, `G·a·b·C22`, `G·(ab)^{3/2}·C23`
+/// with `G = E/(2(1 + ν))`.
 pub fn creep_coefficients(
     rolling_radius: f64,
     wheel_transverse: f64,
@@ -158,7 +172,7 @@ pub fn creep_coefficients(
     normal_load: f64,
     young: f64,
     poisson: f64,
-) -> Result<(f64, f64), LinearError> {
+) -> Result<(f64, f64, f64), LinearError> {
     let e = hertz_ellipse(
         &Curvatures {
             wheel_rolling_radius: rolling_radius,
@@ -171,7 +185,8 @@ pub fn creep_coefficients(
     )?;
     let c = kalker_coefficients(e.ratio(), poisson)?;
     let g = young / (2.0 * (1.0 + poisson));
-    Ok((g * e.a * e.b * c.c11, g * e.a * e.b * c.c22))
+    let ab = e.a * e.b;
+    Ok((g * ab * c.c11, g * ab * c.c22, g * ab.powf(1.5) * c.c23))
 }
 
 /// Gravitational stiffness `k_g = (W/2)·(δ_L − δ_R)/y` (N/m) from a contact-angle
@@ -223,7 +238,8 @@ impl Wheelset {
         s.m[(ipsi, ipsi)] += self.yaw_inertia;
         s.c[(iy, iy)] += 2.0 * self.f22 / v;
         s.c[(ipsi, ipsi)] += 2.0 * self.f11 * b * b / v;
-        s.k[(iy, iy)] += self.gravitational_stiffness;
+        s.k[(iy, iy)] += self.gravitational_stiffness - self.f23 * self.contact_angle_slope / r0;
+        s.c[(iy, ipsi)] += 2.0 * self.f23 / v;
         s.k[(iy, ipsi)] -= 2.0 * self.f22;
         s.k[(ipsi, iy)] += 2.0 * self.f11 * b * self.conicity / r0;
         s.f[ipsi] -= 2.0 * self.f11 * b * b * curvature;
@@ -454,7 +470,7 @@ where
 }
 
 /// The critical speed of a single suspended wheelset from the Routh–Hurwitz condition of its
-/// characteristic quartic (no eigenvalues involved). With `c = 1/V` the coefficients are
+/// characteristic quartic (no eigenvalues involved), spin left out (`f23` is ignored). With `c = 1/V` the coefficients are
 /// `a4 = mI`, `a3 = c·A3`, `a2 = P + Q c²`, `a1 = c·A1`, `a0 = R`, where
 /// `A3 = 2(m f11 b² + I f22)`, `P = m k_ψ + I K`, `Q = 4 f11 f22 b²`,
 /// `A1 = 2(f22 k_ψ + f11 b² K)`, `R = K k_ψ + 4 f11 f22 bλ/r0`, `K = k_y + k_g`. The
@@ -514,7 +530,7 @@ mod tests {
 
     /// A wheelset of the sks700 stand-in's size on a cone (λ = 0.05).
     fn wheelset() -> Wheelset {
-        let (f11, f22) = creep_coefficients(0.46, 0.0, 1.0 / 0.3, 50e3, 2.1e11, 0.28).unwrap();
+        let (f11, f22, _) = creep_coefficients(0.46, 0.0, 1.0 / 0.3, 50e3, 2.1e11, 0.28).unwrap();
         Wheelset {
             mass: 1813.0,
             yaw_inertia: 1120.0,
@@ -524,13 +540,15 @@ mod tests {
             f11,
             f22,
             gravitational_stiffness: 100e3 * 0.05 / 0.75,
+            f23: 0.0,
+            contact_angle_slope: 0.0,
         }
     }
 
     #[test]
     fn creep_coefficients_match_a_hand_evaluation() {
         // r0 0.46 m on a 0.3 m crown, 50 kN, steel: a/b from Hertz, C11, C22 from the table.
-        let (f11, f22) = creep_coefficients(0.46, 0.0, 1.0 / 0.3, 50e3, 2.1e11, 0.28).unwrap();
+        let (f11, f22, f23) = creep_coefficients(0.46, 0.0, 1.0 / 0.3, 50e3, 2.1e11, 0.28).unwrap();
         let e = hertz_ellipse(
             &Curvatures {
                 wheel_rolling_radius: 0.46,
@@ -546,6 +564,7 @@ mod tests {
         let g = 2.1e11 / 2.56;
         assert!((f11 / (g * e.a * e.b * c.c11) - 1.0).abs() < 1e-14);
         assert!((f22 / (g * e.a * e.b * c.c22) - 1.0).abs() < 1e-14);
+        assert!((f23 / (g * (e.a * e.b).powf(1.5) * c.c23) - 1.0).abs() < 1e-12);
         // Order of magnitude of the literature (about 10 MN for a 50 kN wheel).
         assert!((5e6..2e7).contains(&f11), "f11 {f11}");
     }
