@@ -6,6 +6,7 @@
 //! cargo run --release --example rolling_contact -- klingel
 //! cargo run --release --example rolling_contact -- hunting [DT]
 //! cargo run --release --example rolling_contact -- curving
+//! cargo run --release --example rolling_contact -- sks700 [DT]
 //! ```
 //!
 //! Model files and histories go to `target/rolling-contact/<case>/`.
@@ -173,6 +174,25 @@ fn curving() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+fn sks700(dt: f64) -> Result<(), Box<dyn std::error::Error>> {
+    println!("| V (m/s) | dt (s) | σ of the leading wheel's attack angle (1/s) | peak attack angle after the step (mrad) | wavelength (m) |");
+    println!("|---|---|---|---|---|");
+    for v in [30.0, 50.0, 70.0, 90.0, 110.0] {
+        let (t, s, a) = run_sks700(v, dt, (2.5 * v).max(80.0), 2e-3, &dir("sks700"))?;
+        let m = mean_between(&s, &a, START + 10.0, 1e9);
+        let centred: Vec<f64> = a.iter().map(|x| x - m).collect();
+        let g = growth_rate(&t, &centred, 10.0 / v).unwrap_or(f64::NAN);
+        let peak = centred
+            .iter()
+            .zip(&s)
+            .filter(|(_, s)| **s > START + 4.0)
+            .fold(0.0f64, |p, (x, _)| p.max(x.abs()));
+        let w = wavelength(&s, &centred, START + 10.0).unwrap_or(f64::NAN);
+        println!("| {v} | {dt} | {g:+.3} | {:.3} | {w:.2} |", peak * 1e3);
+    }
+    Ok(())
+}
+
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().collect();
     match args.get(1).map(String::as_str) {
@@ -180,8 +200,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("klingel") => klingel(),
         Some("hunting") => hunting(args.get(2).map_or(Ok(0.0005), |s| s.parse())?),
         Some("curving") => curving(),
+        Some("sks700") => sks700(args.get(2).map_or(Ok(0.001), |s| s.parse())?),
         _ => {
-            eprintln!("usage: rolling_contact conicity|klingel|hunting [DT]|curving");
+            eprintln!("usage: rolling_contact conicity|klingel|hunting [DT]|curving|sks700 [DT]");
             std::process::exit(2);
         }
     }

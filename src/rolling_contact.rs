@@ -464,3 +464,79 @@ pub fn linear_model(
     });
     Ok((ws, primary))
 }
+
+/// The sks700 carriage (preset, S1002 on 60E1 at 1:40, `tangential = "kalker_linear"`)
+/// on rigid straight track with the same alignment step of `offset` (m) at speed `speed`,
+/// over `distance`: the time, station and the leading wheel's angle of attack (its
+/// `attack_angle` output, rad) per step.
+pub fn run_sks700(
+    speed: f64,
+    dt: f64,
+    distance: f64,
+    offset: f64,
+    dir: &Path,
+) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>), FemError> {
+    let case = Case {
+        offset,
+        distance,
+        ..Case::klingel(Wheel::S1002, speed, distance)
+    };
+    write_model(&case, dir)?;
+    let steps = (distance / speed / dt).round().max(1.0);
+    let text = format!(
+        r#"[analysis]
+kind = "transient"
+dt = {dt}
+duration = {duration}
+gravity = [0.0, 0.0, -9.81]
+
+[track]
+segments = [{{type = "straight", length = {length}}}]
+support = {{type = "rigid"}}
+irregularity = {{file = "align.csv", components = ["alignment"]}}
+
+[[vehicle]]
+preset = "sks700"
+start = {START}
+speed = {speed}
+wheel = {{tangential = "kalker_linear"}}
+"#,
+        duration = steps * dt,
+        length = START + distance + 60.0,
+    );
+    let path = dir.join("sks700.toml");
+    std::fs::write(&path, text)
+        .map_err(|e| FemError::input(path.display().to_string(), e.to_string()))?;
+    let model = crate::load_model(&path)?;
+    let mut d = Driver::new(model)?;
+    d.initialize()?;
+    let first = d
+        .model
+        .elements
+        .iter()
+        .position(|e| e.element.output_names().iter().any(|n| n == "attack_angle"))
+        .ok_or_else(|| {
+            FemError::input(
+                path.display().to_string(),
+                "no wheel with an `attack_angle` output",
+            )
+        })?;
+    let names = d.model.elements[first].element.output_names();
+    let (ia, is) = (
+        names.iter().position(|n| n == "attack_angle").unwrap_or(0),
+        names.iter().position(|n| n == "station").unwrap_or(0),
+    );
+    let (mut t, mut s, mut a) = (Vec::new(), Vec::new(), Vec::new());
+    let mut o = Vec::new();
+    for k in 0..=steps as usize {
+        if k > 0 {
+            d.step(dt)?;
+        }
+        o.clear();
+        d.model.elements[first].element.outputs(&mut o);
+        t.push(d.state.t);
+        s.push(o[is]);
+        a.push(o[ia]);
+    }
+    Ok((t, s, a))
+}
