@@ -482,6 +482,23 @@ pub fn run_sks700(
         ..Case::klingel(Wheel::S1002, speed, distance)
     };
     write_model(&case, dir)?;
+    // The carriage spans about ±9.3 m about its centre: it starts at 30 m, every
+    // wheelset on rails shifted by `offset`, which return to zero over 42–44 m.
+    const SKS_START: f64 = 30.0;
+    let mut align = String::from("station_m,alignment_mm\n");
+    for (st, a) in [
+        (0.0, 1.0),
+        (42.0, 1.0),
+        (42.5, 0.8535533905932737),
+        (43.0, 0.5),
+        (43.5, 0.14644660940672627),
+        (44.0, 0.0),
+        (SKS_START + distance + 100.0, 0.0),
+    ] {
+        let _ = writeln!(align, "{st},{}", a * offset * 1e3);
+    }
+    std::fs::write(dir.join("align.csv"), align)
+        .map_err(|e| FemError::input(dir.display().to_string(), e.to_string()))?;
     let steps = (distance / speed / dt).round().max(1.0);
     let text = format!(
         r#"[analysis]
@@ -497,12 +514,12 @@ irregularity = {{file = "align.csv", components = ["alignment"]}}
 
 [[vehicle]]
 preset = "sks700"
-start = {START}
+start = {SKS_START}
 speed = {speed}
 wheel = {{tangential = "kalker_linear"}}
 "#,
         duration = steps * dt,
-        length = START + distance + 60.0,
+        length = SKS_START + distance + 60.0,
     );
     let path = dir.join("sks700.toml");
     std::fs::write(&path, text)

@@ -55,7 +55,8 @@
 //! I ψ̈ + 2f11 b²/V ψ̇ + k_ψ ψ + 2f11 bλ/r0 y = −2 f11 b²/R
 //! ```
 //!
-//! `F = m(V²/R − gθ)` is the lateral load of a cant deficiency (0 at balance speed).
+//! `F = −m(V²/R − gθ)` is the lateral load of a cant deficiency on the wheelset (towards the
+//! outside of a left-hand curve; 0 at balance speed).
 //!
 //! # Eigenvalues and the critical speed
 //!
@@ -257,7 +258,8 @@ fn add_spring(k_mat: &mut DMatrix<f64>, k: f64, terms: &[(usize, f64)]) {
 
 /// A single wheelset on its primary suspension, the frame running along the track at `v`
 /// (m/s). DOFs `(y, ψ)`. `curvature` = 1/R (1/m, positive to the left), `lateral_load` the
-/// cant-deficiency force `m(V²/R − gθ)` (N).
+/// lateral force on the wheelset (N, positive to the left; a cant deficiency gives
+/// `−m(V²/R − gθ)`).
 pub fn wheelset_system(
     ws: &Wheelset,
     primary: &Primary,
