@@ -603,7 +603,66 @@ fn non_physical_vehicle_values_are_refused() {
         (
             "mu",
             "wheel = {mu = -0.3}",
-            &["moving_axle", "`mu` = -0.3", "≥ 0"][..],
+            &["moving_axle", "`mu` = -0.3", "between 0 and 2"][..],
+        ),
+        // Issue 14: the tangential law and its material, passed through the vehicle's
+        // `wheel` table.
+        (
+            "mu2",
+            "wheel = {mu = 2.5, tangential = \"kalker_linear\"}",
+            &["moving_axle", "`mu` = 2.5", "between 0 and 2"][..],
+        ),
+        (
+            "law",
+            "wheel = {tangential = \"fastsim\"}",
+            &[
+                "moving_axle",
+                "`tangential` = \"fastsim\"",
+                "\"kalker_linear\" or \"polach\"",
+            ][..],
+        ),
+        (
+            "poisson",
+            "wheel = {tangential = \"kalker_linear\", poisson = 0.5}",
+            &["moving_axle", "`poisson` = 0.5", "0 < ν < 0.5"][..],
+        ),
+        (
+            "shear",
+            "wheel = {tangential = \"polach\", shear_modulus = 80.0}",
+            &[
+                "moving_axle",
+                "`shear_modulus` = 80",
+                "in Pa between 1e9 and 1e12",
+            ][..],
+        ),
+        (
+            "shear0",
+            "wheel = {tangential = \"kalker_linear\", shear_modulus = 0.0}",
+            &[
+                "moving_axle",
+                "`shear_modulus` = 0",
+                "in Pa between 1e9 and 1e12",
+            ][..],
+        ),
+        (
+            "ka",
+            "wheel = {tangential = \"polach\", polach_ka = 1.5}",
+            &["moving_axle", "`polach_ka` = 1.5", "0 < kA ≤ 1"][..],
+        ),
+        (
+            "ks",
+            "wheel = {tangential = \"polach\", polach_ka = 0.3, polach_ks = 0.4}",
+            &["moving_axle", "`polach_ks` = 0.4", "0 < kS ≤ kA = 0.3"][..],
+        ),
+        (
+            "pa",
+            "wheel = {tangential = \"polach\", polach_a = 0.0}",
+            &["moving_axle", "`polach_a` = 0", "0 < A ≤ 1"][..],
+        ),
+        (
+            "pb",
+            "wheel = {tangential = \"polach\", polach_b = -1.0}",
+            &["moving_axle", "`polach_b` = -1", "0 ≤ B ≤ 100 s/m"][..],
         ),
         (
             "wheelkey",

@@ -941,7 +941,13 @@ impl MovingAxle {
                     self.force[i] += f21[i];
                 }
                 if form_tangent {
-                    let kt = t.transpose() * pc.d_force;
+                    let mut kt = t.transpose() * pc.d_force;
+                    if set.law.tangent == SlidingTangent::Symmetric {
+                        // Its symmetric part: the dominant creep stiffness Tᵀ·C·T/ds is
+                        // symmetric; what is dropped (load, yaw, rolling-radius and
+                        // normal-turning couplings) costs Newton iterations, not accuracy.
+                        kt = (kt + kt.transpose()) * 0.5;
+                    }
                     for j in 0..21 {
                         for i in 0..21 {
                             self.tangent[(i, j)] += kt[(i, j)];
@@ -1007,8 +1013,7 @@ impl Element for MovingAxle {
     fn properties(&self) -> ElementProperties {
         ElementProperties {
             linear: false,
-            symmetric: self.setup.law.tangent == SlidingTangent::Symmetric
-                && self.setup.creep.is_none(),
+            symmetric: self.setup.law.tangent == SlidingTangent::Symmetric,
             connectivity_may_change: !self.track.rigid,
             objective: true,
             ..Default::default()

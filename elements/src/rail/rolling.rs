@@ -149,3 +149,217 @@ pub fn point_creep(
         d_force,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rail::creep::hertz::{hertz_ellipse, Curvatures};
+    use crate::rail::creep::kalker::kalker_coefficients;
+
+    const R0: f64 = 0.43;
+    const DS: f64 = 0.2;
+    const K: f64 = 1e9;
+
+    /// A contact whose rail point is node I's translation and whose wheel point is B's:
+    /// `Δ = u_I − u_B` (the element's `T` without lever arms).
+    fn t_simple() -> SMatrix<f64, 3, 21> {
+        let mut t = SMatrix::<f64, 3, 21>::zeros();
+        t.fixed_view_mut::<3, 3>(0, 0)
+            .copy_from(&(-Matrix3::identity()));
+        t.fixed_view_mut::<3, 3>(0, 9)
+            .copy_from(&Matrix3::identity());
+        t
+    }
+
+    fn theta_map() -> SMatrix<f64, 3, 21> {
+        let mut m = SMatrix::<f64, 3, 21>::zeros();
+        m.fixed_view_mut::<3, 3>(0, 6)
+            .copy_from(&Matrix3::identity());
+        m
+    }
+
+    fn shape() -> EllipseShape {
+        // Wheel r = 0.43 m on a 0.3 m rail crown, the ellipse at the reference load.
+        let e = hertz_ellipse(
+            &Curvatures {
+                wheel_rolling_radius: R0,
+                wheel_transverse: 0.0,
+                rail_transverse: 1.0 / 0.3,
+            },
+            1e4,
+            2.0 * 8e10 * 1.28,
+            0.28,
+        )
+        .unwrap();
+        EllipseShape {
+            n_ref: 1e4,
+            a_ref: e.a,
+            b_ref: e.b,
+            c: kalker_coefficients(e.a / e.b, 0.28).unwrap(),
+        }
+    }
+
+    const MAT: Material = Material {
+        shear_modulus: 8e10,
+        mu: 0.3,
+    };
+
+    struct Case {
+        dq: SVector<f64, 21>,
+        psi: f64,
+        z_w: f64,
+        w: Vector3<f64>,
+        gap: f64,
+    }
+
+    impl Default for Case {
+        fn default() -> Self {
+            Case {
+                dq: SVector::zeros(),
+                psi: 0.0,
+                z_w: 0.0,
+                w: -Vector3::y(),
+                gap: -6e-5,
+            }
+        }
+    }
+
+    fn run(c: &Case) -> PointCreep {
+        let (t, th) = (t_simple(), theta_map());
+        point_creep(
+            &TangentialLaw::KalkerLinear,
+            &shape(),
+            &MAT,
+            &Rolling {
+                ds: DS,
+                speed: 20.0,
+                r0: R0,
+            },
+            &PointInput {
+                t: &t,
+                theta: &th,
+                dq: &c.dq,
+                psi: c.psi,
+                z_w: c.z_w,
+                gap: c.gap,
+                w: c.w,
+                hess: &Matrix3::zeros(),
+                k: K,
+            },
+        )
+    }
+
+    /// A wheelset yawed by ψ rolling straight on: ξy = −ψ (Kalker's `ẏ/V − ψ` with ẏ = 0),
+    /// no longitudinal creepage, no spin on a flat contact.
+    #[test]
+    fn pure_yaw_gives_lateral_creepage_minus_psi() {
+        let p = run(&Case {
+            psi: 3e-3,
+            ..Default::default()
+        });
+        assert!((p.creepage[1] + 3e-3).abs() < 1e-15, "{:?}", p.creepage);
+        assert_eq!(p.creepage[0], 0.0);
+        assert_eq!(p.creepage[2], 0.0);
+        // The lateral force opposes the lateral creepage.
+        assert!(p.fy > 0.0);
+    }
+
+    /// A conical wheel (conicity λ) displaced by y towards its flange touches at the
+    /// rolling radius r0 + λ·y: the contact is λ·y below the tape circle (z_w = −λ·y) and
+    /// ξx = (1 − r/r0) = −λ·y/r0 (the other wheel, +λ·y/r0).
+    #[test]
+    fn conical_offset_gives_longitudinal_creepage() {
+        let (lambda, y) = (0.05, 2e-3);
+        for sign in [1.0, -1.0] {
+            let p = run(&Case {
+                z_w: -sign * lambda * y,
+                ..Default::default()
+            });
+            let expect = -sign * lambda * y / R0;
+            assert!((p.creepage[0] - expect).abs() < 1e-15 * R0);
+            assert!(p.fx * expect < 0.0);
+        }
+    }
+
+    /// Spin of a coned contact: the left wheel's normal into the wheel, n = −w, tilted by δ
+    /// towards its flange (−e1), gives φ = −sin δ/r0; the mirror image (right wheel) +sin δ/r0.
+    /// A yaw rate adds ψ̇·cos δ/V = Δψ·cos δ/ds.
+    #[test]
+    fn spin_of_a_coned_contact() {
+        let d: f64 = 0.4;
+        for side in [1.0, -1.0] {
+            let w = Vector3::new(side * d.sin(), -d.cos(), 0.0);
+            let p = run(&Case {
+                w,
+                ..Default::default()
+            });
+            assert!((p.creepage[2] + side * d.sin() / R0).abs() < 1e-14);
+            let mut dq = SVector::zeros();
+            dq[YAW_DOF] = 1e-4;
+            let p = run(&Case {
+                w,
+                dq,
+                // The yaw angle itself (ξy) is not what is checked here.
+                psi: 0.0,
+                ..Default::default()
+            });
+            let expect = -side * d.sin() / R0 + 1e-4 * d.cos() / DS;
+            assert!((p.creepage[2] - expect).abs() < 1e-14);
+        }
+    }
+
+    /// Wheel and rail moving together (the same material displacement over the step) is
+    /// no slip: zero creepage and zero tangential force, only the normal force.
+    #[test]
+    fn wheel_and_rail_moving_together_do_not_creep() {
+        let mut dq = SVector::zeros();
+        for i in 0..3 {
+            dq[i] = [1e-4, -2e-5, 3e-4][i];
+            dq[9 + i] = dq[i];
+        }
+        let p = run(&Case {
+            dq,
+            ..Default::default()
+        });
+        assert_eq!(p.creepage[..2], [0.0, 0.0]);
+        assert_eq!((p.fx, p.fy), (0.0, 0.0));
+        assert!((p.force - Vector3::new(0.0, 6e4, 0.0)).norm() < 1e-6);
+    }
+
+    /// A braked wheel: its contact point runs ahead of the rail by d over the step (the
+    /// wheel turns slower than rolling), ξx = d/ds > 0. Below saturation the force is
+    /// Kalker's `−G·a·b·C11·ξx` (times the Shen–Hedrick–Elkins factor, 1 − u/3 + u²/27,
+    /// which is 1 to 1e-3 at u = 3e-3); well above, it is −μN.
+    #[test]
+    fn braked_wheel_follows_kalker_then_saturates_at_mu_n() {
+        let sh = shape();
+        let n = K * 6e-5;
+        let scale = (n / sh.n_ref).cbrt();
+        let (a, b) = (sh.a_ref * scale, sh.b_ref * scale);
+        let slope = MAT.shear_modulus * a * b * sh.c.c11;
+        // Wheel point ahead of the rail by d: Δ_z = −d, so −T·dq has +d along e3.
+        let xi = 3e-3 * MAT.mu * n / slope;
+        let mut dq = SVector::zeros();
+        dq[2] = xi * DS;
+        let p = run(&Case {
+            dq,
+            ..Default::default()
+        });
+        assert!((p.creepage[0] - xi).abs() < 1e-12 * xi);
+        let u = slope * xi / (MAT.mu * n);
+        let she = 1.0 - u / 3.0 + u * u / 27.0;
+        assert!(
+            (p.fx + slope * xi * she).abs() < 1e-9 * slope * xi,
+            "{} vs {}",
+            p.fx,
+            -slope * xi
+        );
+        assert!((p.fx + slope * xi).abs() < 2e-3 * slope * xi);
+        dq[2] = 0.05 * DS;
+        let p = run(&Case {
+            dq,
+            ..Default::default()
+        });
+        assert!((p.fx + MAT.mu * n).abs() < 1e-9 * n);
+    }
+}
