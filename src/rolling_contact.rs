@@ -383,28 +383,6 @@ pub fn mean_between(x: &[f64], v: &[f64], from: f64, to: f64) -> f64 {
     s / n.max(1) as f64
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_sampled_sine_gives_its_wavelength_and_growth() {
-        // y = e^{σt} sin(2πt/T): crossings every T/2, peaks grow by e^{σT/2}.
-        let (period, sigma) = (1.7, 0.3);
-        let t: Vec<f64> = (0..20000).map(|i| i as f64 * 1e-3).collect();
-        let y: Vec<f64> = t
-            .iter()
-            .map(|t| (sigma * t).exp() * (2.0 * std::f64::consts::PI * t / period).sin())
-            .collect();
-        let w = wavelength(&t, &y, 0.1).unwrap();
-        assert!((w / period - 1.0).abs() < 1e-5, "{w}");
-        // The extremum of e^{σt}sin lies a fixed phase before the sine's peak, the same in
-        // every half wave, so the slope of ln|peak| is σ up to the sampling (1e-3 s).
-        let g = growth_rate(&t, &y, 0.1).unwrap();
-        assert!((g / sigma - 1.0).abs() < 1e-3, "{g}");
-    }
-}
-
 /// Gravity of the models (m/s²).
 pub const GRAVITY: f64 = 9.81;
 /// Shear modulus and Poisson's ratio of the `moving_axle` creep laws' defaults.
@@ -465,6 +443,9 @@ pub fn linear_model(
     Ok((ws, primary))
 }
 
+/// Time (s), station (m) and angle of attack (rad) histories of the leading wheel.
+pub type AttackHistory = (Vec<f64>, Vec<f64>, Vec<f64>);
+
 /// The sks700 carriage (preset, S1002 on 60E1 at 1:40, `tangential = "kalker_linear"`)
 /// on rigid straight track with the same alignment step of `offset` (m) at speed `speed`,
 /// over `distance`: the time, station and the leading wheel's angle of attack (its
@@ -475,7 +456,7 @@ pub fn run_sks700(
     distance: f64,
     offset: f64,
     dir: &Path,
-) -> Result<(Vec<f64>, Vec<f64>, Vec<f64>), FemError> {
+) -> Result<AttackHistory, FemError> {
     let case = Case {
         offset,
         distance,
@@ -556,4 +537,26 @@ wheel = {{tangential = "kalker_linear"}}
         a.push(o[ia]);
     }
     Ok((t, s, a))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sampled_sine_gives_its_wavelength_and_growth() {
+        // y = e^{σt} sin(2πt/T): crossings every T/2, peaks grow by e^{σT/2}.
+        let (period, sigma) = (1.7, 0.3);
+        let t: Vec<f64> = (0..20000).map(|i| i as f64 * 1e-3).collect();
+        let y: Vec<f64> = t
+            .iter()
+            .map(|t| (sigma * t).exp() * (2.0 * std::f64::consts::PI * t / period).sin())
+            .collect();
+        let w = wavelength(&t, &y, 0.1).unwrap();
+        assert!((w / period - 1.0).abs() < 1e-5, "{w}");
+        // The extremum of e^{σt}sin lies a fixed phase before the sine's peak, the same in
+        // every half wave, so the slope of ln|peak| is σ up to the sampling (1e-3 s).
+        let g = growth_rate(&t, &y, 0.1).unwrap();
+        assert!((g / sigma - 1.0).abs() < 1e-3, "{g}");
+    }
 }
