@@ -24,6 +24,7 @@ pub mod oscillators;
 pub mod pareto;
 pub mod progress;
 pub mod sidecar;
+pub mod rolling_contact;
 pub mod stress;
 pub mod train_bridge;
 
