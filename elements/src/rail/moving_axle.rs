@@ -50,7 +50,7 @@ use super::creep::law::{EllipseShape, Material, TangentialLaw};
 use super::hertz_spring::HertzSpring;
 use super::profiles::{Inclination, RailProfile, WheelProfile};
 use super::rail_point::{beam_axes, rail_point_matrix};
-use super::rolling::{point_creep, PointInput, Rolling};
+use super::rolling::{frame_rotation, point_creep, PointInput, Rolling};
 use super::track_model::{OffsetFromStart, TrackModel};
 use nalgebra::{DMatrix, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use railfem_framework::element::*;
@@ -155,6 +155,9 @@ struct History {
     rail_ids: Option<[usize; 2]>,
     /// Relative displacement Δ of every rail node at the last commit (m).
     deltas: Vec<Vector3<f64>>,
+    /// Wheel frame at the last commit (`None` before the first): its rotation over a step
+    /// (the track's curvature and cant rate) is part of the wheel's rolling motion.
+    frame: Option<Matrix3<f64>>,
 }
 
 /// The moving wheel-axle element (one wheel).
@@ -177,6 +180,9 @@ pub struct MovingAxle {
     rail_offset: Vector3<f64>,
     /// Wheel frame at the station (columns e1 e2 e3, global).
     frame: Matrix3<f64>,
+    /// Rail point C relative to the track centre line at the station, wheel frame (m): the
+    /// lever arm of the frame's rotation at the contact (rolling creep on curves).
+    rho_rail: Vector3<f64>,
     /// B − K and C − B at the reference, wheel-frame components (m).
     r_bk: Vector3<f64>,
     r_cb: Vector3<f64>,
@@ -589,6 +595,7 @@ impl MovingAxle {
             dissipated: 0.0,
             static_load: setup.params.static_load,
             station: f64::NAN,
+            frame: None,
             q: vec![0.0; 21],
             rail_ids: None,
             deltas: vec![Vector3::zeros(); n],
@@ -611,6 +618,7 @@ impl MovingAxle {
             start_offset: OffsetFromStart::default(),
             rail_offset: Vector3::zeros(),
             frame: Matrix3::identity(),
+            rho_rail: Vector3::zeros(),
             r_bk: Vector3::zeros(),
             r_cb: Vector3::zeros(),
             rail_map: SMatrix::zeros(),
@@ -751,6 +759,7 @@ impl MovingAxle {
         self.rail_offset = Vector3::new(0.0, vert, 0.0);
         let xc = self.track.rail_position(self.setup.rail, s) + w.column(0) * lat;
         self.r_cb = w.transpose() * (xc - xb);
+        self.rho_rail = w.transpose() * (xc - self.track.track.at(s).position);
         let (ni, nj) = (self.rail_node(e), self.rail_node(e + 1));
         if !self.track.rigid {
             let (pi, pj) = (kin[ni].position, kin[nj].position);
@@ -953,6 +962,7 @@ impl MovingAxle {
                         w: w3,
                         hess: &hess,
                         k: set.law.k,
+                        rho: self.rho_rail + rho_c,
                     },
                 );
                 let f21 = t.transpose() * pc.force;
@@ -1057,6 +1067,10 @@ impl Element for MovingAxle {
                     ds,
                     speed: ds / trial.dt,
                     r0: self.r0,
+                    frame_rotation: self
+                        .committed
+                        .frame
+                        .map_or(Vector3::zeros(), |w0| frame_rotation(&w0, &self.frame)),
                 })
             }
             _ => None,
@@ -1084,6 +1098,7 @@ impl Element for MovingAxle {
         let law = self.setup.law;
         let mut next = self.committed.clone();
         next.station = self.station;
+        next.frame = Some(self.frame);
         next.q.copy_from_slice(&self.last_q);
         next.rail_ids = Some([self.conn[2].node, self.conn[3].node]);
         next.deltas.copy_from_slice(&self.deltas);
