@@ -18,6 +18,10 @@ USAGE:
   railfem check MODEL [--plugin PATH]...             validate a model file as run would, without
                                                      running: its size and every problem found
   railfem elements [--plugin PATH]...                list registered element kinds and keys
+  railfem matrices MODEL [--out DIR]                 K (tangent at the reference state), M, C
+                                                     and the load vector as Matrix Market
+                                                     files, and the DOF map dofs.csv
+                                                     (default out/matrices; docs/matrices.md)
   railfem curve [--out DIR] [--radius R] [--ct CT] [--speed V] [--mu MU] [--dt DT]
                 [--lengths L0,L1,L2,L3,L4] [--penalty K] [--quick] [--vtk EVERY]
                 [--geometry linear|nonlinear] [--anti-roll K]
@@ -154,8 +158,9 @@ const PATH_OPTIONS: [&str; 5] = ["out", "plugin", "quake", "quake-out", "export"
 const GLOBAL_OPTIONS: [&str; 4] = ["plugin", "help", "max-memory", "max-steps"];
 
 /// The options (with or without value) each command accepts besides [`GLOBAL_OPTIONS`].
-const COMMAND_OPTIONS: [(&str, &[&str]); 13] = [
+const COMMAND_OPTIONS: [(&str, &[&str]); 14] = [
     ("run", &["out"]),
+    ("matrices", &["out"]),
     ("check", &[]),
     ("elements", &[]),
     ("help", &[]),
@@ -464,6 +469,20 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         "stress" => stress(a),
         "pareto" => pareto(a),
         "irregularity" => crate::irregularity::command(a),
+        "matrices" => {
+            let path = model_arg(a)?;
+            let out = a
+                .out
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("out/matrices"));
+            let n = crate::matrices::write(path, &out)?;
+            println!(
+                "{}: {n} equations; K.mtx, M.mtx, C.mtx, f.mtx and dofs.csv in {}",
+                path.display(),
+                out.display()
+            );
+            Ok(0)
+        }
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),

@@ -19,6 +19,7 @@ pub mod cli;
 pub mod critical;
 pub mod curve;
 pub mod irregularity;
+pub mod matrices;
 pub mod oscillators;
 pub mod pareto;
 pub mod stress;

@@ -30,6 +30,7 @@ pub mod fft;
 pub mod finite_link;
 pub mod limits;
 pub mod loads;
+pub mod matrix_market;
 pub mod model;
 pub mod modelfile;
 pub mod moving;
