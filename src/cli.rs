@@ -311,6 +311,7 @@ pub fn out_dir(a: &Args) -> Option<PathBuf> {
         "train-bridge" => "out/train_bridge",
         "pareto" => "out/pareto",
         "irregularity" => "out/irregularity",
+        "matrices" => "out/matrices",
         "critical-radius" | "stress" => return a.out.clone(),
         _ => return None,
     };
@@ -517,6 +518,20 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         "stress" => stress(a),
         "pareto" => pareto(a),
         "irregularity" => crate::irregularity::command(a),
+        "matrices" => {
+            let path = model_arg(a)?;
+            let out = a
+                .out
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("out/matrices"));
+            let n = crate::matrices::write(path, &out)?;
+            println!(
+                "{}: {n} equations; K.mtx, M.mtx, C.mtx, f.mtx and dofs.csv in {}",
+                path.display(),
+                out.display()
+            );
+            Ok(0)
+        }
         other => Err(FemError::input(
             "command line",
             format!("unknown command `{other}`; run `railfem help`"),

@@ -118,6 +118,9 @@ pub enum Command {
     /// A track irregularity from a standard spectrum: irregularity.csv, psd.csv and
     /// irregularity-psd.svg (Welch estimate vs target).
     Irregularity(IrregularityCmd),
+    /// Write a model's K (tangent at the reference state), M and C (constant parts) and its
+    /// load vector as Matrix Market files, with the DOF map (docs/matrices.md).
+    Matrices(MatricesCmd),
     /// Print a shell completion script (e.g. `railfem completions bash > ~/.local/share/bash-completion/completions/railfem`).
     Completions(CompletionsCmd),
 }
@@ -129,6 +132,18 @@ pub struct RunCmd {
     #[arg(value_name = "MODEL")]
     pub model: PathBuf,
     /// Output directory of the recorders and run.json [default: out].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `railfem matrices`.
+#[derive(ClapArgs, Debug)]
+pub struct MatricesCmd {
+    /// The model file (TOML or JSON).
+    #[arg(value_name = "MODEL")]
+    pub model: PathBuf,
+    /// Output directory: K.mtx, M.mtx, C.mtx, f.mtx, dofs.csv and run.json
+    /// [default: out/matrices].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }

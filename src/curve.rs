@@ -409,7 +409,13 @@ pub fn run(
             if k % case.vtk_every == 0 {
                 let kin = d.asm.kinematics();
                 let centre = kin[b].position;
-                v.write(&d.model, &d.asm, &d.state.q, d.state.t, &|i| {
+                let frame = crate::framework::vtk::Frame {
+                    t: d.state.t,
+                    q: &d.state.q,
+                    v: &d.state.v,
+                    a: &d.state.a,
+                };
+                v.write(&mut d.model, &d.asm, frame, &|i| {
                     (kin[i].position - centre).norm() < 25.0
                 })?;
             }

@@ -70,9 +70,9 @@ pub fn run(
             }
             let t = req.class.density(*c, *w).unwrap_or(f64::NAN);
             let _ = writeln!(psd_csv, "{},{w},{v},{t}", c.name());
-            x.push(w.log10());
-            yw.push(v.log10());
-            yt.push(t.log10());
+            x.push(*w);
+            yw.push(*v);
+            yt.push(t);
         }
         fig = fig.with(
             Panel::new(
@@ -84,9 +84,10 @@ pub fn run(
                     target_rms * 1e3,
                     seg as f64 * h
                 ),
-                "log10 Ω [Ω in rad/m]",
-                "log10 S [S in m²/(rad/m)]",
+                "spatial frequency Ω (rad/m)",
+                "PSD S (m²/(rad/m))",
             )
+            .log_log()
             .with(Series::new(
                 "Welch estimate",
                 x.clone(),

@@ -20,6 +20,7 @@ pub mod commands;
 pub mod critical;
 pub mod curve;
 pub mod irregularity;
+pub mod matrices;
 pub mod oscillators;
 pub mod pareto;
 pub mod progress;

@@ -574,8 +574,8 @@ pub fn markdown(runs: &[Run]) -> String {
     s
 }
 
-/// One figure per case: log10 error against log10 wall time, a marker series per
-/// integrator and the Pareto front as a line.
+/// One figure per case: relative error against wall time on log–log axes, a marker series
+/// per integrator and the Pareto front as a line.
 pub fn figure(runs: &[Run], case: &str) -> Figure {
     let colors = ["#1f77b4", "#d62728", "#2ca02c"];
     let title = match case {
@@ -583,7 +583,7 @@ pub fn figure(runs: &[Run], case: &str) -> Figure {
         "sprung" => "sprung mass on a simply supported span: error vs modal RK4 reference",
         _ => "curved track (short): wheel normal force vs rigid-body statics",
     };
-    let mut p = Panel::new(title, "log10 wall time (s)", "log10 relative error");
+    let mut p = Panel::new(title, "wall time (s)", "relative error (-)").log_log();
     p.legend = Corner::TopRight;
     for (scheme, color) in Scheme::ALL.iter().zip(colors) {
         let pts: Vec<&Run> = runs
@@ -592,8 +592,8 @@ pub fn figure(runs: &[Run], case: &str) -> Figure {
             .collect();
         p = p.with(Series::new(
             scheme.name(),
-            pts.iter().map(|r| r.wall.log10()).collect(),
-            pts.iter().map(|r| r.error.log10()).collect(),
+            pts.iter().map(|r| r.wall).collect(),
+            pts.iter().map(|r| r.error).collect(),
             Style::Markers,
             color,
         ));
@@ -602,8 +602,8 @@ pub fn figure(runs: &[Run], case: &str) -> Figure {
     front.sort_by(|a, b| a.wall.total_cmp(&b.wall));
     p = p.with(Series::new(
         "Pareto front",
-        front.iter().map(|r| r.wall.log10()).collect(),
-        front.iter().map(|r| r.error.log10()).collect(),
+        front.iter().map(|r| r.wall).collect(),
+        front.iter().map(|r| r.error).collect(),
         Style::Line,
         "black",
     ));

@@ -207,7 +207,7 @@ fn command_writes_profile_that_reads_back() {
     }
     assert_eq!(t.columns[1].0, Component::CrossLevel);
     let svg = std::fs::read_to_string(out.join("irregularity-psd.svg")).unwrap();
-    assert!(svg.contains("log10 S [S in m²/(rad/m)]"));
+    assert!(svg.contains("PSD S (m²/(rad/m))"));
     let psd = std::fs::read_to_string(out.join("psd.csv")).unwrap();
     assert!(psd.starts_with("component,omega_rad_per_m,welch_m2_per_rad_per_m,"));
     let _ = std::fs::remove_dir_all(&dir);

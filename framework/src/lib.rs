@@ -31,6 +31,7 @@ pub mod finite_link;
 pub mod interrupt;
 pub mod limits;
 pub mod loads;
+pub mod matrix_market;
 pub mod model;
 pub mod modelfile;
 pub mod moving;

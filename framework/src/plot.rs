@@ -1,11 +1,16 @@
-//! A tiny, dependency-free SVG line-plot writer for reports and checks.
+//! Line plots for reports and checks, drawn with `plotters`: SVG, and PNG through its
+//! bitmap backend.
 //!
 //! What lives here: a [`Figure`] of one or more vertically stacked [`Panel`]s, each with a
-//! title, axis labels (put the units in them), auto-ranged "nice" ticks, a grid, a legend and
-//! any number of [`Series`] drawn as lines, dashed lines or markers. Non-finite points are
-//! skipped (a line is broken there). The output is plain SVG 1.1 text.
+//! title, axis labels (put the units in them), linear or logarithmic axes, a grid and any
+//! number of [`Series`] drawn as lines, dashed lines or markers. Non-finite points (and, on
+//! a log axis, points ≤ 0) are skipped: a line is broken there. The legend stands in its
+//! own column to the right of the plot frame, so it never covers data. PNG text is drawn
+//! with the DejaVu Sans font bundled in `framework/assets` (its licence beside it), so
+//! rendering needs no system font library.
 
-use std::fmt::Write as _;
+use plotters::coord::Shift;
+use plotters::prelude::*;
 use std::io;
 use std::path::Path;
 
@@ -48,62 +53,17 @@ impl Series {
     }
 }
 
-/// Whether series `r`, drawn through the pixel maps `px`, `py`, puts anything inside the
-/// rectangle `(left, top, right, bottom)` (px): a marker whose centre lies in it, or a line
-/// segment that crosses it (Liang–Barsky clipping of each segment).
-fn covers(
-    r: &Series,
-    px: &dyn Fn(f64) -> f64,
-    py: &dyn Fn(f64) -> f64,
-    (l, t, rr, b): (f64, f64, f64, f64),
-) -> bool {
-    let inside = |x: f64, y: f64| x >= l && x <= rr && y >= t && y <= b;
-    let pts: Vec<(f64, f64)> =
-        r.x.iter()
-            .zip(&r.y)
-            .map(|(&x, &y)| (px(x), py(y)))
-            .collect();
-    if r.style == Style::Markers {
-        return pts
-            .iter()
-            .any(|&(x, y)| x.is_finite() && y.is_finite() && inside(x, y));
-    }
-    pts.windows(2).any(|w| {
-        let ((xa, ya), (xb, yb)) = (w[0], w[1]);
-        if ![xa, ya, xb, yb].iter().all(|v| v.is_finite()) {
-            return false;
-        }
-        let (dx, dy) = (xb - xa, yb - ya);
-        let (mut t0, mut t1) = (0.0f64, 1.0f64);
-        for (p, q) in [(-dx, xa - l), (dx, rr - xa), (-dy, ya - t), (dy, b - ya)] {
-            if p == 0.0 {
-                if q < 0.0 {
-                    return false;
-                }
-            } else {
-                let u = q / p;
-                if p < 0.0 {
-                    t0 = t0.max(u);
-                } else {
-                    t1 = t1.min(u);
-                }
-            }
-        }
-        t0 <= t1
-    })
-}
-
-/// Where a panel's legend box goes (inside the plot frame).
+/// Where the legend sits in its column beside the plot frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Corner {
-    /// Top right (the default).
+    /// Level with the top of the frame (the default).
     #[default]
     TopRight,
-    /// Top left.
+    /// Level with the top of the frame (the column is always on the right).
     TopLeft,
-    /// Bottom right.
+    /// Level with the bottom of the frame.
     BottomRight,
-    /// Bottom left.
+    /// Level with the bottom of the frame.
     BottomLeft,
 }
 
@@ -118,25 +78,35 @@ pub struct Panel {
     pub y_label: String,
     /// The series drawn, in order (later ones on top).
     pub series: Vec<Series>,
-    /// Corner of the legend box.
+    /// Vertical placement of the legend beside the frame.
     pub legend: Corner,
+    /// Logarithmic x axis (decades; values ≤ 0 are not drawn).
+    pub x_log: bool,
+    /// Logarithmic y axis.
+    pub y_log: bool,
 }
 
 impl Panel {
-    /// An empty panel with a title and axis labels.
+    /// An empty panel with a title and axis labels, linear axes.
     pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
         Self {
             title: title.to_string(),
             x_label: x_label.to_string(),
             y_label: y_label.to_string(),
-            series: Vec::new(),
-            legend: Corner::TopRight,
+            ..Default::default()
         }
     }
 
     /// Adds a series (builder style).
     pub fn with(mut self, series: Series) -> Self {
         self.series.push(series);
+        self
+    }
+
+    /// Makes both axes logarithmic (builder style).
+    pub fn log_log(mut self) -> Self {
+        self.x_log = true;
+        self.y_log = true;
         self
     }
 }
@@ -162,10 +132,223 @@ impl Default for Figure {
     }
 }
 
-const MARGIN_LEFT: f64 = 80.0;
-const MARGIN_RIGHT: f64 = 20.0;
-const MARGIN_TOP: f64 = 34.0;
-const MARGIN_BOTTOM: f64 = 50.0;
+/// Font family every text is drawn in (registered from the bundled file for PNG).
+const FONT: &str = "sans-serif";
+
+/// Registers the bundled DejaVu Sans under [`FONT`] for the text layout of both backends.
+fn register_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        let bytes: &'static [u8] = include_bytes!("../assets/DejaVuSans.ttf");
+        // The file is bundled and valid; a failure would show as missing text.
+        let _ = plotters::style::register_font(FONT, FontStyle::Normal, bytes);
+    });
+}
+
+/// An SVG colour (`"#1f77b4"` or one of a few names) as RGB; unknown names are black.
+fn rgb(color: &str) -> RGBColor {
+    let hex = |s: &str| u8::from_str_radix(s, 16).ok();
+    if let Some(h) = color.strip_prefix('#').filter(|h| h.len() == 6) {
+        if let (Some(r), Some(g), Some(b)) = (hex(&h[0..2]), hex(&h[2..4]), hex(&h[4..6])) {
+            return RGBColor(r, g, b);
+        }
+    }
+    match color {
+        "red" => RGBColor(214, 39, 40),
+        "blue" => RGBColor(31, 119, 180),
+        "green" => RGBColor(44, 160, 44),
+        "gray" | "grey" => RGBColor(127, 127, 127),
+        "orange" => RGBColor(255, 127, 14),
+        "white" => RGBColor(255, 255, 255),
+        _ => RGBColor(0, 0, 0),
+    }
+}
+
+/// Width of the legend column for `labels` (px): sample, gap, text at ~7 px a character.
+fn legend_width(p: &Panel) -> u32 {
+    let longest = p
+        .series
+        .iter()
+        .map(|r| r.label.chars().count())
+        .max()
+        .unwrap_or(0);
+    if longest == 0 {
+        0
+    } else {
+        (48 + 7 * longest) as u32
+    }
+}
+
+/// Axis range of `values`: for a linear axis the outer "nice" ticks ([`nice_ticks`]), for
+/// a log axis the enclosing decades of the positive values.
+fn axis_range(values: &[f64], log: bool) -> (f64, f64) {
+    if log {
+        let pos: Vec<f64> = values.iter().copied().filter(|v| *v > 0.0).collect();
+        let (lo, hi) = pos
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &v| (a.min(v), b.max(v)));
+        if !lo.is_finite() || hi <= 0.0 {
+            return (0.1, 10.0);
+        }
+        let (a, b) = (lo.log10().floor(), hi.log10().ceil());
+        let b = if b <= a { a + 1.0 } else { b };
+        (10f64.powf(a), 10f64.powf(b))
+    } else {
+        let t = nice_ticks(values, 8);
+        (t[0], t[t.len() - 1])
+    }
+}
+
+/// A tick label: up to six decimals with trailing zeros trimmed; scientific notation with
+/// three significant digits outside 1e-3 ≤ |v| < 1e6.
+fn tick_text(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    if !(1e-3..1e6).contains(&v.abs()) {
+        // Three significant digits, trailing zeros of the mantissa trimmed: 1e-4, 2.5e7.
+        let s = format!("{v:.2e}");
+        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
+        let m = if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.')
+        } else {
+            m
+        };
+        return format!("{m}e{e}");
+    }
+    let s = format!("{v:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.to_string()
+    }
+}
+
+type PlotResult<T> = Result<T, Box<dyn std::error::Error>>;
+
+/// Draws one panel's frame, grid, labels and series in `area`, on the coordinate ranges
+/// `xr`, `yr` (linear or log).
+fn draw_chart<DB, X, Y>(
+    area: &DrawingArea<DB, Shift>,
+    p: &Panel,
+    (xr, x_span): (X, f64),
+    (yr, y_span): (Y, f64),
+) -> PlotResult<()>
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+    X: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
+    Y: plotters::coord::ranged1d::AsRangedCoord<Value = f64>,
+    X::CoordDescType: plotters::coord::ranged1d::ValueFormatter<f64>,
+    Y::CoordDescType: plotters::coord::ranged1d::ValueFormatter<f64>,
+{
+    let mut chart = ChartBuilder::on(area)
+        .caption(&p.title, (FONT, 16).into_font().style(FontStyle::Normal))
+        .margin_right(12)
+        .margin_left(6)
+        .margin_top(6)
+        .x_label_area_size(44)
+        .y_label_area_size(78)
+        .build_cartesian_2d(xr, yr)?;
+    // Tick values come with round-off (−1.1e-16 for a zero tick): snap what is below a
+    // billionth of the axis span to zero.
+    let snap = |v: f64, span: f64| if v.abs() < 1e-9 * span { 0.0 } else { v };
+    let fmt_x = |v: &f64| tick_text(snap(*v, x_span));
+    let fmt_y = |v: &f64| tick_text(snap(*v, y_span));
+    chart
+        .configure_mesh()
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .max_light_lines(4)
+        .x_desc(p.x_label.as_str())
+        .y_desc(p.y_label.as_str())
+        .x_label_formatter(&fmt_x)
+        .y_label_formatter(&fmt_y)
+        .label_style((FONT, 13))
+        .axis_desc_style((FONT, 14))
+        .x_labels(9)
+        .y_labels(7)
+        .draw()?;
+    let (xlog, ylog) = (p.x_log, p.y_log);
+    let ok =
+        |x: f64, y: f64| x.is_finite() && y.is_finite() && (!xlog || x > 0.0) && (!ylog || y > 0.0);
+    for r in &p.series {
+        let c = rgb(&r.color);
+        let pts = r.x.iter().zip(&r.y).map(|(&x, &y)| (x, y));
+        match r.style {
+            Style::Markers => {
+                chart.draw_series(
+                    pts.filter(|&(x, y)| ok(x, y))
+                        .map(|xy| Circle::new(xy, 3, c.stroke_width(1))),
+                )?;
+            }
+            Style::Line | Style::Dashed => {
+                // Runs of drawable points, each its own polyline.
+                let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+                for (x, y) in pts {
+                    if ok(x, y) {
+                        runs.last_mut().expect("a run").push((x, y));
+                    } else if !runs.last().expect("a run").is_empty() {
+                        runs.push(Vec::new());
+                    }
+                }
+                for run in runs.into_iter().filter(|r| r.len() > 1) {
+                    if r.style == Style::Dashed {
+                        chart.draw_series(DashedLineSeries::new(run, 6, 4, c.stroke_width(2)))?;
+                    } else {
+                        chart.draw_series(LineSeries::new(run, c.stroke_width(2)))?;
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Draws the legend of `p` in its column `area` (pixel coordinates).
+fn draw_legend<DB>(area: &DrawingArea<DB, Shift>, p: &Panel) -> PlotResult<()>
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+{
+    let labelled: Vec<&Series> = p.series.iter().filter(|r| !r.label.is_empty()).collect();
+    if labelled.is_empty() {
+        return Ok(());
+    }
+    let (w, h) = area.dim_in_pixel();
+    let box_h = 10 + 18 * labelled.len() as i32;
+    // Level with the top of the frame (below the caption) or with its bottom (above the
+    // x labels).
+    let top = match p.legend {
+        Corner::TopRight | Corner::TopLeft => 30,
+        Corner::BottomRight | Corner::BottomLeft => (h as i32 - 50 - box_h).max(30),
+    };
+    area.draw(&Rectangle::new(
+        [(2, top), (w as i32 - 4, top + box_h)],
+        RGBColor(160, 160, 160).stroke_width(1),
+    ))?;
+    for (k, r) in labelled.iter().enumerate() {
+        let y = top + 14 + 18 * k as i32;
+        let c = rgb(&r.color);
+        match r.style {
+            Style::Markers => area.draw(&Circle::new((20, y), 3, c.stroke_width(1)))?,
+            Style::Line => {
+                area.draw(&PathElement::new(vec![(8, y), (32, y)], c.stroke_width(2)))?
+            }
+            Style::Dashed => {
+                area.draw(&PathElement::new(vec![(8, y), (16, y)], c.stroke_width(2)))?;
+                area.draw(&PathElement::new(vec![(22, y), (32, y)], c.stroke_width(2)))?;
+            }
+        }
+        area.draw(&Text::new(
+            r.label.clone(),
+            (38, y - 7),
+            (FONT, 13).into_font(),
+        ))?;
+    }
+    Ok(())
+}
 
 impl Figure {
     /// An empty figure of the default size (900 px wide, 340 px per panel).
@@ -179,20 +362,65 @@ impl Figure {
         self
     }
 
+    fn size(&self) -> (u32, u32) {
+        (
+            self.width.round() as u32,
+            (self.panel_height * self.panels.len().max(1) as f64).round() as u32,
+        )
+    }
+
+    /// Draws every panel on `root`.
+    fn draw<DB>(&self, root: DrawingArea<DB, Shift>) -> PlotResult<()>
+    where
+        DB: DrawingBackend,
+        DB::ErrorType: 'static,
+    {
+        register_font();
+        root.fill(&WHITE)?;
+        let areas = root.split_evenly((self.panels.len().max(1), 1));
+        // One legend column width for every panel, so the plot frames line up.
+        let lw = self.panels.iter().map(legend_width).max().unwrap_or(0);
+        for (p, area) in self.panels.iter().zip(areas) {
+            let (w, _) = area.dim_in_pixel();
+            let (chart, legend) = area.split_horizontally(w.saturating_sub(lw));
+            let xs: Vec<f64> = p.series.iter().flat_map(|r| r.x.iter().copied()).collect();
+            let ys: Vec<f64> = p.series.iter().flat_map(|r| r.y.iter().copied()).collect();
+            let finite = |v: &[f64]| {
+                v.iter()
+                    .copied()
+                    .filter(|v| v.is_finite())
+                    .collect::<Vec<_>>()
+            };
+            let (x0, x1) = axis_range(&finite(&xs), p.x_log);
+            let (y0, y1) = axis_range(&finite(&ys), p.y_log);
+            let (sx, sy) = (x1 - x0, y1 - y0);
+            match (p.x_log, p.y_log) {
+                (false, false) => draw_chart(&chart, p, (x0..x1, sx), (y0..y1, sy))?,
+                (true, false) => draw_chart(&chart, p, ((x0..x1).log_scale(), sx), (y0..y1, sy))?,
+                (false, true) => draw_chart(&chart, p, (x0..x1, sx), ((y0..y1).log_scale(), sy))?,
+                (true, true) => draw_chart(
+                    &chart,
+                    p,
+                    ((x0..x1).log_scale(), sx),
+                    ((y0..y1).log_scale(), sy),
+                )?,
+            }
+            draw_legend(&legend, p)?;
+        }
+        root.present()?;
+        Ok(())
+    }
+
     /// The figure as SVG text.
     pub fn to_svg(&self) -> String {
-        let height = self.panel_height * self.panels.len().max(1) as f64;
         let mut s = String::new();
-        let _ = writeln!(
-            s,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{height}" viewBox="0 0 {w} {height}" font-family="sans-serif" font-size="12">"#,
-            w = self.width
-        );
-        let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
-        for (i, panel) in self.panels.iter().enumerate() {
-            self.panel_svg(&mut s, panel, i as f64 * self.panel_height);
+        {
+            let root = SVGBackend::with_string(&mut s, self.size()).into_drawing_area();
+            if let Err(e) = self.draw(root) {
+                // Drawing into a string cannot fail on I/O; say what went wrong in the file.
+                return format!("<svg xmlns=\"http://www.w3.org/2000/svg\"><!-- {e} --></svg>\n");
+            }
         }
-        s.push_str("</svg>\n");
         s
     }
 
@@ -201,211 +429,10 @@ impl Figure {
         std::fs::write(path, self.to_svg())
     }
 
-    fn panel_svg(&self, s: &mut String, p: &Panel, top: f64) {
-        let (x0, x1) = (MARGIN_LEFT, self.width - MARGIN_RIGHT);
-        let (y0, y1) = (top + MARGIN_TOP, top + self.panel_height - MARGIN_BOTTOM);
-        let finite = |v: &[f64]| {
-            v.iter()
-                .copied()
-                .filter(|v| v.is_finite())
-                .collect::<Vec<_>>()
-        };
-        let xs: Vec<f64> = p.series.iter().flat_map(|r| finite(&r.x)).collect();
-        let ys: Vec<f64> = p.series.iter().flat_map(|r| finite(&r.y)).collect();
-        let xt = nice_ticks(&xs, 8);
-        let mut yt = nice_ticks(&ys, 6);
-        let (xlo, xhi) = (xt[0], xt[xt.len() - 1]);
-        let px = |x: f64| x0 + (x - xlo) / (xhi - xlo) * (x1 - x0);
-        // The legend goes where it covers no data: the preferred corner if it is free, else
-        // the first free one; if every corner holds data, the y axis gains a tick of
-        // headroom above the data (up to six) until a top corner is free.
-        let labelled: Vec<&Series> = p.series.iter().filter(|r| !r.label.is_empty()).collect();
-        let longest = labelled
-            .iter()
-            .map(|r| r.label.chars().count())
-            .max()
-            .unwrap_or(0);
-        let (lw, lh) = (
-            40.0 + 7.0 * longest as f64,
-            8.0 + 16.0 * labelled.len() as f64,
-        );
-        let legend_box = |corner: Corner| {
-            let lx = match corner {
-                Corner::TopRight | Corner::BottomRight => x1 - lw - 8.0,
-                Corner::TopLeft | Corner::BottomLeft => x0 + 8.0,
-            };
-            let ly = match corner {
-                Corner::TopRight | Corner::TopLeft => y0 + 8.0,
-                Corner::BottomRight | Corner::BottomLeft => y1 - lh - 8.0,
-            };
-            (lx, ly)
-        };
-        let mut corner = p.legend;
-        for extra in 0..=6 {
-            let (ylo, yhi) = (yt[0], yt[yt.len() - 1]);
-            let py = |y: f64| y1 - (y - ylo) / (yhi - ylo) * (y1 - y0);
-            let free = |c: Corner| {
-                let (lx, ly) = legend_box(c);
-                !p.series
-                    .iter()
-                    .any(|r| covers(r, &px, &py, (lx, ly, lx + lw, ly + lh)))
-            };
-            let order = [
-                p.legend,
-                Corner::TopRight,
-                Corner::TopLeft,
-                Corner::BottomRight,
-                Corner::BottomLeft,
-            ];
-            if labelled.is_empty() {
-                break;
-            }
-            if let Some(c) = order.into_iter().find(|&c| free(c)) {
-                corner = c;
-                break;
-            }
-            if extra == 6 || yt.len() < 2 {
-                break;
-            }
-            let step = yt[1] - yt[0];
-            yt.push(yhi + step);
-            corner = match p.legend {
-                Corner::BottomLeft | Corner::TopLeft => Corner::TopLeft,
-                _ => Corner::TopRight,
-            };
-        }
-        let (ylo, yhi) = (yt[0], yt[yt.len() - 1]);
-        let py = |y: f64| y1 - (y - ylo) / (yhi - ylo) * (y1 - y0);
-        // Title, frame, grid and tick labels.
-        let _ = writeln!(
-            s,
-            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle" font-size="14" font-weight="bold">{}</text>"#,
-            (x0 + x1) / 2.0,
-            top + 20.0,
-            escape(&p.title)
-        );
-        for &t in &xt {
-            let x = px(t);
-            let _ = writeln!(
-                s,
-                r##"<line x1="{x:.1}" y1="{y0:.1}" x2="{x:.1}" y2="{y1:.1}" stroke="#ddd"/><text x="{x:.1}" y="{:.1}" text-anchor="middle">{}</text>"##,
-                y1 + 16.0,
-                tick_label(t, &xt)
-            );
-        }
-        for &t in &yt {
-            let y = py(t);
-            let _ = writeln!(
-                s,
-                r##"<line x1="{x0:.1}" y1="{y:.1}" x2="{x1:.1}" y2="{y:.1}" stroke="#ddd"/><text x="{:.1}" y="{:.1}" text-anchor="end">{}</text>"##,
-                x0 - 6.0,
-                y + 4.0,
-                tick_label(t, &yt)
-            );
-        }
-        let _ = writeln!(
-            s,
-            r#"<rect x="{x0:.1}" y="{y0:.1}" width="{:.1}" height="{:.1}" fill="none" stroke="black"/>"#,
-            x1 - x0,
-            y1 - y0
-        );
-        let _ = writeln!(
-            s,
-            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-            (x0 + x1) / 2.0,
-            y1 + 36.0,
-            escape(&p.x_label)
-        );
-        let (lx, ly) = (18.0, (y0 + y1) / 2.0);
-        let _ = writeln!(
-            s,
-            r#"<text x="{lx:.1}" y="{ly:.1}" text-anchor="middle" transform="rotate(-90 {lx:.1} {ly:.1})">{}</text>"#,
-            escape(&p.y_label)
-        );
-        // Data.
-        for r in &p.series {
-            let pts = r.x.iter().zip(&r.y).map(|(&x, &y)| (x, y));
-            match r.style {
-                Style::Markers => {
-                    for (x, y) in pts.filter(|(x, y)| x.is_finite() && y.is_finite()) {
-                        let _ = writeln!(
-                            s,
-                            r#"<circle cx="{:.2}" cy="{:.2}" r="3" fill="none" stroke="{}"/>"#,
-                            px(x),
-                            py(y),
-                            r.color
-                        );
-                    }
-                }
-                Style::Line | Style::Dashed => {
-                    let dash = if r.style == Style::Dashed {
-                        r#" stroke-dasharray="6 4""#
-                    } else {
-                        ""
-                    };
-                    // Split into runs of finite points.
-                    let mut run: Vec<String> = Vec::new();
-                    let flush = |run: &mut Vec<String>, s: &mut String| {
-                        if run.len() > 1 {
-                            let _ = writeln!(
-                                s,
-                                r#"<polyline points="{}" fill="none" stroke="{}" stroke-width="1.5"{dash}/>"#,
-                                run.join(" "),
-                                r.color
-                            );
-                        }
-                        run.clear();
-                    };
-                    for (x, y) in pts {
-                        if x.is_finite() && y.is_finite() {
-                            run.push(format!("{:.2},{:.2}", px(x), py(y)));
-                        } else {
-                            flush(&mut run, s);
-                        }
-                    }
-                    flush(&mut run, s);
-                }
-            }
-        }
-        // Legend, in the corner chosen above (inside the frame, off the data).
-        if !labelled.is_empty() {
-            let (w, h) = (lw, lh);
-            let (lx, ly) = legend_box(corner);
-            let _ = writeln!(
-                s,
-                r#"<rect x="{lx:.1}" y="{ly:.1}" width="{w:.1}" height="{h:.1}" fill="white" fill-opacity="0.85" stroke="gray"/>"#
-            );
-            for (k, r) in labelled.iter().enumerate() {
-                let yy = ly + 14.0 + 16.0 * k as f64;
-                let sample = match r.style {
-                    Style::Markers => format!(
-                        r#"<circle cx="{:.1}" cy="{:.1}" r="3" fill="none" stroke="{}"/>"#,
-                        lx + 16.0,
-                        yy - 4.0,
-                        r.color
-                    ),
-                    _ => format!(
-                        r#"<line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{}" stroke-width="1.5"{}/>"#,
-                        lx + 6.0,
-                        yy - 4.0,
-                        lx + 26.0,
-                        yy - 4.0,
-                        r.color,
-                        if r.style == Style::Dashed {
-                            r#" stroke-dasharray="6 4""#
-                        } else {
-                            ""
-                        }
-                    ),
-                };
-                let _ = writeln!(
-                    s,
-                    r#"{sample}<text x="{:.1}" y="{yy:.1}">{}</text>"#,
-                    lx + 32.0,
-                    escape(&r.label)
-                );
-            }
-        }
+    /// Writes the figure as a PNG file (the same drawing, rasterized with the bundled font).
+    pub fn write_png(&self, path: impl AsRef<Path>) -> io::Result<()> {
+        let root = BitMapBackend::new(path.as_ref(), self.size()).into_drawing_area();
+        self.draw(root).map_err(|e| io::Error::other(e.to_string()))
     }
 }
 
@@ -436,41 +463,6 @@ pub fn nice_ticks(values: &[f64], target: usize) -> Vec<f64> {
     (first..=last).map(|k| k as f64 * step).collect()
 }
 
-/// Formats a tick value with as many decimals as the tick step needs.
-fn tick_label(v: f64, ticks: &[f64]) -> String {
-    let step = if ticks.len() > 1 {
-        ticks[1] - ticks[0]
-    } else {
-        1.0
-    };
-    let big = ticks.iter().fold(0.0f64, |m, t| m.max(t.abs()));
-    if !(1e-3..1e6).contains(&big) {
-        return format!("{v:.2e}");
-    }
-    let decimals = (-(step.log10().floor()) + 1.0).max(0.0) as usize;
-    let mut s = format!("{v:.decimals$}");
-    if s.contains('.') {
-        // Trim trailing zeros the step does not need.
-        let need = (0..=decimals)
-            .find(|&d| {
-                ((step * 10f64.powi(d as i32)).round() - step * 10f64.powi(d as i32)).abs() < 1e-6
-            })
-            .unwrap_or(decimals);
-        s = format!("{v:.need$}");
-    }
-    if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
-        s.remove(0);
-    }
-    s
-}
-
-/// Escapes the XML special characters of a text.
-fn escape(t: &str) -> String {
-    t.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -488,13 +480,22 @@ mod tests {
         // Degenerate ranges still give an axis.
         assert!(nice_ticks(&[5.0, 5.0], 6).len() >= 2);
         assert!(nice_ticks(&[], 6).len() >= 2);
-        assert_eq!(tick_label(0.5, &[0.0, 0.5, 1.0]), "0.5");
-        assert_eq!(tick_label(2000.0, &[0.0, 2000.0]), "2000");
+        assert_eq!(tick_text(0.5), "0.5");
+        assert_eq!(tick_text(2000.0), "2000");
+        assert_eq!(tick_text(0.30000000000000004), "0.3");
+        assert_eq!(tick_text(1e-5), "1e-5");
+        assert_eq!(tick_text(2.5e7), "2.5e7");
     }
 
     #[test]
-    fn svg_has_panels_series_and_legend() {
-        let fig = Figure::new()
+    fn log_axes_span_whole_decades_of_the_positive_data() {
+        assert_eq!(axis_range(&[0.02, 3.0, -1.0, 0.0], true), (0.01, 10.0));
+        assert_eq!(axis_range(&[1.0, 1.0], true), (1.0, 10.0));
+        assert_eq!(axis_range(&[-1.0], true), (0.1, 10.0));
+    }
+
+    fn sample() -> Figure {
+        Figure::new()
             .with(
                 Panel::new("a <b>", "x (m)", "y (m)")
                     .with(Series::new(
@@ -509,127 +510,77 @@ mod tests {
                         vec![0., 1., f64::NAN],
                         vec![1., 2., 3.],
                         Style::Markers,
-                        "blue",
+                        "#1f77b4",
                     )),
             )
-            .with(Panel::new("b", "t (s)", "v").with(Series::new(
-                "",
-                vec![0., 1., 2., 3.],
-                vec![1., f64::INFINITY, 2., 3.],
-                Style::Dashed,
-                "green",
-            )));
-        let svg = fig.to_svg();
-        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
-        assert!(svg.contains("a &lt;b&gt;"));
-        assert_eq!(svg.matches("<circle").count(), 2 + 1); // 2 points + legend sample
-        assert_eq!(svg.matches("stroke-dasharray").count(), 1); // one run of 2 points
-        assert!(!svg.contains("NaN") && !svg.contains("inf"));
+            .with(
+                Panel::new("b", "t (s)", "v (m/s)")
+                    .with(Series::new(
+                        "",
+                        vec![0.1, 1., 2., 3.],
+                        vec![1., f64::INFINITY, 2., 300.],
+                        Style::Dashed,
+                        "green",
+                    ))
+                    .log_log(),
+            )
     }
 
-    /// Liang–Barsky: a segment that crosses the rectangle with both ends outside covers it;
-    /// one that passes beside it, or a marker outside it, does not.
+    /// The SVG holds both titles (escaped), one circle per finite marker plus the legend's,
+    /// no non-finite number, and log-axis tick labels at decades.
     #[test]
-    fn coverage_of_a_rectangle_by_segments_and_markers() {
-        let id = |v: f64| v;
-        let rect = (10.0, 10.0, 20.0, 20.0);
-        let line = |x: Vec<f64>, y: Vec<f64>| Series::new("", x, y, Style::Line, "red");
-        assert!(covers(
-            &line(vec![0.0, 30.0], vec![15.0, 15.0]),
-            &id,
-            &id,
-            rect
-        ));
-        assert!(covers(
-            &line(vec![0.0, 30.0], vec![0.0, 30.0]),
-            &id,
-            &id,
-            rect
-        ));
-        assert!(!covers(
-            &line(vec![0.0, 30.0], vec![25.0, 25.0]),
-            &id,
-            &id,
-            rect
-        ));
-        assert!(!covers(
-            &line(vec![0.0, 9.0], vec![0.0, 30.0]),
-            &id,
-            &id,
-            rect
-        ));
-        let dots = |x: Vec<f64>, y: Vec<f64>| Series::new("", x, y, Style::Markers, "blue");
-        assert!(covers(&dots(vec![15.0], vec![12.0]), &id, &id, rect));
-        assert!(!covers(
-            &dots(vec![5.0, 25.0], vec![15.0, 15.0]),
-            &id,
-            &id,
-            rect
-        ));
-    }
-
-    /// The legend box (the only rect with `fill-opacity`) of the first panel: (x, y, w, h).
-    fn legend_rect(svg: &str) -> (f64, f64, f64, f64) {
-        let line = svg
-            .lines()
-            .find(|l| l.contains("fill-opacity"))
-            .expect("a legend");
-        let attr = |k: &str| -> f64 {
-            let a = line.find(&format!(" {k}=\"")).expect(k) + k.len() + 3;
-            line[a..a + line[a..].find('"').expect("quote")]
-                .parse()
-                .expect("number")
-        };
-        (attr("x"), attr("y"), attr("width"), attr("height"))
-    }
-
-    /// A rising line fills the top-right corner: the legend moves to the top left, where
-    /// the line is low. Lines in all four corners: the y axis gains headroom instead, and
-    /// the legend lies above every point of the data.
-    #[test]
-    fn legend_never_covers_data() {
-        let rising = Panel::new("p", "x (m)", "y (m)").with(Series::new(
-            "rising",
-            (0..=100).map(|i| i as f64).collect(),
-            (0..=100).map(|i| i as f64).collect(),
-            Style::Line,
-            "red",
-        ));
-        let fig = Figure::new().with(rising);
-        let (x, _, _, _) = legend_rect(&fig.to_svg());
-        assert_eq!(x, MARGIN_LEFT + 8.0, "top left expected");
-        // Two horizontal lines near the top and the bottom of the range cross every corner's
-        // box (a line right on the frame's edge would pass beside it).
-        let full = Panel::new("p", "x (m)", "y (m)")
-            .with(Series::new(
-                "top",
-                vec![0.0, 100.0],
-                vec![95.0, 95.0],
-                Style::Line,
-                "red",
-            ))
-            .with(Series::new(
-                "bottom",
-                vec![0.0, 100.0],
-                vec![5.0, 5.0],
-                Style::Line,
-                "blue",
-            ));
-        let fig = Figure::new().with(full);
-        let svg = fig.to_svg();
-        let (_, y, _, h) = legend_rect(&svg);
-        // The y of the data's top line, read back from its polyline.
-        let top = svg
-            .lines()
-            .find(|l| l.contains("<polyline") && l.contains("red"))
-            .and_then(|l| l.split("points=\"").nth(1))
-            .and_then(|p| p.split(' ').next())
-            .and_then(|p| p.split(',').nth(1))
-            .and_then(|v| v.parse::<f64>().ok())
-            .expect("top line");
+    fn svg_has_panels_series_legend_and_log_ticks() {
+        let svg = sample().to_svg();
         assert!(
-            y + h < top,
-            "legend {y}+{h} must lie above the data at {top}"
+            svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"),
+            "{svg}"
         );
+        assert!(svg.contains("a &lt;b&gt;"));
+        assert_eq!(svg.matches("<circle").count(), 2 + 1);
+        assert!(!svg.contains("NaN") && !svg.contains("inf"));
+        for decade in ["1", "10", "100", "1000"] {
+            let label = format!("\n{decade}\n</text>");
+            assert!(svg.contains(&label), "log tick {decade} missing");
+        }
+    }
+
+    /// The legend column lies right of every data point: the legend's circle sample is
+    /// further right than any marker of the data, and the legend's frame starts right of
+    /// the plot frame.
+    #[test]
+    fn legend_stands_beside_the_data() {
+        let svg = sample().to_svg();
+        let cx: Vec<f64> = svg
+            .split("<circle cx=\"")
+            .skip(1)
+            .map(|s| s[..s.find('"').unwrap()].parse().unwrap())
+            .collect();
+        assert_eq!(cx.len(), 3);
+        let legend = cx.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+        let width = 900.0 - legend_width(&sample().panels[0]) as f64;
+        assert!(
+            legend > width,
+            "legend sample at {legend} px, column from {width} px"
+        );
+        assert!(
+            cx.iter().filter(|&&x| x < width).count() == 2,
+            "data markers left of it"
+        );
+    }
+
+    /// PNG through the bitmap backend and the bundled font: a valid PNG of the figure's
+    /// size with more than background in it.
+    #[test]
+    fn png_is_written_with_the_bundled_font() {
+        let dir = std::env::temp_dir().join(format!("railfem-plot-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("f.png");
+        sample().write_png(&p).unwrap();
+        let bytes = std::fs::read(&p).unwrap();
+        assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+        let w = u32::from_be_bytes(bytes[16..20].try_into().unwrap());
+        let h = u32::from_be_bytes(bytes[20..24].try_into().unwrap());
+        assert_eq!((w, h), (900, 680));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -63,6 +63,19 @@ pub struct State {
     pub f_ext: Vec<f64>,
 }
 
+/// The linear system about the reference state ([`Driver::reference_system`]).
+#[derive(Debug, Clone)]
+pub struct ReferenceSystem {
+    /// Tangent stiffness at zero displacement (N/m, N·m/rad, ...).
+    pub stiffness: CscMatrix,
+    /// Constant mass (kg, kg·m²).
+    pub mass: CscMatrix,
+    /// Constant damping, Rayleigh included (N·s/m, ...).
+    pub damping: CscMatrix,
+    /// External load at the current time, full load factor (N, N·m).
+    pub load: Vec<f64>,
+}
+
 /// Wall-clock time spent per phase (s).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Timings {
@@ -765,6 +778,28 @@ impl Driver {
                 crate::modal::ModalError::Solver(s) => self.singular(s),
                 other => FemError::input(&self.model.origin, format!("modal analysis: {other}")),
             }
+        })
+    }
+
+    /// The linear system about the reference state at the current time: the whole tangent
+    /// stiffness `K` at zero displacement, velocity and acceleration (constant and variable
+    /// elements), the constant mass `M` and damping `C` (Rayleigh included), and the
+    /// external load vector at full load factor (`railfem matrices`, docs/matrices.md).
+    pub fn reference_system(&mut self) -> Result<ReferenceSystem, FemError> {
+        let n = self.neq();
+        let z = vec![0.0; n];
+        let mut f_int = vec![0.0; n];
+        let t = self.state.t;
+        self.asm.advance(&mut self.model, t, 0.0)?;
+        self.asm
+            .update(&mut self.model, &z, &z, &z, t, 0.0, &mut f_int, true)?;
+        let mut load = vec![0.0; n];
+        self.asm.external_force(&self.model, t, 1.0, &mut load)?;
+        Ok(ReferenceSystem {
+            stiffness: self.whole_matrix(1.0, 0.0, 0.0),
+            mass: self.asm.m_const.clone(),
+            damping: self.asm.c_const.clone(),
+            load,
         })
     }
 

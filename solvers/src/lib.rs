@@ -19,4 +19,4 @@ pub mod modal;
 pub mod partition;
 pub mod preflight;
 
-pub use driver::{Driver, RunSummary, State, StepReport};
+pub use driver::{Driver, ReferenceSystem, RunSummary, State, StepReport};
