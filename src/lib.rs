@@ -24,8 +24,8 @@ pub mod matrices;
 pub mod oscillators;
 pub mod pareto;
 pub mod progress;
-pub mod sidecar;
 pub mod rolling_contact;
+pub mod sidecar;
 pub mod stress;
 pub mod train_bridge;
 

@@ -182,7 +182,12 @@ fn todays_invocations_parse_to_the_same_options() {
         ],
         &["run", "m.toml", "--max-memory", "8G", "--max-steps", "1e8"],
         &["check", "MODEL.toml"],
-        &["matrices", "examples/models/cantilever.toml", "--out", "out/m"],
+        &[
+            "matrices",
+            "examples/models/cantilever.toml",
+            "--out",
+            "out/m",
+        ],
         &["elements"],
         &["elements", "--plugin", "p.so"],
         &["conformance", "--element", "suspension"],

@@ -187,5 +187,8 @@ fn matrices_without_a_model_is_refused() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(err.trim().lines().count(), 1, "{err}");
-    assert!(err.contains("<MODEL>") && err.contains("railfem matrices --help"), "{err}");
+    assert!(
+        err.contains("<MODEL>") && err.contains("railfem matrices --help"),
+        "{err}"
+    );
 }

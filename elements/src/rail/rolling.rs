@@ -70,7 +70,11 @@ pub struct Rolling {
 /// than a hundredth of the curve radius.
 pub fn frame_rotation(w0: &Matrix3<f64>, w: &Matrix3<f64>) -> Vector3<f64> {
     let r = w0.transpose() * w;
-    Vector3::new(r[(2, 1)] - r[(1, 2)], r[(0, 2)] - r[(2, 0)], r[(1, 0)] - r[(0, 1)]) * 0.5
+    Vector3::new(
+        r[(2, 1)] - r[(1, 2)],
+        r[(0, 2)] - r[(2, 0)],
+        r[(1, 0)] - r[(0, 1)],
+    ) * 0.5
 }
 
 /// One contact point's inputs.
@@ -287,12 +291,18 @@ mod tests {
     fn curve_frame_rotation_gives_the_inner_wheel_negative_longitudinal_creepage() {
         let (r, b) = (1500.0, 0.75);
         for side in [1.0, -1.0] {
-            let mut c = Case::default();
-            c.frame_rotation = Vector3::new(0.0, DS / r, 0.0);
-            c.rho = Vector3::new(side * b, 0.0, 0.0);
+            let c = Case {
+                frame_rotation: Vector3::new(0.0, DS / r, 0.0),
+                rho: Vector3::new(side * b, 0.0, 0.0),
+                ..Default::default()
+            };
             let p = run(&c);
             let want = -side * b / r;
-            assert!((p.creepage[0] - want).abs() < 1e-12 * (b / r), "{side}: {} vs {want}", p.creepage[0]);
+            assert!(
+                (p.creepage[0] - want).abs() < 1e-12 * (b / r),
+                "{side}: {} vs {want}",
+                p.creepage[0]
+            );
             assert!(p.creepage[1].abs() < 1e-15);
         }
     }
