@@ -371,7 +371,7 @@ fn plot(rows: &[PhaseRow], path: &Path) -> Result<(), FemError> {
     ));
     Figure::new()
         .with(p)
-        .write_svg(path)
+        .write_svg_and_png(path)
         .map_err(|e| FemError::output(path, e))
 }
 

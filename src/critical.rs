@@ -559,7 +559,7 @@ pub fn write_sweep(
     let svg = dir.join(format!("critical_{name}.svg"));
     Figure::new()
         .with(panel)
-        .write_svg(&svg)
+        .write_svg_and_png(&svg)
         .map_err(|e| FemError::output(&svg, e))
 }
 

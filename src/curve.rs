@@ -690,5 +690,6 @@ fn plot(r: &CurveReport, path: &FsPath) -> Result<(), FemError> {
         "#2ca02c",
     ));
     let fig = Figure::new().with(normal).with(shear);
-    fig.write_svg(path).map_err(|e| FemError::output(path, e))
+    fig.write_svg_and_png(path)
+        .map_err(|e| FemError::output(path, e))
 }

@@ -101,7 +101,8 @@ pub fn run(
     let p = out.join("psd.csv");
     std::fs::write(&p, psd_csv).map_err(|e| FemError::output(&p, e))?;
     let p = out.join("irregularity-psd.svg");
-    fig.write_svg(&p).map_err(|e| FemError::output(&p, e))?;
+    fig.write_svg_and_png(&p)
+        .map_err(|e| FemError::output(&p, e))?;
     Ok(reports)
 }
 

@@ -624,7 +624,7 @@ pub fn run(grid: &Grid, out: &Path) -> Result<Vec<Run>, FemError> {
     for case in &grid.cases {
         let p = out.join(format!("pareto-{case}.svg"));
         figure(&runs, case)
-            .write_svg(&p)
+            .write_svg_and_png(&p)
             .map_err(|e| FemError::output(&p, e))?;
     }
     print!("{md}");

@@ -674,6 +674,25 @@ fn cli_track_writes_the_report() {
     let csv = std::fs::read_to_string(dir.join("track.csv")).unwrap();
     let svg = std::fs::read_to_string(dir.join("track.svg")).unwrap();
     assert!(svg.starts_with("<svg") || svg.starts_with("<?xml"));
+    // The PNG beside it: the PNG signature, and the raster's size (IHDR width and height,
+    // big-endian at bytes 16..24) equal to the SVG's declared width and height.
+    let png = std::fs::read(dir.join("track.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    let be = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    let attr = |name: &str| -> u32 {
+        let i = svg.find(&format!("{name}=\"")).unwrap() + name.len() + 2;
+        svg[i..]
+            .split('"')
+            .next()
+            .unwrap()
+            .trim_end_matches("px")
+            .parse()
+            .unwrap()
+    };
+    assert_eq!(
+        (be(&png[16..20]), be(&png[20..24])),
+        (attr("width"), attr("height"))
+    );
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),

@@ -429,6 +429,14 @@ impl Figure {
         std::fs::write(path, self.to_svg())
     }
 
+    /// Writes the figure as SVG at `svg` and as PNG beside it (same name, `.png`): the
+    /// vector file for documents, the raster one for viewers and slides.
+    pub fn write_svg_and_png(&self, svg: impl AsRef<Path>) -> io::Result<()> {
+        let svg = svg.as_ref();
+        self.write_svg(svg)?;
+        self.write_png(svg.with_extension("png"))
+    }
+
     /// Writes the figure as a PNG file (the same drawing, rasterized with the bundled font).
     pub fn write_png(&self, path: impl AsRef<Path>) -> io::Result<()> {
         let root = BitMapBackend::new(path.as_ref(), self.size()).into_drawing_area();

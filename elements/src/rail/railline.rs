@@ -233,7 +233,7 @@ pub fn write_track_report(track: &Track, dir: impl AsRef<Path>) -> io::Result<()
     std::fs::create_dir_all(dir)?;
     let step = 10.0f64.max(track.alignment.length() / 5000.0);
     track.write_csv(dir.join("track.csv"), step)?;
-    track.figure(step).write_svg(dir.join("track.svg"))
+    track.figure(step).write_svg_and_png(dir.join("track.svg"))
 }
 
 /// Station → (element, local coordinate) search over the node stations of a rail mesh.
