@@ -657,6 +657,18 @@ impl MovingAxle {
         self.points.iter().map(|(i, s, yr, yw)| (*i, s, *yr, *yw))
     }
 
+    /// The touching rail nodes of the trial state, in rail node order: normal force (N),
+    /// creepage ξx (−), longitudinal creep force Fx (N) and the contact's lateral coordinate
+    /// on the wheel profile (m, the profile's own y, tape circle at 0). Creepage and creep
+    /// force are 0 when the step does not roll (Coulomb law).
+    pub fn creep_points(&self) -> impl Iterator<Item = [f64; 4]> + '_ {
+        let shift = self.setup.wheel_shift.x;
+        self.points
+            .iter()
+            .zip(&self.creep_out)
+            .map(move |(p, c)| [p.1.f_n, c[0], c[3], p.3 - shift])
+    }
+
     /// Wheel profile points in the profile plane relative to B, rail profile nodes relative
     /// to C, and the reference offset C − B: for drawing cross-sections.
     pub fn profiles(&self) -> (Vec<Vector2<f64>>, Vec<Vector2<f64>>, Vector2<f64>) {
@@ -1795,7 +1807,12 @@ mod creep_tests {
     /// Sizes of the contact patches (runs of consecutive touching rail nodes) of a sample
     /// after its trial update.
     fn patch_sizes(s: &Sample) -> Vec<usize> {
-        let e = s.element.as_any().unwrap().downcast_ref::<MovingAxle>().unwrap();
+        let e = s
+            .element
+            .as_any()
+            .unwrap()
+            .downcast_ref::<MovingAxle>()
+            .unwrap();
         let kx: Vec<usize> = e.contact_points().map(|p| p.0).collect();
         let mut sizes = Vec::new();
         for (i, k) in kx.iter().enumerate() {
