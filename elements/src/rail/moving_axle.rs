@@ -155,6 +155,9 @@ struct History {
     rail_ids: Option<[usize; 2]>,
     /// Relative displacement Δ of every rail node at the last commit (m).
     deltas: Vec<Vector3<f64>>,
+    /// Normal force of every rail node at the last commit (N, 0 when open): places the
+    /// ellipse of a contact patch for the next step.
+    loads: Vec<f64>,
 }
 
 /// The moving wheel-axle element (one wheel).
@@ -592,6 +595,7 @@ impl MovingAxle {
             q: vec![0.0; 21],
             rail_ids: None,
             deltas: vec![Vector3::zeros(); n],
+            loads: vec![0.0; n],
         };
         MovingAxle {
             setup,
@@ -1000,7 +1004,7 @@ impl MovingAxle {
     /// The creep forces of the touching rail nodes, one Hertz ellipse per contact patch (a
     /// run of consecutive touching rail nodes; tread and flange are separate runs): the
     /// patch load `N_p = Σ N_k`, its ellipse shaped at the patch's load-weighted node (rounded
-    /// to a node, whose shape is fixed for the step), and each node carrying the share
+    /// to a node, from the loads at the last commit, so fixed for the step), and each node carrying the share
     /// `N_k/N_p` of the law evaluated with its own creepages and the patch's load
     /// ([`point_creep`]). A per-node ellipse would make the creep coefficient (∝ a·b ∝ N^{2/3})
     /// grow with the number of nodes sharing a load: 2·(N/2)^{2/3} = 1.26 N^{2/3} for two.
@@ -1027,15 +1031,23 @@ impl MovingAxle {
             let patch = &touching[start..end];
             let mut n_p = 0.0;
             let mut dn_p = SMatrix::<f64, 1, 21>::zeros();
-            let mut moment = 0.0;
+            let (mut moment, mut n_old) = (0.0, 0.0);
             for c in patch {
-                let f_n = -k * c.gap;
-                n_p += f_n;
-                moment += f_n * c.kx as f64;
+                n_p -= k * c.gap;
                 dn_p -= (c.w.transpose() * c.t) * k;
+                let f_old = self.committed.loads[c.kx];
+                moment += f_old * c.kx as f64;
+                n_old += f_old;
             }
-            let centre =
-                ((moment / n_p).round() as usize).clamp(patch[0].kx, patch[end - start - 1].kx);
+            // The ellipse's node: the patch's load-weighted centre at the last commit
+            // (fixed within the step, so Newton sees no shape jumps while the loads
+            // change); the patch's middle node for a patch that is new in this step.
+            let (first, last) = (patch[0].kx, patch[end - start - 1].kx);
+            let centre = if n_old > 0.0 {
+                ((moment / n_old).round() as usize).clamp(first, last)
+            } else {
+                (first + last) / 2
+            };
             let shape = self.shape_at(centre, set.rail_nodes[centre] + self.origin());
             let shared = (patch.len() > 1).then_some((n_p, dn_p));
             for c in patch {
@@ -1191,6 +1203,10 @@ impl Element for MovingAxle {
         next.q.copy_from_slice(&self.last_q);
         next.rail_ids = Some([self.conn[2].node, self.conn[3].node]);
         next.deltas.copy_from_slice(&self.deltas);
+        next.loads.iter_mut().for_each(|x| *x = 0.0);
+        for (kx, st, _, _) in &self.points {
+            next.loads[*kx] = st.f_n;
+        }
         self.shapes.iter_mut().for_each(|x| *x = None);
         if let Some(roll) = self.rolling {
             // Rolling contact: no stick anchors (each anchor restarts at the current Δ, as
