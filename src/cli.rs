@@ -810,6 +810,13 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             ))
         }
     };
+    let tangential = a.opt("tangential").unwrap_or("coulomb");
+    if !["coulomb", "kalker_linear", "polach"].contains(&tangential) {
+        return Err(FemError::input(
+            "command line",
+            format!("--tangential {tangential}: use coulomb, kalker_linear or polach"),
+        ));
+    }
     if a.flags.iter().any(|f| f == "sweep") {
         if let Some(t) = a.opt("tangential").filter(|t| *t != "coulomb") {
             return Err(FemError::input(
@@ -901,7 +908,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
         clothoid: a.num("clothoid")?.unwrap_or(2000.0),
         dt: a.num("dt")?.unwrap_or(0.01),
         geometry: geometry(a)?,
-        tangential: a.opt("tangential").unwrap_or("coulomb").to_string(),
+        tangential: tangential.to_string(),
     };
     let out = a.out.clone();
     let r = crate::critical::run_with_sections(&case, out.as_deref())?;
