@@ -1003,11 +1003,12 @@ impl MovingAxle {
 
     /// The creep forces of the touching rail nodes, one Hertz ellipse per contact patch (a
     /// run of consecutive touching rail nodes; tread and flange are separate runs): the
-    /// patch load `N_p = Σ N_k`, its ellipse shaped at the patch's load-weighted node (rounded
-    /// to a node, from the loads at the last commit, so fixed for the step), and each node carrying the share
-    /// `N_k/N_p` of the law evaluated with its own creepages and the patch's load
-    /// ([`point_creep`]). A per-node ellipse would make the creep coefficient (∝ a·b ∝ N^{2/3})
-    /// grow with the number of nodes sharing a load: 2·(N/2)^{2/3} = 1.26 N^{2/3} for two.
+    /// patch load `N_p = Σ N_k`; its ellipse shaped at the patch's load-weighted node
+    /// (rounded to a node, weighted by the loads at the last commit, so fixed for the
+    /// step); each node carrying the share `N_k/N_p` of the law evaluated with its own
+    /// creepages and the patch's load ([`point_creep`]). A per-node ellipse would make the
+    /// creep coefficient (∝ a·b ∝ N^{2/3}) grow with the number of nodes sharing a load:
+    /// 2·(N/2)^{2/3} = 1.26·N^{2/3} for two.
     #[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
     fn rolling_contact(
         &mut self,
