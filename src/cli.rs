@@ -825,7 +825,20 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             ))
         }
     };
+    let tangential = a.opt("tangential").unwrap_or("coulomb");
+    if !["coulomb", "kalker_linear", "polach"].contains(&tangential) {
+        return Err(FemError::input(
+            "command line",
+            format!("--tangential {tangential}: use coulomb, kalker_linear or polach"),
+        ));
+    }
     if a.flags.iter().any(|f| f == "sweep") {
+        if let Some(t) = a.opt("tangential").filter(|t| *t != "coulomb") {
+            return Err(FemError::input(
+                "command line",
+                format!("--tangential {t} with --sweep: the sweep runs the paper's Coulomb law only; drop --sweep and run single points (--speed, --ct, --mu)"),
+            ));
+        }
         let list = |key: &str, default: &[f64]| -> Result<Vec<f64>, FemError> {
             match a.opt(key) {
                 None => Ok(default.to_vec()),
@@ -910,6 +923,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
         clothoid: a.num("clothoid")?.unwrap_or(2000.0),
         dt: a.num("dt")?.unwrap_or(0.01),
         geometry: geometry(a)?,
+        tangential: tangential.to_string(),
     };
     let out = a.out.clone();
     let r = crate::critical::run_with_sections(&case, out.as_deref())?;
@@ -918,8 +932,10 @@ fn critical(a: &Args) -> Result<i32, FemError> {
     }
     let f = |x: Option<f64>| x.map_or("not reached".to_string(), |v| format!("{v:.1} m"));
     println!(
-        "{:?}: V = {} m/s, Ct = {} m, mu = {}: FE {} (gross sliding {}), theory (statics) {}, Eq. 25 as printed {}",
-        case.criterion, case.speed, case.ct, case.mu, f(r.fe), f(r.fe_gross), f(r.theory), f(r.theory_printed)
+        "{:?}: V = {} m/s, Ct = {} m, mu = {}{}: FE {} (gross sliding {}), theory (statics) {}, Eq. 25 as printed {}",
+        case.criterion, case.speed, case.ct, case.mu,
+        if case.tangential == "coulomb" { String::new() } else { format!(", tangential {}", case.tangential) },
+        f(r.fe), f(r.fe_gross), f(r.theory), f(r.theory_printed)
     );
     if let (Some(fe), Some(th)) = (r.fe, r.theory) {
         println!(

@@ -235,6 +235,11 @@ pub struct CriticalCmd {
     /// Friction coefficient μ [default: 0.3].
     #[arg(long, value_name = "MU")]
     pub mu: Option<OsString>,
+    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear or
+    /// polach (rolling-contact creep; sliding onset = every contact at 99 % of μN for the
+    /// gross criterion, docs/creep.md) [default: coulomb]. Single runs only.
+    #[arg(long, value_name = "coulomb|kalker_linear|polach")]
+    pub tangential: Option<OsString>,
     /// Clothoid length in m [default: 2000].
     #[arg(long, value_name = "L")]
     pub clothoid: Option<OsString>,

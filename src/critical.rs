@@ -56,6 +56,14 @@ pub struct CriticalCase {
     /// Geometry of the carriage ("linear" or "nonlinear").
     #[serde(default)]
     pub geometry: Geometry,
+    /// Tangential law of the wheels (`moving_axle` key `tangential`): "coulomb" (the
+    /// paper's), "kalker_linear" or "polach" (docs/creep.md).
+    #[serde(default = "coulomb")]
+    pub tangential: String,
+}
+
+fn coulomb() -> String {
+    "coulomb".into()
 }
 
 /// What one run found (radii in m; `None` when not reached).
@@ -181,6 +189,7 @@ pub fn run_with_sections(
         duration: (lead + case.clothoid + 150.0 - 20.0) / case.speed,
         sliding_tangent: "consistent".into(),
         geometry: case.geometry,
+        tangential: case.tangential.clone(),
         ..CurveCase::default()
     };
     let mut m = curve.build()?;
@@ -402,6 +411,7 @@ pub fn sweep(
                     clothoid,
                     dt,
                     geometry,
+                    tangential: coulomb(),
                 });
             }
         }
@@ -535,6 +545,7 @@ pub fn write_sweep(
                 clothoid: 0.0,
                 dt: 0.0,
                 geometry: Geometry::Linear,
+                tangential: coulomb(),
             };
             let (st, _) = theory_radius(&case, 1.507, 9.81);
             xs.push(v);

@@ -293,6 +293,8 @@ fn curve_command_refuses_bad_options() {
         vec!["curve", "--dt", "0", "--quick", "--quiet"],
         vec!["curve", "--speed", "abc"],
         vec!["critical-radius", "--criterion", "tipping"],
+        vec!["critical-radius", "--tangential", "fastsim"],
+        vec!["critical-radius", "--sweep", "--tangential", "polach"],
     ] {
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
             .args(&args)

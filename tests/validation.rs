@@ -53,6 +53,7 @@ fn fig7_sliding_radius_matches_theory() {
             clothoid: 1000.0,
             dt: 0.01,
             geometry: Default::default(),
+            tangential: "coulomb".into(),
         };
         let r = critical::run(&case).expect("runs");
         let (fe, th) = (r.fe.expect("FE slides"), r.theory.expect("theory slides"));
@@ -85,6 +86,7 @@ fn fig9_separation_radius_matches_statics_about_the_contact() {
         clothoid: 2000.0,
         dt: 0.01,
         geometry: Default::default(),
+        tangential: "coulomb".into(),
     };
     let r = critical::run(&case).expect("runs");
     let fe = r.fe.expect("the inner wheel separates");

@@ -143,6 +143,7 @@ fn separation_with_lean_follows_the_lean_statics() {
         clothoid: 2000.0,
         dt: 0.01,
         geometry: Geometry::Nonlinear,
+        tangential: "coulomb".into(),
     };
     let r = critical::run(&case).expect("runs");
     let fe = r.fe.expect("the inner wheel separates");

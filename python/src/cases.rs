@@ -196,6 +196,7 @@ pub fn critical_radius<'py>(
         clothoid,
         dt,
         geometry: self::geometry(geometry, "critical_radius()")?,
+        tangential: "coulomb".into(),
     };
     let r = guarded(py, || {
         railfem::critical::run_with_sections(&case, out.as_deref())

@@ -99,6 +99,10 @@ pub struct PointInput<'a> {
     /// Position of the contact's rail profile node relative to the track centre line at
     /// the station, wheel frame (m): the lever arm of the frame's rotation.
     pub rho: Vector3<f64>,
+    /// The contact patch this point belongs to, when it shares it with other points: the
+    /// patch's total normal load `N_p` (N) and its derivative with respect to the element
+    /// DOFs. `None`: the point is a patch of its own (`N_p = N`).
+    pub patch: Option<(f64, SMatrix<f64, 1, 21>)>,
 }
 
 /// One contact point's result.
@@ -159,18 +163,31 @@ pub fn point_creep(
     // Normal load.
     let f_n = -p.k * p.gap;
     let dn = -(p.w.transpose() * t) * p.k;
-    let (fx, fy) = creep_forces(law, shape, mat, roll.speed, [xi_x, xi_y, spin, f_n]);
-    let grad = |f: &super::creep::dual::D4| -> SMatrix<f64, 1, 21> {
-        dxi_x * f.d[0] + dxi_y * f.d[1] + dspin * f.d[2] + dn * f.d[3]
+    // The patch rule (module docs of `moving_axle`): the law is evaluated with this point's
+    // creepages and the patch's load `N_p` (its ellipse), and the point carries the share
+    // `w = N/N_p` of that force: F = w·F_law(ξ, φ, N_p). Then
+    // dF = w·(∂F_law/∂ξ·dξ + ∂F_law/∂φ·dφ + ∂F_law/∂N·dN_p) + F_law·dw,
+    // dw = (dN − w·dN_p)/N_p, where dN_p sums the loads of every point of the patch.
+    let (n_p, dn_p) = p.patch.unwrap_or((f_n, dn));
+    let share = if n_p > 0.0 { f_n / n_p } else { 1.0 };
+    let dshare = if n_p > 0.0 {
+        (dn - dn_p * share) / n_p
+    } else {
+        SMatrix::zeros()
     };
+    let (fx, fy) = creep_forces(law, shape, mat, roll.speed, [xi_x, xi_y, spin, n_p]);
+    let grad = |f: &super::creep::dual::D4| -> SMatrix<f64, 1, 21> {
+        (dxi_x * f.d[0] + dxi_y * f.d[1] + dspin * f.d[2] + dn_p * f.d[3]) * share + dshare * f.v
+    };
+    let (fx_v, fy_v) = (fx.v * share, fy.v * share);
     // Normal part as in the Coulomb law: φ = k·g·w, ∂φ/∂Δ = k·(w·wᵀ + g·∇²g).
-    let force = p.w * (p.k * p.gap) + e3 * fx.v + u * fy.v;
+    let force = p.w * (p.k * p.gap) + e3 * fx_v + u * fy_v;
     let d_normal = (p.w * p.w.transpose() + p.hess * p.gap) * p.k;
-    let d_force = d_normal * t + e3 * grad(&fx) + u * grad(&fy) + du_dq * fy.v;
+    let d_force = d_normal * t + e3 * grad(&fx) + u * grad(&fy) + du_dq * fy_v;
     PointCreep {
         creepage: [xi_x, xi_y, spin],
-        fx: fx.v,
-        fy: fy.v,
+        fx: fx_v,
+        fy: fy_v,
         f_n,
         force,
         d_force,
@@ -278,6 +295,7 @@ mod tests {
                 hess: &Matrix3::zeros(),
                 k: K,
                 rho: c.rho,
+                patch: None,
             },
         )
     }
