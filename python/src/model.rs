@@ -157,6 +157,15 @@ impl Model {
     /// CSV files `railfem run --out` writes are written too.
     #[pyo3(signature = (out = None))]
     fn run<'py>(&self, py: Python<'py>, out: Option<PathBuf>) -> PyResult<Bound<'py, PyDict>> {
+        // With `out`, the directory gets the CLI's sidecar too (`run.json`: version,
+        // what ran, start and end, status).
+        let record = out.as_ref().map(|dir| railfem::sidecar::RunRecord {
+            command: "python: railfem.Model.run".into(),
+            argv: vec![self.source.name()],
+            options: serde_json::json!({ "model": self.source.name(), "out": dir }),
+            dir: dir.clone(),
+            start: std::time::SystemTime::now(),
+        });
         let ran = guarded(py, || -> Result<Ran, FemError> {
             let (mut driver, pre) = self.source.prepare(false)?;
             let (summary, histories) = driver
@@ -174,8 +183,16 @@ impl Model {
                 warnings: pre.warnings,
                 size: pre.size.to_string(),
             })
-        })?
-        .map_err(to_py_err)?;
+        })?;
+        if let Some(r) = &record {
+            let status = match &ran {
+                Ok(_) => "completed".to_string(),
+                Err(e) => format!("failed: {}", e.to_string().replace('\n', " ")),
+            };
+            // A sidecar that cannot be written does not hide the run's own result.
+            let _ = r.write(&status);
+        }
+        let ran = ran.map_err(to_py_err)?;
         ran_to_py(py, ran, out.as_deref())
     }
 

@@ -8,6 +8,7 @@ from Python, printed the same way and read back, must give the very double read 
 command's CSV.
 """
 
+import json
 import re
 import threading
 import time
@@ -70,7 +71,13 @@ def test_files_written_from_python_are_the_cli_files(sprung):
     names = sorted(p.name for p in cli_out.iterdir())
     assert names == sorted(p.name for p in py_out.iterdir())
     for n in names:
+        if n == "run.json":
+            continue  # the sidecar names its command and times: compared below
         assert (cli_out / n).read_bytes() == (py_out / n).read_bytes(), n
+    cli, py = (json.loads((d / "run.json").read_text()) for d in (cli_out, py_out))
+    assert cli["status"] == py["status"] == "completed"
+    assert cli["railfem"] == py["railfem"]
+    assert py["command"] == "python: railfem.Model.run"
 
 
 def test_statistics_and_energy_are_what_the_cli_prints(sprung):
