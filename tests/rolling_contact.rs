@@ -69,3 +69,49 @@ fn fe_runs_bracket_the_linear_critical_speed() {
         );
     }
 }
+
+/// Steady curving of the suspended wheelset (k_ψ = 1e6 N·m/rad, k_y = 1e6 N/m) on a
+/// 1500 m left-hand curve at 10 m/s, no cant: the lateral offset and the angle of attack
+/// against linear curving theory (Boocock/Wickens, `steady_curving`:
+/// ψ = −2f11·b(λy/r0 + b/R)/k_ψ, y from the lateral balance with the cant deficiency).
+/// The curving demand b/R enters the element through the wheel frame's rotation over each
+/// step (`rolling::frame_rotation`); without it the FE offset is 0.0045 mm instead of
+/// 4.7 mm, and a sign error in it puts y on the wrong side. Measured (docs/rolling-contact.md):
+/// y −4.594 mm against −4.712 mm (2.5 %), ψ −0.302 mrad against −0.287 mrad (5.1 %). The
+/// theory's omissions account for this size of gap: the cone on the 60E1 crown has an
+/// effective conicity λ(1 + λR_crown/b) ≈ 1.02·λ (conicity.rs), and the theory leaves out
+/// the spin creep and the gravitational stiffness that the FE contains. Tolerances: 5 % on
+/// y and 10 % on ψ, twice the measured gaps; the missing-term and sign failures are 100 %
+/// and 200 %.
+#[test]
+fn suspended_wheelset_curves_as_linear_theory_says() {
+    use railfem::elements::rail::creep::linear_wheelset::steady_curving;
+    let (r, v) = (1500.0, 10.0);
+    let lambda = node_tangent_slope(41, 17);
+    let mut case = Case::klingel(Wheel::Cone(lambda), v, 60.0);
+    case.dt = 0.002;
+    case.suspended = Some(Suspended {
+        kx: 5e5,
+        ky: 5e5,
+        kz: 1e6,
+        b1: 1.0,
+        frame_mass: 8000.0,
+    });
+    case.offset = 0.0;
+    case.curve_radius = Some(r);
+    case.distance = 160.0;
+    let h = run(&case, &temp_dir("curving")).unwrap();
+    let b = 0.5
+        * (mean_between(&h.station, &h.contact_left, START + 4.0, 1e9)
+            + mean_between(&h.station, &h.contact_right, START + 4.0, 1e9));
+    let (ws, pr) = linear_model(&case, b).unwrap();
+    let (y, psi) = steady_curving(&ws, &pr, 1.0 / r, -WHEELSET_MASS * v * v / r).unwrap();
+    let end = START + case.distance;
+    let y_fe = mean_between(&h.station, &h.y, end - 30.0, end);
+    let psi_fe = mean_between(&h.station, &h.yaw, end - 30.0, end);
+    assert!((y_fe / y - 1.0).abs() < 0.05, "y FE {y_fe} m, theory {y} m");
+    assert!(
+        (psi_fe / psi - 1.0).abs() < 0.10,
+        "ψ FE {psi_fe} rad, theory {psi} rad"
+    );
+}
