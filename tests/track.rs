@@ -696,7 +696,7 @@ fn cli_track_writes_the_report() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "station,x,y,z,heading,curvature,radius,cant,e1x,e1y,e1z,e2x,e2y,e2z,e3x,e3y,e3z"
+        "station [m],x [m],y [m],z [m],heading [rad],curvature [1/m],radius [m],cant [rad],e1x [-],e1y [-],e1z [-],e2x [-],e2y [-],e2z [-],e3x [-],e3y [-],e3z [-]"
     );
     let rows: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())

@@ -93,14 +93,14 @@ impl Track {
     }
 
     /// Writes the track geometry sampled every `step` m (and at L) as CSV with the columns
-    /// `station,x,y,z,heading,curvature,radius,cant,e1x,e1y,e1z,e2x,e2y,e2z,e3x,e3y,e3z`:
+    /// `station [m],x [m],y [m],z [m],heading [rad],curvature [1/m],radius [m],cant [rad],e1x [-],e1y [-],e1z [-],e2x [-],e2y [-],e2z [-],e3x [-],e3y [-],e3z [-]`:
     /// centre-line position (m), heading (rad), signed curvature (1/m), radius 1/|κ| (m,
     /// `inf` on straights), cant magnitude θ (rad) and the wheel frame axes (unit vectors).
     pub fn write_csv(&self, path: impl AsRef<Path>, step: f64) -> io::Result<()> {
         let mut w = io::BufWriter::new(std::fs::File::create(path)?);
         writeln!(
             w,
-            "station,x,y,z,heading,curvature,radius,cant,e1x,e1y,e1z,e2x,e2y,e2z,e3x,e3y,e3z"
+            "station [m],x [m],y [m],z [m],heading [rad],curvature [1/m],radius [m],cant [rad],e1x [-],e1y [-],e1z [-],e2x [-],e2y [-],e2z [-],e3x [-],e3y [-],e3z [-]"
         )?;
         for s in self.samples(step) {
             let p = self.at(s);
@@ -371,7 +371,7 @@ mod tests {
         let mut lines = csv.lines();
         let head: Vec<&str> = lines.next().unwrap().split(',').collect();
         assert_eq!(head.len(), 17);
-        assert_eq!(head[6], "radius");
+        assert_eq!(head[6], "radius [m]");
         let rows: Vec<Vec<f64>> = lines
             .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect())
             .collect();
