@@ -977,7 +977,11 @@ impl Driver {
                         }
                         return Err(e);
                     }
-                    if k % spec.record_every == 0 || k == nsteps {
+                    // An interrupt stops the run at the end of this step, with this step
+                    // on file: the last state recorded, the recorders flushed (whole
+                    // lines), then say when.
+                    let stop = railfem_framework::interrupt::requested() && k < nsteps;
+                    if k % spec.record_every == 0 || k == nsteps || stop {
                         if let Some(r) = rec.as_mut() {
                             r.record(
                                 &mut self.model,
@@ -990,20 +994,8 @@ impl Driver {
                         }
                     }
                     progress(k as f64 / nsteps as f64);
-                    if railfem_framework::interrupt::requested() && k < nsteps {
-                        // Stop at the end of this step: the last state on file, the
-                        // recorders flushed (whole lines), then say when.
+                    if stop {
                         if let Some(r) = rec.as_mut() {
-                            if k % spec.record_every != 0 {
-                                r.record(
-                                    &mut self.model,
-                                    &self.asm,
-                                    self.state.t,
-                                    &self.state.q,
-                                    &self.state.v,
-                                    &self.state.a,
-                                )?;
-                            }
                             r.finish()?;
                         }
                         if let Some(dir) = out {
