@@ -179,6 +179,40 @@ fn legend_width(p: &Panel) -> u32 {
     }
 }
 
+/// Fraction of the data's extent left free above and below the data on a linear y axis,
+/// so that no line runs along the frame (a maximum that falls on a nice tick would).
+const Y_HEADROOM: f64 = 0.03;
+
+/// The data extent `values` widened by `fraction` of it at both ends (none for fewer than
+/// two distinct finite values).
+fn with_headroom(values: &[f64], fraction: f64) -> Vec<f64> {
+    let (lo, hi) = values
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if !(lo.is_finite() && hi.is_finite()) || hi <= lo {
+        return values.to_vec();
+    }
+    let pad = fraction * (hi - lo);
+    vec![lo - pad, hi + pad]
+}
+
+/// The decades `10^a ..= 10^b` of a log axis from `lo` to `hi` (themselves decades, from
+/// [`axis_range`]), each parsed from its decimal text so that it is the double nearest the
+/// power of ten; and the minor points `2·10^k … 9·10^k` between them. Plotters' own key
+/// points start from `ceil(ln(lo)/ln 10)`, which round-off turns into the next decade
+/// (`ln(1e-4)/ln(10) = −3.9999999999999996`), dropping the left-most label.
+fn log_key_points(lo: f64, hi: f64) -> (Vec<f64>, Vec<f64>) {
+    let (a, b) = (lo.log10().round() as i32, hi.log10().round() as i32);
+    let decade = |k: i32| format!("1e{k}").parse::<f64>().unwrap_or(f64::NAN);
+    let bold: Vec<f64> = (a..=b).map(decade).collect();
+    let light = (a..b)
+        .flat_map(|k| (2..10).map(move |m| format!("{m}e{k}").parse::<f64>().unwrap_or(f64::NAN)))
+        .collect();
+    (bold, light)
+}
+
 /// Axis range of `values`: for a linear axis the outer "nice" ticks ([`nice_ticks`]), for
 /// a log axis the enclosing decades of the positive values.
 fn axis_range(values: &[f64], log: bool) -> (f64, f64) {
@@ -392,18 +426,25 @@ impl Figure {
                     .collect::<Vec<_>>()
             };
             let (x0, x1) = axis_range(&finite(&xs), p.x_log);
-            let (y0, y1) = axis_range(&finite(&ys), p.y_log);
+            let ys = finite(&ys);
+            let (y0, y1) = if p.y_log {
+                axis_range(&ys, true)
+            } else {
+                axis_range(&with_headroom(&ys, Y_HEADROOM), false)
+            };
             let (sx, sy) = (x1 - x0, y1 - y0);
+            let log = |lo: f64, hi: f64| {
+                let (bold, light) = log_key_points(lo, hi);
+                (lo..hi)
+                    .log_scale()
+                    .with_key_points(bold)
+                    .with_light_points(light)
+            };
             match (p.x_log, p.y_log) {
                 (false, false) => draw_chart(&chart, p, (x0..x1, sx), (y0..y1, sy))?,
-                (true, false) => draw_chart(&chart, p, ((x0..x1).log_scale(), sx), (y0..y1, sy))?,
-                (false, true) => draw_chart(&chart, p, (x0..x1, sx), ((y0..y1).log_scale(), sy))?,
-                (true, true) => draw_chart(
-                    &chart,
-                    p,
-                    ((x0..x1).log_scale(), sx),
-                    ((y0..y1).log_scale(), sy),
-                )?,
+                (true, false) => draw_chart(&chart, p, (log(x0, x1), sx), (y0..y1, sy))?,
+                (false, true) => draw_chart(&chart, p, (x0..x1, sx), (log(y0, y1), sy))?,
+                (true, true) => draw_chart(&chart, p, (log(x0, x1), sx), (log(y0, y1), sy))?,
             }
             draw_legend(&legend, p)?;
         }
@@ -500,6 +541,46 @@ mod tests {
         assert_eq!(axis_range(&[0.02, 3.0, -1.0, 0.0], true), (0.01, 10.0));
         assert_eq!(axis_range(&[1.0, 1.0], true), (1.0, 10.0));
         assert_eq!(axis_range(&[-1.0], true), (0.1, 10.0));
+    }
+
+    /// Every decade of a log axis is labelled, the left-most too: an x axis from 1e-4
+    /// (where `ln(1e-4)/ln 10` rounds below −4) to 0.1 shows 1e-4, 0.001, 0.01 and 0.1.
+    #[test]
+    fn log_axes_label_their_first_decade() {
+        let (bold, light) = log_key_points(1e-4, 0.1);
+        assert_eq!(bold, vec![1e-4, 1e-3, 1e-2, 0.1]);
+        assert_eq!(light.len(), 3 * 8);
+        assert_eq!(light[0], 2e-4);
+        let svg = Figure::new()
+            .with(
+                Panel::new("t", "error (-)", "time (s)")
+                    .with(Series::new(
+                        "a",
+                        vec![2e-4, 5e-2],
+                        vec![3.0, 40.0],
+                        Style::Markers,
+                        "red",
+                    ))
+                    .log_log(),
+            )
+            .to_svg();
+        for label in ["1e-4", "0.001", "0.01", "0.1", "1", "10", "100"] {
+            assert!(
+                svg.contains(&format!("\n{label}\n</text>")),
+                "tick {label} missing"
+            );
+        }
+    }
+
+    /// A linear y axis leaves room above and below the data: a maximum on a nice tick
+    /// (10) is not the axis top.
+    #[test]
+    fn linear_y_axes_leave_headroom() {
+        let (lo, hi) = axis_range(&with_headroom(&[0.0, 10.0], Y_HEADROOM), false);
+        assert!(lo < 0.0 && hi > 10.0, "{lo} .. {hi}");
+        assert!(hi <= 12.0 && lo >= -2.0, "{lo} .. {hi}");
+        // One value (or none) stays as it is.
+        assert_eq!(with_headroom(&[5.0, 5.0], Y_HEADROOM), vec![5.0, 5.0]);
     }
 
     fn sample() -> Figure {
