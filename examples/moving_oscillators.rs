@@ -84,7 +84,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut f = std::fs::File::create(format!("{out}/{slug}.csv"))?;
         writeln!(
             f,
-            "t_s,fe_midspan_m,modal_midspan_m,fe_rider_acc_m_s2,modal_rider_acc_m_s2"
+            "t [s],fe_midspan [m],modal_midspan [m],fe_rider_acc [m/s²],modal_rider_acc [m/s²]"
         )?;
         let interp = |h: &Histories, y: &[f64], t: f64| {
             let i = h.t.partition_point(|v| *v <= t).clamp(1, h.t.len() - 1);

@@ -29,22 +29,28 @@ def fail(msg):
     sys.exit(2)
 
 
+def rows_of(f):
+    """The rows of a railfem CSV as dicts keyed by the column names without their units
+    (`x [m]` -> `x`)."""
+    return [{k.split(" [")[0]: v for k, v in r.items()} for r in csv.DictReader(f)]
+
+
 def read_export(d):
     try:
         with open(os.path.join(d, "model.json")) as f:
             spec = json.load(f)
         with open(os.path.join(d, "nodes.csv")) as f:
             nodes = [(int(r["id"]), float(r["x"]), float(r["y"]), float(r["z"]),
-                      r["fixed"].split()) for r in csv.DictReader(f)]
+                      r["fixed"].split()) for r in rows_of(f)]
         with open(os.path.join(d, "elements.csv")) as f:
-            elems = [(int(r["id"]), int(r["node_i"]), int(r["node_j"])) for r in csv.DictReader(f)]
+            elems = [(int(r["id"]), int(r["node_i"]), int(r["node_j"])) for r in rows_of(f)]
         loads = {}
         with open(os.path.join(d, "loads.csv")) as f:
-            for r in csv.DictReader(f):
+            for r in rows_of(f):
                 key = (int(r["node"]), r["dof"])
                 loads.setdefault(key, {})[int(r["step"])] = float(r["value"])
         with open(os.path.join(d, "railfem.csv")) as f:
-            rows = list(csv.DictReader(f))
+            rows = rows_of(f)
         with open(os.path.join(d, "timing.json")) as f:
             timing = json.load(f)
     except (OSError, ValueError, KeyError) as e:

@@ -186,6 +186,7 @@ pub fn run_size(target: usize, steps: usize) -> Result<BenchRow, FemError> {
     let init = t0.elapsed().as_secs_f64();
     let t0 = Instant::now();
     for _ in 0..steps {
+        crate::framework::interrupt::check(d.state.t)?;
         d.step(DT)?;
     }
     let wall = t0.elapsed().as_secs_f64();
@@ -286,7 +287,7 @@ pub fn markdown(rows: &[BenchRow]) -> String {
 /// The results as CSV (times in s, memory in MiB).
 pub fn csv(rows: &[BenchRow]) -> String {
     let mut s = String::from(
-        "target_dof,equations,nnz_k,nodes,elements,steps,build_s,setup_s,init_s,step_s,assembly_s_per_step,factor_s_per_step,solve_s_per_step,loads_s_per_step,factorizations,symbolic,full_factor_s,refactor_solve_s,vmhwm_mib\n",
+        "target_dof [-],equations [-],nnz_k [-],nodes [-],elements [-],steps [-],build [s],setup [s],init [s],step [s],assembly_per_step [s],factor_per_step [s],solve_per_step [s],loads_per_step [s],factorizations [-],symbolic [-],full_factor [s],refactor_solve [s],vmhwm [MiB]\n",
     );
     for r in rows {
         s.push_str(&format!(
@@ -321,9 +322,22 @@ pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<BenchRow>, F
     eprintln!("load average at start: {}", load.trim());
     let mut rows = Vec::new();
     let mut bar = crate::progress::Progress::new("bench", sizes.len() as u64, "sizes");
+    // A stop request between sizes, or inside one (that size is dropped: a timing of part
+    // of its steps is not comparable), writes the sizes done and returns InterruptedAfter.
+    let mut stopped = false;
     for &n in sizes {
+        if crate::framework::interrupt::requested() {
+            stopped = true;
+            break;
+        }
         bar.note(&format!("bench: {n} DOF, {steps} steps ..."));
-        let r = run_size(n, steps)?;
+        let r = match run_size(n, steps) {
+            Err(FemError::Interrupted { .. }) => {
+                stopped = true;
+                break;
+            }
+            r => r?,
+        };
         bar.note(&format!(
             "bench: {} equations, {:.3} ms/step, peak {:.0} MiB",
             r.equations,
@@ -356,6 +370,11 @@ pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<BenchRow>, F
     std::fs::write(&p, &md).map_err(|e| FemError::output(&p, e))?;
     let p = out.join("bench.csv");
     std::fs::write(&p, csv(&rows)).map_err(|e| FemError::output(&p, e))?;
+    if stopped {
+        return Err(FemError::InterruptedAfter {
+            after: format!("{} of {} sizes", rows.len(), sizes.len()),
+        });
+    }
     Ok(rows)
 }
 
@@ -395,6 +414,8 @@ pub struct ExportRow {
 ///   vector the driver used at the end of each step (the consistent nodal forces of the
 ///   moving force), so the other code applies the identical load vector;
 /// - `railfem.csv`: `step,t,uz_<node>...`, the monitored vertical displacements (m);
+/// - every CSV header carries its units in brackets (`x [m]`, `uz_<node> [m]`), as the
+///   other outputs do;
 /// - `timing.json`: equations, the first step (which factors `K_eff` once) and the mean
 ///   wall time of the other steps.
 pub fn export(target: usize, steps: usize, dir: &Path) -> Result<ExportRow, FemError> {
@@ -406,7 +427,7 @@ pub fn export(target: usize, steps: usize, dir: &Path) -> Result<ExportRow, FemE
         let p = dir.join(name);
         std::fs::write(&p, text).map_err(|e| FemError::output(&p, e))
     };
-    let mut nodes = String::from("id,x,y,z,fixed\n");
+    let mut nodes = String::from("id [-],x [m],y [m],z [m],fixed [-]\n");
     for n in &model.nodes {
         let fixed: Vec<&str> = n.fixed.iter().map(|d| d.name()).collect();
         let _ = writeln!(
@@ -420,7 +441,7 @@ pub fn export(target: usize, steps: usize, dir: &Path) -> Result<ExportRow, FemE
         );
     }
     write("nodes.csv", &nodes)?;
-    let mut elems = String::from("id,node_i,node_j\n");
+    let mut elems = String::from("id [-],node_i [-],node_j [-]\n");
     for e in &model.elements {
         let c = e.element.connectivity();
         let _ = writeln!(
@@ -446,14 +467,15 @@ pub fn export(target: usize, steps: usize, dir: &Path) -> Result<ExportRow, FemE
     let mut d = Driver::new(model)?;
     d.initialize()?;
     let mon: Vec<usize> = monitors.iter().filter_map(|&id| d.model.node(id)).collect();
-    let mut loads = String::from("step,t,node,dof,value\n");
-    let mut hist = String::from("step,t");
+    let mut loads = String::from("step [-],t [s],node [-],dof [-],value [N or N·m]\n");
+    let mut hist = String::from("step [-],t [s]");
     for id in &monitors {
-        let _ = write!(hist, ",uz_{id}");
+        let _ = write!(hist, ",uz_{id} [m]");
     }
     hist.push('\n');
     let (mut first_step, mut rest) = (0.0, 0.0);
     for k in 1..=steps {
+        crate::framework::interrupt::check(d.state.t)?;
         let t0 = Instant::now();
         d.step(DT)?;
         let el = t0.elapsed().as_secs_f64();

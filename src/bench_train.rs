@@ -106,6 +106,7 @@ pub fn measure(case: &TrainBridgeCase, steps: usize) -> Result<PhaseRow, FemErro
     let mut per_step = Vec::with_capacity(steps);
     let t2 = Instant::now();
     for _ in 0..steps {
+        crate::framework::interrupt::check(d.state.t)?;
         let ts = Instant::now();
         let r = d.step(case.dt)?;
         let w = ts.elapsed().as_secs_f64();
@@ -210,10 +211,23 @@ pub fn run(
         geometry.name()
     );
     let mut bar = crate::progress::Progress::new("bench train-bridge", sizes.len() as u64, "sizes");
+    // A stop request between sizes, or inside one (dropped: part of its steps is no
+    // measurement), writes the sizes done and returns InterruptedAfter.
+    let mut stopped = false;
     for (k, &n) in sizes.iter().enumerate() {
+        if crate::framework::interrupt::requested() {
+            stopped = true;
+            break;
+        }
         bar.set(k as u64);
         let case = case_for(n, cars, dt, geometry);
-        let r = measure(&case, steps)?;
+        let r = match measure(&case, steps) {
+            Err(FemError::Interrupted { .. }) => {
+                stopped = true;
+                break;
+            }
+            r => r?,
+        };
         println!(
             "{:>9} DOF ({} spans, h = {:.3} m): build {:.1} s, setup {:.1} s, {:.2} iterations/step, median {:.1} ms/iteration, {:.1} ms/step, {:.1} promotions/step, {} block refactorizations, peak {:.0} MiB",
             r.dofs,
@@ -249,6 +263,11 @@ pub fn run(
         );
     }
     write(&rows, out)?;
+    if stopped {
+        return Err(FemError::InterruptedAfter {
+            after: format!("{} of {} sizes", rows.len(), sizes.len()),
+        });
+    }
     Ok(rows)
 }
 
@@ -256,12 +275,12 @@ fn write(rows: &[PhaseRow], out: &Path) -> Result<(), FemError> {
     let p = out.join("phases.csv");
     let mut f = std::fs::File::create(&p).map_err(|e| FemError::output(&p, e))?;
     let mut head = String::from(
-        "dofs,elements,cars,spans,element_length,build_s,setup_s,steps,iterations,median_iteration_s,median_step_s",
+        "dofs [-],elements [-],cars [-],spans [-],element_length [m],build [s],setup [s],steps [-],iterations [-],median_iteration [s],median_step [s]",
     );
     for k in PHASES {
-        head.push_str(&format!(",{k}_s_per_iteration"));
+        head.push_str(&format!(",{k}_per_iteration [s]"));
     }
-    head.push_str(",promotions_per_step,block_refactorizations,blocks,top_equations,peak_mib");
+    head.push_str(",promotions_per_step [-],block_refactorizations [-],blocks [-],top_equations [-],peak [MiB]");
     let mut text = head + "\n";
     for r in rows {
         text.push_str(&format!(

@@ -291,9 +291,18 @@ fn prepare(
     Ok((driver, pre))
 }
 
-/// Commands whose time loops stop at the end of a step when asked
+/// Commands that stop at the end of a step, a load step or a case when asked
 /// ([`crate::framework::interrupt`]); the others stop at once on SIGINT/SIGTERM.
-const STOPS_AT_STEP: [&str; 3] = ["run", "curve", "train-bridge"];
+const STOPS_AT_STEP: [&str; 8] = [
+    "run",
+    "curve",
+    "train-bridge",
+    "critical-radius",
+    "stress",
+    "pareto",
+    "bench",
+    "irregularity",
+];
 
 /// The output directory of a command as it resolves it (its `--out` or its default);
 /// `None` for commands that write no directory.
@@ -397,7 +406,9 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         let status = match &result {
             Ok(0) => "completed".to_string(),
             Ok(code) => format!("failed: exit code {code}"),
-            Err(e @ FemError::Interrupted { .. }) => e.to_string(),
+            Err(e @ (FemError::Interrupted { .. } | FemError::InterruptedAfter { .. })) => {
+                e.to_string()
+            }
             Err(e) => format!("failed: {}", e.to_string().replace('\n', " ")),
         };
         r.write(&status)
@@ -760,11 +771,19 @@ fn bench(a: &Args) -> Result<i32, FemError> {
 /// `railfem stress`: the stress suite ([`crate::stress`]); the table on stdout and, with
 /// `--out`, in `DIR/stress.md`.
 fn stress(a: &Args) -> Result<i32, FemError> {
-    let rows = crate::stress::run_cli(
+    let mut rows = Vec::new();
+    let done = crate::stress::run_cli(
         a.opt("case"),
         &|k| a.num(k),
         a.opt("scheme").unwrap_or("newmark"),
-    )?;
+        &mut rows,
+    );
+    // A stop between cases keeps the table of the completed ones; any other error, none.
+    if let Err(e) = &done {
+        if !matches!(e, FemError::InterruptedAfter { .. }) {
+            return Err(done.unwrap_err());
+        }
+    }
     let table = crate::stress::table(&rows);
     print!("{table}");
     if let Some(dir) = &a.out {
@@ -772,7 +791,7 @@ fn stress(a: &Args) -> Result<i32, FemError> {
         let p = dir.join("stress.md");
         std::fs::write(&p, &table).map_err(|e| FemError::output(&p, e))?;
     }
-    Ok(0)
+    done.map(|_| 0)
 }
 
 /// `railfem pareto`: run time against error (`crate::pareto`) for `--cases` (default
@@ -913,6 +932,8 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             pts.len(),
             out.display()
         );
+        // Stopped between cases: the table holds the first cases, whole.
+        crate::framework::interrupt::check_after(|| format!("{} of {points} cases", pts.len()))?;
         return Ok(0);
     }
     let case = CriticalCase {

@@ -229,6 +229,7 @@ pub fn run_with_sections(
     // Linear interpolation of the onset between the last two steps.
     let mut prev: Option<(f64, f64, f64)> = None; // (margin, station, margin2)
     for _ in 0..nsteps {
+        crate::framework::interrupt::check(d.state.t)?;
         if let Err(e) = d.step(spec.dt) {
             // After the onset the carriage may slide into flange contact violently; the
             // onset is what this run is for.
@@ -384,7 +385,9 @@ pub type SweepPoint = (CriticalCase, Result<CriticalResult, FemError>);
 
 /// Runs every combination of `speeds × cts × mus` on `threads` worker threads (each point
 /// a whole FE analysis); `progress` gets the fraction done. Points whose theory has no
-/// critical radius are returned with that error.
+/// critical radius are returned with that error. On a stop request
+/// ([`crate::framework::interrupt`]) the workers finish their cases and start no more:
+/// the points returned are then the first ones of the full sweep, in its order.
 #[allow(clippy::too_many_arguments)]
 pub fn sweep(
     criterion: Criterion,
@@ -423,6 +426,11 @@ pub fn sweep(
     std::thread::scope(|s| {
         for _ in 0..threads.max(1) {
             s.spawn(|| loop {
+                // A stop request: finish the case in hand, start no other (the cases done
+                // are then the first ones, in order).
+                if crate::framework::interrupt::requested() {
+                    break;
+                }
                 let i = next.fetch_add(1, Ordering::Relaxed);
                 if i >= cases.len() {
                     break;
@@ -458,7 +466,7 @@ pub fn write_sweep(
         Criterion::Separation => "separation",
     };
     let mut csv = String::from(
-        "speed [m/s],ct [m],mu [-],r_fe [m],r_theory_statics [m],r_theory_at_contact [m],r_theory_printed [m],r_fe_gross_sliding [m],r_lean_at_contact [m],rel_diff [-],note\n",
+        "speed [m/s],ct [m],mu [-],r_fe [m],r_theory_statics [m],r_theory_at_contact [m],r_theory_printed [m],r_fe_gross_sliding [m],r_lean_at_contact [m],rel_diff [-],note [-]\n",
     );
     let opt = |x: Option<f64>| x.map_or(String::new(), |v| format!("{v:.3}"));
     for (c, r) in points {

@@ -44,13 +44,16 @@ pub fn run(
     std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
     let csv_path = out.join("irregularity.csv");
     std::fs::write(&csv_path, write_table(&table)).map_err(|e| FemError::output(&csv_path, e))?;
+    crate::framework::interrupt::check_after(|| {
+        "irregularity.csv (psd.csv and the figure not written)".into()
+    })?;
     let h = req.step;
     let seg = segment_for(table.stations.len());
     let [lmin, lmax] = req.wavelengths;
     let (wlo, whi) = (2.0 * PI / lmax, 2.0 * PI / lmin);
     let mut fig = Figure::new();
     let mut psd_csv =
-        String::from("component,omega_rad_per_m,welch_m2_per_rad_per_m,target_m2_per_rad_per_m\n");
+        String::from("component [-],omega [rad/m],welch [m²/(rad/m)],target [m²/(rad/m)]\n");
     let mut reports = Vec::new();
     for (c, z) in &table.columns {
         let rms = (z.iter().map(|v| v * v).sum::<f64>() / z.len() as f64).sqrt();

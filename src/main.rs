@@ -24,10 +24,13 @@ fn main() {
         railfem::cli::parse(&argv).and_then(|a| railfem::cli::run(&a))
     }) {
         Ok(Ok(code)) => code,
-        Ok(Err(e @ railfem::framework::FemError::Interrupted { .. })) => {
+        Ok(Err(
+            e @ (railfem::framework::FemError::Interrupted { .. }
+            | railfem::framework::FemError::InterruptedAfter { .. }),
+        )) => {
             // SIGINT/SIGTERM: the outputs are whole up to that step; the shell's code for
             // a run stopped by Ctrl-C (128 + SIGINT).
-            eprintln!("railfem: {e}; outputs are whole up to that step (run.json says so)");
+            eprintln!("railfem: {e}; the outputs are whole up to there (run.json says so)");
             130
         }
         Ok(Err(e)) => {

@@ -361,6 +361,7 @@ pub fn fe_run(case: &Case, ne: usize, dt: f64) -> Result<Histories, FemError> {
     };
     record(&d, &mut out);
     for _ in 0..steps {
+        crate::framework::interrupt::check(d.state.t)?;
         d.step(dt)?;
         record(&d, &mut out);
     }

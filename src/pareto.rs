@@ -440,6 +440,19 @@ pub fn mark_pareto(runs: &mut [Run]) {
 /// Runs the grid; progress ([`crate::progress`]) and one line per run go to stderr.
 pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
     let mut runs = Vec::new();
+    run_grid_into(grid, &mut runs)?;
+    Ok(runs)
+}
+
+/// [`run_grid`] into `runs`. A stop request ([`crate::framework::interrupt`]) is honoured
+/// between runs: `runs` then holds the completed runs (Pareto flags among them) and the
+/// error is [`FemError::InterruptedAfter`]; a run cut inside is dropped, not reported as
+/// "no result".
+pub fn run_grid_into(grid: &Grid, runs: &mut Vec<Run>) -> Result<(), FemError> {
+    let stop = |runs: &mut Vec<Run>, done: u64, total: usize| {
+        mark_pareto(runs);
+        crate::framework::interrupt::check_after(|| format!("{done} of {total} runs"))
+    };
     let t1 = period1();
     let schemes = Scheme::ALL.len();
     let total: usize = grid
@@ -464,10 +477,17 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
                     for &spp in &grid.steps_per_period {
                         for scheme in Scheme::ALL {
                             let dt = t1 / spp;
-                            let (wall, error, steps) = if case == "force" {
-                                force_run(ne, dt, scheme)?
+                            let r = if case == "force" {
+                                force_run(ne, dt, scheme)
                             } else {
-                                sprung_run(ne, dt, scheme, &reference)?
+                                sprung_run(ne, dt, scheme, &reference)
+                            };
+                            let (wall, error, steps) = match r {
+                                // Cut inside by a stop request: dropped.
+                                Err(FemError::Interrupted { .. }) => {
+                                    return stop(runs, done, total)
+                                }
+                                r => r?,
                             };
                             done += 1;
                             bar.set(done);
@@ -485,6 +505,7 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
                                 error,
                                 pareto: false,
                             });
+                            stop(runs, done, total)?;
                         }
                     }
                 }
@@ -498,11 +519,15 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
                         bar.set(done);
                         let (wall, error, steps) = match curve_run(dt, scheme) {
                             Ok(r) => r,
+                            Err(FemError::Interrupted { .. }) => {
+                                return stop(runs, done - 1, total);
+                            }
                             Err(e) => {
                                 bar.note(&format!(
                                     "pareto curve: dt = {dt} s, {}: no result ({e})",
                                     scheme.name()
                                 ));
+                                stop(runs, done, total)?;
                                 continue;
                             }
                         };
@@ -520,6 +545,7 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
                             error,
                             pareto: false,
                         });
+                        stop(runs, done, total)?;
                     }
                 }
             }
@@ -531,13 +557,15 @@ pub fn run_grid(grid: &Grid) -> Result<Vec<Run>, FemError> {
             }
         }
     }
-    mark_pareto(&mut runs);
-    Ok(runs)
+    mark_pareto(runs);
+    Ok(())
 }
 
 /// The runs as CSV.
 pub fn csv(runs: &[Run]) -> String {
-    let mut s = String::from("case,integrator,elements,dt [s],steps,wall [s],error [-],pareto\n");
+    let mut s = String::from(
+        "case [-],integrator [-],elements [-],dt [s],steps [-],wall [s],error [-],pareto [-]\n",
+    );
     for r in runs {
         s.push_str(&format!(
             "{},{},{},{:.6e},{},{:.6e},{:.6e},{}\n",
@@ -614,23 +642,38 @@ pub fn figure(runs: &[Run], case: &str) -> Figure {
 pub fn run(grid: &Grid, out: &Path) -> Result<Vec<Run>, FemError> {
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     eprintln!("load average at start: {}", load.trim());
-    let runs = run_grid(grid)?;
+    let mut runs = Vec::new();
+    let done = run_grid_into(grid, &mut runs);
+    // A stop between runs writes the completed runs; any other error, nothing.
+    if let Err(e) = done {
+        if !matches!(e, FemError::InterruptedAfter { .. }) {
+            return Err(e);
+        }
+        write_outputs(grid, &runs, out)?;
+        return Err(e);
+    }
+    write_outputs(grid, &runs, out)?;
+    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    eprintln!("load average at end: {}", load.trim());
+    Ok(runs)
+}
+
+/// Writes `pareto.csv`, `pareto.md` and a figure per case of `runs`, prints the table.
+fn write_outputs(grid: &Grid, runs: &[Run], out: &Path) -> Result<(), FemError> {
     std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
     let p = out.join("pareto.csv");
-    std::fs::write(&p, csv(&runs)).map_err(|e| FemError::output(&p, e))?;
-    let md = markdown(&runs);
+    std::fs::write(&p, csv(runs)).map_err(|e| FemError::output(&p, e))?;
+    let md = markdown(runs);
     let p = out.join("pareto.md");
     std::fs::write(&p, &md).map_err(|e| FemError::output(&p, e))?;
     for case in &grid.cases {
         let p = out.join(format!("pareto-{case}.svg"));
-        figure(&runs, case)
+        figure(runs, case)
             .write_svg_and_png(&p)
             .map_err(|e| FemError::output(&p, e))?;
     }
     print!("{md}");
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    eprintln!("load average at end: {}", load.trim());
-    Ok(runs)
+    Ok(())
 }
 
 #[cfg(test)]

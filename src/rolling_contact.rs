@@ -159,7 +159,7 @@ pub const START: f64 = 2.0;
 pub fn write_model(case: &Case, dir: &Path) -> Result<PathBuf, FemError> {
     let io = |e: std::io::Error| FemError::input(dir.display().to_string(), e.to_string());
     std::fs::create_dir_all(dir).map_err(io)?;
-    let mut align = String::from("station_m,alignment_mm\n");
+    let mut align = String::from("station [m],alignment [mm]\n");
     for i in 0..=40 {
         let s = i as f64 * 0.25;
         let a = if s <= START + 2.0 {
@@ -311,6 +311,7 @@ pub fn run(case: &Case, dir: &Path) -> Result<History, FemError> {
     record(&d, &mut h);
     let steps = (case.distance / case.speed / case.dt).round().max(1.0) as usize;
     for _ in 0..steps {
+        crate::framework::interrupt::check(d.state.t)?;
         d.step(case.dt)?;
         record(&d, &mut h);
     }
@@ -466,7 +467,7 @@ pub fn run_sks700(
     // The carriage spans about ±9.3 m about its centre: it starts at 30 m, every
     // wheelset on rails shifted by `offset`, which return to zero over 42–44 m.
     const SKS_START: f64 = 30.0;
-    let mut align = String::from("station_m,alignment_mm\n");
+    let mut align = String::from("station [m],alignment [mm]\n");
     for (st, a) in [
         (0.0, 1.0),
         (42.0, 1.0),
@@ -528,6 +529,7 @@ wheel = {{tangential = "kalker_linear"}}
     let mut o = Vec::new();
     for k in 0..=steps as usize {
         if k > 0 {
+            crate::framework::interrupt::check(d.state.t)?;
             d.step(dt)?;
         }
         o.clear();

@@ -789,36 +789,49 @@ pub fn table(rows: &[StressRow]) -> String {
 /// The full suite of `railfem stress` (the long versions).
 pub fn full_suite() -> Result<Vec<StressRow>, FemError> {
     let mut rows = Vec::new();
-    // 18 sdof, 4 beam, 8 penalty, 5 speed, 4 drop, 2 stick-slip, 3 dip.
-    let mut bar = crate::progress::Progress::new("stress", 44, "cases");
-    let mut add = |rows: &mut Vec<StressRow>, r: StressRow| {
+    full_suite_into(&mut rows)?;
+    Ok(rows)
+}
+
+/// Cases of the full suite: 18 sdof, 4 beam, 8 penalty, 5 speed, 4 drop, 2 stick-slip, 3 dip.
+const SUITE_CASES: usize = 44;
+
+/// [`full_suite`] into `rows`, case by case. A stop request ([`crate::framework::interrupt`])
+/// is honoured between cases: `rows` then holds the completed cases and the error is
+/// [`FemError::InterruptedAfter`].
+pub fn full_suite_into(rows: &mut Vec<StressRow>) -> Result<(), FemError> {
+    let mut bar = crate::progress::Progress::new("stress", SUITE_CASES as u64, "cases");
+    let mut add = |rows: &mut Vec<StressRow>, r: StressRow| -> Result<(), FemError> {
         rows.push(r);
         bar.set(rows.len() as u64);
+        crate::framework::interrupt::check_after(|| {
+            format!("{} of {SUITE_CASES} cases", rows.len())
+        })
     };
     for scheme in ["newmark", "hht:0.1", "galpha:0.5"] {
         for om in [0.01, 0.1, 1.0, 10.0, 100.0, 1000.0] {
-            add(&mut rows, sdof(om, scheme, 2000)?);
+            add(rows, sdof(om, scheme, 2000)?)?;
         }
     }
     for om in [0.01, 1.0, 100.0, 1000.0] {
-        add(&mut rows, beam(om, "newmark", 2000)?);
+        add(rows, beam(om, "newmark", 2000)?)?;
     }
     for p in [1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13] {
-        add(&mut rows, penalty(p, 500)?);
+        add(rows, penalty(p, 500)?)?;
     }
     for v in [20.0, 50.0, 80.0, 110.0, 150.0] {
-        add(&mut rows, speed(v, 0.3)?);
+        add(rows, speed(v, 0.3)?)?;
     }
     for p in [1e6, 1e8, 1e10, 1e13] {
-        add(&mut rows, drop(0.01, 2e-5, 0.2, p)?.0);
+        add(rows, drop(0.01, 2e-5, 0.2, p)?.0)?;
     }
     for o in [0.9, 1.5] {
-        add(&mut rows, stick_slip(o, 400)?.0);
+        add(rows, stick_slip(o, 400)?.0)?;
     }
     for v in [5.0, 15.0, 25.0] {
-        add(&mut rows, joint_dip(v, 0.002)?);
+        add(rows, joint_dip(v, 0.002)?)?;
     }
-    Ok(rows)
+    Ok(())
 }
 
 /// `n` steps as a count, refused past the step budget ([`limits::check_steps`]); `cause`
@@ -829,18 +842,20 @@ fn step_count(cause: &str, n: f64) -> Result<usize, FemError> {
     Ok(n as usize)
 }
 
-/// Runs one case named on the command line (see `railfem help`), or the full suite.
+/// Runs one case named on the command line (see `railfem help`), or the full suite, into
+/// `rows` (on a stop request, the completed cases: [`full_suite_into`]).
 pub fn run_cli(
     case: Option<&str>,
     num: &dyn Fn(&str) -> Result<Option<f64>, FemError>,
     scheme_name: &str,
-) -> Result<Vec<StressRow>, FemError> {
+    rows: &mut Vec<StressRow>,
+) -> Result<(), FemError> {
     let steps = |d: f64| -> Result<usize, FemError> {
         let n = num("steps")?.map_or(d, |v| v.max(1.0)).round();
         step_count("--steps", n)
     };
-    Ok(match case {
-        None | Some("all") => full_suite()?,
+    rows.extend(match case {
+        None | Some("all") => return full_suite_into(rows),
         Some("sdof") => vec![sdof(
             num("omega-dt")?.unwrap_or(1.0),
             scheme_name,
@@ -876,5 +891,6 @@ pub fn run_cli(
                 format!("--case {o}: use all, sdof, beam, penalty, speed, drop, stick-slip or dip"),
             ))
         }
-    })
+    });
+    Ok(())
 }

@@ -804,7 +804,7 @@ pub fn run(
         wf.flush().map_err(|e| FemError::output(dir, e))?;
         mf.flush().map_err(|e| FemError::output(dir, e))?;
         let mut s = String::from(
-            "wheel,Q_static_N,max_YQ,t_max_YQ_s,max_dQQ,t_max_dQQ_s,min_Q_N,t_min_Q_s,mean_Q_N\n",
+            "wheel [-],Q_static [N],max_YQ [-],t_max_YQ [s],max_dQQ [-],t_max_dQQ [s],min_Q [N],t_min_Q [s],mean_Q [N]\n",
         );
         for (i, e) in ext.iter().enumerate() {
             s.push_str(&format!(
@@ -820,7 +820,7 @@ pub fn run(
                 e.mean_q
             ));
         }
-        s.push_str("\nspan,max_deflection_m,t_s\n");
+        s.push_str("\nspan [-],max_deflection [m],t [s]\n");
         for (k, h) in &midspan {
             let (t, w) = h.iter().fold((0.0, f64::NEG_INFINITY), |a, x| {
                 if x.1 > a.1 {

@@ -507,9 +507,10 @@ fn interrupt(args: &[&str], signal: libc::c_int) -> (Option<i32>, String) {
     let first = rx
         .recv_timeout(Duration::from_secs(300))
         .expect("no progress line");
-    // In a pipe, progress is plain lines: `curve: 10 % (2021/20205 steps, …, ETA 16 s)`.
+    // In a pipe, progress is plain lines: `curve: 10 % (2021/20205 steps, …, ETA 16 s)`
+    // (`points/s` for a sweep).
     assert!(
-        first.contains(" % (") && first.contains("steps/s, ETA"),
+        first.contains(" % (") && first.contains("/s, ETA"),
         "{first}"
     );
     // SAFETY: kill(2) with a valid pid of our own child and a valid signal number.
@@ -681,4 +682,133 @@ fn help_lists_every_command() {
             assert!(text.contains(&name), "{argv:?}: {name} missing");
         }
     }
+}
+
+/// The data rows (after the header) of a CSV file, as text.
+fn data_rows(path: &Path) -> Vec<String> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert!(text.ends_with('\n'), "{}: cut line", path.display());
+    text.lines().skip(1).map(str::to_string).collect()
+}
+
+/// `railfem train-bridge` (one carriage at 1 m/s over two spans: about 17 000 steps):
+/// SIGINT stops it at a step boundary with exit 130. wheels.csv and midspan.csv hold whole
+/// rows up to the time run.json names, and those rows are, byte for byte, the first rows
+/// of an uninterrupted run that ends a few steps later (same time step, so the same
+/// steps: the stop cuts the run, it does not change it).
+#[test]
+fn sigint_stops_the_train_bridge_case_with_the_rows_of_a_whole_run() {
+    let dir = temp_dir("sigint_train_bridge");
+    let cut = dir.join("cut");
+    let base = [
+        "train-bridge",
+        "--cars",
+        "1",
+        "--spans",
+        "2",
+        "--speed",
+        "1",
+    ];
+    let mut args = base.to_vec();
+    args.extend(["--out", cut.to_str().unwrap()]);
+    let (code, err) = interrupt(&args, libc::SIGINT);
+    assert_eq!(code, Some(130), "{err}");
+    let t = interrupted_at(&cut);
+    assert!(t > 0.0, "t = {t}");
+    let mut cut_rows = Vec::new();
+    for f in ["wheels.csv", "midspan.csv"] {
+        let last = whole_lines(&cut.join(f));
+        assert!(
+            (last - t).abs() < 1e-6,
+            "{f}: last row at {last}, stopped at {t}"
+        );
+        cut_rows.push(data_rows(&cut.join(f)));
+    }
+    // The same case run to a little past t (the last, shortened step beyond the rows
+    // compared).
+    let whole = dir.join("whole");
+    let duration = format!("{}", t + 0.025);
+    let mut args = base.to_vec();
+    args.extend(["--duration", &duration, "--out", whole.to_str().unwrap()]);
+    let o = railfem(&args);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    for (f, rows) in ["wheels.csv", "midspan.csv"].iter().zip(&cut_rows) {
+        let full = data_rows(&whole.join(f));
+        assert!(
+            full.len() > rows.len(),
+            "{f}: {} rows vs {}",
+            full.len(),
+            rows.len()
+        );
+        assert_eq!(&full[..rows.len()], &rows[..], "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `railfem critical-radius --sweep` over sixteen speeds: SIGINT stops it at a case
+/// boundary (the cases under way finish, no new one starts) with exit 130 and run.json
+/// saying how many cases are done. critical_separation.csv holds whole rows, fewer than
+/// the sweep's, and they equal the rows of an uninterrupted sweep over those first speeds.
+#[test]
+fn sigint_stops_the_critical_radius_sweep_between_cases() {
+    let dir = temp_dir("sigint_sweep");
+    let speeds = [
+        "180", "185", "190", "195", "200", "205", "210", "215", "220", "225", "230", "235", "240",
+        "245", "250", "255",
+    ];
+    let sweep = |s: &str, out: &Path| -> Vec<String> {
+        [
+            "critical-radius",
+            "--sweep",
+            "--criterion",
+            "separation",
+            "--cts",
+            "200",
+            "--clothoid",
+            "300",
+            "--speeds",
+            s,
+            "--out",
+            out.to_str().unwrap(),
+        ]
+        .iter()
+        .map(|a| a.to_string())
+        .collect()
+    };
+    let cut = dir.join("cut");
+    let all = speeds.join(",");
+    let args = sweep(&all, &cut);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let (code, err) = interrupt(&args, libc::SIGINT);
+    assert_eq!(code, Some(130), "{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(cut.join("run.json")).unwrap()).unwrap();
+    let status = v["status"].as_str().unwrap().to_string();
+    let rows = data_rows(&cut.join("critical_separation.csv"));
+    assert_eq!(
+        status,
+        format!("interrupted after {} of {} cases", rows.len(), speeds.len())
+    );
+    assert!(!rows.is_empty() && rows.len() < speeds.len(), "{rows:?}");
+    for r in &rows {
+        assert_eq!(r.split(',').count(), 11, "{r}");
+    }
+    let whole = dir.join("whole");
+    let first = speeds[..rows.len()].join(",");
+    let args = sweep(&first, &whole);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = railfem(&args);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert_eq!(data_rows(&whole.join("critical_separation.csv")), rows);
+    let _ = std::fs::remove_dir_all(&dir);
 }

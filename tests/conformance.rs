@@ -14,3 +14,38 @@ fn every_registered_kind_passes_the_kit() {
     }
     assert!(report.passed(), "{}", report.table());
 }
+
+/// Every built-in kind declares a unit for each of its outputs (the recorder header
+/// `5_Q [N]`): as many units as output names, none left undeclared (`?`), none that would
+/// break a CSV header. A mutation check: drop a unit from any kind's list and the count
+/// differs; forget `output_units` and the default `?` shows.
+#[test]
+fn every_built_in_kind_declares_its_output_units() {
+    railfem::elements::link();
+    let mut checked = 0;
+    for kind in railfem::framework::registry::kinds() {
+        for s in (kind.samples)() {
+            let names = s.element.output_names();
+            let units = s.element.output_units();
+            assert_eq!(
+                units.len(),
+                names.len(),
+                "{} ({}): {units:?} for {names:?}",
+                kind.name,
+                s.name
+            );
+            for (n, u) in names.iter().zip(&units) {
+                assert!(
+                    !u.is_empty()
+                        && u != railfem::framework::element::UNIT_UNDECLARED
+                        && !u.contains([',', '[', ']']),
+                    "{}: output `{n}` has unit `{u}`",
+                    kind.name
+                );
+            }
+            checked += names.len();
+        }
+    }
+    // beam3d's six resultants alone are 6 per sample; moving_axle has over 40 outputs.
+    assert!(checked > 100, "only {checked} outputs checked");
+}

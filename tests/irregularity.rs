@@ -209,7 +209,7 @@ fn command_writes_profile_that_reads_back() {
     let svg = std::fs::read_to_string(out.join("irregularity-psd.svg")).unwrap();
     assert!(svg.contains("PSD S (m²/(rad/m))"));
     let psd = std::fs::read_to_string(out.join("psd.csv")).unwrap();
-    assert!(psd.starts_with("component,omega_rad_per_m,welch_m2_per_rad_per_m,"));
+    assert!(psd.starts_with("component [-],omega [rad/m],welch [m²/(rad/m)],"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -247,7 +247,9 @@ fn csv_irregularity_runs_and_wheelset_follows_it() {
     // The front wheels: the largest station at t = 0.
     let first = &wheels.rows[0];
     let cols: Vec<usize> = (0..wheels.header.len())
-        .filter(|&j| wheels.header[j].ends_with("_station") && first[j] == 25.0)
+        .filter(|&j| {
+            common::strip_unit(&wheels.header[j]).ends_with("_station") && first[j] == 25.0
+        })
         .collect();
     assert_eq!(cols.len(), 2, "two front wheels at 25 m");
     let q: Vec<f64> = wheels

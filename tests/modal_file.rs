@@ -25,7 +25,10 @@ fn modal_model_file_gives_the_bending_frequencies() {
         .split(',')
         .skip(2)
         .map(|c| {
-            c.split('_')
+            c.split(" [")
+                .next()
+                .unwrap_or(c)
+                .split('_')
                 .nth(1)
                 .and_then(|f| f.trim_end_matches("Hz").parse().ok())
                 .expect("frequency")

@@ -299,7 +299,7 @@ file = "comfort/wz.csv"
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("node,dof,weighting,wz,duration_s,samples")
+        Some("node [-],dof [-],weighting [-],wz [-],duration [s],samples [-]")
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), 2);
@@ -402,7 +402,9 @@ file = "nmv.csv"
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("node,n_mv,ax_p95_m_s2,ay_p95_m_s2,az_p95_m_s2,windows,duration_s")
+        Some(
+            "node [-],n_mv [-],ax_p95 [m/s²],ay_p95 [m/s²],az_p95 [m/s²],windows [-],duration [s]"
+        )
     );
     let row: Vec<f64> = lines
         .next()

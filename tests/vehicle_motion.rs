@@ -40,7 +40,7 @@ fn front_wheel(out: &std::path::Path) -> (Vec<f64>, Vec<f64>) {
     let col = w
         .header
         .iter()
-        .find(|h| h.ends_with("_station"))
+        .find(|h| common::strip_unit(h).ends_with("_station"))
         .expect("a station column")
         .clone();
     (w.column("time"), w.column(&col))

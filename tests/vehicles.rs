@@ -121,10 +121,10 @@ fn manchester_vehicle_on_the_curve_follows_the_statics() {
     );
     let w = Csv::read(&out.join("wheels.csv"));
     let q_cols: Vec<usize> = (0..w.header.len())
-        .filter(|&i| w.header[i].ends_with("_Q"))
+        .filter(|&i| common::strip_unit(&w.header[i]).ends_with("_Q"))
         .collect();
     let s_cols: Vec<usize> = (0..w.header.len())
-        .filter(|&i| w.header[i].ends_with("_station"))
+        .filter(|&i| common::strip_unit(&w.header[i]).ends_with("_station"))
         .collect();
     assert_eq!(q_cols.len(), 8);
     let g = 9.81;
@@ -216,7 +216,7 @@ record = {{wheels = "wheels.csv"}}
     run_ok(&model, &dir.join("out"));
     let w = Csv::read(&dir.join("out/wheels.csv"));
     let q: f64 = (0..w.header.len())
-        .filter(|&i| w.header[i].ends_with("_Q"))
+        .filter(|&i| common::strip_unit(&w.header[i]).ends_with("_Q"))
         .map(|i| w.rows[0][i])
         .sum();
     let weight = 2.0 * manchester_mass() * 9.81;

@@ -344,6 +344,13 @@ impl Element for SpringDamper {
             .collect()
     }
 
+    fn output_units(&self) -> Vec<String> {
+        ["N", "N", "N", "N·m", "N·m", "N·m"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
     fn outputs(&self, out: &mut Vec<f64>) {
         out.extend_from_slice(self.local_force().as_slice());
     }

@@ -370,6 +370,13 @@ impl Element for Suspension {
             .collect()
     }
 
+    fn output_units(&self) -> Vec<String> {
+        ["m", "m", "m", "N", "N", "N"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
     fn outputs(&self, out: &mut Vec<f64>) {
         out.extend_from_slice(self.local[0].as_slice());
         out.extend_from_slice(self.local[1].as_slice());

@@ -1042,7 +1042,8 @@ fn check_serde(cx: &Cx) -> Result<Measured, String> {
 }
 
 /// Check 7: force, tangent, mass, damping, outputs and dissipated energy are finite, and
-/// there are as many outputs as output names.
+/// there are as many outputs and output units as output names, each unit fit for a CSV
+/// header's brackets (not empty, no comma, bracket or line break).
 fn check_finite(cx: &Cx) -> Result<Measured, String> {
     let s = cx.prepared()?;
     let e = &*s.element;
@@ -1053,6 +1054,23 @@ fn check_finite(cx: &Cx) -> Result<Measured, String> {
             "{} outputs for {} output names",
             outs.len(),
             names.len()
+        ));
+    }
+    let units = e.output_units();
+    if units.len() != names.len() {
+        return Err(format!(
+            "{} output units for {} output names",
+            units.len(),
+            names.len()
+        ));
+    }
+    if let Some((n, u)) = names
+        .iter()
+        .zip(&units)
+        .find(|(_, u)| u.is_empty() || u.contains([',', '[', ']', '\n', '\r']))
+    {
+        return Err(format!(
+            "output `{n}` has unit `{u}`: give an SI unit such as N or m/s², `-` for a ratio"
         ));
     }
     let parts: [(&str, Vec<f64>); 6] = [

@@ -164,6 +164,10 @@ pub enum ElementError {
     Invalid(String),
 }
 
+/// The unit an element writes for an output whose unit it does not declare
+/// ([`Element::output_units`]' default): the recorder header reads `5_force [?]`.
+pub const UNIT_UNDECLARED: &str = "?";
+
 /// The element contract. See the module documentation for axes and ordering.
 pub trait Element: Send + Sync {
     /// The registered type name (`"beam3d"`, `"moving_axle"`, …).
@@ -210,6 +214,15 @@ pub trait Element: Send + Sync {
     /// Names of the scalar results the element reports (for element recorders).
     fn output_names(&self) -> Vec<String> {
         Vec::new()
+    }
+
+    /// The SI unit of each output, in the order of [`Element::output_names`], as recorder
+    /// headers write it after the name (`5_Q [N]`): `"N"`, `"m"`, `"N·m"`, `"m/s²"`, `"-"`
+    /// for a ratio, a count or a flag. The default, for an element that declares none, is
+    /// [`UNIT_UNDECLARED`] (`"?"`) for every output, so the header says the unit is not known
+    /// rather than guess one.
+    fn output_units(&self) -> Vec<String> {
+        vec![UNIT_UNDECLARED.to_string(); self.output_names().len()]
     }
 
     /// The scalar results at the trial state, in the order of [`Element::output_names`].

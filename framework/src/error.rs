@@ -59,6 +59,14 @@ pub enum FemError {
         /// Time (s) of the last completed step.
         t: f64,
     },
+    /// A command made of whole units of work (the cases of a sweep or a study, the load
+    /// steps of a static analysis) was asked to stop and stopped at the boundary after
+    /// `after` (`"12 of 45 cases"`); what it writes holds the completed units only.
+    #[error("interrupted after {after}")]
+    InterruptedAfter {
+        /// The completed units, in words.
+        after: String,
+    },
 }
 
 fn fold_repeats(list: Vec<FemError>) -> Vec<FemError> {
@@ -152,6 +160,7 @@ impl FemError {
             }
             FemError::Output { path, message } => FemError::Output { path, message },
             FemError::Interrupted { t } => FemError::Interrupted { t },
+            FemError::InterruptedAfter { after } => FemError::InterruptedAfter { after },
             FemError::Many(list) => {
                 FemError::Many(list.into_iter().map(|e| e.in_file(file)).collect())
             }

@@ -331,6 +331,10 @@ impl Element for LinkedElement {
         self.inner.output_names()
     }
 
+    fn output_units(&self) -> Vec<String> {
+        self.inner.output_units()
+    }
+
     fn outputs(&self, out: &mut Vec<f64>) {
         self.inner.outputs(out);
     }

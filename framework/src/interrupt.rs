@@ -5,6 +5,12 @@
 //! ([`requested`]) and, when set, flushes its recorders and returns
 //! [`FemError::Interrupted`](crate::FemError::Interrupted) with the time reached. A step in
 //! progress is never cut, so every output ends on a whole line and a whole step.
+//!
+//! Commands made of whole units of work — the cases of a critical-radius sweep, of `stress`,
+//! `pareto` and `bench`, the load steps of a static analysis — read it between units
+//! ([`check_after`]): the unit in progress finishes, the ones not started are dropped, the
+//! tables hold the completed units, and the command returns
+//! [`FemError::InterruptedAfter`](crate::FemError::InterruptedAfter) naming them.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -35,6 +41,16 @@ pub fn check(t: f64) -> Result<(), crate::FemError> {
     }
 }
 
+/// `Err(InterruptedAfter { after: done() })` if a stop was asked for, for a command between
+/// two units of work (`done` says what is complete: `"3 of 9 cases"`).
+pub fn check_after(done: impl FnOnce() -> String) -> Result<(), crate::FemError> {
+    if requested() {
+        Err(crate::FemError::InterruptedAfter { after: done() })
+    } else {
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -45,6 +61,8 @@ mod tests {
         assert_eq!(check(1.5), Ok(()));
         request();
         assert_eq!(check(1.5), Err(crate::FemError::Interrupted { t: 1.5 }));
+        let e = check_after(|| "2 of 5 cases".into()).unwrap_err();
+        assert_eq!(e.to_string(), "interrupted after 2 of 5 cases");
         clear();
         assert!(!requested());
     }

@@ -184,7 +184,8 @@ fn legend_width(p: &Panel) -> u32 {
 const Y_HEADROOM: f64 = 0.03;
 
 /// The data extent `values` widened by `fraction` of it at both ends (none for fewer than
-/// two distinct finite values).
+/// two distinct finite values), never across zero: data that are all ≥ 0 (a radius, a
+/// force magnitude) keep an axis starting at 0 at the latest, data all ≤ 0 one ending there.
 fn with_headroom(values: &[f64], fraction: f64) -> Vec<f64> {
     let (lo, hi) = values
         .iter()
@@ -195,7 +196,14 @@ fn with_headroom(values: &[f64], fraction: f64) -> Vec<f64> {
         return values.to_vec();
     }
     let pad = fraction * (hi - lo);
-    vec![lo - pad, hi + pad]
+    let (mut a, mut b) = (lo - pad, hi + pad);
+    if lo >= 0.0 {
+        a = a.max(0.0);
+    }
+    if hi <= 0.0 {
+        b = b.min(0.0);
+    }
+    vec![a, b]
 }
 
 /// The decades `10^a ..= 10^b` of a log axis from `lo` to `hi` (themselves decades, from
@@ -340,6 +348,17 @@ where
     Ok(())
 }
 
+/// Height (px) a panel needs for its legend: the box ([`draw_legend`]: 10 px plus 18 px a
+/// labelled series) below the caption (30 px) and above the x labels (50 px).
+fn legend_height(p: &Panel) -> u32 {
+    let n = p.series.iter().filter(|r| !r.label.is_empty()).count() as u32;
+    if n == 0 {
+        0
+    } else {
+        30 + 10 + 18 * n + 50
+    }
+}
+
 /// Draws the legend of `p` in its column `area` (pixel coordinates).
 fn draw_legend<DB>(area: &DrawingArea<DB, Shift>, p: &Panel) -> PlotResult<()>
 where
@@ -396,10 +415,17 @@ impl Figure {
         self
     }
 
+    /// Width and height (px): every panel as tall as `panel_height`, or as its legend
+    /// needs ([`legend_height`]) when that is more, so a long legend is never cut.
     fn size(&self) -> (u32, u32) {
+        let tallest = self
+            .panels
+            .iter()
+            .map(|p| legend_height(p) as f64)
+            .fold(self.panel_height, f64::max);
         (
             self.width.round() as u32,
-            (self.panel_height * self.panels.len().max(1) as f64).round() as u32,
+            (tallest * self.panels.len().max(1) as f64).round() as u32,
         )
     }
 
@@ -581,6 +607,36 @@ mod tests {
         assert!(hi <= 12.0 && lo >= -2.0, "{lo} .. {hi}");
         // One value (or none) stays as it is.
         assert_eq!(with_headroom(&[5.0, 5.0], Y_HEADROOM), vec![5.0, 5.0]);
+        // Not across zero: positive data keep the axis at 0 and above.
+        assert_eq!(
+            axis_range(&with_headroom(&[0.0, 6e4], Y_HEADROOM), false).0,
+            0.0
+        );
+        assert_eq!(
+            axis_range(&with_headroom(&[-6e4, -10.0], Y_HEADROOM), false).1,
+            0.0
+        );
+    }
+
+    /// A panel with more legend entries than its height holds grows to hold them all.
+    #[test]
+    fn a_long_legend_makes_its_panel_taller() {
+        let mut p = Panel::new("t", "x (m)", "y (m)");
+        for k in 0..30 {
+            p = p.with(Series::new(
+                &format!("s{k}"),
+                vec![0.0, 1.0],
+                vec![0.0, 1.0],
+                Style::Line,
+                "red",
+            ));
+        }
+        let f = Figure::new().with(p);
+        let (_, h) = f.size();
+        assert_eq!(h, 30 + 10 + 18 * 30 + 50);
+        assert!(h as f64 > f.panel_height);
+        // Short legends leave the default height.
+        assert_eq!(sample().size(), (900, 680));
     }
 
     fn sample() -> Figure {

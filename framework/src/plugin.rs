@@ -628,6 +628,10 @@ pub mod guard {
         fn output_names(&self) -> Vec<String> {
             catch_unwind(AssertUnwindSafe(|| self.inner.output_names())).unwrap_or_default()
         }
+
+        fn output_units(&self) -> Vec<String> {
+            catch_unwind(AssertUnwindSafe(|| self.inner.output_units())).unwrap_or_default()
+        }
         fn outputs(&self, out: &mut Vec<f64>) {
             let n = out.len();
             if catch_unwind(AssertUnwindSafe(|| self.inner.outputs(&mut *out))).is_err() {

@@ -4,8 +4,8 @@
 //! Node recorders write displacements, velocities or accelerations of chosen DOFs (in the
 //! node's axes; for a carried node, the deviation from its reference motion), each column
 //! with its unit (`2_uz [m]`, [`Quantity::unit`]); element recorders write the named outputs
-//! an element reports ([`crate::Element::output_names`]), without a unit (the element
-//! contract declares none for outputs).
+//! an element reports ([`crate::Element::output_names`]), each with the unit the element
+//! declares for it (`5_Q [N]`, [`crate::Element::output_units`]; `[?]` if it declares none).
 //!
 //! The `comfort` recorder is the exception: it keeps the acceleration histories of its
 //! node DOFs through the run and writes, when the run finishes, a ride-comfort index
@@ -367,15 +367,19 @@ impl ComfortHistory {
         }
     }
 
-    /// Writes the indices: Sperling's as `node,dof,weighting,wz,duration_s,samples`, one
+    /// Writes the indices: Sperling's as `node [-],dof [-],weighting [-],wz [-],duration [s],samples [-]`, one
     /// row per column; EN 12299's as
-    /// `node,n_mv,ax_p95_m_s2,ay_p95_m_s2,az_p95_m_s2,windows,duration_s`, one row per node.
+    /// `node [-],n_mv [-],ax_p95 [m/s²],ay_p95 [m/s²],az_p95 [m/s²],windows [-],duration [s]`, one row per node.
     fn write(&self, out: &mut BufWriter<File>, path: &Path) -> Result<(), FemError> {
         if self.en12299 {
             return self.write_en12299(out, path);
         }
         let io = |e: std::io::Error| FemError::output(path, e);
-        writeln!(out, "node,dof,weighting,wz,duration_s,samples").map_err(io)?;
+        writeln!(
+            out,
+            "node [-],dof [-],weighting [-],wz [-],duration [s],samples [-]"
+        )
+        .map_err(io)?;
         let duration = match (self.time.first(), self.time.last()) {
             (Some(a), Some(b)) => b - a,
             _ => 0.0,
@@ -403,7 +407,7 @@ impl ComfortHistory {
         let io = |e: std::io::Error| FemError::output(path, e);
         writeln!(
             out,
-            "node,n_mv,ax_p95_m_s2,ay_p95_m_s2,az_p95_m_s2,windows,duration_s"
+            "node [-],n_mv [-],ax_p95 [m/s²],ay_p95 [m/s²],az_p95 [m/s²],windows [-],duration [s]"
         )
         .map_err(io)?;
         let duration = match (self.time.first(), self.time.last()) {
@@ -572,10 +576,15 @@ impl Recorders {
                             .iter()
                             .position(|e| e.id == id)
                             .expect("validated");
-                        let names = model.elements[ei].element.output_names();
+                        let element = &model.elements[ei].element;
+                        let names = element.output_names();
+                        let units = element.output_units();
                         for (k, n) in names.iter().enumerate() {
                             if outputs.is_empty() || outputs.contains(n) {
-                                header.push(format!("{id}_{n}"));
+                                let unit = units
+                                    .get(k)
+                                    .map_or(crate::element::UNIT_UNDECLARED, |u| u.as_str());
+                                header.push(format!("{id}_{n} [{unit}]"));
                                 columns.push(Column::Element {
                                     elem: ei,
                                     output: k,

@@ -35,9 +35,10 @@ __all__ = [
 class Recording:
     """One recorder's history: ``time`` (n,), ``values`` (n, len(columns)), ``columns``.
 
-    Time is the first axis. ``rec["1_uz"]`` is one column (``rec["time"]`` the times);
-    the names are the recorder's CSV header. The values are the exact doubles of the run
-    (the CSV rounds them to 13 significant digits).
+    Time is the first axis. ``rec["1_uz [m]"]`` is one column (``rec["time"]`` the
+    times); the names are the recorder's CSV header, units included, and a name without
+    its unit finds the column too (``rec["1_uz"]``, ``rec["5_Q"]``). The values are the
+    exact doubles of the run (the CSV rounds them to 13 significant digits).
     """
 
     def __init__(self, raw):
@@ -46,6 +47,8 @@ class Recording:
         self.time = raw["time"]
         self.values = raw["values"]
         self._index = {c: i for i, c in enumerate(self.columns)}
+        for i, c in enumerate(self.columns):
+            self._index.setdefault(c.split(" [")[0], i)
 
     def __getitem__(self, name):
         if name == "time":

@@ -58,6 +58,10 @@ def test_arrays_are_the_cli_csv_numbers(sprung):
         # Columns by name are the same data.
         j = rec.columns.index(rec.columns[-1])
         assert np.array_equal(bits(rec[rec.columns[-1]]), bits(rec.values[:, j]))
+        # Every header field has its unit, and the name without it finds the same column.
+        for k, c in enumerate(rec.columns):
+            assert c.endswith("]") and " [" in c, (name, c)
+            assert np.array_equal(bits(rec[bare(c)]), bits(rec.values[:, k])), (name, c)
     # The energy ledger is energy.csv's numbers.
     header, rows = read_csv_text(cli_out / "energy.csv")
     assert [bare(h) for h in header] == ["time"] + result.energy.columns

@@ -383,6 +383,19 @@ impl Driver {
         let linear =
             self.asm.variable_elements().is_empty() && !self.asm.dofmap.has_finite_rotations();
         for k in 1..=steps {
+            // A stop request between load steps leaves the state of the last converged one
+            // (the caller records it).
+            if k > 1 && railfem_framework::interrupt::requested() {
+                self.state.t = t;
+                self.summary.iterations += total_iters;
+                return Err(FemError::InterruptedAfter {
+                    after: format!(
+                        "{} of {steps} load steps (load factor {})",
+                        k - 1,
+                        (k - 1) as f64 / steps as f64
+                    ),
+                });
+            }
             let lam = k as f64 / steps as f64;
             let mut converged = false;
             for it in 0..=settings.max_iter {
@@ -776,6 +789,9 @@ impl Driver {
         crate::modal::lowest_modes(&k, &m, n, &crate::modal::ModalOptions::default()).map_err(|e| {
             match e {
                 crate::modal::ModalError::Solver(s) => self.singular(s),
+                crate::modal::ModalError::Interrupted { iterations } => FemError::InterruptedAfter {
+                    after: format!("{iterations} subspace iterations of the modal analysis; no modes written"),
+                },
                 other => FemError::input(&self.model.origin, format!("modal analysis: {other}")),
             }
         })
@@ -825,10 +841,11 @@ impl Driver {
     /// Writes frequencies and mode shapes as CSV: one row per active nodal DOF, columns
     /// `node,dof` and one per mode; a header row of frequencies (Hz) first.
     pub fn write_modes(&self, modes: &crate::modal::Modes, path: &Path) -> Result<(), FemError> {
-        let mut s = String::from("node,dof");
+        // Shapes are M-normalized (φᵀMφ = 1): a translation in m/√kg, a rotation in rad/√kg.
+        let mut s = String::from("node [-],dof [-]");
         for (i, w) in modes.omega.iter().enumerate() {
             s.push_str(&format!(
-                ",mode{}_{:.6e}Hz",
+                ",mode{}_{:.6e}Hz [m/√kg or rad/√kg]",
                 i + 1,
                 w / (2.0 * std::f64::consts::PI)
             ));
@@ -886,9 +903,12 @@ impl Driver {
         Some(self.asm.dofmap.value(&self.state.q, i, dof))
     }
 
-    /// Writes the committed state (every active nodal DOF) as CSV: `node,dof,disp,vel,acc`.
+    /// Writes the committed state (every active nodal DOF) as CSV:
+    /// `node [-],dof [-],disp [m or rad],vel [m/s or rad/s],acc [m/s² or rad/s²]`.
     pub fn write_state(&self, path: &Path) -> Result<(), FemError> {
-        let mut s = String::from("node,dof,disp,vel,acc\n");
+        let mut s = String::from(
+            "node [-],dof [-],disp [m or rad],vel [m/s or rad/s],acc [m/s² or rad/s²]\n",
+        );
         for (i, nd) in self.model.nodes.iter().enumerate() {
             for d in self.asm.dofmap.active[i].iter() {
                 let k = d.index();
@@ -936,7 +956,24 @@ impl Driver {
         };
         match spec.kind {
             AnalysisKind::Static => {
-                self.static_solve(0.0, spec.steps)?;
+                let solved = self.static_solve(0.0, spec.steps);
+                if let Err(e) = solved {
+                    // Stopped between load steps: the state of the last one on file.
+                    if matches!(e, FemError::InterruptedAfter { .. }) {
+                        if let Some(r) = rec.as_mut() {
+                            r.record(
+                                &mut self.model,
+                                &self.asm,
+                                0.0,
+                                &self.state.q,
+                                &self.state.v,
+                                &self.state.a,
+                            )?;
+                            r.finish()?;
+                        }
+                    }
+                    return Err(e);
+                }
                 if let Some(r) = rec.as_mut() {
                     r.record(
                         &mut self.model,

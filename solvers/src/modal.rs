@@ -45,6 +45,13 @@ pub enum ModalError {
     /// non-symmetric or indefinite mass).
     #[error("invalid modal analysis input: {0}")]
     InvalidInput(String),
+    /// A stop was asked for ([`railfem_framework::interrupt`]); the iteration stopped
+    /// after `iterations` (no modes: an unsettled subspace is no result).
+    #[error("interrupted after {iterations} subspace iterations")]
+    Interrupted {
+        /// Iterations completed.
+        iterations: usize,
+    },
     /// The wanted eigenvalues did not settle within the iteration limit.
     #[error("subspace iteration did not converge in {iterations} iterations (worst relative change of ω² {change:e})")]
     NotConverged {
@@ -176,6 +183,11 @@ pub fn lowest_modes_with(
     let mut lambda_prev = vec![f64::NAN; n_modes];
     let mut change = f64::INFINITY;
     for iteration in 1..=options.max_iterations {
+        if railfem_framework::interrupt::requested() {
+            return Err(ModalError::Interrupted {
+                iterations: iteration - 1,
+            });
+        }
         mul_block(m, &x, &mut mx);
         m_orthonormalize(m, &mut x, &mut mx, &mut rng)?;
         mul_block(k, &x, &mut kx);

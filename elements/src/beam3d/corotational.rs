@@ -382,6 +382,13 @@ impl Element for Beam3dCorotational {
             .collect()
     }
 
+    fn output_units(&self) -> Vec<String> {
+        ["N", "N·m", "N·m", "N·m", "N·m", "N·m"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
     /// Axial force (tension positive), twisting moment and the end moments about the
     /// corotated local y and z axes, conjugate to the end rotations relative to the chord
     /// (N, N·m).

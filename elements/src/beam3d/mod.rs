@@ -577,6 +577,13 @@ impl Element for Beam3d {
             .collect()
     }
 
+    fn output_units(&self) -> Vec<String> {
+        ["N", "N", "N", "N·m", "N·m", "N·m"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
     fn outputs(&self, out: &mut Vec<f64>) {
         out.extend_from_slice(&self.end_forces_i());
     }

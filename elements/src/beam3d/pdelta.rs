@@ -131,6 +131,10 @@ impl Element for Beam3dPDelta {
         self.linear.output_names()
     }
 
+    fn output_units(&self) -> Vec<String> {
+        self.linear.output_units()
+    }
+
     /// The linear beam's end-I resultants (the P-Δ shears are not included).
     fn outputs(&self, out: &mut Vec<f64>) {
         self.linear.outputs(out);

@@ -221,6 +221,13 @@ impl Element for MovingMass {
         .collect()
     }
 
+    fn output_units(&self) -> Vec<String> {
+        ["m", "m/s", "N", "m", "m/s²"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
     fn outputs(&self, out: &mut Vec<f64>) {
         let p = &self.point;
         let acc = self.contact_acceleration();

@@ -383,6 +383,13 @@ impl Element for MovingSprungMass {
         .collect()
     }
 
+    fn output_units(&self) -> Vec<String> {
+        ["m", "m/s", "N", "N", "m", "m/s", "m/s²", "m", "-"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
     fn outputs(&self, out: &mut Vec<f64>) {
         let p = &self.point;
         let spring = if self.contact { -self.force } else { 0.0 };

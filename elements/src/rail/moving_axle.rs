@@ -1316,6 +1316,27 @@ impl Element for MovingAxle {
         v
     }
 
+    fn output_units(&self) -> Vec<String> {
+        // In the order of `output_names`: station, Q, Y, X, YQ, dQQ, the three counts,
+        // spring_f2, the two contact angles, contact_y, contact_z; per point p1..p3
+        // rail_y, wheel_y, fn, mode (a code); rolling_radius, attack_angle; per creep slot
+        // radius, xi_x, xi_y (ratios), spin (rad/m), fx, fy.
+        let mut v: Vec<String> = [
+            "m", "N", "N", "N", "-", "-", "-", "-", "-", "N", "rad", "rad", "m", "m",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        for _ in 1..=3 {
+            v.extend(["m", "m", "N", "-"].map(String::from));
+        }
+        v.extend(["m", "rad"].map(String::from));
+        for _ in 1..=CREEP_SLOTS {
+            v.extend(["m", "-", "-", "1/m", "N", "N"].map(String::from));
+        }
+        v
+    }
+
     fn outputs(&self, out: &mut Vec<f64>) {
         let f = self.contact_force;
         let q = f.y;

@@ -472,6 +472,13 @@ impl Element for PointWheel {
         .collect()
     }
 
+    fn output_units(&self) -> Vec<String> {
+        ["m", "N", "N", "N", "-", "-", "m", "-"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect()
+    }
+
     fn outputs(&self, out: &mut Vec<f64>) {
         let f = self.contact.phi;
         let q = f.y;

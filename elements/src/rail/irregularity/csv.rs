@@ -3,8 +3,9 @@
 //!
 //! Format: blank lines and `#` comments are skipped; the first other line is the header,
 //! one column `station_m` and any of `vertical`, `alignment`, `cross_level`, `gauge`, each
-//! with its unit as a suffix, `_mm` or `_m` (as wheel-profile files state `y_mm,z_mm`);
-//! then one row per station, the numbers comma-separated. Stations strictly increase.
+//! with its unit as a suffix, `_mm` or `_m` (as wheel-profile files state `y_mm,z_mm`), or
+//! in brackets as railfem's output CSVs write units (`station [m],vertical [mm]`); then one
+//! row per station, the numbers comma-separated. Stations strictly increase.
 //!
 //! A unit slip is caught by magnitude. Declared in metres, a value above
 //! [`MAX_IRREGULARITY_M`] = 0.1 m is refused as "millimetres declared as metres": the
@@ -50,7 +51,16 @@ pub struct IrregularityTable {
     pub columns: Vec<(Component, Vec<f64>)>,
 }
 
-const HEADER_FIX: &str = "give a header like `station_m,vertical_mm,alignment_mm,cross_level_mm,gauge_mm` (any of the four components, each with `_mm` or `_m`)";
+const HEADER_FIX: &str = "give a header like `station_m,vertical_mm,alignment_mm,cross_level_mm,gauge_mm` (any of the four components, each with `_mm` or `_m`, or `station [m],vertical [mm]`)";
+
+/// A header column as `(name, unit)`: `vertical [mm]` or `vertical_mm` (the unit after the
+/// last underscore); `None` without a unit.
+fn name_and_unit(column: &str) -> Option<(&str, &str)> {
+    match column.split_once(" [") {
+        Some((n, rest)) => rest.strip_suffix(']').map(|u| (n.trim(), u.trim())),
+        None => column.rsplit_once('_'),
+    }
+}
 
 /// Reads an irregularity table from CSV `text`; `file` names it in errors.
 pub fn read_table(text: &str, file: &str) -> Result<IrregularityTable, IrregularityError> {
@@ -69,7 +79,11 @@ pub fn read_table(text: &str, file: &str) -> Result<IrregularityTable, Irregular
     };
     // Header: station_m then components with a unit each.
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    if names.first().map(|n| n.to_ascii_lowercase()) != Some("station_m".into()) {
+    let station = names
+        .first()
+        .and_then(|n| name_and_unit(n))
+        .map(|(n, u)| (n.to_ascii_lowercase(), u.to_ascii_lowercase()));
+    if station != Some(("station".into(), "m".into())) {
         return Err(err(
             hline,
             format!("header `{header}`: the first column must be `station_m`; {HEADER_FIX}"),
@@ -77,7 +91,7 @@ pub fn read_table(text: &str, file: &str) -> Result<IrregularityTable, Irregular
     }
     let mut cols: Vec<(Component, f64)> = Vec::new();
     for n in &names[1..] {
-        let parsed = n.rsplit_once('_').and_then(|(c, u)| {
+        let parsed = name_and_unit(n).and_then(|(c, u)| {
             let scale = match u.to_ascii_lowercase().as_str() {
                 "mm" => 1e-3,
                 "m" => 1.0,
@@ -221,12 +235,13 @@ pub fn read_table_file(path: &std::path::Path) -> Result<IrregularityTable, Irre
     read_table(&text, &file)
 }
 
-/// Writes a table as CSV in millimetres: `station_m,<component>_mm,…`, values with the
-/// shortest decimal that reads back to the same f64 (of the value in mm).
+/// Writes a table as CSV in millimetres: `station [m],<component> [mm],…` (the units in
+/// brackets, as every output CSV), values with the shortest decimal that reads back to the
+/// same f64 (of the value in mm). [`read_table`] reads it back.
 pub fn write_table(t: &IrregularityTable) -> String {
-    let mut out = String::from("station_m");
+    let mut out = String::from("station [m]");
     for (c, _) in &t.columns {
-        out.push_str(&format!(",{}_mm", c.name()));
+        out.push_str(&format!(",{} [mm]", c.name()));
     }
     out.push('\n');
     for (i, s) in t.stations.iter().enumerate() {
@@ -254,6 +269,15 @@ mod tests {
         assert_eq!(t.columns[0].0, Component::Vertical);
         assert!((t.columns[0].1[0] - 1.5e-3).abs() < 1e-18);
         assert_eq!(t.columns[1].1[3], 0.002);
+        // The bracketed units of railfem's own output CSVs read the same.
+        let u = read_table(
+            "station [m], vertical [mm], gauge [m]\n0,1.5,0.001\n1,2,0\n2,-1,0\n3,0,0.002\n",
+            "x.csv",
+        )
+        .unwrap();
+        assert_eq!(u, t);
+        let e = read_table("station [m],vertical [in]\n", "x.csv").unwrap_err();
+        assert!(e.to_string().contains("not a component with units"), "{e}");
     }
 
     #[test]

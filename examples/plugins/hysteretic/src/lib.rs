@@ -244,6 +244,10 @@ impl Element for HystereticSpring {
         .map(String::from)
         .to_vec()
     }
+
+    fn output_units(&self) -> Vec<String> {
+        ["N", "m", "m", "N", "J"].map(String::from).to_vec()
+    }
     fn outputs(&self, out: &mut Vec<f64>) {
         out.extend([
             self.force,
