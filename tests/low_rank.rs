@@ -70,3 +70,48 @@ fn auto_picks_the_low_rank_solver_for_a_rider() {
     let d = Driver::new(beam).expect("driver");
     assert_eq!(d.asm.solver(), SolverChoice::Direct);
 }
+
+/// Just under and just over the dense/sparse threshold (12 and 18 equations of a beam
+/// crossed by a moving force), the driver's own choice and the other solver give the same
+/// history: both are backward-stable factorizations of a matrix with condition number
+/// ≲ 1e4, so they agree to ~1e-12 of the largest displacement; asserted at 1e-10.
+#[test]
+fn dense_and_sparse_agree_across_the_threshold() {
+    use railfem::solvers::dense::DenseLu;
+    use railfem::solvers::driver::DIRECT_DENSE_LIMIT;
+    use railfem::solvers::linear::SparseCholesky;
+    let steps = 30;
+    for elements in [2, 3] {
+        let geo = railfem::bench::BenchBeam {
+            spans: 1,
+            elements_per_span: elements,
+        };
+        let run = |swap: bool| {
+            let mut d = Driver::new(geo.model(steps).expect("model")).expect("driver");
+            let dense = d.neq() <= DIRECT_DENSE_LIMIT;
+            if swap {
+                if dense {
+                    d.set_linear_solver(Box::new(SparseCholesky::new()));
+                } else {
+                    d.set_linear_solver(Box::new(DenseLu::default()));
+                }
+            }
+            d.initialize().expect("init");
+            let mut h = Vec::new();
+            for _ in 0..steps {
+                d.step(railfem::bench::DT).expect("step");
+                h.push(d.state.q.clone());
+            }
+            (d.neq(), dense, h)
+        };
+        let (n, dense, own) = run(false);
+        let (_, _, other) = run(true);
+        assert_eq!(n, 6 * elements);
+        assert_eq!(dense, n < 16, "{n} equations");
+        let diff = history_difference(&own, &other);
+        let scale = own.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
+        eprintln!("{n} equations (dense by default: {dense}): dense vs sparse {diff:.2e} of {scale:.3e}");
+        assert!(scale > 0.0);
+        assert!(diff <= 1e-10, "{n} equations: {diff:e}");
+    }
+}

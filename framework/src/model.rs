@@ -178,10 +178,17 @@ pub const PARTITIONED_FROM: usize = 50_000;
 /// such equations, against a sparse refactorization per iteration.
 pub const LOW_RANK_MAX_DOFS: usize = 64;
 
-/// Equation count above which `solver = "auto"` may pick the low-rank solver: below it the
-/// driver factors the whole tangent densely, which is cheaper (the measured crossover,
-/// docs/performance.md, "Small models and the bandwidth floor").
-pub const LOW_RANK_FROM: usize = 200;
+/// Systems of at most this many equations are factored densely by the driver. Measured
+/// (`railfem bench --case threshold`, docs/performance.md, "Small models and the bandwidth
+/// floor"): on a beam's effective tangent the dense LU's factorization + solve costs 0.79,
+/// 0.85, 0.99, 1.10, 1.26 times the sparse solver's at n = 6, 12, 18, 24, 30 equations and
+/// 6.2 times at 198; on vehicles (66 equations a carriage) 2.7 times at 66. One solve alone
+/// crosses over sooner (dense 1.2 times slower at 12). 16 is where the two are even.
+pub const DENSE_UP_TO: usize = 16;
+
+/// Equation count above which `solver = "auto"` may pick the low-rank solver: up to it the
+/// driver factors the whole tangent densely, which is as cheap.
+pub const LOW_RANK_FROM: usize = DENSE_UP_TO;
 
 impl SolverChoice {
     /// The solver a model of `n` equations runs with: `auto` resolved (never returns

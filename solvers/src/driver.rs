@@ -44,8 +44,14 @@ use railfem_framework::DofSet;
 use std::path::Path;
 use std::time::Instant;
 
-/// Systems up to this many equations are factored densely.
+/// Top systems of the partitioned solver up to this many equations are factored densely
+/// (a Schur complement is much denser than the model's tangent).
 pub const DENSE_LIMIT: usize = 200;
+
+/// The driver factors a model of at most this many equations densely, above it sparsely:
+/// the measured crossover [`railfem_framework::model::DENSE_UP_TO`] (it was 200 before it
+/// was measured, when a 121-equation model ran slower than a 241-equation one).
+pub const DIRECT_DENSE_LIMIT: usize = railfem_framework::model::DENSE_UP_TO;
 
 /// The committed state of a run.
 #[derive(Debug, Clone, PartialEq)]
@@ -223,7 +229,7 @@ impl Driver {
                 "the model has no free DOF (every DOF is fixed or unused); free some DOFs or add elements",
             ));
         }
-        let solver: Box<dyn LinearSolver> = if n <= DENSE_LIMIT {
+        let solver: Box<dyn LinearSolver> = if n <= DIRECT_DENSE_LIMIT {
             Box::new(DenseLu::default())
         } else {
             solver_for(asm.symmetric())
@@ -297,6 +303,14 @@ impl Driver {
             self.partition = Some(Partitioned::new(self.asm.symmetric(), options));
             self.factored = None;
         }
+    }
+
+    /// Replaces the linear solver of the direct mode (the dense or sparse one the driver
+    /// chose by size, [`DIRECT_DENSE_LIMIT`]); the next iteration factors anew. For
+    /// comparisons of solvers on one model; no effect in the partitioned or low-rank modes.
+    pub fn set_linear_solver(&mut self, solver: Box<dyn LinearSolver>) {
+        self.solver = solver;
+        self.factored = None;
     }
 
     /// Work counters of the low-rank solver, if the driver uses it.
@@ -521,7 +535,7 @@ impl Driver {
                 .map_err(|e| self.singular(e))?;
             p.solve_in_place(&mut rhs).map_err(|e| self.singular(e))?;
         } else {
-            let mut solver: Box<dyn LinearSolver> = if n <= DENSE_LIMIT {
+            let mut solver: Box<dyn LinearSolver> = if n <= DIRECT_DENSE_LIMIT {
                 Box::new(DenseLu::default())
             } else {
                 solver_for(true)
