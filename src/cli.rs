@@ -683,11 +683,16 @@ fn track(a: &Args) -> Result<i32, FemError> {
 /// `bench.csv` in `--out` (default `out/bench`).
 fn bench(a: &Args) -> Result<i32, FemError> {
     let case = a.opt("case").unwrap_or("beam");
-    if !matches!(case, "beam" | "train-bridge") {
+    if !matches!(case, "beam" | "train-bridge" | "sprung" | "threshold" | "floor") {
         return Err(FemError::input(
             "command line",
-            format!("--case {case}: use beam (linear multi-span beam) or train-bridge"),
+            format!("--case {case}: use beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the beam, per solver), threshold (dense against sparse solver by size) or floor (time per step against the memory-bandwidth floor)"),
         ));
+    }
+    if case == "threshold" {
+        let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/bench"));
+        crate::threshold::run(&out)?;
+        return Ok(0);
     }
     let spec = a.opt("sizes").unwrap_or("1e4,1e5,1e6");
     let mut sizes = Vec::new();
@@ -762,6 +767,14 @@ fn bench(a: &Args) -> Result<i32, FemError> {
             }
         };
         crate::bench_train::run(&sizes, cars, steps, dt, geometry(a)?, &out)?;
+        return Ok(0);
+    }
+    if case == "floor" {
+        crate::floor::run(&sizes, steps, &out)?;
+        return Ok(0);
+    }
+    if case == "sprung" {
+        crate::small_models::run(&sizes, steps, &out)?;
         return Ok(0);
     }
     crate::bench::run(&sizes, steps, &out)?;

@@ -276,8 +276,10 @@ pub struct TrackCmd {
 /// `railfem bench`.
 #[derive(ClapArgs, Debug)]
 pub struct BenchCmd {
-    /// beam (linear multi-span beam) or train-bridge [default: beam].
-    #[arg(long, value_name = "beam|train-bridge")]
+    /// beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the
+    /// beam with each linear solver), threshold (dense against sparse solver by size) or
+    /// floor (time per step against the memory-bandwidth floor) [default: beam].
+    #[arg(long, value_name = "beam|train-bridge|sprung|threshold|floor")]
     pub case: Option<OsString>,
     /// DOF counts, comma-separated [default: 1e4,1e5,1e6].
     #[arg(long, value_name = "N1,N2,..")]

@@ -19,6 +19,7 @@ pub mod cli;
 pub mod commands;
 pub mod critical;
 pub mod curve;
+pub mod floor;
 pub mod irregularity;
 pub mod matrices;
 pub mod oscillators;
@@ -26,7 +27,9 @@ pub mod pareto;
 pub mod progress;
 pub mod rolling_contact;
 pub mod sidecar;
+pub mod small_models;
 pub mod stress;
+pub mod threshold;
 pub mod train_bridge;
 
 /// Loads a model file, building every element through the registry.

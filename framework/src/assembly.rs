@@ -143,6 +143,8 @@ pub struct Assembler {
     c_var_used: bool,
     /// Threads for the products with the constant matrices.
     threads: usize,
+    /// The linear solver the model runs with (`auto` resolved).
+    solver: crate::model::SolverChoice,
 }
 
 fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Vector3<f64>) -> f64 {
@@ -204,18 +206,23 @@ impl Assembler {
             m_var_used: true,
             c_var_used: true,
             threads: crate::parallel::threads(0),
+            solver: crate::model::SolverChoice::Direct,
         };
-        a.off_pattern = match model.analysis.solver {
-            crate::model::SolverChoice::Direct => false,
-            crate::model::SolverChoice::Partitioned => true,
-            crate::model::SolverChoice::Auto => {
-                n >= crate::model::PARTITIONED_FROM
-                    && model.elements.iter().any(|e| {
-                        let p = e.element.properties();
-                        !p.linear || p.connectivity_may_change
-                    })
-            }
-        };
+        let variable_dofs = model
+            .elements
+            .iter()
+            .filter(|e| {
+                let p = e.element.properties();
+                !p.linear || p.connectivity_may_change
+            })
+            .map(|e| e.element.ndof())
+            .reduce(|a, b| a + b);
+        a.solver = model.analysis.solver.resolve(
+            n,
+            variable_dofs,
+            model.analysis.kind == crate::model::AnalysisKind::Transient,
+        );
+        a.off_pattern = a.solver != crate::model::SolverChoice::Direct;
         for (ci, c) in model.carriers.iter().enumerate() {
             for cn in &c.nodes {
                 a.slot_of[cn.node] = a.carried.len() as u32;
@@ -231,6 +238,13 @@ impl Assembler {
     /// Number of equations.
     pub fn neq(&self) -> usize {
         self.dofmap.neq
+    }
+
+    /// The linear solver the model runs with: the model's `[analysis] solver` with `auto`
+    /// resolved ([`crate::model::SolverChoice::resolve`]); anything but `Direct` keeps the
+    /// variable elements off the global pattern.
+    pub fn solver(&self) -> crate::model::SolverChoice {
+        self.solver
     }
 
     /// Whether variable elements are kept off the global pattern (the partitioned solver's

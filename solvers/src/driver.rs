@@ -32,19 +32,26 @@ use crate::dense::DenseLu;
 use crate::energy::EnergyLedger;
 use crate::integrator::Integrator;
 use crate::linear::{solver_for, LinearSolver, SolverError};
+use crate::lowrank::{LowRank, LowRankStats};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
-use railfem_framework::model::{AnalysisKind, Model, NewtonKind};
+use railfem_framework::model::{AnalysisKind, Model, NewtonKind, SolverChoice};
 use railfem_framework::recorder::{History, Recorders};
 use railfem_framework::sparse::CscMatrix;
 use railfem_framework::DofSet;
 use std::path::Path;
 use std::time::Instant;
 
-/// Systems up to this many equations are factored densely.
+/// Top systems of the partitioned solver up to this many equations are factored densely
+/// (a Schur complement is much denser than the model's tangent).
 pub const DENSE_LIMIT: usize = 200;
+
+/// The driver factors a model of at most this many equations densely, above it sparsely:
+/// the measured crossover [`railfem_framework::model::DENSE_UP_TO`] (it was 200 before it
+/// was measured, when a 121-equation model ran slower than a 241-equation one).
+pub const DIRECT_DENSE_LIMIT: usize = railfem_framework::model::DENSE_UP_TO;
 
 /// The committed state of a run.
 #[derive(Debug, Clone, PartialEq)]
@@ -163,6 +170,9 @@ pub struct Driver {
     pub trace: bool,
     /// The partitioned solver, when the assembler keeps variable elements off the pattern.
     partition: Option<Partitioned>,
+    /// The low-rank solver, used instead of the partitioned one when the model resolves to
+    /// `solver = "low_rank"` ([`crate::lowrank`]).
+    lowrank: Option<LowRank>,
     /// Coefficients `k_eff` holds the constant part for (partitioned mode).
     a_key: Option<[f64; 3]>,
     /// Variable elements' effective triplets (partitioned mode).
@@ -219,15 +229,15 @@ impl Driver {
                 "the model has no free DOF (every DOF is fixed or unused); free some DOFs or add elements",
             ));
         }
-        let solver: Box<dyn LinearSolver> = if n <= DENSE_LIMIT {
+        let solver: Box<dyn LinearSolver> = if n <= DIRECT_DENSE_LIMIT {
             Box::new(DenseLu::default())
         } else {
             solver_for(asm.symmetric())
         };
         let integrator = Integrator::from_spec(&model.analysis);
         let k_eff = asm.k_const.zeros_like();
-        let partition = asm
-            .off_pattern()
+        let lowrank = (asm.solver() == SolverChoice::LowRank).then(LowRank::new);
+        let partition = (asm.off_pattern() && lowrank.is_none())
             .then(|| Partitioned::new(asm.symmetric(), PartitionOptions::default()));
         Ok(Driver {
             state: State {
@@ -251,6 +261,7 @@ impl Driver {
             initialized: false,
             trace: std::env::var_os("RAILFEM_TRACE").is_some(),
             partition,
+            lowrank,
             a_key: None,
             triplets: Vec::new(),
             energy: Some(EnergyLedger::default()),
@@ -294,6 +305,19 @@ impl Driver {
         }
     }
 
+    /// Replaces the linear solver of the direct mode (the dense or sparse one the driver
+    /// chose by size, [`DIRECT_DENSE_LIMIT`]); the next iteration factors anew. For
+    /// comparisons of solvers on one model; no effect in the partitioned or low-rank modes.
+    pub fn set_linear_solver(&mut self, solver: Box<dyn LinearSolver>) {
+        self.solver = solver;
+        self.factored = None;
+    }
+
+    /// Work counters of the low-rank solver, if the driver uses it.
+    pub fn lowrank_stats(&self) -> Option<LowRankStats> {
+        self.lowrank.as_ref().map(LowRank::stats)
+    }
+
     /// Work counters and times of the partitioned solver, if the driver uses it.
     pub fn partition_stats(&self) -> Option<PartitionStats> {
         self.partition.as_ref().map(Partitioned::stats)
@@ -302,7 +326,7 @@ impl Driver {
     /// Forms and factors the effective tangent `cK·K + cM·M + cC·C`.
     fn factor_tangent(&mut self, ck: f64, cm: f64, cc: f64, dt: f64) -> Result<(), FemError> {
         let ta = Instant::now();
-        let Some(p) = self.partition.as_mut() else {
+        if !self.asm.off_pattern() {
             self.asm.effective(ck, cm, cc, &mut self.k_eff);
             self.summary.timings.assembly += ta.elapsed().as_secs_f64();
             let t0 = Instant::now();
@@ -311,7 +335,7 @@ impl Driver {
             r.map_err(|e| self.singular(e))?;
             self.factored = Some((dt, self.k_eff.pattern_id));
             return Ok(());
-        };
+        }
         // The constant part changes only with the coefficients (and never if every mass is
         // constant); the variable elements come as triplets.
         let key = if self.asm.constant_part_is_constant() {
@@ -327,7 +351,11 @@ impl Driver {
         self.asm.variable_triplets(ck, cm, cc, &mut self.triplets);
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         let t0 = Instant::now();
-        let r = p.factor(&self.k_eff, key, &self.triplets);
+        let r = match (self.lowrank.as_mut(), self.partition.as_mut()) {
+            (Some(l), _) => l.factor(&self.k_eff, key, &self.triplets),
+            (None, Some(p)) => p.factor(&self.k_eff, key, &self.triplets),
+            (None, None) => unreachable!("off the pattern the driver has a bordered solver"),
+        };
         self.summary.timings.factor += t0.elapsed().as_secs_f64();
         r.map_err(|e| self.singular(e))?;
         self.factored = Some((dt, self.k_eff.pattern_id));
@@ -336,9 +364,10 @@ impl Driver {
 
     fn solve(&mut self, b: &mut [f64]) -> Result<(), FemError> {
         let t0 = Instant::now();
-        let r = match self.partition.as_mut() {
-            Some(p) => p.solve_in_place(b),
-            None => self.solver.solve_in_place(b),
+        let r = match (self.lowrank.as_mut(), self.partition.as_mut()) {
+            (Some(l), _) => l.solve_in_place(b),
+            (None, Some(p)) => p.solve_in_place(b),
+            (None, None) => self.solver.solve_in_place(b),
         };
         self.summary.timings.solve += t0.elapsed().as_secs_f64();
         r.map_err(|e| self.singular(e))?;
@@ -519,7 +548,7 @@ impl Driver {
                 .map_err(|e| self.singular(e))?;
             p.solve_in_place(&mut rhs).map_err(|e| self.singular(e))?;
         } else {
-            let mut solver: Box<dyn LinearSolver> = if n <= DENSE_LIMIT {
+            let mut solver: Box<dyn LinearSolver> = if n <= DIRECT_DENSE_LIMIT {
                 Box::new(DenseLu::default())
             } else {
                 solver_for(true)

@@ -1,6 +1,7 @@
 //! railfem-solvers: linear solvers, time integrators and the analysis driver.
 //!
-//! What lives here: sparse and dense linear solvers ([`linear`], [`dense`]), modal analysis ([`modal`]), the
+//! What lives here: sparse and dense linear solvers ([`linear`], [`dense`]), the low-rank
+//! (Woodbury) solver for a few moving equations ([`lowrank`]), modal analysis ([`modal`]), the
 //! generalized-α family of integrators ([`integrator`]), the energy balance of a run
 //! ([`energy`]) and the driver that runs static and
 //! transient analyses with Newton–Raphson and step cutting ([`driver`]), and the checks made
@@ -15,6 +16,7 @@ pub mod driver;
 pub mod energy;
 pub mod integrator;
 pub mod linear;
+pub mod lowrank;
 pub mod modal;
 pub mod partition;
 pub mod preflight;

@@ -25,7 +25,7 @@
 //! are not known before the element is evaluated. Mechanisms spread over several
 //! equations (an unsupported beam) are not seen here; the factorization names them.
 
-use crate::driver::{Driver, DENSE_LIMIT};
+use crate::driver::{Driver, DIRECT_DENSE_LIMIT};
 use crate::linear::{cholesky_factor_entries, LinearSolver, SparseCholesky};
 use railfem_framework::error::FemError;
 use railfem_framework::model::{AnalysisKind, IntegratorKind};
@@ -273,7 +273,7 @@ impl Driver {
             + k.nnz() * 16;
         let factor_entries = if !estimate_factor || a.off_pattern() {
             None
-        } else if n <= DENSE_LIMIT {
+        } else if n <= DIRECT_DENSE_LIMIT {
             Some(n * n)
         } else {
             cholesky_factor_entries(k).ok()
