@@ -119,6 +119,11 @@ pub fn measure(case: &TrainBridgeCase, steps: usize) -> Result<PhaseRow, FemErro
         d.asm.times,
         d.partition_stats().unwrap_or_default(),
     );
+    let c = d.condensed_stats();
+    println!(
+        "          condensed Newton (whole run): {} steps, {} top-system iterations, {} full evaluations, {} rejected verifications, {} steps handed back",
+        c.steps, c.top_iterations, c.full_evaluations, c.rejected, c.fallbacks
+    );
     let iters = (s1.iterations - s0.iterations).max(1);
     let per = |x: f64| x / iters as f64;
     let search = a1.search - a0.search;

@@ -869,6 +869,62 @@ impl Assembler {
         Ok(())
     }
 
+    /// The variable elements alone, for the condensed Newton (`solvers/src/condensed.rs`):
+    /// state determination at the trial state and their resisting forces *added* to
+    /// `f_var` (tangents formed when asked), without the products with the constant
+    /// matrices.
+    #[allow(clippy::too_many_arguments)]
+    pub fn update_variable_only(
+        &mut self,
+        model: &mut Model,
+        q: &[f64],
+        v: &[f64],
+        a: &[f64],
+        t: f64,
+        dt: f64,
+        f_var: &mut [f64],
+        form_tangent: bool,
+    ) -> Result<(), FemError> {
+        self.update_variable(model, q, v, a, t, dt, f_var, form_tangent)
+    }
+
+    /// The variable elements' current resisting forces (as last determined, nothing
+    /// re-evaluated) added to `f`.
+    pub fn add_variable_resisting(&self, model: &Model, f: &mut [f64]) {
+        for &ei in &self.variable {
+            let map = &self.maps[ei];
+            let mut fe = vec![0.0; map.dofs.len()];
+            model.elements[ei].element.resisting_force(&mut fe);
+            scatter_vec(&self.dofmap, &map.dofs, &fe, f);
+        }
+    }
+
+    /// `inertia += M_var·a_w`, `damping += C_var·v_w`: the variable elements' (and re-formed
+    /// masses') part of the inertia and damping forces.
+    pub fn add_variable_inertia_damping(
+        &self,
+        a_w: &[f64],
+        v_w: &[f64],
+        inertia: &mut [f64],
+        damping: &mut [f64],
+    ) {
+        self.add_variable_mass(a_w, inertia);
+        self.add_variable_damping(v_w, damping);
+    }
+
+    /// The equations the variable elements touch (off-pattern mode; sorted, without
+    /// repeats; empty in the direct mode).
+    pub fn variable_equations(&self) -> Vec<usize> {
+        let mut e: Vec<usize> = self
+            .off
+            .iter()
+            .flat_map(|o| o.terms.iter().map(|t| t.1 as usize))
+            .collect();
+        e.sort_unstable();
+        e.dedup();
+        e
+    }
+
     /// `out = M·x` (constant and variable mass).
     pub fn mass_times(&self, x: &[f64], out: &mut [f64]) {
         if self.const_symmetric {

@@ -54,7 +54,7 @@ pub const DENSE_LIMIT: usize = 200;
 pub const DIRECT_DENSE_LIMIT: usize = railfem_framework::model::DENSE_UP_TO;
 
 /// The committed state of a run.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct State {
     /// Time (s).
     pub t: f64,
@@ -132,7 +132,7 @@ pub struct RunSummary {
 
 /// Why one attempt at a step failed (it may be retried with a smaller step).
 #[derive(Debug)]
-enum Attempt {
+pub(crate) enum Attempt {
     /// Newton did not converge: the largest residual and where.
     NotConverged {
         residual: f64,
@@ -162,14 +162,14 @@ pub struct Driver {
     solver: Box<dyn LinearSolver>,
     k_eff: CscMatrix,
     /// `(dt, pattern id)` the current factor belongs to, when it is still valid.
-    factored: Option<(f64, u64)>,
+    pub(crate) factored: Option<(f64, u64)>,
     /// Totals.
     pub summary: RunSummary,
     initialized: bool,
     /// Print each Newton iteration's residual to stderr (`RAILFEM_TRACE=1`).
     pub trace: bool,
     /// The partitioned solver, when the assembler keeps variable elements off the pattern.
-    partition: Option<Partitioned>,
+    pub(crate) partition: Option<Partitioned>,
     /// The low-rank solver, used instead of the partitioned one when the model resolves to
     /// `solver = "low_rank"` ([`crate::lowrank`]).
     lowrank: Option<LowRank>,
@@ -180,6 +180,12 @@ pub struct Driver {
     /// The energy balance, updated after each committed step ([`crate::energy`]); `None`
     /// skips the accounting (two matrix–vector products per step).
     pub energy: Option<EnergyLedger>,
+    /// Newton iterates only on the top system of the partitioned solver, the block
+    /// interiors condensed out of the residual too ([`crate::condensed`]); `false` keeps
+    /// the full-residual Newton (same answers to round-off; for comparisons).
+    pub condense_residual: bool,
+    /// The condensed Newton's caches and counters.
+    pub(crate) condensed: crate::condensed::CondensedCache,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -265,6 +271,8 @@ impl Driver {
             a_key: None,
             triplets: Vec::new(),
             energy: Some(EnergyLedger::default()),
+            condense_residual: true,
+            condensed: Default::default(),
         })
     }
 
@@ -324,7 +332,13 @@ impl Driver {
     }
 
     /// Forms and factors the effective tangent `cK·K + cM·M + cC·C`.
-    fn factor_tangent(&mut self, ck: f64, cm: f64, cc: f64, dt: f64) -> Result<(), FemError> {
+    pub(crate) fn factor_tangent(
+        &mut self,
+        ck: f64,
+        cm: f64,
+        cc: f64,
+        dt: f64,
+    ) -> Result<(), FemError> {
         let ta = Instant::now();
         if !self.asm.off_pattern() {
             self.asm.effective(ck, cm, cc, &mut self.k_eff);
@@ -349,6 +363,9 @@ impl Driver {
         }
         self.triplets.clear();
         self.asm.variable_triplets(ck, cm, cc, &mut self.triplets);
+        // The condensed Newton keeps every equation of the variable elements on top.
+        let always = &self.condensed.promote_always;
+        self.triplets.extend(always.iter().map(|&e| (e, e, 0.0)));
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         let t0 = Instant::now();
         let r = match (self.lowrank.as_mut(), self.partition.as_mut()) {
@@ -567,7 +584,7 @@ impl Driver {
     }
 
     /// One attempt at a step of length `dt` from the committed state.
-    fn attempt(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
+    pub(crate) fn attempt(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
         let n = self.neq();
         let ig = self.integrator;
         let s0 = &self.state;
@@ -766,7 +783,7 @@ impl Driver {
         max_cuts: usize,
         rep: &mut StepReport,
     ) -> Result<(), FemError> {
-        match self.attempt(dt) {
+        match self.attempt_any(dt) {
             Ok((s, it, res)) => {
                 self.asm.commit(&mut self.model);
                 if let Some(e) = self.energy.as_mut() {

@@ -138,6 +138,12 @@ struct TopCache {
     layout: Vec<(u32, u32)>,
     positions: Vec<usize>,
     matrix: CscMatrix,
+    /// How many leading triplets of `layout` are the constant part (`A` and the blocks'
+    /// condensation); the rest are the variable elements'.
+    constant_len: usize,
+    /// The constant part `S_A` of the top matrix alone, on `matrix`'s pattern: the top
+    /// system without the variable elements (the condensed Newton's residual uses it).
+    constant: Vec<f64>,
 }
 
 /// The partitioned solver (see the module documentation).
@@ -162,6 +168,11 @@ pub struct Partitioned {
     top_dense: bool,
     /// The last top system and how its triplets map onto it.
     top_cache: Option<TopCache>,
+    /// Whether the constant part of the top system must be formed again at the next
+    /// factorization (new structure, new block factors, a promotion changed, a new top set).
+    constant_stale: bool,
+    /// Counts changes of the top set (a promotion changed which equations are on top).
+    top_generation: u64,
     stats: PartitionStats,
 }
 
@@ -183,7 +194,56 @@ impl Partitioned {
             top_factored: false,
             top_dense: false,
             top_cache: None,
+            constant_stale: true,
+            top_generation: 0,
             stats: PartitionStats::default(),
+        }
+    }
+
+    /// The top equations of the last factorization (global, sorted).
+    pub fn top_equations(&self) -> &[usize] {
+        &self.top
+    }
+
+    /// Position of equation `i` in the top numbering, if it is on top.
+    pub fn top_position(&self, i: usize) -> Option<usize> {
+        self.top_index
+            .get(i)
+            .filter(|&&t| t != NONE)
+            .map(|&t| t as usize)
+    }
+
+    /// A counter that changes whenever the top set changes (promotions, a new structure).
+    pub fn top_generation(&self) -> u64 {
+        self.top_generation
+    }
+
+    /// Whether equation `i` lies in a block interior (`false`: in the base top set, or no
+    /// structure yet).
+    pub fn in_block_interior(&self, i: usize) -> bool {
+        self.block_of.get(i).is_some_and(|&b| b != NONE)
+    }
+
+    /// Number of equations of the structure (`0` before the first factorization).
+    pub fn equations(&self) -> usize {
+        self.n
+    }
+
+    /// `out = S_A·x` on the top equations: the constant part of the last top system (the
+    /// Schur complement of `A` onto the top set, without the variable elements).
+    pub fn top_constant_times(&self, x: &[f64], out: &mut [f64]) {
+        out.iter_mut().for_each(|v| *v = 0.0);
+        let Some(c) = &self.top_cache else {
+            return;
+        };
+        let m = &c.matrix;
+        for (j, &xj) in x.iter().enumerate().take(m.n) {
+            if xj == 0.0 {
+                continue;
+            }
+            for p in m.col_ptr[j]..m.col_ptr[j + 1] {
+                out[m.row_idx[p]] += c.constant[p] * xj;
+            }
         }
     }
 
@@ -308,8 +368,10 @@ impl Partitioned {
         self.top_factored = false;
         if a.pattern_id != self.pattern_id || a.n != self.n {
             self.build_structure(a);
+            self.constant_stale = true;
         }
         if self.key != Some(key) {
+            self.constant_stale = true;
             for b in &mut self.blocks {
                 b.base = None;
                 b.promotion = None;
@@ -352,6 +414,7 @@ impl Partitioned {
         let results = par_each(&mut missing, nt, |(_, all)| block_state(a, all, block_of));
         let targets: Vec<usize> = missing.iter().map(|m| m.0).collect();
         drop(missing);
+        self.constant_stale |= !targets.is_empty();
         self.stats.block_factorizations += targets.len();
         for (bi, r) in targets.into_iter().zip(results) {
             self.blocks[bi].base = Some(r?);
@@ -370,6 +433,7 @@ impl Partitioned {
             })
             .collect();
         let changed = jobs.iter().filter(|(_, w)| !w.is_empty()).count();
+        self.constant_stale |= !jobs.is_empty();
         let results = par_each(&mut jobs, nt, |(blk, want)| {
             if want.is_empty() {
                 return Ok(None);
@@ -386,20 +450,127 @@ impl Partitioned {
 
         // The top set and system.
         let t1 = Instant::now();
-        for &i in &self.top {
-            self.top_index[i] = NONE;
-        }
-        if self.top_index.len() != n {
-            self.top_index = vec![NONE; n];
-        }
-        self.top.clear();
-        self.top.extend_from_slice(&self.base_top);
-        self.top.extend(promoted.iter().map(|&(_, e)| e));
-        self.top.sort_unstable();
-        for (k, &i) in self.top.iter().enumerate() {
-            self.top_index[i] = k as u32;
+        let mut top: Vec<usize> = Vec::with_capacity(self.base_top.len() + promoted.len());
+        top.extend_from_slice(&self.base_top);
+        top.extend(promoted.iter().map(|&(_, e)| e));
+        top.sort_unstable();
+        if top != self.top || self.top_index.len() != n {
+            for &i in &self.top {
+                if let Some(t) = self.top_index.get_mut(i) {
+                    *t = NONE;
+                }
+            }
+            if self.top_index.len() != n {
+                self.top_index = vec![NONE; n];
+            }
+            for (k, &i) in top.iter().enumerate() {
+                self.top_index[i] = k as u32;
+            }
+            self.top = top;
+            self.top_generation += 1;
+            self.constant_stale = true;
         }
         let nt_top = self.top.len();
+        let ti = &self.top_index;
+        let vtrip: Vec<(u32, u32, f64)> = variable
+            .iter()
+            .map(|&(i, j, v)| (ti[i], ti[j], v))
+            .collect();
+        // The constant part (A between top equations and the blocks' condensation) is
+        // formed again only when something it depends on changed; otherwise the cached
+        // values are reused and only the variable elements' triplets are added.
+        let reuse = !self.constant_stale
+            && self.top_cache.as_ref().is_some_and(|c| {
+                c.matrix.n == nt_top
+                    && c.layout.len() == c.constant_len + vtrip.len()
+                    && c.layout[c.constant_len..]
+                        .iter()
+                        .zip(&vtrip)
+                        .all(|(&(i, j), t)| i == t.0 && j == t.1)
+            });
+        if !reuse {
+            let ctrip = self.constant_triplets(a);
+            let constant_len = ctrip.len();
+            let same = self.top_cache.as_ref().is_some_and(|c| {
+                c.matrix.n == nt_top
+                    && c.constant_len == constant_len
+                    && c.layout.len() == constant_len + vtrip.len()
+                    && c.layout
+                        .iter()
+                        .zip(
+                            ctrip
+                                .iter()
+                                .map(|t| (t.0 as u32, t.1 as u32))
+                                .chain(vtrip.iter().map(|t| (t.0, t.1))),
+                        )
+                        .all(|(&l, t)| l == t)
+            });
+            // Same triplet layout as last time (the usual case between promotions): refill
+            // the cached matrix through the cached positions, keeping its pattern id so the
+            // top solver also reuses its symbolic analysis.
+            if !same {
+                let all: Vec<(usize, usize, f64)> = ctrip
+                    .iter()
+                    .copied()
+                    .chain(vtrip.iter().map(|&(i, j, v)| (i as usize, j as usize, v)))
+                    .collect();
+                let m = CscMatrix::from_triplets(nt_top, &all);
+                let positions = all
+                    .iter()
+                    .map(|&(i, j, _)| m.position(i, j).expect("entry is in the pattern"))
+                    .collect();
+                let layout = all.iter().map(|&(i, j, _)| (i as u32, j as u32)).collect();
+                let nnz = m.values.len();
+                self.top_cache = Some(TopCache {
+                    layout,
+                    positions,
+                    matrix: m,
+                    constant_len,
+                    constant: vec![0.0; nnz],
+                });
+            }
+            let cache = self.top_cache.as_mut().expect("set above");
+            cache.constant.iter_mut().for_each(|v| *v = 0.0);
+            for (&p, t) in cache.positions.iter().zip(&ctrip) {
+                cache.constant[p] += t.2;
+            }
+            self.constant_stale = false;
+        }
+        let cache = self.top_cache.as_mut().expect("set above");
+        // Constant part first, then the variable triplets in order: the same sums as
+        // scattering every triplet into zeros.
+        cache.matrix.values.copy_from_slice(&cache.constant);
+        for (&p, t) in cache.positions[cache.constant_len..].iter().zip(&vtrip) {
+            cache.matrix.values[p] += t.2;
+        }
+        let s = &cache.matrix;
+        let dense = nt_top <= crate::driver::DENSE_LIMIT;
+        if dense != self.top_dense {
+            self.top_solver = if dense {
+                Box::new(DenseLu::default())
+            } else {
+                solver_for(self.symmetric)
+            };
+            self.top_dense = dense;
+        }
+        let r = self.top_solver.factor(s);
+        self.stats.time_top += t1.elapsed().as_secs_f64();
+        self.stats.top_equations = nt_top;
+        r.map_err(|e| match e {
+            SolverError::Singular { equation } => SolverError::Singular {
+                equation: self.top.get(equation).copied().unwrap_or(equation),
+            },
+            other => other,
+        })?;
+        self.stats.top_factorizations += 1;
+        self.top_factored = true;
+        Ok(())
+    }
+
+    /// The constant part of the top system as `(row, column, value)` triplets in top
+    /// numbering: `A` between base top equations and each block's condensation (module
+    /// documentation).
+    fn constant_triplets(&self, a: &CscMatrix) -> Vec<(usize, usize, f64)> {
         let mut trip: Vec<(usize, usize, f64)> = Vec::new();
         let ti = &self.top_index;
         // A between base top equations (promoted ones enter through their block's S).
@@ -458,77 +629,47 @@ impl Partitioned {
                 }
             }
         }
-        for &(i, j, v) in variable {
-            trip.push((self.top_index[i] as usize, self.top_index[j] as usize, v));
+        trip
+    }
+
+    /// Solves `(A + V)·x = b` in place with the last factorization: the interiors'
+    /// right-hand sides condensed onto the top ([`Partitioned::condense_rhs`]), the top
+    /// solve ([`Partitioned::solve_top`]), the interiors recovered
+    /// ([`Partitioned::back_substitute`]).
+    pub fn solve_in_place(&mut self, b: &mut [f64]) -> Result<(), SolverError> {
+        let mut xt = self.condense_rhs(b)?;
+        self.solve_top(&mut xt)?;
+        let rhs = b.to_vec();
+        // Interiors are overwritten; the top entries are set below.
+        self.back_substitute(&[(Some(&rhs), &xt)], &mut [b], false)?;
+        for (&i, v) in self.top.iter().zip(&xt) {
+            b[i] = *v;
         }
-        // Same triplet layout as last time (the usual case between promotions): refill the
-        // cached matrix through the cached positions, keeping its pattern id so the top
-        // solver also reuses its symbolic analysis.
-        let same = self.top_cache.as_ref().is_some_and(|c| {
-            c.matrix.n == nt_top
-                && c.layout.len() == trip.len()
-                && c.layout
-                    .iter()
-                    .zip(&trip)
-                    .all(|(&(i, j), t)| i == t.0 as u32 && j == t.1 as u32)
-        });
-        if !same {
-            let m = CscMatrix::from_triplets(nt_top, &trip);
-            let positions = trip
-                .iter()
-                .map(|&(i, j, _)| m.position(i, j).expect("entry is in the pattern"))
-                .collect();
-            let layout = trip.iter().map(|&(i, j, _)| (i as u32, j as u32)).collect();
-            self.top_cache = Some(TopCache {
-                layout,
-                positions,
-                matrix: m,
-            });
-        }
-        let cache = self.top_cache.as_mut().expect("set above");
-        cache.matrix.values.iter_mut().for_each(|v| *v = 0.0);
-        for (&p, t) in cache.positions.iter().zip(&trip) {
-            cache.matrix.values[p] += t.2;
-        }
-        drop(trip);
-        let s = &cache.matrix;
-        let dense = nt_top <= crate::driver::DENSE_LIMIT;
-        if dense != self.top_dense {
-            self.top_solver = if dense {
-                Box::new(DenseLu::default())
-            } else {
-                solver_for(self.symmetric)
-            };
-            self.top_dense = dense;
-        }
-        let r = self.top_solver.factor(s);
-        self.stats.time_top += t1.elapsed().as_secs_f64();
-        self.stats.top_equations = nt_top;
-        r.map_err(|e| match e {
-            SolverError::Singular { equation } => SolverError::Singular {
-                equation: self.top.get(equation).copied().unwrap_or(equation),
-            },
-            other => other,
-        })?;
-        self.stats.top_factorizations += 1;
-        self.top_factored = true;
+        self.stats.solves += 1;
         Ok(())
     }
 
-    /// Solves `(A + V)·x = b` in place with the last factorization.
-    pub fn solve_in_place(&mut self, b: &mut [f64]) -> Result<(), SolverError> {
+    fn check_ready(&self, len: usize) -> Result<(), SolverError> {
         if !self.top_factored {
             return Err(SolverError::Failed(
                 "solve called without a valid factorization".into(),
             ));
         }
-        if b.len() != self.n {
+        if len != self.n {
             return Err(SolverError::Failed(format!(
                 "right-hand side has {} entries, the system {}",
-                b.len(),
-                self.n
+                len, self.n
             )));
         }
+        Ok(())
+    }
+
+    /// The forward half of a solve: `b`'s block interiors condensed onto the top equations,
+    /// `g_T = b_T − Σ_b A_{T I_b}·A_{I_b I_b}⁻¹·b_{I_b}` (with the promoted equations' own
+    /// form, module documentation), returned in top numbering ([`Partitioned::top_equations`]).
+    /// One triangular solve pair per block, in parallel.
+    pub fn condense_rhs(&mut self, b: &[f64]) -> Result<Vec<f64>, SolverError> {
+        self.check_ready(b.len())?;
         let t0 = Instant::now();
         let nt = threads(self.options.threads);
         let rhs: &[f64] = b;
@@ -572,38 +713,96 @@ impl Partitioned {
                 }
             }
         }
-        self.top_solver.solve_in_place(&mut xt)?;
-        // Back-substitute into the interiors.
-        let (top_index, rhs) = (&self.top_index, &*b);
-        let xt_ref = &xt;
+        self.stats.time_solve += t0.elapsed().as_secs_f64();
+        Ok(xt)
+    }
+
+    /// Solves the factored top system `S·x = g` in place (top numbering).
+    pub fn solve_top(&mut self, x: &mut [f64]) -> Result<(), SolverError> {
+        if !self.top_factored || x.len() != self.top.len() {
+            return Err(SolverError::Failed(format!(
+                "top solve: {} entries for {} top equations{}",
+                x.len(),
+                self.top.len(),
+                if self.top_factored {
+                    ""
+                } else {
+                    ", not factored"
+                }
+            )));
+        }
+        let t0 = Instant::now();
+        let r = self.top_solver.solve_in_place(x);
+        self.stats.time_solve += t0.elapsed().as_secs_f64();
+        r
+    }
+
+    /// The back half of a solve, for several columns at once (one multi-column triangular
+    /// solve per block): column `k` has the right-hand side `b_k` (`None`: zero) and the
+    /// top values `x_T,k`; its interiors `x_I = A_II⁻¹·(b_I − A_IB·x_B)` (with the promoted
+    /// equations' form, module documentation) are written into `outs[k]` (added to it when
+    /// `add`). Top entries of `outs`, promoted ones included, are left alone.
+    pub fn back_substitute(
+        &mut self,
+        columns: &[(Option<&[f64]>, &[f64])],
+        outs: &mut [&mut [f64]],
+        add: bool,
+    ) -> Result<(), SolverError> {
+        self.check_ready(outs.first().map_or(self.n, |o| o.len()))?;
+        if outs.len() != columns.len() {
+            return Err(SolverError::Failed(format!(
+                "back substitution: {} columns, {} outputs",
+                columns.len(),
+                outs.len()
+            )));
+        }
+        let t0 = Instant::now();
+        let nt = threads(self.options.threads);
+        let nc = columns.len();
+        let top_index = &self.top_index;
         let parts = par_each(&mut self.blocks, nt, |blk| {
             let Block {
                 base, promotion, ..
             } = blk;
             let st = base.as_mut().expect("block factored");
-            let mut z: Vec<f64> = st.interior.iter().map(|&i| rhs[i]).collect();
-            for (col, &g) in st.coupling.iter().zip(&st.boundary) {
-                let x = xt_ref[top_index[g] as usize];
-                for &(r, v) in col {
-                    z[r as usize] -= v * x;
+            let ni = st.interior.len();
+            let mut z = vec![0.0; ni * nc];
+            for (k, (rhs, xt)) in columns.iter().enumerate() {
+                let zk = &mut z[k * ni..(k + 1) * ni];
+                if let Some(rhs) = rhs {
+                    for (zi, &i) in zk.iter_mut().zip(&st.interior) {
+                        *zi = rhs[i];
+                    }
+                }
+                for (col, &g) in st.coupling.iter().zip(&st.boundary) {
+                    let x = xt[top_index[g] as usize];
+                    for &(r, v) in col {
+                        zk[r as usize] -= v * x;
+                    }
                 }
             }
-            st.factor.solve_in_place(&mut z)?;
+            if nc == 1 {
+                st.factor.solve_in_place(&mut z)?;
+            } else {
+                st.factor.solve_columns_in_place(&mut z, nc)?;
+            }
             if let Some(pr) = promotion {
                 // x_I = y + Z·G⁻¹·(x_P − y_P).
                 let np = pr.promoted.len();
-                let d: Vec<f64> = pr
-                    .promoted
-                    .iter()
-                    .zip(&pr.local)
-                    .map(|(&g, &l)| xt_ref[top_index[g] as usize] - z[l])
-                    .collect();
-                let ni = z.len();
-                for k in 0..np {
-                    let e: f64 = (0..np).map(|l| pr.g_inv[k + l * np] * d[l]).sum();
-                    if e != 0.0 {
-                        for (zi, zk) in z.iter_mut().zip(&pr.z[k * ni..(k + 1) * ni]) {
-                            *zi += zk * e;
+                for (k, (_, xt)) in columns.iter().enumerate() {
+                    let zk = &mut z[k * ni..(k + 1) * ni];
+                    let d: Vec<f64> = pr
+                        .promoted
+                        .iter()
+                        .zip(&pr.local)
+                        .map(|(&g, &l)| xt[top_index[g] as usize] - zk[l])
+                        .collect();
+                    for kk in 0..np {
+                        let e: f64 = (0..np).map(|l| pr.g_inv[kk + l * np] * d[l]).sum();
+                        if e != 0.0 {
+                            for (zi, zp) in zk.iter_mut().zip(&pr.z[kk * ni..(kk + 1) * ni]) {
+                                *zi += zp * e;
+                            }
                         }
                     }
                 }
@@ -611,14 +810,25 @@ impl Partitioned {
             Ok::<_, SolverError>(z)
         });
         for (blk, z) in self.blocks.iter().zip(parts) {
-            for (&i, v) in blk.state().interior.iter().zip(z?) {
-                b[i] = v;
+            let z = z?;
+            let interior = &blk.state().interior;
+            let ni = interior.len();
+            // Promoted equations are top equations: their values are the caller's.
+            let promoted = blk.promotion.is_some();
+            for (k, out) in outs.iter_mut().enumerate() {
+                let zk = &z[k * ni..(k + 1) * ni];
+                for (&i, v) in interior.iter().zip(zk) {
+                    if promoted && self.top_index[i] != NONE {
+                        continue;
+                    }
+                    if add {
+                        out[i] += v;
+                    } else {
+                        out[i] = *v;
+                    }
+                }
             }
         }
-        for (&i, v) in self.top.iter().zip(&xt) {
-            b[i] = *v;
-        }
-        self.stats.solves += 1;
         self.stats.time_solve += t0.elapsed().as_secs_f64();
         Ok(())
     }

@@ -1,0 +1,653 @@
+//! The condensed Newton: a transient step of the partitioned solver
+//! ([`crate::partition`]) that iterates only on the top system, the block interiors
+//! condensed out of the residual as well as out of the tangent.
+//!
+//! **Why it is exact.** Number the equations as the partition does: block interiors `I`
+//! (what remains after promotion) and the top set `T` (separators, carriages, and every
+//! equation a variable element touches — this module promotes all of them, so the variable
+//! elements live in `T × T`). Only constant, linear elements act on an interior equation,
+//! so with `A = c_K·K + c_M·M + c_C·C` the effective matrix of those elements the interior
+//! rows of the step's residual are *affine* in the unknowns, exactly:
+//!
+//! ```text
+//! r_I(q) = r_I(q_b) − A_II·(q_I − q_bI) − A_IT·(q_T − q_bT)       (any base state q_b).
+//! ```
+//!
+//! (No interior or separator equation is a finite-rotation one — checked — so `q − q_b` is
+//! the plain difference there and the Newmark kinematics are linear in it.) One full Newton
+//! correction from `q_b`, `(A + V)·Δ = r(q_b)`, satisfies the interior rows of that system,
+//! `A_II·Δ_I + A_IT·Δ_T = r_I(q_b)`, so after it `r_I = 0` (to round-off), and every later
+//! full-Newton correction keeps it zero: `Δ_I = −A_II⁻¹·A_IT·Δ_T`. Full Newton therefore
+//! moves on the manifold `q_I = q_bI + δ_I(δ_T)`,
+//!
+//! ```text
+//! δ_I(δ_T) = A_II⁻¹·(r_I(q_b) − A_IT·δ_T),        δ_T = q_T − q_bT,
+//! ```
+//!
+//! and on it the top rows of the residual are a function of `q_T` alone:
+//!
+//! ```text
+//! r̃_T(q_T) = g_T − S_A·δ_T + Corr·δ_T − [c_T(q) − c_T(q_b)] − [v_T(q) − v_T(q_b)],
+//! g_T = r_T(q_b) − A_TI·A_II⁻¹·r_I(q_b)     (the partition's condensed right-hand side),
+//! S_A = A_TT − Corr,  Corr = A_TI·A_II⁻¹·A_IT  (the top system without the variable part),
+//! ```
+//!
+//! with `c_T` the constant elements' forces between top equations,
+//! `(1−α_f)·K_TT·q_T + M_TT·a_w,T + C_TT·v_w,T`, evaluated with the true kinematics (so a
+//! finite-rotation carriage body is right), and `v_T` the variable elements' forces
+//! `(1−α_f)·f_var + M_var·a_w + C_var·v_w`. For a top equation without finite rotation
+//! `c_T(q) − c_T(q_b) = A_TT·δ_T` and the two bracketed `A_TT` terms cancel; they are kept
+//! so the formula holds for the carriages too. Newton on `r̃_T` with the tangent
+//! `S = S_A + V` (the partition's top factor) then produces **the same iterates `q_T`** as
+//! full Newton from `q_b`: its first correction is full Newton's (`r̃_T(q_bT) = g_T`), and at
+//! every later iterate full Newton's condensed right-hand side is `r_T − A_TI·A_II⁻¹·r_I =
+//! r_T = r̃_T` because `r_I = 0`. Per iteration this costs the variable elements, products
+//! over the top equations (≈ 10⁴), one factorization and one solve of the top system;
+//! nothing of size `n`. The interiors are recovered once, by the back-substitution
+//! `δ_I(δ_T)` ([`crate::partition::Partitioned::back_substitute`]).
+//!
+//! **The convergence test is the full one.** The driver's test — `|r| ≤ tol·max(|f̄_ext|,
+//! |f_int|, |M·a_w|) + abs_tol` and `|Δq| ≤ tol·|q| + disp_tol` on the last correction —
+//! needs the interiors. The top iterations use a *screen*: `|r̃_T|` (which is `|r|`, since
+//! `r_I = 0`) against twice the tolerance computed with the reference norms of the last
+//! full evaluation and of the previous step, and `|Δq_T|` (a lower bound of `|Δq|`) against
+//! twice `tol·|q|` estimated with the interiors of the base. When the screen passes, the
+//! interiors and the last correction's interior part are recovered (one two-column
+//! back-substitution), the residual is evaluated in full and the driver's own test decides.
+//! It passes: the step ends with the state full Newton would have — same iterate, same
+//! decision, differences of round-off only. It fails: that full evaluation becomes the new
+//! base (full Newton's next correction is taken from it) and the top iterations go on. A
+//! screen that passed too late would add an iteration and change the answer at the level
+//! of the tolerance; the factor 2 covers changes of the reference norms within a step
+//! (dominated by the static weight and its reaction), and the counter
+//! [`CondensedStats::margin_exceeded`] records any verified step whose exact tolerance
+//! exceeded the screen's by more than it.
+//!
+//! **What is not condensed.** Anything unusual falls back to the full-residual attempt of
+//! [`Driver`] for the whole step (elements reverted, the step taken again): a top set that
+//! changes inside a step, the backtracking of a rising residual, the iteration limit, a
+//! non-finite residual, an error — the counters say how often. Only full Newton with a
+//! partitioned solver, variable elements and a constant `A` uses this path.
+
+use crate::driver::{Attempt, Driver, State};
+use railfem_framework::model::NewtonKind;
+use railfem_framework::parallel::threads;
+use std::time::Instant;
+
+/// Counters of the condensed Newton.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CondensedStats {
+    /// Steps completed by the condensed Newton.
+    pub steps: usize,
+    /// Iterations on the top system alone (no full residual).
+    pub top_iterations: usize,
+    /// Full evaluations (the first of each step and each verification).
+    pub full_evaluations: usize,
+    /// Verifications whose full test did not pass (the screen passed too early).
+    pub rejected: usize,
+    /// Verified steps whose exact force or displacement tolerance exceeded the screen's
+    /// estimate by more than its factor 2 (see the module documentation).
+    pub margin_exceeded: usize,
+    /// Steps handed back to the full-residual Newton.
+    pub fallbacks: usize,
+}
+
+/// Caches kept between steps.
+#[derive(Debug, Default)]
+pub struct CondensedCache {
+    /// Equations every factorization of the step keeps on top (those of the variable
+    /// elements), read by the driver's factorization.
+    pub(crate) promote_always: Vec<usize>,
+    /// The constant matrices between top equations, for the top generation they were built.
+    products: Option<TopProducts>,
+    /// `|f_int|`, `|M·a_w|` at the last converged step.
+    last_norms: Option<(f64, f64)>,
+    stats: CondensedStats,
+}
+
+/// `K`, `M`, `C` restricted to the top equations (top numbering, column-compressed).
+#[derive(Debug)]
+struct TopProducts {
+    generation: u64,
+    col_ptr: Vec<usize>,
+    rows: Vec<u32>,
+    k: Vec<f64>,
+    m: Vec<f64>,
+    c: Vec<f64>,
+}
+
+/// How a condensed attempt ended when it did not give a state.
+enum Exit {
+    /// Take the step again with the full-residual Newton.
+    Fallback,
+}
+
+/// Work vectors of one full-size state.
+struct Full {
+    q: Vec<f64>,
+    v: Vec<f64>,
+    a: Vec<f64>,
+    a_w: Vec<f64>,
+    v_w: Vec<f64>,
+    f_int: Vec<f64>,
+    inertia: Vec<f64>,
+    damp: Vec<f64>,
+    r: Vec<f64>,
+}
+
+/// Chunk length of the parallel loops: fixed, so sums do not depend on the thread count.
+const CHUNK: usize = 1 << 15;
+
+/// Runs `f(offset, chunks...)` over fixed chunks of the index range, on `nt` threads, and
+/// returns the per-chunk results in order.
+fn par_chunks<R: Send>(n: usize, nt: usize, f: impl Fn(usize, usize) -> R + Sync) -> Vec<R> {
+    let nch = n.div_ceil(CHUNK).max(1);
+    let run = |c: usize| f(c * CHUNK, ((c + 1) * CHUNK).min(n));
+    if nt <= 1 || nch == 1 {
+        return (0..nch).map(run).collect();
+    }
+    let per = nch.div_ceil(nt);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = (0..nt)
+            .map(|t| {
+                let run = &run;
+                s.spawn(move || {
+                    (t * per..((t + 1) * per).min(nch))
+                        .map(run)
+                        .collect::<Vec<R>>()
+                })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().expect("parallel worker panicked"))
+            .collect()
+    })
+}
+
+/// A raw view of a vector that parallel chunks write disjoint ranges of.
+#[derive(Clone, Copy)]
+struct Shared(*mut f64);
+// SAFETY: every use writes only indices of its own chunk (disjoint ranges).
+unsafe impl Send for Shared {}
+unsafe impl Sync for Shared {}
+impl Shared {
+    /// # Safety
+    /// `lo..hi` must be in bounds and written by no other thread at the same time.
+    unsafe fn range(self, lo: usize, hi: usize) -> &'static mut [f64] {
+        std::slice::from_raw_parts_mut(self.0.add(lo), hi - lo)
+    }
+}
+
+impl Driver {
+    /// Work counters of the condensed Newton.
+    pub fn condensed_stats(&self) -> CondensedStats {
+        self.condensed.stats
+    }
+
+    /// A step attempt: the condensed Newton when it applies, the full-residual one
+    /// otherwise or when the condensed one hands the step back.
+    pub(crate) fn attempt_any(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
+        if self.condense_residual && self.condensed_applicable() {
+            let s0 = std::mem::take(&mut self.state);
+            let r = self.attempt_condensed(dt, &s0);
+            self.state = s0;
+            self.condensed.promote_always.clear();
+            match r {
+                Ok(x) => {
+                    self.condensed.stats.steps += 1;
+                    return Ok(x);
+                }
+                Err(Exit::Fallback) => {
+                    self.asm.revert(&mut self.model);
+                    self.factored = None;
+                    self.condensed.stats.fallbacks += 1;
+                }
+            }
+        }
+        self.attempt(dt)
+    }
+
+    fn condensed_applicable(&self) -> bool {
+        let Some(p) = &self.partition else {
+            return false;
+        };
+        p.equations() == self.neq()
+            && self.model.analysis.newton.kind == NewtonKind::Full
+            && !self.asm.variable_elements().is_empty()
+            && self.asm.constant_part_is_constant()
+            && self
+                .asm
+                .dofmap
+                .rotation_triples()
+                .all(|t| t.iter().all(|&e| !p.in_block_interior(e)))
+    }
+
+    /// Kinematics of every equation, the full residual and its norms `(|r|, reference)`.
+    #[allow(clippy::too_many_arguments)]
+    fn full_evaluation(
+        &mut self,
+        s0: &State,
+        f_ref_ext: &[f64],
+        ext_norm: f64,
+        w: &mut Full,
+        du: &mut [f64],
+        t1: f64,
+        dt: f64,
+    ) -> Result<(f64, f64, f64, f64), Exit> {
+        let ig = self.integrator;
+        let (af, am) = (ig.alpha_f, ig.alpha_m);
+        let n = w.q.len();
+        let nt = threads(0);
+        let finite = self.asm.dofmap.has_finite_rotations();
+        if finite {
+            self.asm.dofmap.increment(&s0.q, &w.q, du);
+        }
+        {
+            let (pv, pa, paw, pvw) = (
+                Shared(w.v.as_mut_ptr()),
+                Shared(w.a.as_mut_ptr()),
+                Shared(w.a_w.as_mut_ptr()),
+                Shared(w.v_w.as_mut_ptr()),
+            );
+            let (q, du) = (&w.q, &*du);
+            par_chunks(n, nt, |lo, hi| {
+                // SAFETY: chunks are disjoint.
+                let (v, a, a_w, v_w) = unsafe {
+                    (
+                        pv.range(lo, hi),
+                        pa.range(lo, hi),
+                        paw.range(lo, hi),
+                        pvw.range(lo, hi),
+                    )
+                };
+                for k in 0..hi - lo {
+                    let i = lo + k;
+                    let dui = if finite { du[i] } else { q[i] - s0.q[i] };
+                    let (vi, ai) = ig.kinematics(dt, dui, s0.v[i], s0.a[i]);
+                    v[k] = vi;
+                    a[k] = ai;
+                    a_w[k] = (1.0 - am) * ai + am * s0.a[i];
+                    v_w[k] = (1.0 - af) * vi + af * s0.v[i];
+                }
+            });
+        }
+        let ta = Instant::now();
+        self.asm
+            .update_transient(
+                &mut self.model,
+                (&w.q, &w.v, &w.a),
+                (&w.a_w, &w.v_w),
+                t1,
+                dt,
+                (&mut w.f_int, &mut w.inertia, &mut w.damp),
+                true,
+            )
+            .map_err(|_| Exit::Fallback)?;
+        let pr = Shared(w.r.as_mut_ptr());
+        let (f_int, inertia, damp) = (&w.f_int, &w.inertia, &w.damp);
+        let sums = par_chunks(n, nt, |lo, hi| {
+            // SAFETY: chunks are disjoint.
+            let r = unsafe { pr.range(lo, hi) };
+            let (mut sr, mut sf, mut si) = (0.0, 0.0, 0.0);
+            for k in 0..hi - lo {
+                let i = lo + k;
+                let ri = f_ref_ext[i]
+                    - inertia[i]
+                    - damp[i]
+                    - ((1.0 - af) * f_int[i] + af * s0.f_int[i]);
+                r[k] = ri;
+                sr += ri * ri;
+                sf += f_int[i] * f_int[i];
+                si += inertia[i] * inertia[i];
+            }
+            (sr, sf, si)
+        });
+        let (sr, sf, si) = sums
+            .iter()
+            .fold((0.0, 0.0, 0.0), |a, s| (a.0 + s.0, a.1 + s.1, a.2 + s.2));
+        self.summary.timings.assembly += ta.elapsed().as_secs_f64();
+        self.condensed.stats.full_evaluations += 1;
+        let (rn, fn_, inn) = (sr.sqrt(), sf.sqrt(), si.sqrt());
+        Ok((rn, ext_norm.max(fn_).max(inn), fn_, inn))
+    }
+
+    fn top_products(&mut self) {
+        let p = self.partition.as_ref().expect("partitioned");
+        let gen = p.top_generation();
+        if self
+            .condensed
+            .products
+            .as_ref()
+            .is_some_and(|t| t.generation == gen)
+        {
+            return;
+        }
+        let (k, m, c) = (&self.asm.k_const, &self.asm.m_const, &self.asm.c_const);
+        let top = p.top_equations();
+        let mut tp = TopProducts {
+            generation: gen,
+            col_ptr: vec![0],
+            rows: Vec::new(),
+            k: Vec::new(),
+            m: Vec::new(),
+            c: Vec::new(),
+        };
+        let same = |x: &railfem_framework::sparse::CscMatrix| {
+            x.n == k.n && x.col_ptr == k.col_ptr && x.row_idx == k.row_idx
+        };
+        debug_assert!(same(m) && same(c));
+        for &j in top {
+            for pos in k.col_ptr[j]..k.col_ptr[j + 1] {
+                if let Some(ti) = p.top_position(k.row_idx[pos]) {
+                    tp.rows.push(ti as u32);
+                    tp.k.push(k.values[pos]);
+                    tp.m.push(m.values.get(pos).copied().unwrap_or(0.0));
+                    tp.c.push(c.values.get(pos).copied().unwrap_or(0.0));
+                }
+            }
+            tp.col_ptr.push(tp.rows.len());
+        }
+        self.condensed.products = Some(tp);
+    }
+
+    /// One step by the condensed Newton (module documentation) from the committed `s0`.
+    fn attempt_condensed(&mut self, dt: f64, s0: &State) -> Result<(State, usize, f64), Exit> {
+        let n = self.neq();
+        let ig = self.integrator;
+        let t1 = s0.t + dt;
+        let tl = Instant::now();
+        self.asm
+            .advance(&mut self.model, t1, dt)
+            .map_err(|_| Exit::Fallback)?;
+        let mut f_ext = vec![0.0; n];
+        self.asm
+            .external_force(&self.model, t1, 1.0, &mut f_ext)
+            .map_err(|_| Exit::Fallback)?;
+        self.summary.timings.loads += tl.elapsed().as_secs_f64();
+        let (af, am) = (ig.alpha_f, ig.alpha_m);
+        let settings = self.model.analysis.newton;
+        let (ck, cc, cm) = ig.effective(dt);
+        let finite = self.asm.dofmap.has_finite_rotations();
+        self.condensed.promote_always = self.asm.variable_equations();
+        let f_ref_ext: Vec<f64> = (0..n)
+            .map(|i| (1.0 - af) * f_ext[i] + af * s0.f_ext[i])
+            .collect();
+        let ext_norm = f_ref_ext.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let mut w = Full {
+            q: s0.q.clone(),
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+            a_w: vec![0.0; n],
+            v_w: vec![0.0; n],
+            f_int: vec![0.0; n],
+            inertia: vec![0.0; n],
+            damp: vec![0.0; n],
+            r: vec![0.0; n],
+        };
+        let mut du = if finite { vec![0.0; n] } else { Vec::new() };
+        // Scratch for the variable elements' forces (only top entries are ever non-zero).
+        let mut f_var = vec![0.0; n];
+        let mut in_var = vec![0.0; n];
+        let mut damp_var = vec![0.0; n];
+        let mut iters = 0;
+        let mut rn_prev = f64::INFINITY;
+        // The base of the top iterations and the last correction.
+        let mut top: Vec<usize> = Vec::new();
+        let mut generation = 0;
+        let mut g: Vec<f64> = Vec::new();
+        let (mut qb, mut awb, mut vwb, mut varb) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut qbi_norm2 = 0.0;
+        let mut last_dq: Vec<f64> = Vec::new();
+        let mut last_from_base = true;
+        let mut full_now = true;
+        // Reference norms for the screen: the previous step's and the last full evaluation
+        // after a correction (the predictor's inertia is not representative).
+        let (mut f_norm_est, mut in_norm_est) = self.condensed.last_norms.unwrap_or((0.0, 0.0));
+        for it in 0..=settings.max_iter {
+            if !full_now {
+                // --- An iteration on the top system alone.
+                let ta = Instant::now();
+                if finite {
+                    self.asm.dofmap.increment(&s0.q, &w.q, &mut du);
+                }
+                for &i in &top {
+                    let dui = if finite { du[i] } else { w.q[i] - s0.q[i] };
+                    let (vi, ai) = ig.kinematics(dt, dui, s0.v[i], s0.a[i]);
+                    w.v[i] = vi;
+                    w.a[i] = ai;
+                    w.a_w[i] = (1.0 - am) * ai + am * s0.a[i];
+                    w.v_w[i] = (1.0 - af) * vi + af * s0.v[i];
+                }
+                self.asm
+                    .update_variable_only(
+                        &mut self.model,
+                        &w.q,
+                        &w.v,
+                        &w.a,
+                        t1,
+                        dt,
+                        &mut f_var,
+                        true,
+                    )
+                    .map_err(|_| Exit::Fallback)?;
+                self.asm
+                    .add_variable_inertia_damping(&w.a_w, &w.v_w, &mut in_var, &mut damp_var);
+                let nt_top = top.len();
+                let delta: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
+                let p = self.partition.as_ref().expect("partitioned");
+                let mut rt = vec![0.0; nt_top];
+                p.top_constant_times(&delta, &mut rt);
+                // rt = g − S_A·δ + (A_TT·δ − Δc_T) − Δv_T
+                for k in 0..nt_top {
+                    rt[k] = g[k] - rt[k];
+                }
+                let tp = self.condensed.products.as_ref().expect("built at the base");
+                for (j, &gj) in top.iter().enumerate() {
+                    let dk = ck * delta[j] - (1.0 - af) * (w.q[gj] - qb[j]);
+                    let dm = cm * delta[j] - (w.a_w[gj] - awb[j]);
+                    let dc = cc * delta[j] - (w.v_w[gj] - vwb[j]);
+                    if dk == 0.0 && dm == 0.0 && dc == 0.0 {
+                        continue;
+                    }
+                    for pos in tp.col_ptr[j]..tp.col_ptr[j + 1] {
+                        rt[tp.rows[pos] as usize] +=
+                            tp.k[pos] * dk + tp.m[pos] * dm + tp.c[pos] * dc;
+                    }
+                }
+                for (k, &gk) in top.iter().enumerate() {
+                    let var = (1.0 - af) * f_var[gk] + in_var[gk] + damp_var[gk];
+                    rt[k] -= var - varb[k];
+                    f_var[gk] = 0.0;
+                    in_var[gk] = 0.0;
+                    damp_var[gk] = 0.0;
+                }
+                self.summary.timings.assembly += ta.elapsed().as_secs_f64();
+                let rn = rt.iter().map(|x| x * x).sum::<f64>().sqrt();
+                if !rn.is_finite() {
+                    return Err(Exit::Fallback);
+                }
+                let reference = ext_norm.max(f_norm_est).max(in_norm_est);
+                let force_screen = rn <= 2.0 * settings.tol * reference + settings.abs_tol;
+                let dn_top = last_dq.iter().map(|x| x * x).sum::<f64>().sqrt();
+                let qt2: f64 = top.iter().map(|&i| w.q[i] * w.q[i]).sum();
+                let q_est = (qt2 + qbi_norm2).sqrt();
+                let disp_screen = dn_top <= 2.0 * settings.tol * q_est + settings.disp_tol;
+                if self.trace {
+                    eprintln!(
+                        "t = {t1:.6} s, dt = {dt:.3e} s, iteration {it} (top system): |R| = {rn:.3e} N (screen {:.3e})",
+                        2.0 * settings.tol * reference + settings.abs_tol
+                    );
+                }
+                if force_screen && disp_screen {
+                    // Verify with the full residual: recover the interiors (and the last
+                    // correction's interior part) first.
+                    let tr = Instant::now();
+                    let mut dq_full = vec![0.0; n];
+                    let delta_now: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
+                    let p = self.partition.as_mut().expect("partitioned");
+                    let res = if last_from_base {
+                        p.back_substitute(&[(Some(&w.r), &delta_now)], &mut [&mut dq_full], true)
+                    } else {
+                        p.back_substitute(
+                            &[(Some(&w.r), &delta_now), (None, &last_dq)],
+                            &mut [&mut w.q, &mut dq_full],
+                            true,
+                        )
+                    };
+                    res.map_err(|_| Exit::Fallback)?;
+                    if last_from_base {
+                        // Interiors of dq_full hold δ_I: add them to the base's interiors.
+                        for (qi, di) in w.q.iter_mut().zip(&dq_full) {
+                            *qi += di;
+                        }
+                    }
+                    for (k, &i) in top.iter().enumerate() {
+                        dq_full[i] = last_dq[k];
+                    }
+                    self.summary.timings.solve += tr.elapsed().as_secs_f64();
+                    let dn: f64 = dq_full.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    let qn: f64 = w.q.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    drop(dq_full);
+                    let disp_ok = dn <= settings.tol * qn + settings.disp_tol;
+                    let (rn_full, reference_full, fn_, inn) =
+                        self.full_evaluation(s0, &f_ref_ext, ext_norm, &mut w, &mut du, t1, dt)?;
+                    let force_ok = rn_full <= settings.tol * reference_full + settings.abs_tol;
+                    if settings.tol * reference_full > 2.0 * settings.tol * reference
+                        || settings.tol * qn > 2.0 * settings.tol * q_est
+                    {
+                        self.condensed.stats.margin_exceeded += 1;
+                    }
+                    if self.trace {
+                        eprintln!(
+                            "t = {t1:.6} s, iteration {it} verified in full: |R| = {rn_full:.3e} N (tolerance {:.3e}), |dq| = {dn:.3e}",
+                            settings.tol * reference_full + settings.abs_tol
+                        );
+                    }
+                    if force_ok && disp_ok {
+                        self.condensed.last_norms = Some((fn_, inn));
+                        let Full { q, v, a, f_int, .. } = w;
+                        return Ok((
+                            State {
+                                t: t1,
+                                q,
+                                v,
+                                a,
+                                f_int,
+                                f_ext,
+                            },
+                            iters,
+                            rn_full,
+                        ));
+                    }
+                    self.condensed.stats.rejected += 1;
+                    f_norm_est = fn_;
+                    in_norm_est = inn;
+                    // The full evaluation is the new base: continue as after one.
+                    if it == settings.max_iter || (it >= 2 && rn_full > rn_prev) {
+                        return Err(Exit::Fallback);
+                    }
+                    rn_prev = rn_full;
+                } else {
+                    if it == settings.max_iter || (it >= 2 && rn > rn_prev) {
+                        return Err(Exit::Fallback);
+                    }
+                    self.factor_tangent(ck, cm, cc, dt)
+                        .map_err(|_| Exit::Fallback)?;
+                    self.summary.factorizations += 1;
+                    let p = self.partition.as_mut().expect("partitioned");
+                    if p.top_generation() != generation {
+                        return Err(Exit::Fallback);
+                    }
+                    let ts = Instant::now();
+                    p.solve_top(&mut rt).map_err(|_| Exit::Fallback)?;
+                    self.summary.timings.solve += ts.elapsed().as_secs_f64();
+                    self.condensed.stats.top_iterations += 1;
+                    iters += 1;
+                    rn_prev = rn;
+                    self.top_correction(&top, &rt, &mut w.q);
+                    last_dq = rt;
+                    last_from_base = false;
+                    continue;
+                }
+            } else {
+                // --- A full evaluation (the predictor).
+                let (rn, _reference, fn_, _inn) =
+                    self.full_evaluation(s0, &f_ref_ext, ext_norm, &mut w, &mut du, t1, dt)?;
+                if !rn.is_finite() || it == settings.max_iter {
+                    return Err(Exit::Fallback);
+                }
+                f_norm_est = f_norm_est.max(fn_);
+                if self.trace {
+                    eprintln!(
+                        "t = {t1:.6} s, dt = {dt:.3e} s, iteration {it} (full): |R| = {rn:.3e} N"
+                    );
+                }
+                rn_prev = rn;
+            }
+            // --- A new base at the full state `w.q` with the full residual `w.r`: factor,
+            // condense the residual, solve the top system.
+            self.factor_tangent(ck, cm, cc, dt)
+                .map_err(|_| Exit::Fallback)?;
+            self.summary.factorizations += 1;
+            self.top_products();
+            let p = self.partition.as_mut().expect("partitioned");
+            generation = p.top_generation();
+            top = p.top_equations().to_vec();
+            if self
+                .condensed
+                .promote_always
+                .iter()
+                .any(|&e| p.top_position(e).is_none())
+            {
+                return Err(Exit::Fallback);
+            }
+            let ts = Instant::now();
+            g = p.condense_rhs(&w.r).map_err(|_| Exit::Fallback)?;
+            let mut dq = g.clone();
+            p.solve_top(&mut dq).map_err(|_| Exit::Fallback)?;
+            self.summary.timings.solve += ts.elapsed().as_secs_f64();
+            // The base's top values and variable forces.
+            qb = top.iter().map(|&i| w.q[i]).collect();
+            awb = top.iter().map(|&i| w.a_w[i]).collect();
+            vwb = top.iter().map(|&i| w.v_w[i]).collect();
+            self.asm.add_variable_resisting(&self.model, &mut f_var);
+            self.asm
+                .add_variable_inertia_damping(&w.a_w, &w.v_w, &mut in_var, &mut damp_var);
+            varb = top
+                .iter()
+                .map(|&i| {
+                    let x = (1.0 - af) * f_var[i] + in_var[i] + damp_var[i];
+                    f_var[i] = 0.0;
+                    in_var[i] = 0.0;
+                    damp_var[i] = 0.0;
+                    x
+                })
+                .collect();
+            let qall2: f64 = w.q.iter().map(|x| x * x).sum();
+            let qt2: f64 = qb.iter().map(|x| x * x).sum();
+            qbi_norm2 = (qall2 - qt2).max(0.0);
+            iters += 1;
+            self.top_correction(&top, &dq, &mut w.q);
+            last_dq = dq;
+            last_from_base = true;
+            full_now = false;
+        }
+        Err(Exit::Fallback)
+    }
+
+    /// `q ← q ⊕ dq` on the top equations (finite rotations composed).
+    fn top_correction(&self, top: &[usize], dq_top: &[f64], q: &mut [f64]) {
+        if self.asm.dofmap.has_finite_rotations() {
+            let mut dq = vec![0.0; q.len()];
+            for (&i, &d) in top.iter().zip(dq_top) {
+                dq[i] = d;
+            }
+            self.asm.dofmap.add_correction(q, &dq);
+        } else {
+            for (&i, &d) in top.iter().zip(dq_top) {
+                q[i] += d;
+            }
+        }
+    }
+}

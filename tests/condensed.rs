@@ -1,0 +1,135 @@
+//! The condensed Newton (`solvers/src/condensed.rs`) reproduces the full-residual Newton of
+//! the partitioned solver.
+//!
+//! Both take the same iterates on the top system (the module documentation derives it) and
+//! decide convergence with the same full test, so they end every step at the same state up
+//! to round-off. Newton is converged to `tol = 1e-8` here: an iteration more or less would
+//! move the answer by ~1e-8 of its scale, so an agreement to 1e-10 of the largest value at
+//! every step shows that every step ended at the same iterate, and the counters show that
+//! the condensed path did the steps (it did not hand them back to the full one).
+
+use railfem::framework::model::{Geometry, SolverChoice};
+use railfem::solvers::partition::PartitionOptions;
+use railfem::train_bridge::{build, TrainBridgeCase};
+
+/// `steps` steps of `case` with the condensed Newton on or off: the state after each step
+/// (displacements, velocities, accelerations), the iterations, and the driver's counters.
+fn history(
+    case: &TrainBridgeCase,
+    condensed: bool,
+    block: usize,
+    steps: usize,
+) -> (
+    Vec<[Vec<f64>; 3]>,
+    usize,
+    railfem::solvers::condensed::CondensedStats,
+    usize,
+) {
+    let mut m = build(case).expect("model");
+    let d = &mut m.driver;
+    d.condense_residual = condensed;
+    d.set_partition_options(PartitionOptions {
+        block_size: block,
+        threads: 2,
+    });
+    d.static_solve(0.0, 4).expect("static preload");
+    d.initialize().expect("initial accelerations");
+    let mut out = Vec::new();
+    let mut iters = 0;
+    for _ in 0..steps {
+        iters += d.step(case.dt).expect("step").iterations;
+        out.push([d.state.q.clone(), d.state.v.clone(), d.state.a.clone()]);
+    }
+    let promotions = d.partition_stats().expect("partitioned").promotions;
+    (out, iters, d.condensed_stats(), promotions)
+}
+
+/// Largest difference over all steps, relative to the largest value, for q, v and a.
+fn worst(a: &[[Vec<f64>; 3]], b: &[[Vec<f64>; 3]]) -> [f64; 3] {
+    let mut r = [0.0; 3];
+    for (k, rk) in r.iter_mut().enumerate() {
+        let (mut scale, mut diff) = (0.0f64, 0.0f64);
+        for (x, y) in a.iter().zip(b) {
+            for (u, w) in x[k].iter().zip(&y[k]) {
+                scale = scale.max(u.abs());
+                diff = diff.max((u - w).abs());
+            }
+        }
+        assert!(scale > 0.0);
+        *rk = diff / scale;
+    }
+    r
+}
+
+fn compare(name: &str, case: &TrainBridgeCase, block: usize, steps: usize) -> usize {
+    let (full, it_full, s_full, _) = history(case, false, block, steps);
+    let (cond, it_cond, s_cond, promotions) = history(case, true, block, steps);
+    let e = worst(&full, &cond);
+    println!(
+        "{name}: {steps} steps, iterations {it_full} (full) / {it_cond} (condensed), relative differences q {:.1e}, v {:.1e}, a {:.1e}; {promotions} promotions; {s_cond:?}",
+        e[0], e[1], e[2]
+    );
+    assert_eq!(s_full.steps, 0, "the switch turns the condensed Newton off");
+    assert_eq!(it_full, it_cond, "{name}: the same Newton iterations");
+    // Every step is condensed except those where the residual rose and Newton backtracked
+    // (handed back to the full-residual Newton by design).
+    assert_eq!(s_cond.steps + s_cond.fallbacks, steps, "{name}: {s_cond:?}");
+    assert!(10 * s_cond.steps >= 9 * steps, "{name}: {s_cond:?}");
+    assert!(s_cond.top_iterations >= steps, "{name}: {s_cond:?}");
+    // Displacements to 1e-10 of their largest value. Velocities and accelerations are
+    // the step's displacement increment times γ/(βΔt) and 1/(βΔt²) (plus the old state):
+    // the round-off of q is amplified by Δt⁻¹ and Δt⁻² relative to the increment, so they
+    // get 1e-9 — still an order below what one Newton iteration more would change.
+    for ((what, x), tol) in ["displacements", "velocities", "accelerations"]
+        .iter()
+        .zip(e)
+        .zip([1e-10, 1e-9, 1e-9])
+    {
+        assert!(
+            x <= tol,
+            "{name}: {what} differ by {x:e} of their largest value"
+        );
+    }
+    promotions
+}
+
+/// Two carriages with Coulomb friction (μ = 0.3) and nonlinear suspensions (finite
+/// rotations of the bodies) on two spans, blocks of 600 equations.
+#[test]
+fn condensed_newton_reproduces_the_full_newton_with_friction_and_nonlinear_vehicles() {
+    let case = TrainBridgeCase {
+        cars: 2,
+        spans: 2,
+        element_length: 0.5,
+        dt: 0.0005,
+        mu: 0.3,
+        solver: SolverChoice::Partitioned,
+        geometry: Geometry::Nonlinear,
+        ..Default::default()
+    };
+    compare("nonlinear vehicles", &case, 600, 30);
+}
+
+/// Small blocks (120 equations) and a fast train with a long step: the wheels cross into
+/// new blocks and onto new rail nodes every step, so the promoted set, and with it the top
+/// system and the interiors that are condensed, changes from step to step.
+#[test]
+fn condensed_newton_follows_promotions_that_change_every_step() {
+    let case = TrainBridgeCase {
+        cars: 1,
+        spans: 1,
+        element_length: 0.4,
+        speed: 100.0,
+        dt: 0.004,
+        mu: 0.3,
+        solver: SolverChoice::Partitioned,
+        ..Default::default()
+    };
+    let steps = 20;
+    let promotions = compare("changing promotions", &case, 120, steps);
+    // 0.4 m per step over 0.4 m rail elements: every wheel enters new rail nodes each step.
+    assert!(
+        promotions >= steps,
+        "{promotions} promotions in {steps} steps"
+    );
+}
