@@ -711,25 +711,26 @@ fn bench(a: &Args) -> Result<i32, FemError> {
             ))
         }
     };
-    let mass =
-        match a.opt("mass") {
-            None => crate::bench::BenchMass::Consistent,
-            Some(m) => match crate::bench::BenchMass::parse(m) {
-                Some(k) if case == "beam" => k,
-                Some(_) => return Err(FemError::input(
+    let mass = match a.opt("mass") {
+        None => crate::bench::BenchMass::Consistent,
+        Some(m) => match crate::bench::BenchMass::parse(m) {
+            Some(k) if case == "beam" => k,
+            Some(_) => {
+                return Err(FemError::input(
                     "command line",
                     format!(
                         "--mass {m}: only the beam case takes --mass; drop it or use --case beam"
                     ),
-                )),
-                None => {
-                    return Err(FemError::input(
-                        "command line",
-                        format!("--mass {m}: use consistent (the default) or lumped"),
-                    ))
-                }
-            },
-        };
+                ))
+            }
+            None => {
+                return Err(FemError::input(
+                    "command line",
+                    format!("--mass {m}: use consistent (the default) or lumped"),
+                ))
+            }
+        },
+    };
     if let Some(dir) = a.path("export") {
         // One directory per size: the model, the load vectors and railfem's answer, for
         // scripts/opensees_compare.py.
