@@ -1,7 +1,7 @@
 //! `railfem bench`: how a linear transient run scales with the number of equations.
 //!
 //! The benchmark model is a long continuous beam of `beam3d` elements (six DOF per node,
-//! consistent mass, 60E1-like steel rail section) on pin supports every [`SPAN`] m, with
+//! consistent or lumped mass ([`BenchMass`]), 60E1-like steel rail section) on pin supports every [`SPAN`] m, with
 //! [`ELEMENTS_PER_SPAN`] elements per span, crossed by a `moving_force`. It is integrated
 //! with average-acceleration Newmark (β = ¼, γ = ½) at a constant step, so the effective
 //! tangent is factored once and every later step is one assembly of the residual and one
@@ -32,6 +32,57 @@ pub const DT: f64 = 2.0e-3;
 /// Speed of the moving force (m/s).
 pub const SPEED: f64 = 80.0;
 
+/// The mass matrix of the benchmark beam (`railfem bench --mass`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BenchMass {
+    /// `beam3d` `mass = "consistent"`: cubic Hermite bending mass, as OpenSees'
+    /// `elasticBeamColumn ... -cMass`.
+    #[default]
+    Consistent,
+    /// `beam3d` `mass = "lumped_translational"`: `ρAL/2` per node and translation, no
+    /// rotary inertia, as OpenSees' `elasticBeamColumn` without `-cMass` (its default).
+    Lumped,
+}
+
+impl BenchMass {
+    /// Parses `consistent` or `lumped`; `None` for anything else.
+    pub fn parse(name: &str) -> Option<BenchMass> {
+        match name {
+            "consistent" => Some(BenchMass::Consistent),
+            "lumped" => Some(BenchMass::Lumped),
+            _ => None,
+        }
+    }
+
+    /// The name on the command line and in `model.json` (`mass_kind`).
+    pub fn name(self) -> &'static str {
+        match self {
+            BenchMass::Consistent => "consistent",
+            BenchMass::Lumped => "lumped",
+        }
+    }
+
+    /// The `beam3d` `mass` value that gives this matrix.
+    pub fn beam3d_mass(self) -> &'static str {
+        match self {
+            BenchMass::Consistent => "consistent",
+            BenchMass::Lumped => "lumped_translational",
+        }
+    }
+
+    /// The matrix in words, for `model.json`.
+    fn describe(self) -> &'static str {
+        match self {
+            BenchMass::Consistent => {
+                "consistent (cubic Hermite bending, linear axial; torsion rho*(Iy+Iz))"
+            }
+            BenchMass::Lumped => {
+                "lumped, translations only: rho*A*L/2 per node and translation, no rotary inertia (OpenSees elasticBeamColumn without -cMass)"
+            }
+        }
+    }
+}
+
 /// Geometry of a benchmark beam.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct BenchBeam {
@@ -39,6 +90,8 @@ pub struct BenchBeam {
     pub spans: usize,
     /// Elements per span.
     pub elements_per_span: usize,
+    /// Mass matrix.
+    pub mass: BenchMass,
 }
 
 impl BenchBeam {
@@ -49,6 +102,7 @@ impl BenchBeam {
         BenchBeam {
             spans: spans.max(1),
             elements_per_span: ELEMENTS_PER_SPAN,
+            mass: BenchMass::Consistent,
         }
     }
 
@@ -98,7 +152,8 @@ impl BenchBeam {
             }
         }
         let beam = json!({"E": 2.1e11, "G": 8.1e10, "A": 7.686e-3, "Iy": 3.038e-5,
-                          "Iz": 5.123e-6, "J": 2.0e-6, "rho": 7850.0, "mass": "consistent"});
+                          "Iz": 5.123e-6, "J": 2.0e-6, "rho": 7850.0,
+                          "mass": self.mass.beam3d_mass()});
         for e in 1..=self.elements() as u64 {
             b.element("beam3d", e, &[e, e + 1], &beam);
         }
@@ -173,8 +228,11 @@ pub fn peak_memory_mib() -> Option<f64> {
 }
 
 /// Runs one size.
-pub fn run_size(target: usize, steps: usize) -> Result<BenchRow, FemError> {
-    let geo = BenchBeam::for_dof(target);
+pub fn run_size(target: usize, steps: usize, mass: BenchMass) -> Result<BenchRow, FemError> {
+    let geo = BenchBeam {
+        mass,
+        ..BenchBeam::for_dof(target)
+    };
     let t0 = Instant::now();
     let model = geo.model(steps)?;
     let build = t0.elapsed().as_secs_f64();
@@ -317,7 +375,12 @@ pub fn csv(rows: &[BenchRow]) -> String {
 }
 
 /// Runs every size, prints the table and writes `bench.md` and `bench.csv` into `out`.
-pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<BenchRow>, FemError> {
+pub fn run(
+    sizes: &[usize],
+    steps: usize,
+    mass: BenchMass,
+    out: &Path,
+) -> Result<Vec<BenchRow>, FemError> {
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     eprintln!("load average at start: {}", load.trim());
     let mut rows = Vec::new();
@@ -331,7 +394,7 @@ pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<BenchRow>, F
             break;
         }
         bar.note(&format!("bench: {n} DOF, {steps} steps ..."));
-        let r = match run_size(n, steps) {
+        let r = match run_size(n, steps, mass) {
             Err(FemError::Interrupted { .. }) => {
                 stopped = true;
                 break;
@@ -361,7 +424,8 @@ pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<BenchRow>, F
     }
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     md.push_str(&format!(
-        "\n{steps} steps of dt = {DT} s per size; VmHWM is the peak of the whole process so far. Load average at the end: {}\n",
+        "\n{steps} steps of dt = {DT} s per size, {} mass; VmHWM is the peak of the whole process so far. Load average at the end: {}\n",
+        mass.name(),
         load.trim()
     ));
     print!("{md}");
@@ -407,7 +471,8 @@ pub struct ExportRow {
 /// problem, plus railfem's answer:
 ///
 /// - `model.json`: section, material, the Newmark settings, `dt`, `steps`, the monitored
-///   nodes, and the conventions (local axes, mass matrix) in words;
+///   nodes, the mass matrix (`mass_kind`: `consistent` or `lumped`) and the conventions
+///   (local axes, mass matrix) in words;
 /// - `nodes.csv`: `id,x,y,z,fixed` (`fixed` lists the held DOFs, e.g. `uy uz`);
 /// - `elements.csv`: `id,node_i,node_j`;
 /// - `loads.csv`: `step,t,node,dof,value`, every non-zero entry of the external force
@@ -418,9 +483,17 @@ pub struct ExportRow {
 ///   other outputs do;
 /// - `timing.json`: equations, the first step (which factors `K_eff` once) and the mean
 ///   wall time of the other steps.
-pub fn export(target: usize, steps: usize, dir: &Path) -> Result<ExportRow, FemError> {
+pub fn export(
+    target: usize,
+    steps: usize,
+    mass: BenchMass,
+    dir: &Path,
+) -> Result<ExportRow, FemError> {
     use std::fmt::Write as _;
-    let geo = BenchBeam::for_dof(target);
+    let geo = BenchBeam {
+        mass,
+        ..BenchBeam::for_dof(target)
+    };
     let model = geo.model(steps)?;
     std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
     let write = |name: &str, text: &str| {
@@ -455,7 +528,7 @@ pub fn export(target: usize, steps: usize, dir: &Path) -> Result<ExportRow, FemE
     let spec = json!({
         "spans": geo.spans, "elements_per_span": geo.elements_per_span, "span": SPAN,
         "E": 2.1e11, "G": 8.1e10, "A": 7.686e-3, "Iy": 3.038e-5, "Iz": 5.123e-6, "J": 2.0e-6,
-        "rho": 7850.0, "mass": "consistent (cubic Hermite bending, linear axial; torsion rho*(Iy+Iz))",
+        "rho": 7850.0, "mass": mass.describe(), "mass_kind": mass.name(),
         "local_axes": "x along the beam (global X); local z = global Z (vecxz = [0,0,1]); Iy is vertical bending",
         "integrator": "newmark", "beta": 0.25, "gamma": 0.5, "dt": DT, "steps": steps,
         "speed": SPEED, "force_z": -1.0e5, "monitor_nodes": monitors, "equations": geo.equations(),
@@ -530,6 +603,7 @@ mod tests {
             let geo = BenchBeam {
                 spans,
                 elements_per_span: 4,
+                mass: BenchMass::Consistent,
             };
             // nodes = 4·spans + 1; 6 DOF each, less 4 at the first support and 2 at each
             // of the `spans` other supports.
@@ -552,6 +626,7 @@ mod tests {
         let geo = BenchBeam {
             spans: 3,
             elements_per_span: ELEMENTS_PER_SPAN,
+            mass: BenchMass::Consistent,
         };
         let mut d = Driver::new(geo.model(3).expect("model")).expect("driver");
         for _ in 0..3 {

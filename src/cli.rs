@@ -727,12 +727,32 @@ fn bench(a: &Args) -> Result<i32, FemError> {
             ))
         }
     };
+    let mass = match a.opt("mass") {
+        None => crate::bench::BenchMass::Consistent,
+        Some(m) => match crate::bench::BenchMass::parse(m) {
+            Some(k) if case == "beam" => k,
+            Some(_) => {
+                return Err(FemError::input(
+                    "command line",
+                    format!(
+                        "--mass {m}: only the beam case takes --mass; drop it or use --case beam"
+                    ),
+                ))
+            }
+            None => {
+                return Err(FemError::input(
+                    "command line",
+                    format!("--mass {m}: use consistent (the default) or lumped"),
+                ))
+            }
+        },
+    };
     if let Some(dir) = a.path("export") {
         // One directory per size: the model, the load vectors and railfem's answer, for
         // scripts/opensees_compare.py.
         for &n in &sizes {
             let sub = dir.join(format!("dof{n}"));
-            let r = crate::bench::export(n, steps, &sub)?;
+            let r = crate::bench::export(n, steps, mass, &sub)?;
             println!(
                 "bench export: {} equations, {} steps, first step {:.3} ms, then {:.3} ms/step; written to {}",
                 r.equations,
@@ -777,7 +797,7 @@ fn bench(a: &Args) -> Result<i32, FemError> {
         crate::small_models::run(&sizes, steps, &out)?;
         return Ok(0);
     }
-    crate::bench::run(&sizes, steps, &out)?;
+    crate::bench::run(&sizes, steps, mass, &out)?;
     Ok(0)
 }
 
@@ -825,8 +845,27 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
             ));
         }
     }
+    // The peer file is read (and refused) before the grid runs for minutes.
+    let peers = match a.path("peer") {
+        Some(p) if grid.cases.iter().any(|c| c == "force") => {
+            Some(crate::pareto_peer::read_peer_csv(p)?)
+        }
+        Some(p) => {
+            return Err(FemError::input(
+                "command line",
+                format!(
+                    "--peer {}: the peer runs are of the force case; add force to --cases",
+                    p.display()
+                ),
+            ))
+        }
+        None => None,
+    };
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/pareto"));
-    crate::pareto::run(&grid, &out)?;
+    let runs = crate::pareto::run(&grid, &out)?;
+    if let Some(peers) = &peers {
+        crate::pareto_peer::write(&runs, peers, &out)?;
+    }
     println!("pareto: results in {}", out.display());
     Ok(0)
 }

@@ -303,6 +303,11 @@ pub struct BenchCmd {
     /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
     #[arg(long, value_name = "linear|nonlinear")]
     pub geometry: Option<OsString>,
+    /// Mass matrix of the beam case: consistent (cubic Hermite, as OpenSees -cMass) or
+    /// lumped (rho*A*L/2 per node and translation, no rotary inertia, as OpenSees'
+    /// elasticBeamColumn default) [default: consistent].
+    #[arg(long, value_name = "consistent|lumped")]
+    pub mass: Option<OsString>,
 }
 
 /// `railfem train-bridge`.
@@ -427,6 +432,11 @@ pub struct ParetoCmd {
     /// Cases, comma-separated, from force, sprung, curve [default: force,sprung,curve].
     #[arg(long, value_name = "force,sprung,curve")]
     pub cases: Option<OsString>,
+    /// A peer code's runs of the force case (CSV: peer, elements, dt [s], steps, wall [s],
+    /// error [-]; scripts/opensees_compare.py --pareto writes it), drawn on
+    /// pareto-force.svg and compared at equal error in pareto-peers.md.
+    #[arg(long, value_name = "FILE")]
+    pub peer: Option<PathBuf>,
 }
 
 /// `railfem irregularity`.

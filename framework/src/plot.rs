@@ -23,6 +23,9 @@ pub enum Style {
     Dashed,
     /// A small circle at every point, no line.
     Markers,
+    /// A small filled square at every point, no line (a second marker shape, e.g. for a
+    /// peer code's points beside one's own circles).
+    Squares,
 }
 
 /// One data series of a panel.
@@ -325,6 +328,11 @@ where
                         .map(|xy| Circle::new(xy, 3, c.stroke_width(1))),
                 )?;
             }
+            Style::Squares => {
+                chart.draw_series(pts.filter(|&(x, y)| ok(x, y)).map(|xy| {
+                    EmptyElement::at(xy) + Rectangle::new([(-3, -3), (3, 3)], c.filled())
+                }))?;
+            }
             Style::Line | Style::Dashed => {
                 // Runs of drawable points, each its own polyline.
                 let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
@@ -386,6 +394,7 @@ where
         let c = rgb(&r.color);
         match r.style {
             Style::Markers => area.draw(&Circle::new((20, y), 3, c.stroke_width(1)))?,
+            Style::Squares => area.draw(&Rectangle::new([(17, y - 3), (23, y + 3)], c.filled()))?,
             Style::Line => {
                 area.draw(&PathElement::new(vec![(8, y), (32, y)], c.stroke_width(2)))?
             }

@@ -65,7 +65,7 @@ railfem_framework::element_params! {
         Asy: f64 ["m^2"] = 0.0,
         /// Shear area for shear along local z (m²), ≥ 0; 0 = no shear deformation (Euler–Bernoulli).
         Asz: f64 ["m^2"] = 0.0,
-        /// Mass matrix: "consistent" (cubic Hermite) or "lumped" (diagonal, ρAL/2 per node).
+        /// Mass matrix: "consistent" (cubic Hermite), "lumped" (diagonal, ρAL/2 per node and translation plus the section's rotary inertia) or "lumped_translational" (ρAL/2 per node and translation only, no rotary inertia: OpenSees' elasticBeamColumn default).
         mass: String [""] = "consistent",
         /// Kinematics: "linear" (small displacements), "pdelta" (linear plus the P-Δ effect of the axial force, as OpenSees geomTransf PDelta) or "corotational" (finite 3-D rotations; translational mass only).
         geometry: String [""] = "linear",
@@ -165,6 +165,10 @@ pub enum BeamMass {
     /// Lumped: diagonal; `ρAL/2` per node and translation, section rotary inertia
     /// `ρ·(Iy+Iz)·L/2`, `ρ·Iy·L/2`, `ρ·Iz·L/2` about local x, y, z per node.
     Lumped,
+    /// Lumped, translations only: `ρAL/2` per node and translation, no rotary inertia
+    /// (the rotations are massless). This is OpenSees' `elasticBeamColumn` mass without
+    /// `-cMass`, kept for side-by-side comparisons (`railfem bench --mass lumped`).
+    LumpedTranslational,
 }
 
 /// Local axes of a beam from node I at `xi` to node J at `xj` (m, global).
@@ -332,15 +336,18 @@ pub fn local_mass(s: &BeamSection, rho: f64, l: f64, kind: BeamMass) -> Mat12 {
             add_bending(&mut m, XY, &b, sc, false);
             add_bending(&mut m, XZ, &b, sc, true);
         }
-        BeamMass::Lumped => {
+        BeamMass::Lumped | BeamMass::LumpedTranslational => {
             let half = 0.5 * rho * l;
+            let rotary = kind == BeamMass::Lumped;
             for n in [0, 6] {
                 for t in 0..3 {
                     m[(n + t, n + t)] = half * s.a;
                 }
-                m[(n + 3, n + 3)] = half * ip;
-                m[(n + 4, n + 4)] = half * s.iy;
-                m[(n + 5, n + 5)] = half * s.iz;
+                if rotary {
+                    m[(n + 3, n + 3)] = half * ip;
+                    m[(n + 4, n + 4)] = half * s.iy;
+                    m[(n + 5, n + 5)] = half * s.iz;
+                }
             }
         }
     }
@@ -422,9 +429,10 @@ impl Beam3d {
         let kind = match params.mass.as_str() {
             "consistent" => BeamMass::Consistent,
             "lumped" => BeamMass::Lumped,
+            "lumped_translational" => BeamMass::LumpedTranslational,
             other => {
                 return bad(format!(
-                    "beam3d: `mass` = \"{other}\" is not a mass matrix type; use \"consistent\" or \"lumped\""
+                    "beam3d: `mass` = \"{other}\" is not a mass matrix type; use \"consistent\", \"lumped\" or \"lumped_translational\""
                 ))
             }
         };
@@ -609,7 +617,7 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
             xi,
             xj,
             &linear.axes,
-            linear.params.mass == "lumped",
+            linear.params.mass != "consistent",
         )),
     })
 }
@@ -1159,6 +1167,35 @@ mod tests {
             assert!(eig.min() >= -1e-12 * eig.max(), "{eig}");
             assert_eq!(b.properties().declared_mass, Some(total));
         }
+    }
+
+    /// `mass = "lumped_translational"` (OpenSees' `elasticBeamColumn` without `-cMass`):
+    /// in global axes, for a skew beam, each node carries `ρAL/2·I₃` on its translations
+    /// and nothing on its rotations, with no coupling between nodes or DOF kinds; the
+    /// translational block equals that of `"lumped"`.
+    #[test]
+    fn lumped_translational_mass_has_no_rotary_inertia() {
+        let (xi, xj) = ([1.0, -0.5, 0.3], [-0.2, 0.7, 1.4]);
+        let t = beam(
+            xi,
+            xj,
+            serde_json::json!({"rho": 7850.0, "mass": "lumped_translational"}),
+        );
+        let r = beam(xi, xj, serde_json::json!({"rho": 7850.0, "mass": "lumped"}));
+        let half = 0.5 * 7850.0 * A * t.length();
+        let (mt, mr) = (t.mass_global(), r.mass_global());
+        for i in 0..12 {
+            for j in 0..12 {
+                let translation = i % 6 < 3;
+                let want = if i == j && translation { half } else { 0.0 };
+                assert!((mt[(i, j)] - want).abs() <= 1e-12 * half, "({i},{j})");
+                if translation && j % 6 < 3 {
+                    assert!((mt[(i, j)] - mr[(i, j)]).abs() <= 1e-12 * half);
+                }
+            }
+        }
+        // The lumped mass with rotary inertia does carry rotational mass: the two differ.
+        assert!(mr[(4, 4)] + mr[(5, 5)] > 0.0);
     }
 
     /// 4-point Gauss–Legendre nodes and weights on [0, 1]: exact for polynomials of

@@ -1,0 +1,217 @@
+//! What the comparison with OpenSees (docs/performance.md, "Honest peers") relies on:
+//!
+//! - `railfem bench --mass lumped` (beam3d `mass = "lumped_translational"`, OpenSees'
+//!   default elasticBeamColumn mass) and the default consistent mass both give the moving
+//!   force's midspan deflection of Frýba's closed-form series on a single span, and agree
+//!   with each other;
+//! - `--mass` and `railfem pareto --peer FILE` refuse bad input with one line, exit 2.
+
+mod common;
+
+use common::{fryba, railfem, refused_with, temp_dir};
+use railfem::bench::{BenchBeam, BenchMass, DT, SPAN, SPEED};
+use railfem::framework::Dof;
+use railfem::solvers::Driver;
+
+/// Midspan `uz` of a one-span bench beam of `ne` elements with `mass`, at every step
+/// while the force is on the span, against Frýba's series (200 terms): the largest
+/// difference relative to the series' peak over those steps, and the history.
+fn single_span_error(ne: usize, mass: BenchMass) -> (f64, Vec<f64>) {
+    let geo = BenchBeam {
+        spans: 1,
+        elements_per_span: ne,
+        mass,
+    };
+    // The force enters at x = 0 at t = DT/2 (the bench starts it at −v·DT/2).
+    let entry = 0.5 * DT;
+    let steps = ((SPAN / SPEED + entry) / DT).floor() as usize;
+    let mut d = Driver::new(geo.model(steps).expect("model")).expect("driver");
+    d.initialize().expect("initialize");
+    let mid = (ne / 2 + 1) as u64;
+    let (ei, m) = (2.1e11 * 3.038e-5, 7850.0 * 7.686e-3);
+    let (mut worst, mut peak, mut hist) = (0.0f64, 0.0f64, Vec::new());
+    for _ in 0..steps {
+        d.step(DT).expect("step");
+        let t = d.state.t - entry;
+        let fe = -d.node_value(mid, Dof::Uz.index()).expect("midspan node");
+        let exact = fryba(0.5 * SPAN, t, 1.0e5, SPEED, SPAN, ei, m, 200);
+        worst = worst.max((fe - exact).abs());
+        peak = peak.max(exact.abs());
+        hist.push(fe);
+    }
+    (worst / peak, hist)
+}
+
+/// Tolerances. The crossing lasts 0.31 s, a quarter of the first period (T₁ = 1.22 s; the
+/// speed parameter α = πv/(Lω₁) ≈ 1.96), so the midspan history is the first mode's forced
+/// and free parts, plus odd modes ≥ 3 at ≤ 1/81 of it. Newmark's period error at
+/// dt = 2 ms is (ω dt)²/12 ≤ 2e-5 for mode 1 and 7e-3 for mode 3, a phase drift of mode 3
+/// over the crossing below 0.03 rad, i.e. ≤ 4e-4 of the peak. The spatial error of the
+/// lumped (translational) mass is O(h²) on ω₁: with 20 elements its ω₁ is within 0.1% of
+/// the series' (5e-4 in ω₁ t over the crossing, times α ≈ 2 on the response); the
+/// consistent mass is O(h⁴). On top comes the O(dt) error of the moving load's kinks at
+/// the nodes (docs/performance.md, "What the plots say": ≈ 1e-3·dt/1 ms of the peak in
+/// the Pareto case; measured here 5.3e-4 with the consistent mass). Hence 2e-3 for both
+/// at 20 elements, and the two masses within 1e-3 of each other (measured 7.6e-5). A mass
+/// wrong by 5% moves ω₁ by 2.5% and the response by ≈ 5%: caught.
+#[test]
+fn lumped_and_consistent_bench_beams_follow_frybas_series() {
+    let (e_lumped, h_lumped) = single_span_error(20, BenchMass::Lumped);
+    let (e_cons, h_cons) = single_span_error(20, BenchMass::Consistent);
+    let (e_coarse, _) = single_span_error(4, BenchMass::Lumped);
+    let peak = h_cons.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let between = h_lumped
+        .iter()
+        .zip(&h_cons)
+        .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()))
+        / peak;
+    eprintln!(
+        "vs Frýba: lumped 20 el {e_lumped:.3e}, consistent 20 el {e_cons:.3e}, lumped 4 el {e_coarse:.3e}; lumped vs consistent {between:.3e}"
+    );
+    assert!(e_lumped < 2e-3, "lumped: {e_lumped:e}");
+    assert!(e_cons < 2e-3, "consistent: {e_cons:e}");
+    assert!(between < 1e-3, "lumped vs consistent: {between:e}");
+    // Refining the lumped mesh fivefold must bring it closer to the series.
+    assert!(e_lumped < e_coarse, "{e_lumped:e} vs {e_coarse:e}");
+}
+
+/// The lumped bench beam really is the translational lumped mass (no rotary inertia): its
+/// rotations are massless, so the total kinetic mass ρAL sits on the translations only.
+#[test]
+fn lumped_bench_beam_carries_translational_mass_only() {
+    let geo = BenchBeam {
+        spans: 2,
+        elements_per_span: 4,
+        mass: BenchMass::Lumped,
+    };
+    let mut d = Driver::new(geo.model(1).expect("model")).expect("driver");
+    let sys = d.reference_system().expect("system");
+    let m = &sys.mass;
+    let (mut trans, mut rot, mut off) = (0.0, 0.0, 0.0);
+    for j in 0..m.n {
+        for p in m.col_ptr[j]..m.col_ptr[j + 1] {
+            let i = m.row_idx[p];
+            let v = m.values[p];
+            if i != j {
+                off += v.abs();
+                continue;
+            }
+            let (_, dof) = d.asm.dofmap.dof_of(j);
+            if dof < 3 {
+                trans += v;
+            } else {
+                rot += v.abs();
+            }
+        }
+    }
+    // Held DOFs carry no equation: of the translational mass ρAL per direction, the
+    // supports hold ux at node 1 (ρAh/2), uy and uz at the three supports (ρAh/2 at the
+    // ends, ρAh at the middle one).
+    let (rho_a, h) = (7850.0 * 7.686e-3, SPAN / 4.0);
+    let want = 3.0 * rho_a * 2.0 * SPAN - rho_a * h * (0.5 + 2.0 * (0.5 + 1.0 + 0.5));
+    assert!((trans - want).abs() <= 1e-10 * want, "{trans} vs {want}");
+    assert_eq!(rot, 0.0);
+    assert_eq!(off, 0.0);
+}
+
+#[test]
+fn bench_mass_option_refuses_unknown_values() {
+    let o = railfem(&[
+        "bench", "--mass", "diagonal", "--sizes", "100", "--steps", "1",
+    ]);
+    refused_with(
+        "--mass diagonal",
+        &o,
+        &["--mass diagonal", "consistent", "lumped"],
+    );
+    let o = railfem(&[
+        "bench",
+        "--case",
+        "train-bridge",
+        "--mass",
+        "lumped",
+        "--sizes",
+        "100",
+    ]);
+    refused_with("--mass with train-bridge", &o, &["--mass", "beam"]);
+}
+
+/// Every refusal of a peer CSV: one line naming the file, the line and the column where
+/// it applies, and the fix; exit 2 before the grid runs.
+#[test]
+fn pareto_peer_file_bad_input_is_refused_in_one_line() {
+    let dir = temp_dir("peer");
+    let head = "peer,elements,dt [s],steps,wall [s],error [-]\n";
+    let cases: [(&str, String, &[&str]); 8] = [
+        (
+            "empty.csv",
+            String::new(),
+            &["empty.csv", "empty", "header"],
+        ),
+        (
+            "nocol.csv",
+            "peer,elements,dt [s],steps,error [-]\nP,8,1e-3,10,1e-3\n".into(),
+            &["nocol.csv", "line 1", "`wall [s]`", "header must name"],
+        ),
+        ("norows.csv", head.into(), &["norows.csv", "no runs"]),
+        (
+            "fields.csv",
+            format!("{head}P,8,1e-3,10,0.5\n"),
+            &["fields.csv", "line 2", "5 fields", "6"],
+        ),
+        (
+            "dt.csv",
+            format!("{head}P,8,1e-3,10,0.5,1e-3\nP,8,-1,10,0.5,1e-3\n"),
+            &["dt.csv", "line 3", "`dt [s]`", "`-1`", "> 0"],
+        ),
+        (
+            "elements.csv",
+            format!("{head}P,2.5,1e-3,10,0.5,1e-3\n"),
+            &["elements.csv", "line 2", "`elements`", "whole number"],
+        ),
+        (
+            "error.csv",
+            format!("{head}P,8,1e-3,10,0.5,NaN\n"),
+            &["error.csv", "line 2", "`error [-]`", "Frýba"],
+        ),
+        (
+            "label.csv",
+            format!("{head},8,1e-3,10,0.5,1e-3\n"),
+            &["label.csv", "line 2", "`peer`", "name the code"],
+        ),
+    ];
+    for (name, text, expect) in cases {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        let o = railfem(&[
+            "pareto",
+            "--cases",
+            "force",
+            "--peer",
+            p.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ]);
+        refused_with(name, &o, expect);
+    }
+    let o = railfem(&[
+        "pareto",
+        "--peer",
+        dir.join("missing.csv").to_str().unwrap(),
+        "--cases",
+        "force",
+    ]);
+    refused_with("missing", &o, &["missing.csv", "cannot read"]);
+    let p = dir.join("ok.csv");
+    std::fs::write(&p, format!("{head}P,8,1e-3,10,0.5,1e-3\n")).unwrap();
+    let o = railfem(&["pareto", "--cases", "sprung", "--peer", p.to_str().unwrap()]);
+    refused_with(
+        "peer without force",
+        &o,
+        &["--peer", "add force to --cases"],
+    );
+    assert!(
+        !dir.join("out").exists(),
+        "nothing may run before the refusal"
+    );
+}
