@@ -23,6 +23,7 @@ pub mod irregularity;
 pub mod matrices;
 pub mod oscillators;
 pub mod pareto;
+pub mod pareto_train;
 pub mod progress;
 pub mod rolling_contact;
 pub mod sidecar;
