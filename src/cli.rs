@@ -829,7 +829,8 @@ fn stress(a: &Args) -> Result<i32, FemError> {
 
 /// `railfem pareto`: run time against error (`crate::pareto`) for `--cases` (default
 /// force,sprung,curve); `pareto.csv`, `pareto.md` and `pareto-<case>.svg` in `--out`
-/// (default `out/pareto`).
+/// (default `out/pareto`). `train-bridge` (`crate::pareto_train`, not in the default) writes
+/// `pareto-train-bridge.{csv,md}` and `pareto-train-bridge-{Q,dQQ,w}.svg` there.
 fn pareto(a: &Args) -> Result<i32, FemError> {
     let mut grid = crate::pareto::Grid::default();
     if let Some(c) = a.opt("cases") {
@@ -837,11 +838,13 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
         if let Some(bad) = grid
             .cases
             .iter()
-            .find(|x| !["force", "sprung", "curve"].contains(&x.as_str()))
+            .find(|x| !["force", "sprung", "curve", "train-bridge"].contains(&x.as_str()))
         {
             return Err(FemError::input(
                 "command line",
-                format!("--cases {c}: unknown case `{bad}`; use any of force,sprung,curve"),
+                format!(
+                    "--cases {c}: unknown case `{bad}`; use any of force,sprung,curve,train-bridge"
+                ),
             ));
         }
     }
@@ -862,9 +865,17 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
         None => None,
     };
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/pareto"));
-    let runs = crate::pareto::run(&grid, &out)?;
-    if let Some(peers) = &peers {
-        crate::pareto_peer::write(&runs, peers, &out)?;
+    // The train–bridge case has its own grid, files and figures (`crate::pareto_train`).
+    let train = grid.cases.iter().any(|c| c == "train-bridge");
+    grid.cases.retain(|c| c != "train-bridge");
+    if !grid.cases.is_empty() {
+        let runs = crate::pareto::run(&grid, &out)?;
+        if let Some(peers) = &peers {
+            crate::pareto_peer::write(&runs, peers, &out)?;
+        }
+    }
+    if train {
+        crate::pareto_train::run(&crate::pareto_train::TbGrid::default(), &out)?;
     }
     println!("pareto: results in {}", out.display());
     Ok(0)

@@ -429,8 +429,9 @@ pub struct ParetoCmd {
     /// Output directory [default: out/pareto].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Cases, comma-separated, from force, sprung, curve [default: force,sprung,curve].
-    #[arg(long, value_name = "force,sprung,curve")]
+    /// Cases, comma-separated, from force, sprung, curve, train-bridge [default:
+    /// force,sprung,curve].
+    #[arg(long, value_name = "force,sprung,curve,train-bridge")]
     pub cases: Option<OsString>,
     /// A peer code's runs of the force case (CSV: peer, elements, dt [s], steps, wall [s],
     /// error [-]; scripts/opensees_compare.py --pareto writes it), drawn on

@@ -95,6 +95,9 @@ pub struct TrainBridgeCase {
     /// on its penalty spring rings at ~500 Hz, far above 1/Δt) while the bridge modes, at
     /// ω·Δt < 1, keep their amplitude to second order.
     pub rho_inf: f64,
+    /// Time integrator (generalized-α by default). HHT takes Hilber's α from `rho_inf` as
+    /// `(1 − ρ∞)/(1 + ρ∞)`; Newmark is the average-acceleration rule (β = ¼, γ = ½).
+    pub integrator: IntegratorKind,
     /// Linear solver of the Newton iterations (`auto`: partitioned from 50 000 equations).
     pub solver: crate::framework::model::SolverChoice,
     /// Geometry of the carriages (the bridge stays linear).
@@ -122,6 +125,7 @@ impl Default for TrainBridgeCase {
             pier_height: 10.0,
             gravity: 9.81,
             rho_inf: 0.5,
+            integrator: IntegratorKind::GeneralizedAlpha,
             solver: Default::default(),
             geometry: Default::default(),
         }
@@ -542,7 +546,7 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         dt: case.dt,
         duration,
         gravity: Some([0.0, 0.0, -case.gravity]),
-        integrator: IntegratorKind::GeneralizedAlpha,
+        integrator: case.integrator,
         rho_inf: case.rho_inf,
         alpha: (1.0 - case.rho_inf) / (1.0 + case.rho_inf),
         record_every: case.record_every.max(1),

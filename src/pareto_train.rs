@@ -1,0 +1,648 @@
+//! `railfem pareto --cases train-bridge`: run time against error for the train–bridge
+//! model (`crate::train_bridge`) on a short crossing — one `sks700` carriage at 80 m/s over
+//! three 29.75 m spans, straight track, no irregularity, no ground motion — over time step,
+//! rail/slab/girder element length, integrator and linear solver.
+//!
+//! Reference: the same model at a step and an element length below every grid point's
+//! ([`REF_DT`], [`REF_H`], generalized-α ρ∞ = 0.8, partitioned solver). Its own error is
+//! estimated by two more runs over the first [`CONV_DURATION`] s ([`reference_runs`]),
+//! one at half its step and one at two thirds of its element length; both should differ
+//! from it by far less than the smallest error of the grid (what they measure is written
+//! into `pareto-train-bridge.md`).
+//!
+//! Quantities, each compared with the reference at the reference's sample times (every
+//! step of the reference, `t ≤` the shorter run's end), the compared run linearly
+//! interpolated between its own samples (an interpolation error `≤ Δt²/8·max|ẍ|`, part of
+//! what a user sampling at Δt would see, so it is counted in the error):
+//!
+//! - wheel force `Q` of each of the eight wheels: error `max |Q − Q_ref| / Q_static,ref`
+//!   (`Q_static,ref` = the reference's wheel load at the initial equilibrium);
+//! - `ΔQ/Q = (Q_static − Q)/Q_static` with each run's own static load: error
+//!   `max |ΔQ/Q − ΔQ/Q_ref|`;
+//! - girder midspan deflection of span 2 relative to the span's end nodes, from the
+//!   self-weight state at t = 0 (`w(t) − w(0)`, the train's part): error
+//!   `max |w − w_ref| / max |w_ref|`.
+//!
+//! Wall time covers building the model, the initial static solve and every step.
+
+use crate::framework::model::{IntegratorKind, SolverChoice};
+use crate::framework::plot::{Corner, Figure, Panel, Series, Style};
+use crate::framework::FemError;
+use crate::pareto::Scheme;
+use crate::train_bridge::{build, TrainBridgeCase};
+use std::path::Path;
+use std::time::Instant;
+
+/// Spans of the short crossing.
+pub const SPANS: usize = 3;
+/// Speed (m/s), the paper's.
+pub const SPEED: f64 = 80.0;
+/// Time step of the reference (s): half the grid's smallest.
+pub const REF_DT: f64 = 1.25e-4;
+/// Element length of the reference (m): the paper's, the grid's smallest.
+pub const REF_H: f64 = 0.069;
+/// The span whose midspan deflection is compared (1-based): the first, which the whole
+/// carriage crosses within [`DURATION`].
+pub const SPAN_RECORDED: usize = 1;
+/// Simulated time of every run (s): from the carriage's centre 15 m before the bridge
+/// until its rear axle is 4 m past span 1's midspan (front axle on span 2).
+pub const DURATION: f64 = 0.55;
+/// Simulated time of the reference's convergence runs (s): the entry onto the bridge
+/// (front wheelset on the abutment at 0.06 s) and the front bogie past span 1's midspan.
+pub const CONV_DURATION: f64 = 0.3;
+
+/// The settings of one run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Time step (s).
+    pub dt: f64,
+    /// Rail, slab and girder element length (m).
+    pub h: f64,
+    /// Integrator (the grid's three: Newmark, HHT α = −0.05, generalized-α ρ∞ = 0.8).
+    pub scheme: Scheme,
+    /// Linear solver.
+    pub solver: SolverChoice,
+}
+
+/// Name of a solver for tables.
+pub fn solver_name(s: SolverChoice) -> &'static str {
+    match s {
+        SolverChoice::Auto => "auto",
+        SolverChoice::Direct => "direct",
+        SolverChoice::Partitioned => "partitioned",
+    }
+}
+
+/// The train–bridge case of `s` for `duration` s.
+pub fn case(s: &Settings, duration: f64) -> TrainBridgeCase {
+    let mut c = TrainBridgeCase {
+        cars: 1,
+        spans: SPANS,
+        speed: SPEED,
+        dt: s.dt,
+        element_length: s.h,
+        duration: Some(duration),
+        midspans: vec![SPAN_RECORDED],
+        solver: s.solver,
+        ..Default::default()
+    };
+    match s.scheme {
+        Scheme::Newmark => c.integrator = IntegratorKind::Newmark,
+        Scheme::Hht => {
+            c.integrator = IntegratorKind::Hht;
+            // train_bridge maps ρ∞ to Hilber's α = (1 − ρ∞)/(1 + ρ∞): 0.05 ⇔ ρ∞ = 0.95/1.05.
+            c.rho_inf = 0.95 / 1.05;
+        }
+        Scheme::GenAlpha => {
+            c.integrator = IntegratorKind::GeneralizedAlpha;
+            c.rho_inf = 0.8;
+        }
+    }
+    c
+}
+
+/// Histories of one run, sampled at every step from t = 0 (the initial equilibrium).
+#[derive(Debug, Clone, PartialEq)]
+pub struct History {
+    /// Times (s).
+    pub t: Vec<f64>,
+    /// Wheel forces Q (N): `q[sample][wheel]`, wheels front to rear, left then right.
+    pub q: Vec<Vec<f64>>,
+    /// Each wheel's Q at the initial equilibrium (N).
+    pub q_static: Vec<f64>,
+    /// Midspan deflection of span 2 (m, down positive) minus its value at t = 0.
+    pub w: Vec<f64>,
+    /// Wall time: build, static solve and every step (s).
+    pub wall: f64,
+    /// Steps taken.
+    pub steps: usize,
+    /// Equations.
+    pub dofs: usize,
+}
+
+/// Builds and runs `s` for `duration` s; see [`History`].
+pub fn simulate(s: &Settings, duration: f64) -> Result<History, FemError> {
+    let c = case(s, duration);
+    let t0 = Instant::now();
+    let mut m = build(&c)?;
+    let dofs = m.dofs;
+    let steps = (m.duration / s.dt).round() as usize;
+    let d = &mut m.driver;
+    d.static_solve(0.0, 10)?;
+    d.initialize()?;
+    let names = d.model.elements[m.wheel_index[0]].element.output_names();
+    let iq = names
+        .iter()
+        .position(|n| n == "Q")
+        .ok_or_else(|| FemError::input("train-bridge case", "the wheel element has no Q"))?;
+    let br = m
+        .track
+        .bridge
+        .as_ref()
+        .ok_or_else(|| FemError::input("train-bridge case", "no bridge in the model"))?;
+    let sp = &br.spans[SPAN_RECORDED - 1];
+    let (first, last, mid) = (sp.first_node, sp.last_node, sp.midspan_node);
+    let mut buf = Vec::new();
+    let mut sample = |d: &crate::solvers::Driver| -> (Vec<f64>, f64) {
+        let q = m
+            .wheel_index
+            .iter()
+            .map(|&ei| {
+                buf.clear();
+                d.model.elements[ei].element.outputs(&mut buf);
+                buf[iq]
+            })
+            .collect();
+        let w = |id: u64| d.node_value(id, 2).unwrap_or(f64::NAN);
+        (q, 0.5 * (w(first) + w(last)) - w(mid))
+    };
+    let mut inner = 0.0;
+    let (q0, w0) = sample(d);
+    let mut h = History {
+        t: vec![0.0],
+        q: vec![q0.clone()],
+        q_static: q0,
+        w: vec![0.0],
+        wall: 0.0,
+        steps,
+        dofs,
+    };
+    let mut bar = crate::progress::Progress::new("train-bridge run", steps as u64, "steps");
+    for k in 1..=steps {
+        d.step(s.dt)?;
+        let s0 = Instant::now();
+        let (q, w) = sample(d);
+        h.t.push(d.state.t);
+        h.q.push(q);
+        h.w.push(w - w0);
+        bar.set(k as u64);
+        inner += s0.elapsed().as_secs_f64();
+    }
+    bar.finish();
+    h.wall = t0.elapsed().as_secs_f64() - inner;
+    Ok(h)
+}
+
+/// Linear interpolation of samples `y` at times `t` (increasing) at time `x`, clamped to
+/// the ends.
+fn interp(t: &[f64], y: impl Fn(usize) -> f64, x: f64) -> f64 {
+    let n = t.len();
+    if x <= t[0] {
+        return y(0);
+    }
+    if x >= t[n - 1] {
+        return y(n - 1);
+    }
+    let i = t.partition_point(|v| *v <= x).clamp(1, n - 1);
+    let f = (x - t[i - 1]) / (t[i] - t[i - 1]);
+    y(i - 1) * (1.0 - f) + y(i) * f
+}
+
+/// Errors of `run` against `reference`: `[Q, ΔQ/Q, w]`, see the module doc.
+pub fn errors(run: &History, reference: &History) -> [f64; 3] {
+    let end = run.t[run.t.len() - 1].min(reference.t[reference.t.len() - 1]) + 1e-12;
+    let nw = reference.q_static.len();
+    let (mut eq, mut edqq, mut ew, mut wpk) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (k, &t) in reference.t.iter().enumerate() {
+        if t > end {
+            break;
+        }
+        for i in 0..nw {
+            let q = interp(&run.t, |j| run.q[j][i], t);
+            let qr = reference.q[k][i];
+            let qs = reference.q_static[i];
+            eq = eq.max((q - qr).abs() / qs);
+            let dqq = (run.q_static[i] - q) / run.q_static[i];
+            let dqq_ref = (qs - qr) / qs;
+            edqq = edqq.max((dqq - dqq_ref).abs());
+        }
+        let w = interp(&run.t, |j| run.w[j], t);
+        ew = ew.max((w - reference.w[k]).abs());
+        wpk = wpk.max(reference.w[k].abs());
+    }
+    [eq, edqq, ew / wpk]
+}
+
+/// One run of the grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TbRun {
+    /// The settings.
+    pub settings: Settings,
+    /// Equations.
+    pub dofs: usize,
+    /// Steps.
+    pub steps: usize,
+    /// Wall time (s).
+    pub wall: f64,
+    /// Errors `[Q, ΔQ/Q, w]`.
+    pub errors: [f64; 3],
+    /// On the Pareto front of each quantity.
+    pub pareto: [bool; 3],
+}
+
+/// The quantities: short name, CSV column, title.
+pub const QUANTITIES: [(&str, &str, &str); 3] = [
+    ("Q", "err_Q [-] (of Q_static)", "wheel force Q"),
+    ("dQQ", "err_dQQ [-]", "ΔQ/Q"),
+    ("w", "err_w [-] (of max w)", "midspan deflection w"),
+];
+
+/// The grid of `railfem pareto --cases train-bridge`: a list of runs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TbGrid {
+    /// The runs.
+    pub runs: Vec<Settings>,
+}
+
+impl Default for TbGrid {
+    /// Time steps 4, 2, 1, 0.5 ms on every block, cheapest block first:
+    /// - generalized-α (ρ∞ = 0.8), partitioned solver, 0.6 m, and also 0.25 ms;
+    /// - Newmark and HHT (α = −0.05), partitioned, 0.6 m;
+    /// - generalized-α, direct sparse solver, 0.6 m;
+    /// - generalized-α, partitioned, 0.2 m and 0.069 m.
+    ///
+    /// Not the full product: the integrators and the solvers are compared on the
+    /// cheapest mesh, the meshes on one integrator and solver (the product of 5 steps,
+    /// 3 meshes, 3 integrators and 2 solvers is 90 runs, some ten times what a shared
+    /// 2-core machine could run in the time budgeted here).
+    fn default() -> Self {
+        let dts = [4e-3, 2e-3, 1e-3, 5e-4];
+        let mut runs = Vec::new();
+        let mut block = |h: f64, scheme: Scheme, solver: SolverChoice, dts: &[f64]| {
+            for &dt in dts {
+                runs.push(Settings {
+                    dt,
+                    h,
+                    scheme,
+                    solver,
+                });
+            }
+        };
+        let p = SolverChoice::Partitioned;
+        block(0.6, Scheme::GenAlpha, p, &[4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]);
+        block(0.6, Scheme::Newmark, p, &dts);
+        block(0.6, Scheme::Hht, p, &dts);
+        block(0.6, Scheme::GenAlpha, SolverChoice::Direct, &dts);
+        block(0.2, Scheme::GenAlpha, p, &dts);
+        block(0.069, Scheme::GenAlpha, p, &dts);
+        TbGrid { runs }
+    }
+}
+
+/// The reference's settings.
+pub fn reference_settings() -> Settings {
+    Settings {
+        dt: REF_DT,
+        h: REF_H,
+        scheme: Scheme::GenAlpha,
+        solver: SolverChoice::Partitioned,
+    }
+}
+
+/// The three expensive runs: the reference and its two convergence checks (half the step;
+/// two thirds of the element length, 0.046 m — at half, 0.0345 m and 94 000 equations,
+/// the preload's Newton iterations stall at a residual of 0.06 N, above the case's
+/// 0.01 N tolerance), both over [`CONV_DURATION`], with their file names.
+pub fn reference_runs() -> [(&'static str, Settings, f64); 3] {
+    let r = reference_settings();
+    [
+        ("train-bridge-reference.csv", r, DURATION),
+        (
+            "train-bridge-reference-half-dt.csv",
+            Settings {
+                dt: r.dt / 2.0,
+                ..r
+            },
+            CONV_DURATION,
+        ),
+        (
+            "train-bridge-reference-finer-h.csv",
+            Settings { h: r.h / 1.5, ..r },
+            CONV_DURATION,
+        ),
+    ]
+}
+
+/// Writes a history as CSV: a first line naming the run, a second with its size and wall
+/// time, then `time [s], Q1..Q8 [N], w [m]`, the first row the static state.
+pub fn write_history(
+    path: &Path,
+    s: &Settings,
+    duration: f64,
+    h: &History,
+) -> Result<(), FemError> {
+    let mut o = format!("{}\n", history_tag(s, duration));
+    o.push_str(&format!(
+        "# steps {} dofs {} wall {}\n",
+        h.steps, h.dofs, h.wall
+    ));
+    o.push_str("time [s]");
+    for i in 0..h.q_static.len() {
+        o.push_str(&format!(",Q{} [N]", i + 1));
+    }
+    o.push_str(",w [m]\n");
+    for k in 0..h.t.len() {
+        o.push_str(&format!("{:e}", h.t[k]));
+        for q in &h.q[k] {
+            o.push_str(&format!(",{q:e}"));
+        }
+        o.push_str(&format!(",{:e}\n", h.w[k]));
+    }
+    std::fs::write(path, o).map_err(|e| FemError::output(path, e))
+}
+
+fn history_tag(s: &Settings, duration: f64) -> String {
+    format!(
+        "# train-bridge history: dt {:e} h {} {} {} duration {} spans {SPANS} speed {SPEED} span {SPAN_RECORDED}",
+        s.dt,
+        s.h,
+        s.scheme.name(),
+        solver_name(s.solver),
+        duration
+    )
+}
+
+/// Reads a history written by [`write_history`] for the same run; `None` if the file is
+/// missing, unreadable or names another run.
+pub fn read_history(path: &Path, s: &Settings, duration: f64) -> Option<History> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let mut lines = text.lines();
+    if lines.next()? != history_tag(s, duration) {
+        return None;
+    }
+    let meta: Vec<&str> = lines.next()?.split_whitespace().collect();
+    let mut h = History {
+        t: Vec::new(),
+        q: Vec::new(),
+        q_static: Vec::new(),
+        w: Vec::new(),
+        wall: meta.get(6)?.parse().ok()?,
+        steps: meta.get(2)?.parse().ok()?,
+        dofs: meta.get(4)?.parse().ok()?,
+    };
+    lines.next()?;
+    for l in lines {
+        let v: Vec<f64> = l
+            .split(',')
+            .map(|x| x.parse().ok())
+            .collect::<Option<_>>()?;
+        let n = v.len();
+        if n < 3 {
+            return None;
+        }
+        h.t.push(v[0]);
+        h.q.push(v[1..n - 1].to_vec());
+        h.w.push(v[n - 1]);
+    }
+    h.q_static = h.q.first()?.clone();
+    Some(h)
+}
+
+/// The history of `s` over `duration` from `path` if it holds that run, else simulated
+/// and written there.
+pub fn load_or_simulate(path: &Path, s: &Settings, duration: f64) -> Result<History, FemError> {
+    if let Some(h) = read_history(path, s, duration) {
+        eprintln!(
+            "pareto train-bridge: {} read from {}",
+            history_tag(s, duration),
+            path.display()
+        );
+        return Ok(h);
+    }
+    let h = simulate(s, duration)?;
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
+    }
+    write_history(path, s, duration, &h)?;
+    Ok(h)
+}
+
+/// Marks, per quantity, the runs that no other run beats in both time and error.
+pub fn mark_pareto(runs: &mut [TbRun]) {
+    for q in 0..3 {
+        let n = runs.len();
+        for i in 0..n {
+            let (wi, ei) = (runs[i].wall, runs[i].errors[q]);
+            let dominated = (0..n).any(|j| {
+                j != i
+                    && runs[j].wall <= wi
+                    && runs[j].errors[q] <= ei
+                    && (runs[j].wall < wi || runs[j].errors[q] < ei)
+            });
+            runs[i].pareto[q] = !dominated && ei.is_finite();
+        }
+    }
+}
+
+/// Runs the grid; one line per run on stderr. A run that fails (Newton gives up at a
+/// coarse step) is reported and left out.
+pub fn run_grid(grid: &TbGrid) -> Vec<(Settings, History)> {
+    let mut out = Vec::new();
+    for s in &grid.runs {
+        match simulate(s, DURATION) {
+            Ok(r) => {
+                eprintln!(
+                    "pareto train-bridge: h = {} m ({} eq), dt = {} s, {}, {}: {:.2} s",
+                    s.h,
+                    r.dofs,
+                    s.dt,
+                    s.scheme.name(),
+                    solver_name(s.solver),
+                    r.wall
+                );
+                out.push((*s, r));
+            }
+            Err(e) => eprintln!(
+                "pareto train-bridge: h = {} m, dt = {} s, {}, {}: no result ({e})",
+                s.h,
+                s.dt,
+                s.scheme.name(),
+                solver_name(s.solver)
+            ),
+        }
+    }
+    out
+}
+
+/// The runs' errors against `reference`, with their Pareto fronts marked.
+pub fn evaluate(histories: &[(Settings, History)], reference: &History) -> Vec<TbRun> {
+    let mut runs: Vec<TbRun> = histories
+        .iter()
+        .map(|(s, h)| TbRun {
+            settings: *s,
+            dofs: h.dofs,
+            steps: h.steps,
+            wall: h.wall,
+            errors: errors(h, reference),
+            pareto: [false; 3],
+        })
+        .collect();
+    mark_pareto(&mut runs);
+    runs
+}
+
+/// The runs as CSV (units in the header).
+pub fn csv(runs: &[TbRun]) -> String {
+    let mut s =
+        String::from("case,integrator,solver,element_length [m],equations,dt [s],steps,wall [s]");
+    for q in QUANTITIES {
+        s.push_str(&format!(",{}", q.1));
+    }
+    s.push_str(",pareto_Q,pareto_dQQ,pareto_w\n");
+    for r in runs {
+        s.push_str(&format!(
+            "train-bridge,{},{},{},{},{:.6e},{},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{}\n",
+            r.settings.scheme.name(),
+            solver_name(r.settings.solver),
+            r.settings.h,
+            r.dofs,
+            r.settings.dt,
+            r.steps,
+            r.wall,
+            r.errors[0],
+            r.errors[1],
+            r.errors[2],
+            r.pareto[0],
+            r.pareto[1],
+            r.pareto[2]
+        ));
+    }
+    s
+}
+
+/// The Pareto front of each quantity as markdown tables.
+pub fn markdown(runs: &[TbRun]) -> String {
+    let mut s = String::new();
+    for (q, (_, _, title)) in QUANTITIES.iter().enumerate() {
+        s.push_str(&format!(
+            "\nPareto front, {title}:\n\n| integrator | solver | h (m) | equations | dt (s) | wall (s) | err Q | err ΔQ/Q | err w |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n"
+        ));
+        let mut front: Vec<&TbRun> = runs.iter().filter(|r| r.pareto[q]).collect();
+        front.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+        for r in front {
+            s.push_str(&format!(
+                "| {} | {} | {} | {} | {:.2e} | {:.2} | {:.3e} | {:.3e} | {:.3e} |\n",
+                r.settings.scheme.name(),
+                solver_name(r.settings.solver),
+                r.settings.h,
+                r.dofs,
+                r.settings.dt,
+                r.wall,
+                r.errors[0],
+                r.errors[1],
+                r.errors[2]
+            ));
+        }
+    }
+    s
+}
+
+/// The figure of quantity `q` (0 = Q, 1 = ΔQ/Q, 2 = w): error against wall time, log–log,
+/// one marker colour per integrator and solver, the Pareto front as a line.
+pub fn figure(runs: &[TbRun], q: usize) -> Figure {
+    let colors = [
+        "#1f77b4", "#aec7e8", "#d62728", "#ff9896", "#2ca02c", "#98df8a",
+    ];
+    let (_, _, title) = QUANTITIES[q];
+    let ylabel = match q {
+        0 => "max |Q − Q_ref| / Q_static (-)",
+        1 => "max |ΔQ/Q − ref| (-)",
+        _ => "max |w − w_ref| / max |w_ref| (-)",
+    };
+    let mut p = Panel::new(
+        &format!("train–bridge, 1 carriage × 3 spans at 80 m/s: {title} error"),
+        "wall time (s)",
+        ylabel,
+    )
+    .log_log();
+    p.legend = Corner::TopRight;
+    let mut k = 0;
+    for scheme in Scheme::ALL {
+        for solver in [SolverChoice::Direct, SolverChoice::Partitioned] {
+            let pts: Vec<&TbRun> = runs
+                .iter()
+                .filter(|r| r.settings.scheme == scheme && r.settings.solver == solver)
+                .collect();
+            if !pts.is_empty() {
+                p = p.with(Series::new(
+                    &format!("{}, {}", scheme.name(), solver_name(solver)),
+                    pts.iter().map(|r| r.wall).collect(),
+                    pts.iter().map(|r| r.errors[q]).collect(),
+                    Style::Markers,
+                    colors[k % colors.len()],
+                ));
+            }
+            k += 1;
+        }
+    }
+    let mut front: Vec<&TbRun> = runs.iter().filter(|r| r.pareto[q]).collect();
+    front.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+    p = p.with(Series::new(
+        "Pareto front",
+        front.iter().map(|r| r.wall).collect(),
+        front.iter().map(|r| r.errors[q]).collect(),
+        Style::Line,
+        "black",
+    ));
+    Figure::new().with(p)
+}
+
+/// Runs the grid, then reads or computes the reference and its two convergence runs
+/// (cached in `out` as `train-bridge-reference*.csv`; delete them to recompute), and
+/// writes `pareto-train-bridge.csv`, `pareto-train-bridge.md` and
+/// `pareto-train-bridge-{Q,dQQ,w}.svg` into `out`.
+pub fn run(grid: &TbGrid, out: &Path) -> Result<Vec<TbRun>, FemError> {
+    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    eprintln!(
+        "train-bridge pareto: load average at start: {}",
+        load.trim()
+    );
+    std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
+    let histories = run_grid(grid);
+    let load_end = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
+    eprintln!(
+        "train-bridge pareto: load average after the grid: {}",
+        load_end.trim()
+    );
+    let [r0, r1, r2] = reference_runs();
+    let reference = load_or_simulate(&out.join(r0.0), &r0.1, r0.2)?;
+    let half_dt = load_or_simulate(&out.join(r1.0), &r1.1, r1.2)?;
+    let half_h = load_or_simulate(&out.join(r2.0), &r2.1, r2.2)?;
+    let conv = [errors(&half_dt, &reference), errors(&half_h, &reference)];
+    let runs = evaluate(&histories, &reference);
+    let p = out.join("pareto-train-bridge.csv");
+    std::fs::write(&p, csv(&runs)).map_err(|e| FemError::output(&p, e))?;
+    let base = r0.1;
+    let mut md = format!(
+        "Load average: {} at the grid's start, {} at its end.\n\n\
+         Reference: h = {} m, dt = {} s, generalized-α ρ∞ = 0.8, partitioned solver \
+         ({} equations, {} steps over {} s).\n\
+         Its own error over the first {} s: half the step changes Q by {:.3e}, ΔQ/Q by \
+         {:.3e}, w by {:.3e}; two thirds of the element length by {:.3e}, {:.3e}, {:.3e}.\n",
+        load.trim(),
+        load_end.trim(),
+        base.h,
+        base.dt,
+        reference.dofs,
+        reference.steps,
+        DURATION,
+        CONV_DURATION,
+        conv[0][0],
+        conv[0][1],
+        conv[0][2],
+        conv[1][0],
+        conv[1][1],
+        conv[1][2]
+    );
+    md.push_str(&markdown(&runs));
+    let p = out.join("pareto-train-bridge.md");
+    std::fs::write(&p, &md).map_err(|e| FemError::output(&p, e))?;
+    for (q, (name, _, _)) in QUANTITIES.iter().enumerate() {
+        let p = out.join(format!("pareto-train-bridge-{name}.svg"));
+        figure(&runs, q)
+            .write_svg_and_png(&p)
+            .map_err(|e| FemError::output(&p, e))?;
+    }
+    print!("{md}");
+    Ok(runs)
+}
