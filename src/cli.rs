@@ -293,7 +293,7 @@ fn prepare(
 
 /// Commands whose time loops stop at the end of a step when asked
 /// ([`crate::framework::interrupt`]); the others stop at once on SIGINT/SIGTERM.
-const STOPS_AT_STEP: [&str; 3] = ["run", "curve", "train-bridge"];
+const STOPS_AT_STEP: [&str; 4] = ["run", "curve", "train-bridge", "study"];
 
 /// The output directory of a command as it resolves it (its `--out` or its default);
 /// `None` for commands that write no directory.
@@ -312,6 +312,7 @@ pub fn out_dir(a: &Args) -> Option<PathBuf> {
         "pareto" => "out/pareto",
         "irregularity" => "out/irregularity",
         "matrices" => "out/matrices",
+        "study" => crate::study::DEFAULT_OUT,
         "critical-radius" | "stress" => return a.out.clone(),
         _ => return None,
     };
@@ -518,6 +519,7 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         "stress" => stress(a),
         "pareto" => pareto(a),
         "irregularity" => crate::irregularity::command(a),
+        "study" => crate::study::command(a),
         "matrices" => {
             let path = model_arg(a)?;
             let out = a

@@ -27,6 +27,7 @@ pub mod progress;
 pub mod rolling_contact;
 pub mod sidecar;
 pub mod stress;
+pub mod study;
 pub mod train_bridge;
 
 /// Loads a model file, building every element through the registry.
