@@ -138,13 +138,15 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
     }
     let mut rec = match (record, synthetic || seed.is_some()) {
         (Some(p), false) => Some(crate::train_bridge::read_quake(&p)?),
-        (Some(p), true) => return Err(FemError::input(
-            "study case",
-            format!(
+        (Some(p), true) => {
+            return Err(FemError::input(
+                "study case",
+                format!(
                 "`quake` = {} and a synthetic motion (`seed` or quake = \"synthetic\"): give one",
                 p.display()
             ),
-        )),
+            ))
+        }
         (None, true) => {
             let s = seed.unwrap_or(1.0);
             if !(s >= 0.0 && s.fract() == 0.0 && s < 1e15) {
