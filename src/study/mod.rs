@@ -186,6 +186,10 @@ pub fn command(a: &Args) -> Result<i32, FemError> {
         figure.map_or(String::new(), |f| format!(", figure {}", f.display()))
     );
     if interrupted {
+        eprintln!(
+            "study: stopped by a signal at a case boundary; the {done} finished cases are in {}, the cases in progress were not kept; run the same command again to go on",
+            o.out.join(checkpoint::FILE).display()
+        );
         return Err(FemError::Interrupted { t: 0.0 });
     }
     if done < counts.cases {

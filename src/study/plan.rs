@@ -494,7 +494,7 @@ fn axis_values(
     };
     let n = match (num("step")?, num("count")?) {
         (Some(step), None) => {
-            if !(step > 0.0) || stop < start {
+            if step <= 0.0 || stop < start {
                 return Err(refuse(file, place, "give `step` > 0 and `stop` ≥ `start`"));
             }
             // Both ends included; a stop that the steps miss by rounding only is reached.
