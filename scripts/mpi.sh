@@ -55,8 +55,8 @@ mpirun_n 2 "$mpi_bin" study "$plan" --threads 1 -q --stop-after 7 --out "$work/r
 mpirun_n 2 "$mpi_bin" study "$plan" --threads 1 -q --out "$work/resume" >/dev/null
 cmp "$work/serial/study.csv" "$work/resume/study.csv" || fail "the resumed MPI study differs"
 # A panicking case (whichever rank takes it) is a failed row; the job ends by itself.
-RAILFEM_STUDY_PANIC_CASE=0001 timeout 600 mpirun_n 2 -x RAILFEM_STUDY_PANIC_CASE \
-    "$mpi_bin" study "$plan" --threads 1 -q --out "$work/panic" >/dev/null 2>"$work/panic.err" \
+RAILFEM_STUDY_PANIC_CASE=0001 timeout 600 mpirun -n 2 --oversubscribe "${root_flags[@]}" \
+    -x RAILFEM_STUDY_PANIC_CASE "$mpi_bin" study "$plan" --threads 1 -q --out "$work/panic" >/dev/null 2>"$work/panic.err" \
     || fail "the study with a panicking case did not end cleanly"
 grep -q '^0001,.*,failed,.*panic' "$work/panic/study.csv" || fail "the panicking case is not a failed row"
 rows=$(($(wc -l < "$work/serial/study.csv") - 1))

@@ -225,8 +225,7 @@ pub fn write_figure(
                 && plan.axes[k].values.len() > 1
         })
         .collect();
-    // x: the speed axis if there is one, else the first numeric axis; series: the next
-    // numeric axis (e.g. the intensity scale).
+    // x: the speed axis if there is one, else the first numeric axis.
     let Some(&xa) = numeric
         .iter()
         .find(|&&k| plan.axes[k].name == "speed")
@@ -234,7 +233,19 @@ pub fn write_figure(
     else {
         return Ok(None);
     };
-    let sa = numeric.iter().copied().find(|&k| k != xa);
+    // Series: the intensity scale if it is an axis, else the numeric axis with the fewest
+    // values (a legend of a few lines).
+    let sa = numeric
+        .iter()
+        .copied()
+        .filter(|&k| k != xa)
+        .min_by_key(|&k| {
+            (
+                plan.axes[k].name != "quake_scale",
+                plan.axes[k].values.len(),
+                k,
+            )
+        });
     let col = |name: &str| {
         header(plan)
             .split(',')
