@@ -293,7 +293,7 @@ fn prepare(
 
 /// Commands that stop at the end of a step, a load step or a case when asked
 /// ([`crate::framework::interrupt`]); the others stop at once on SIGINT/SIGTERM.
-const STOPS_AT_STEP: [&str; 8] = [
+const STOPS_AT_STEP: [&str; 9] = [
     "run",
     "curve",
     "train-bridge",
@@ -302,6 +302,7 @@ const STOPS_AT_STEP: [&str; 8] = [
     "pareto",
     "bench",
     "irregularity",
+    "study",
 ];
 
 /// The output directory of a command as it resolves it (its `--out` or its default);
@@ -321,6 +322,7 @@ pub fn out_dir(a: &Args) -> Option<PathBuf> {
         "pareto" => "out/pareto",
         "irregularity" => "out/irregularity",
         "matrices" => "out/matrices",
+        "study" => crate::study::DEFAULT_OUT,
         "critical-radius" | "stress" => return a.out.clone(),
         _ => return None,
     };
@@ -529,6 +531,7 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         "stress" => stress(a),
         "pareto" => pareto(a),
         "irregularity" => crate::irregularity::command(a),
+        "study" => crate::study::command(a),
         "matrices" => {
             let path = model_arg(a)?;
             let out = a

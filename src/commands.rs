@@ -121,6 +121,9 @@ pub enum Command {
     /// Write a model's K (tangent at the reference state), M and C (constant parts) and its
     /// load vector as Matrix Market files, with the DOF map (docs/matrices.md).
     Matrices(MatricesCmd),
+    /// Run a parameter study: a base case over the Cartesian product of a plan's axes, on
+    /// threads or MPI ranks; study.csv, study.json, study.svg (docs/scale-out.md).
+    Study(StudyCmd),
     /// Print a shell completion script (e.g. `railfem completions bash > ~/.local/share/bash-completion/completions/railfem`).
     Completions(CompletionsCmd),
 }
@@ -472,4 +475,24 @@ pub struct CompletionsCmd {
     /// The shell: bash, zsh, fish, elvish or powershell.
     #[arg(value_name = "SHELL")]
     pub shell: clap_complete::Shell,
+}
+
+/// `railfem study`.
+#[derive(ClapArgs, Debug)]
+pub struct StudyCmd {
+    /// The study plan (TOML, docs/scale-out.md).
+    #[arg(value_name = "PLAN.toml")]
+    pub plan: PathBuf,
+    /// Computing threads of this process (under mpirun: of rank 0; the other ranks compute
+    /// one case at a time) [default: the available cores].
+    #[arg(long, value_name = "N")]
+    pub threads: Option<OsString>,
+    /// Hand out at most N cases in this run, then stop; the checkpoint keeps them and a
+    /// rerun goes on [default: all].
+    #[arg(long, value_name = "N")]
+    pub stop_after: Option<OsString>,
+    /// Output directory: study.csv, study.json, study.svg/.png, study.checkpoint, cases/
+    /// [default: out/study].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
 }

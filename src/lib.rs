@@ -32,6 +32,7 @@ pub mod sidecar;
 pub mod small_models;
 pub mod stress;
 pub mod threshold;
+pub mod study;
 pub mod train_bridge;
 
 /// Loads a model file, building every element through the registry.

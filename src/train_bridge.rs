@@ -52,6 +52,9 @@ pub enum Quake {
         /// Length of the record (s).
         duration: f64,
     },
+    /// A record already in memory (e.g. a file's record times an intensity scale, as
+    /// `railfem study` makes them).
+    Record(QuakeRecord),
 }
 
 /// Inputs of a train–bridge run. SI units.
@@ -480,6 +483,7 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
     let quake = match &case.quake {
         Quake::None => None,
         Quake::File(p) => Some(read_quake(p)?),
+        Quake::Record(r) => Some(r.clone()),
         Quake::Synthetic {
             seed,
             pga,
@@ -632,6 +636,10 @@ pub struct TrainBridgeReport {
     /// Recorded spans (1-based) and their history from t = 0 (the initial equilibrium): (t,
     /// girder midspan deflection relative to the span's end nodes, m, positive down).
     pub midspan: Vec<(usize, Vec<(f64, f64)>)>,
+    /// Recorded spans (1-based), the largest |vertical acceleration| of their girder
+    /// midspan node over the recorded samples (m/s², relative to the ground, which is the
+    /// absolute one without ground motion) and its time (s).
+    pub deck_acc: Vec<(usize, f64, f64)>,
     /// Steps run.
     pub steps: usize,
     /// Newton iterations.
@@ -652,6 +660,14 @@ fn midspan_deflection(d: &Driver, tm: &TrackModel, k: usize) -> f64 {
     let s = &br.spans[k];
     let w = |id: u64| d.node_value(id, 2).unwrap_or(f64::NAN);
     0.5 * (w(s.first_node) + w(s.last_node)) - w(s.midspan_node)
+}
+
+/// Vertical acceleration of the girder midspan node of span `k` (0-based), m/s².
+fn midspan_acceleration(d: &Driver, tm: &TrackModel, k: usize) -> f64 {
+    let br = tm.bridge.as_ref().expect("a bridge");
+    d.model
+        .node(br.spans[k].midspan_node)
+        .map_or(f64::NAN, |i| d.asm.dofmap.value(&d.state.a, i, 2))
 }
 
 /// Runs a built model for `steps` steps (all, if `None`), writing `wheels.csv`,
@@ -703,6 +719,7 @@ pub fn run(
     ];
     let mut midspan: Vec<(usize, Vec<(f64, f64)>)> =
         spans.iter().map(|k| (*k, Vec::new())).collect();
+    let mut deck_acc: Vec<(usize, f64, f64)> = spans.iter().map(|k| (*k, 0.0, 0.0)).collect();
     let mut files = None;
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
@@ -792,6 +809,12 @@ pub fn run(
             hist.push((t, w));
             mrow.push_str(&format!(",{w:.6e}"));
         }
+        for (sk, peak, tp) in deck_acc.iter_mut() {
+            let az = midspan_acceleration(d, &m.track, *sk - 1).abs();
+            if az > *peak {
+                (*peak, *tp) = (az, t);
+            }
+        }
         if let Some((wf, mf)) = files.as_mut() {
             writeln!(wf, "{row}").map_err(|e| FemError::output("wheels.csv", e))?;
             writeln!(mf, "{mrow}").map_err(|e| FemError::output("midspan.csv", e))?;
@@ -846,6 +869,7 @@ pub fn run(
         q_static,
         wheels: ext,
         midspan,
+        deck_acc,
         steps: total,
         iterations,
         wall: start.elapsed().as_secs_f64(),

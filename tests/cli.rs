@@ -43,6 +43,7 @@ fn every_command_has_help_naming_each_option_with_unit_or_default() {
         "stress",
         "pareto",
         "irregularity",
+        "study",
         "completions",
     ] {
         assert!(
@@ -374,6 +375,16 @@ fn todays_invocations_parse_to_the_same_options() {
             "vertical",
             "--out",
             "out/irr",
+        ],
+        &[
+            "study",
+            "plan.toml",
+            "--threads",
+            "2",
+            "--stop-after",
+            "10",
+            "--out",
+            "out/s",
         ],
         &["help"],
         &[],

@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# `railfem study` over MPI (docs/scale-out.md): install the system's Open MPI from Debian's
+# packages (with clang/libclang for rsmpi's bindgen), build railfem with `--features mpi`,
+# and check under mpirun that
+#   - 1 rank gives the same study.csv bytes as the default (non-MPI) build,
+#   - 2 ranks give the same bytes as 1 rank, and
+#   - a case that panics on a worker rank is a failed row and the study ends (no hang).
+# Usage: scripts/mpi.sh [PLAN.toml]   (default: a 24-case cut of examples/studies)
+# Timings of the whole 200-case plan: SCALE_OUT_BENCH=1 scripts/mpi.sh (docs/scale-out.md).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+sudo_if_needed() { if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi; }
+if ! command -v mpirun >/dev/null || ! dpkg -s libopenmpi-dev >/dev/null 2>&1 \
+    || ! dpkg -s libclang-dev >/dev/null 2>&1; then
+    sudo_if_needed apt-get update -qq
+    sudo_if_needed env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+        --no-install-recommends libopenmpi-dev openmpi-bin libclang-dev clang >/dev/null
+fi
+
+work=$(mktemp -d /tmp/railfem-mpi.XXXXXX)
+trap 'rm -rf "$work"' EXIT
+# The default build first (the reference table, copied aside), then the MPI build in the
+# same target folder (cargo keeps both variants of the dependencies, so switching back and
+# forth recompiles only the railfem crate). target/release/railfem is the MPI one after.
+cargo build --release -p railfem -q
+cp target/release/railfem "$work/railfem-serial"
+serial_bin=$work/railfem-serial
+cargo build --release -p railfem --features mpi -q
+mpi_bin=target/release/railfem
+
+root_flags=()
+if [ "$(id -u)" -eq 0 ]; then root_flags=(--allow-run-as-root); fi
+# Two ranks on a 2-core machine shared with others: oversubscribe, and let Open MPI yield.
+export OMPI_MCA_mpi_yield_when_idle=1
+mpirun_n() { local n=$1; shift; mpirun -n "$n" --oversubscribe "${root_flags[@]}" "$@"; }
+
+plan=${1:-}
+if [ -z "$plan" ]; then
+    plan=$work/plan.toml
+    # 3 seeds × 2 scales × 4 speeds of the 200-case plan: 24 cases.
+    sed -e 's/^stop = 10$/stop = 3/' -e 's/^values = \[0.0, 0.5, 1.0, 1.5, 2.0\]$/values = [0.0, 1.0]/' \
+        examples/studies/bridge-quake.toml > "$plan"
+fi
+
+fail() { echo "mpi.sh: FAILED: $*" >&2; exit 1; }
+"$serial_bin" study "$plan" --threads 1 -q --out "$work/serial" >/dev/null
+mpirun_n 1 "$mpi_bin" study "$plan" --threads 1 -q --out "$work/mpi1" >/dev/null
+cmp "$work/serial/study.csv" "$work/mpi1/study.csv" || fail "1 rank differs from the serial run"
+mpirun_n 2 "$mpi_bin" study "$plan" --threads 1 -q --out "$work/mpi2" >/dev/null
+cmp "$work/serial/study.csv" "$work/mpi2/study.csv" || fail "2 ranks differ from the serial run"
+grep -q '"ranks": 2' "$work/mpi2/study.json" || fail "study.json does not say 2 ranks"
+# Resume under MPI: stop after 7 cases, then finish with 2 ranks.
+mpirun_n 2 "$mpi_bin" study "$plan" --threads 1 -q --stop-after 7 --out "$work/resume" >/dev/null
+mpirun_n 2 "$mpi_bin" study "$plan" --threads 1 -q --out "$work/resume" >/dev/null
+cmp "$work/serial/study.csv" "$work/resume/study.csv" || fail "the resumed MPI study differs"
+# A panicking case (whichever rank takes it) is a failed row; the job ends by itself.
+RAILFEM_STUDY_PANIC_CASE=0001 timeout 600 mpirun -n 2 --oversubscribe "${root_flags[@]}" \
+    -x RAILFEM_STUDY_PANIC_CASE "$mpi_bin" study "$plan" --threads 1 -q --out "$work/panic" >/dev/null 2>"$work/panic.err" \
+    || fail "the study with a panicking case did not end cleanly"
+grep -q '^0001,.*,failed,.*panic' "$work/panic/study.csv" || fail "the panicking case is not a failed row"
+rows=$(($(wc -l < "$work/serial/study.csv") - 1))
+echo "mpi.sh: ok — $rows cases: serial, 1 rank, 2 ranks and a resumed 2-rank run give the same study.csv bytes; a panicking case is a failed row"
+
+if [ "${SCALE_OUT_BENCH:-0}" = 1 ]; then
+    # Back-to-back timings of the 200-case plan (A B A B), with the load average.
+    full=examples/studies/bridge-quake.toml
+    for rep in 1 2; do
+        for mode in t1 t2 m1 m2; do
+            rm -rf "$work/b"
+            start=$(date +%s.%N)
+            case $mode in
+                t1) "$serial_bin" study $full --threads 1 -q --out "$work/b" >/dev/null ;;
+                t2) "$serial_bin" study $full --threads 2 -q --out "$work/b" >/dev/null ;;
+                m1) mpirun_n 1 "$mpi_bin" study $full --threads 1 -q --out "$work/b" >/dev/null ;;
+                m2) mpirun_n 2 "$mpi_bin" study $full --threads 1 -q --out "$work/b" >/dev/null ;;
+            esac
+            end=$(date +%s.%N)
+            sum=$(sha256sum < "$work/b/study.csv" | cut -c1-16)
+            echo "bench rep=$rep mode=$mode wall=$(echo "$end - $start" | bc) s table=$sum load=$(cut -d' ' -f1-3 /proc/loadavg)"
+        done
+    done
+fi
