@@ -70,6 +70,7 @@ pub fn solver_name(s: SolverChoice) -> &'static str {
         SolverChoice::Auto => "auto",
         SolverChoice::Direct => "direct",
         SolverChoice::Partitioned => "partitioned",
+        SolverChoice::LowRank => "low_rank",
     }
 }
 

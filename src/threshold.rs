@@ -58,6 +58,7 @@ fn beam(n: usize) -> Result<Model, FemError> {
     let geo = crate::bench::BenchBeam {
         spans: 1,
         elements_per_span: (n / 6).max(1),
+        mass: crate::bench::BenchMass::Consistent,
     };
     geo.model(1)
 }

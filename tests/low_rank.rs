@@ -85,6 +85,7 @@ fn dense_and_sparse_agree_across_the_threshold() {
         let geo = railfem::bench::BenchBeam {
             spans: 1,
             elements_per_span: elements,
+            mass: railfem::bench::BenchMass::Consistent,
         };
         let run = |swap: bool| {
             let mut d = Driver::new(geo.model(steps).expect("model")).expect("driver");
