@@ -607,13 +607,14 @@ mod tests {
         }
     }
 
-    /// A linear y axis leaves room above and below the data: a maximum on a nice tick
-    /// (10) is not the axis top.
+    /// A linear y axis leaves room above and below the data: extremes on nice ticks
+    /// (±10) are not the axis ends.
     #[test]
     fn linear_y_axes_leave_headroom() {
-        let (lo, hi) = axis_range(&with_headroom(&[0.0, 10.0], Y_HEADROOM), false);
-        assert!(lo < 0.0 && hi > 10.0, "{lo} .. {hi}");
-        assert!(hi <= 12.0 && lo >= -2.0, "{lo} .. {hi}");
+        let (lo, hi) = axis_range(&with_headroom(&[-10.0, 10.0], Y_HEADROOM), false);
+        assert!(lo < -10.0 && hi > 10.0, "{lo} .. {hi}");
+        // At most one tick step (5 for this range) beyond the data.
+        assert!(hi <= 15.0 && lo >= -15.0, "{lo} .. {hi}");
         // One value (or none) stays as it is.
         assert_eq!(with_headroom(&[5.0, 5.0], Y_HEADROOM), vec![5.0, 5.0]);
         // Not across zero: positive data keep the axis at 0 and above.
