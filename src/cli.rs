@@ -686,7 +686,10 @@ fn track(a: &Args) -> Result<i32, FemError> {
 /// `bench.csv` in `--out` (default `out/bench`).
 fn bench(a: &Args) -> Result<i32, FemError> {
     let case = a.opt("case").unwrap_or("beam");
-    if !matches!(case, "beam" | "train-bridge" | "sprung" | "threshold" | "floor") {
+    if !matches!(
+        case,
+        "beam" | "train-bridge" | "sprung" | "threshold" | "floor"
+    ) {
         return Err(FemError::input(
             "command line",
             format!("--case {case}: use beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the beam, per solver), threshold (dense against sparse solver by size) or floor (time per step against the memory-bandwidth floor)"),

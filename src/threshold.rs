@@ -148,8 +148,7 @@ pub fn run(out: &Path) -> Result<Vec<ThresholdRow>, FemError> {
     crate::elements::link();
     let mut rows = Vec::new();
     for n in [
-        6, 12, 18, 24, 30, 36, 48, 72, 96, 120, 150, 198, 246, 300, 402, 498, 750, 1002, 1500,
-        1998,
+        6, 12, 18, 24, 30, 36, 48, 72, 96, 120, 150, 198, 246, 300, 402, 498, 750, 1002, 1500, 1998,
     ] {
         let r = measure("beam", beam(n)?)?;
         eprintln!("{}", line(&r));

@@ -63,7 +63,11 @@ fn auto_picks_the_low_rank_solver_for_a_rider() {
     // S = the rider's z, and uz, ry of the two nodes under it, at most (5 equations).
     assert!(st.rank <= 5 && st.rank >= 3, "rank {}", st.rank);
     // 40 steps of 0.16 m: over two nodes; each brings at most 2 new columns.
-    assert!(st.column_solves <= 5 + 2 * 3, "column solves {}", st.column_solves);
+    assert!(
+        st.column_solves <= 5 + 2 * 3,
+        "column solves {}",
+        st.column_solves
+    );
     let beam = railfem::bench::BenchBeam::for_dof(292)
         .model(3)
         .expect("beam");
@@ -111,7 +115,9 @@ fn dense_and_sparse_agree_across_the_threshold() {
         assert_eq!(dense, n < 16, "{n} equations");
         let diff = history_difference(&own, &other);
         let scale = own.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
-        eprintln!("{n} equations (dense by default: {dense}): dense vs sparse {diff:.2e} of {scale:.3e}");
+        eprintln!(
+            "{n} equations (dense by default: {dense}): dense vs sparse {diff:.2e} of {scale:.3e}"
+        );
         assert!(scale > 0.0);
         assert!(diff <= 1e-10, "{n} equations: {diff:e}");
     }

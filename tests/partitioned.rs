@@ -94,8 +94,12 @@ fn compare(name: &str, support: &str) {
             d.neq(),
             worst / scale
         );
+        // On rigid rails nothing turns: the rotations are round-off (≈ 1e-20 rad), and two
+        // solvers that round differently (the direct one sparse, the partitioned top system
+        // dense) differ there by round-off too; 1e-15 rad is far below any physical rotation.
+        let floor = if rotation { 1e-15 } else { 0.0 };
         assert!(
-            worst <= 1e-10 * scale,
+            worst <= 1e-10 * scale + floor,
             "{name}: {kind} of the partitioned solver differ from the direct one by {:e} of {scale:e}",
             worst / scale
         );

@@ -145,6 +145,9 @@ pub struct Assembler {
     threads: usize,
     /// The linear solver the model runs with (`auto` resolved).
     solver: crate::model::SolverChoice,
+    /// Every value of `c_const` is zero (no dashpot, no Rayleigh damping): its products
+    /// are zero vectors and are not formed.
+    c_const_zero: bool,
 }
 
 fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Vector3<f64>) -> f64 {
@@ -207,6 +210,7 @@ impl Assembler {
             c_var_used: true,
             threads: crate::parallel::threads(0),
             solver: crate::model::SolverChoice::Direct,
+            c_const_zero: false,
         };
         let variable_dofs = model
             .elements
@@ -489,6 +493,7 @@ impl Assembler {
         } else {
             empty
         };
+        self.c_const_zero = c_const.values.iter().all(|&c| c == 0.0);
         self.k_const = k_const;
         self.m_const = m_const;
         self.c_const = c_const;
@@ -761,22 +766,62 @@ impl Assembler {
         form_tangent: bool,
     ) -> Result<(), FemError> {
         let t0 = std::time::Instant::now();
-        if self.const_symmetric {
-            crate::sparse::symmetric_products(
-                &[&self.k_const, &self.m_const, &self.c_const],
-                &[q, a_w, v_w],
-                &mut [&mut *f_int, &mut *inertia, &mut *damping],
-                self.threads,
-            );
+        self.constant_products(Some((q, &mut *f_int)), (a_w, v_w), (inertia, damping));
+        self.times.products += t0.elapsed().as_secs_f64();
+        self.update_variable(model, q, v, a, t, dt, f_int, form_tangent)
+    }
+
+    /// The inertia and damping forces `inertia = M·a_w`, `damping = C·v_w` alone, for a
+    /// model without variable elements whose internal force at the iterate is already
+    /// known (a linear model's first iteration starts at the last step's displacement, so
+    /// `K·q` is the committed internal force): one pass over `M` (and `C` if not zero)
+    /// instead of [`Assembler::update_transient`]'s pass over `K`, `M` and `C`.
+    pub fn inertia_damping(
+        &mut self,
+        (a_w, v_w): (&[f64], &[f64]),
+        (inertia, damping): (&mut [f64], &mut [f64]),
+    ) {
+        let t0 = std::time::Instant::now();
+        self.constant_products(None, (a_w, v_w), (inertia, damping));
+        self.times.products += t0.elapsed().as_secs_f64();
+    }
+
+    /// `f_int = K·q` (when asked for), `inertia = M·a_w`, `damping = C·v_w` in one pass over
+    /// the constant matrices (C left out when it is zero: `damping` is then zeroed), plus
+    /// the variable masses' and dashpots' parts.
+    fn constant_products(
+        &self,
+        stiffness: Option<(&[f64], &mut [f64])>,
+        (a_w, v_w): (&[f64], &[f64]),
+        (inertia, damping): (&mut [f64], &mut [f64]),
+    ) {
+        let mut mats: Vec<&CscMatrix> = Vec::with_capacity(3);
+        let mut xs: Vec<&[f64]> = Vec::with_capacity(3);
+        let mut ys: Vec<&mut [f64]> = Vec::with_capacity(3);
+        if let Some((q, f_int)) = stiffness {
+            mats.push(&self.k_const);
+            xs.push(q);
+            ys.push(f_int);
+        }
+        mats.push(&self.m_const);
+        xs.push(a_w);
+        ys.push(&mut *inertia);
+        if self.c_const_zero {
+            damping.iter_mut().for_each(|d| *d = 0.0);
         } else {
-            self.k_const.mul_vec(q, f_int);
-            self.m_const.mul_vec(a_w, inertia);
-            self.c_const.mul_vec(v_w, damping);
+            mats.push(&self.c_const);
+            xs.push(v_w);
+            ys.push(&mut *damping);
+        }
+        if self.const_symmetric {
+            crate::sparse::symmetric_products(&mats, &xs, &mut ys, self.threads);
+        } else {
+            for ((m, x), y) in mats.iter().zip(&xs).zip(ys.iter_mut()) {
+                m.mul_vec(x, y);
+            }
         }
         self.add_variable_mass(a_w, inertia);
         self.add_variable_damping(v_w, damping);
-        self.times.products += t0.elapsed().as_secs_f64();
-        self.update_variable(model, q, v, a, t, dt, f_int, form_tangent)
     }
 
     /// Updates the variable elements and adds their resisting forces to `f_int` (and their
@@ -961,7 +1006,9 @@ impl Assembler {
 
     /// `out += C·x` (constant and variable damping).
     pub fn damping_times_add(&self, x: &[f64], out: &mut [f64]) {
-        if self.const_symmetric && self.c_const.n >= 20_000 {
+        if self.c_const_zero {
+            // Nothing to add from the constant part.
+        } else if self.const_symmetric && self.c_const.n >= 20_000 {
             let mut cx = vec![0.0; self.c_const.n];
             crate::sparse::symmetric_products(&[&self.c_const], &[x], &mut [&mut cx], self.threads);
             for (o, c) in out.iter_mut().zip(&cx) {

@@ -177,6 +177,10 @@ pub struct Driver {
     a_key: Option<[f64; 3]>,
     /// Variable elements' effective triplets (partitioned mode).
     triplets: Vec<(usize, usize, f64)>,
+    /// The displacement the last linear attempt formed its internal force at (`K·q`, kept
+    /// as the state's `f_int`): the next step's first residual starts from the same `q`
+    /// and takes `f_int` from the state instead of a pass over `K`.
+    f_int_at: Vec<f64>,
     /// The energy balance, updated after each committed step ([`crate::energy`]); `None`
     /// skips the accounting (two matrix–vector products per step).
     pub energy: Option<EnergyLedger>,
@@ -270,6 +274,7 @@ impl Driver {
             lowrank,
             a_key: None,
             triplets: Vec::new(),
+            f_int_at: Vec::new(),
             energy: Some(EnergyLedger::default()),
             condense_residual: true,
             condensed: Default::default(),
@@ -649,6 +654,8 @@ impl Driver {
             if linear && it > 0 {
                 self.asm
                     .update(&mut self.model, &q, &v, &a, t1, dt, &mut f_int, false)?;
+                self.f_int_at.clear();
+                self.f_int_at.extend_from_slice(&q);
                 // A linear model was solved exactly by the one correction: v, a and f_int
                 // are updated above; the inertia and damping products of a residual check
                 // would only confirm round-off.
@@ -666,16 +673,24 @@ impl Driver {
                     rn_prev,
                 ));
             }
-            // Residual at the intermediate times.
-            self.asm.update_transient(
-                &mut self.model,
-                (&q, &v, &a),
-                (&a_w, &v_w),
-                t1,
-                dt,
-                (&mut f_int, &mut inertia, &mut damp),
-                need_tangent || it == 0,
-            )?;
+            // Residual at the intermediate times. A linear model's first iterate is the
+            // committed displacement, whose internal force the state holds (formed by the
+            // same product, so the same to the bit): only M·a and C·v are formed.
+            if linear && it == 0 && self.f_int_at == s0.q {
+                f_int.copy_from_slice(&s0.f_int);
+                self.asm
+                    .inertia_damping((&a_w, &v_w), (&mut inertia, &mut damp));
+            } else {
+                self.asm.update_transient(
+                    &mut self.model,
+                    (&q, &v, &a),
+                    (&a_w, &v_w),
+                    t1,
+                    dt,
+                    (&mut f_int, &mut inertia, &mut damp),
+                    need_tangent || it == 0,
+                )?;
+            }
             for i in 0..n {
                 r[i] = f_ref_ext[i]
                     - inertia[i]

@@ -233,7 +233,9 @@ impl LowRank {
         }
         let mut shifted = a.clone();
         for &(j, d) in &self.shift {
-            let p = shifted.position(j, j).expect("every diagonal is in the pattern");
+            let p = shifted
+                .position(j, j)
+                .expect("every diagonal is in the pattern");
             shifted.values[p] += d;
         }
         self.base.factor(&shifted)?;
@@ -263,9 +265,9 @@ impl LowRank {
         }
         let y_s = nalgebra::DVector::from_iterator(s, self.set.iter().map(|&i| b[i]));
         let rhs = &self.e * y_s;
-        let w = cap
-            .solve(&rhs)
-            .ok_or(SolverError::Singular { equation: self.set[0] })?;
+        let w = cap.solve(&rhs).ok_or(SolverError::Singular {
+            equation: self.set[0],
+        })?;
         for (k, j) in self.set.iter().enumerate() {
             let wk = w[k];
             if wk == 0.0 {
