@@ -647,3 +647,37 @@ pub fn run(grid: &TbGrid, out: &Path) -> Result<Vec<TbRun>, FemError> {
     print!("{md}");
     Ok(runs)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn history(dt: f64, n: usize, f: impl Fn(f64) -> (f64, f64)) -> History {
+        let t: Vec<f64> = (0..=n).map(|k| k as f64 * dt).collect();
+        History {
+            q: t.iter().map(|&x| vec![f(x).0; 2]).collect(),
+            q_static: vec![f(0.0).0; 2],
+            w: t.iter().map(|&x| f(x).1).collect(),
+            t,
+            wall: 0.0,
+            steps: n,
+            dofs: 0,
+        }
+    }
+
+    /// Linear histories are interpolated exactly, so a coarse run of the same straight
+    /// lines has zero error; a constant offset of w by 1e-5 m on a peak of 1e-3 m is an
+    /// error of 1e-2; Q raised by 1 % of its static value is 1e-2 in Q.
+    #[test]
+    fn errors_of_linear_histories() {
+        let line = |t: f64| (1e5 + 2e4 * t, 1e-3 * t);
+        let fine = history(1e-3, 1000, line);
+        let coarse = history(4e-3, 250, line);
+        let e = errors(&coarse, &fine);
+        assert!(e.iter().all(|x| *x < 1e-12), "{e:?}");
+        let shifted = history(4e-3, 250, |t| (line(t).0 + 1e3, line(t).1 + 1e-5));
+        let e = errors(&shifted, &fine);
+        assert!((e[0] - 1e-2).abs() < 1e-12, "{e:?}");
+        assert!((e[2] - 1e-2).abs() < 1e-9, "{e:?}");
+    }
+}

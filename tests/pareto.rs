@@ -5,6 +5,8 @@
 //!   to far below the FE errors it is used to measure.
 //! - The FE sprung-mass run (beam3d + the moving spring element) approaches it as dt falls.
 //! - The FE moving-force run approaches Frýba's series as the mesh is refined.
+//! - The train–bridge case's errors fall as Δt halves, with second-order-like rates for
+//!   the girder's deflection and at least first order for the wheel forces.
 
 use railfem::pareto::{
     force_run, period1, sprung_reference, sprung_run, Scheme, REF_MODES, REF_SAMPLES, REF_SUBSTEPS,
