@@ -31,8 +31,8 @@ pub mod rolling_contact;
 pub mod sidecar;
 pub mod small_models;
 pub mod stress;
-pub mod threshold;
 pub mod study;
+pub mod threshold;
 pub mod train_bridge;
 
 /// Loads a model file, building every element through the registry.
