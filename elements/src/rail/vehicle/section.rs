@@ -19,8 +19,9 @@ use serde_json::{Map, Value};
 use std::path::Path;
 use std::sync::Arc;
 
-/// The `sks700` preset written body by body (the template's numbers).
-pub const SKS700_TOML: &str = include_str!("../../../../examples/vehicles/sks700.toml");
+/// The `sks700` preset written body by body (the template's numbers). It lives in the crate
+/// (`elements/presets/`) so the published crate builds; `examples/vehicles/sks700.toml` links to it.
+pub const SKS700_TOML: &str = include_str!("../../../presets/sks700.toml");
 
 /// Keys of a vehicle unit that are not part of a definition.
 const UNIT_KEYS: [&str; 5] = ["preset", "carriage", "file", "count", "carriages"];
