@@ -1018,33 +1018,24 @@ impl Driver {
         match spec.kind {
             AnalysisKind::Static => {
                 let solved = self.static_solve(0.0, spec.steps);
-                if let Err(e) = solved {
-                    // Stopped between load steps: the state of the last one on file.
-                    if matches!(e, FemError::InterruptedAfter { .. }) {
-                        if let Some(r) = rec.as_mut() {
-                            r.record(
-                                &mut self.model,
-                                &self.asm,
-                                0.0,
-                                &self.state.q,
-                                &self.state.v,
-                                &self.state.a,
-                            )?;
+                // Stopped between load steps: the state of the last one goes on file too.
+                let stopped = matches!(solved, Err(FemError::InterruptedAfter { .. }));
+                if solved.is_ok() || stopped {
+                    if let Some(r) = rec.as_mut() {
+                        r.record(
+                            &mut self.model,
+                            &self.asm,
+                            0.0,
+                            &self.state.q,
+                            &self.state.v,
+                            &self.state.a,
+                        )?;
+                        if stopped {
                             r.finish()?;
                         }
                     }
-                    return Err(e);
                 }
-                if let Some(r) = rec.as_mut() {
-                    r.record(
-                        &mut self.model,
-                        &self.asm,
-                        0.0,
-                        &self.state.q,
-                        &self.state.v,
-                        &self.state.a,
-                    )?;
-                }
+                solved?;
                 progress(1.0);
             }
             AnalysisKind::Transient => {
