@@ -52,7 +52,12 @@ impl RunRecord {
             return Ok(None);
         }
         let path = self.dir.join(RUN_JSON);
-        let tmp = self.dir.join(".run.json.tmp");
+        // One temporary name per process: the ranks of an MPI study (or two runs pointed at
+        // the same directory) each write theirs and rename it; the last rename wins whole,
+        // where a shared name let one process rename the file another was still to rename.
+        let tmp = self
+            .dir
+            .join(format!(".run.json.{}.tmp", std::process::id()));
         let text =
             serde_json::to_string_pretty(&self.to_json(status)).map_err(std::io::Error::other)?;
         std::fs::write(&tmp, text + "\n")?;
