@@ -132,11 +132,9 @@ impl BenchBeam {
         self.spans as f64 * SPAN
     }
 
-    /// The model: nodes along global x, beams, the moving force (entering at x = 0 just
-    /// after t = 0, so there is no initial static solve) and the Newmark analysis.
-    pub fn model(&self, steps: usize) -> Result<Model, FemError> {
-        crate::elements::link();
-        let mut b = ModelBuilder::new(format!("bench ({} spans)", self.spans));
+    /// Adds the beam's nodes (with their supports) and `beam3d` elements to `b`: node `i + 1`
+    /// at `x = i·h`, element `e` from node `e` to `e + 1`.
+    pub fn add_beam(&self, b: &mut ModelBuilder) {
         let h = SPAN / self.elements_per_span as f64;
         let first = DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx]);
         let pin = DofSet::of(&[Dof::Uy, Dof::Uz]);
@@ -157,6 +155,14 @@ impl BenchBeam {
         for e in 1..=self.elements() as u64 {
             b.element("beam3d", e, &[e, e + 1], &beam);
         }
+    }
+
+    /// The model: nodes along global x, beams, the moving force (entering at x = 0 just
+    /// after t = 0, so there is no initial static solve) and the Newmark analysis.
+    pub fn model(&self, steps: usize) -> Result<Model, FemError> {
+        crate::elements::link();
+        let mut b = ModelBuilder::new(format!("bench ({} spans)", self.spans));
+        self.add_beam(&mut b);
         b.load(LoadSpec::MovingForce {
             elements: (1..=self.elements() as u64).collect(),
             force: [0.0, 0.0, -1.0e5],

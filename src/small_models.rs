@@ -12,9 +12,9 @@
 //! step), the factorizations, and the largest difference of the displacement histories
 //! from the direct solver's, relative to the largest displacement.
 
-use crate::bench::{BenchBeam, DT, ELEMENTS_PER_SPAN};
+use crate::bench::{BenchBeam, DT};
 use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder, SolverChoice};
-use crate::framework::{Dof, DofSet, FemError, Model};
+use crate::framework::{DofSet, FemError, Model};
 use crate::solvers::Driver;
 use serde_json::json;
 use std::path::Path;
@@ -30,25 +30,7 @@ pub fn sprung_beam(dof: usize, steps: usize, solver: SolverChoice) -> Result<Mod
     crate::elements::link();
     let geo = BenchBeam::for_dof(dof);
     let mut b = ModelBuilder::new(format!("sprung mass on a beam ({} spans)", geo.spans));
-    let h = crate::bench::SPAN / ELEMENTS_PER_SPAN as f64;
-    let first = DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Uz, Dof::Rx]);
-    let pin = DofSet::of(&[Dof::Uy, Dof::Uz]);
-    for i in 0..geo.nodes() {
-        let x = [i as f64 * h, 0.0, 0.0];
-        let id = i as u64 + 1;
-        if i == 0 {
-            b.node_fixed(id, x, first);
-        } else if i % ELEMENTS_PER_SPAN == 0 {
-            b.node_fixed(id, x, pin);
-        } else {
-            b.node(id, x);
-        }
-    }
-    let beam = json!({"E": 2.1e11, "G": 8.1e10, "A": 7.686e-3, "Iy": 3.038e-5,
-                      "Iz": 5.123e-6, "J": 2.0e-6, "rho": 7850.0, "mass": "consistent"});
-    for e in 1..=geo.elements() as u64 {
-        b.element("beam3d", e, &[e, e + 1], &beam);
-    }
+    geo.add_beam(&mut b);
     let mass_node = geo.nodes() as u64 + 1;
     b.node_fixed(mass_node, [0.0, 0.0, 1.0], DofSet::NONE);
     let path: Vec<u64> = (1..=geo.elements() as u64).collect();

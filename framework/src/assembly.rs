@@ -825,9 +825,11 @@ impl Assembler {
     }
 
     /// Updates the variable elements and adds their resisting forces to `f_int` (and their
-    /// tangents to `k_var` or the off-pattern store).
+    /// tangents to `k_var` or the off-pattern store), without the products with the
+    /// constant matrices: the whole update of the condensed Newton's iterations
+    /// (`solvers/src/condensed.rs`).
     #[allow(clippy::too_many_arguments)]
-    fn update_variable(
+    pub fn update_variable(
         &mut self,
         model: &mut Model,
         q: &[f64],
@@ -912,25 +914,6 @@ impl Assembler {
         }
         self.times.elements += t0.elapsed().as_secs_f64();
         Ok(())
-    }
-
-    /// The variable elements alone, for the condensed Newton (`solvers/src/condensed.rs`):
-    /// state determination at the trial state and their resisting forces *added* to
-    /// `f_var` (tangents formed when asked), without the products with the constant
-    /// matrices.
-    #[allow(clippy::too_many_arguments)]
-    pub fn update_variable_only(
-        &mut self,
-        model: &mut Model,
-        q: &[f64],
-        v: &[f64],
-        a: &[f64],
-        t: f64,
-        dt: f64,
-        f_var: &mut [f64],
-        form_tangent: bool,
-    ) -> Result<(), FemError> {
-        self.update_variable(model, q, v, a, t, dt, f_var, form_tangent)
     }
 
     /// The variable elements' current resisting forces (as last determined, nothing

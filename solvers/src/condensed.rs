@@ -236,7 +236,7 @@ impl Driver {
         dt: f64,
     ) -> Result<(f64, f64, f64, f64), Exit> {
         let ig = self.integrator;
-        let (af, am) = (ig.alpha_f, ig.alpha_m);
+        let af = ig.alpha_f;
         let n = w.q.len();
         let nt = threads(0);
         let finite = self.asm.dofmap.has_finite_rotations();
@@ -264,11 +264,7 @@ impl Driver {
                 for k in 0..hi - lo {
                     let i = lo + k;
                     let dui = if finite { du[i] } else { q[i] - s0.q[i] };
-                    let (vi, ai) = ig.kinematics(dt, dui, s0.v[i], s0.a[i]);
-                    v[k] = vi;
-                    a[k] = ai;
-                    a_w[k] = (1.0 - am) * ai + am * s0.a[i];
-                    v_w[k] = (1.0 - af) * vi + af * s0.v[i];
+                    (v[k], a[k], a_w[k], v_w[k]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
                 }
             });
         }
@@ -365,7 +361,7 @@ impl Driver {
             .external_force(&self.model, t1, 1.0, &mut f_ext)
             .map_err(|_| Exit::Fallback)?;
         self.summary.timings.loads += tl.elapsed().as_secs_f64();
-        let (af, am) = (ig.alpha_f, ig.alpha_m);
+        let af = ig.alpha_f;
         let settings = self.model.analysis.newton;
         let (ck, cc, cm) = ig.effective(dt);
         let finite = self.asm.dofmap.has_finite_rotations();
@@ -413,23 +409,10 @@ impl Driver {
                 }
                 for &i in &top {
                     let dui = if finite { du[i] } else { w.q[i] - s0.q[i] };
-                    let (vi, ai) = ig.kinematics(dt, dui, s0.v[i], s0.a[i]);
-                    w.v[i] = vi;
-                    w.a[i] = ai;
-                    w.a_w[i] = (1.0 - am) * ai + am * s0.a[i];
-                    w.v_w[i] = (1.0 - af) * vi + af * s0.v[i];
+                    (w.v[i], w.a[i], w.a_w[i], w.v_w[i]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
                 }
                 self.asm
-                    .update_variable_only(
-                        &mut self.model,
-                        &w.q,
-                        &w.v,
-                        &w.a,
-                        t1,
-                        dt,
-                        &mut f_var,
-                        true,
-                    )
+                    .update_variable(&mut self.model, &w.q, &w.v, &w.a, t1, dt, &mut f_var, true)
                     .map_err(|_| Exit::Fallback)?;
                 self.asm
                     .add_variable_inertia_damping(&w.a_w, &w.v_w, &mut in_var, &mut damp_var);

@@ -600,7 +600,7 @@ impl Driver {
         self.asm.external_force(&self.model, t1, 1.0, &mut f_ext)?;
         self.summary.timings.loads += tl.elapsed().as_secs_f64();
         let s0 = self.state.clone();
-        let (af, am) = (ig.alpha_f, ig.alpha_m);
+        let af = ig.alpha_f;
         let settings = self.model.analysis.newton;
         let linear =
             self.asm.variable_elements().is_empty() && !self.asm.dofmap.has_finite_rotations();
@@ -637,12 +637,8 @@ impl Driver {
             }
             for i in 0..n {
                 let dui = if finite { du[i] } else { q[i] - s0.q[i] };
-                let (vi, ai) = ig.kinematics(dt, dui, s0.v[i], s0.a[i]);
-                v[i] = vi;
-                a[i] = ai;
                 // The residual's inertia and damping act at the intermediate times.
-                a_w[i] = (1.0 - am) * ai + am * s0.a[i];
-                v_w[i] = (1.0 - af) * vi + af * s0.v[i];
+                (v[i], a[i], a_w[i], v_w[i]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
             }
             let ta = Instant::now();
             let need_tangent = !linear
@@ -998,6 +994,15 @@ impl Driver {
         self.run_keeping(out, false, progress).map(|(s, _)| s)
     }
 
+    /// Records the current state at time `t` into `rec`, when there are recorders.
+    fn record_state(&mut self, rec: &mut Option<Recorders>, t: f64) -> Result<(), FemError> {
+        if let Some(r) = rec.as_mut() {
+            let s = &self.state;
+            r.record(&mut self.model, &self.asm, t, &s.q, &s.v, &s.a)?;
+        }
+        Ok(())
+    }
+
     /// [`Driver::run`], and when `keep`, every recorder's rows in memory as well (the
     /// exact values; [`railfem_framework::recorder::History`]), whether or not `out` is
     /// given. Recording is the same whether rows go to files, memory or both, so a run
@@ -1021,18 +1026,9 @@ impl Driver {
                 // Stopped between load steps: the state of the last one goes on file too.
                 let stopped = matches!(solved, Err(FemError::InterruptedAfter { .. }));
                 if solved.is_ok() || stopped {
-                    if let Some(r) = rec.as_mut() {
-                        r.record(
-                            &mut self.model,
-                            &self.asm,
-                            0.0,
-                            &self.state.q,
-                            &self.state.v,
-                            &self.state.a,
-                        )?;
-                        if stopped {
-                            r.finish()?;
-                        }
+                    self.record_state(&mut rec, 0.0)?;
+                    if let (true, Some(r)) = (stopped, rec.as_mut()) {
+                        r.finish()?;
                     }
                 }
                 solved?;
@@ -1040,16 +1036,7 @@ impl Driver {
             }
             AnalysisKind::Transient => {
                 self.initialize()?;
-                if let Some(r) = rec.as_mut() {
-                    r.record(
-                        &mut self.model,
-                        &self.asm,
-                        0.0,
-                        &self.state.q,
-                        &self.state.v,
-                        &self.state.a,
-                    )?;
-                }
+                self.record_state(&mut rec, 0.0)?;
                 let nsteps = (spec.duration / spec.dt - 1e-9).ceil().max(1.0) as usize;
                 for k in 1..=nsteps {
                     let dt = if k == nsteps {
@@ -1071,16 +1058,7 @@ impl Driver {
                     // lines), then say when.
                     let stop = railfem_framework::interrupt::requested() && k < nsteps;
                     if k % spec.record_every == 0 || k == nsteps || stop {
-                        if let Some(r) = rec.as_mut() {
-                            r.record(
-                                &mut self.model,
-                                &self.asm,
-                                self.state.t,
-                                &self.state.q,
-                                &self.state.v,
-                                &self.state.a,
-                            )?;
-                        }
+                        self.record_state(&mut rec, self.state.t)?;
                     }
                     progress(k as f64 / nsteps as f64);
                     if stop {

@@ -89,4 +89,15 @@ impl Integrator {
         let v = vn + dt * ((1.0 - self.gamma) * an + self.gamma * a);
         (v, a)
     }
+
+    /// The trial state of one equation from its increment `Δu`: velocity and acceleration
+    /// at `n+1`, then the acceleration and velocity at the intermediate times where the
+    /// α-methods weigh inertia and damping, `a_{n+1−α_m}` and `v_{n+1−α_f}`.
+    #[inline]
+    pub fn trial(&self, dt: f64, du: f64, vn: f64, an: f64) -> (f64, f64, f64, f64) {
+        let (v, a) = self.kinematics(dt, du, vn, an);
+        let a_w = (1.0 - self.alpha_m) * a + self.alpha_m * an;
+        let v_w = (1.0 - self.alpha_f) * v + self.alpha_f * vn;
+        (v, a, a_w, v_w)
+    }
 }
