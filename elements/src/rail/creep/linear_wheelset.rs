@@ -530,6 +530,17 @@ pub fn steady_curving(
 mod tests {
     use super::*;
 
+    /// The wavelength `2πV/ω` of the kinematic mode: the oscillatory eigenvalue of
+    /// smallest modulus.
+    fn kinematic_wavelength(eig: &[Complex<f64>], v: f64) -> f64 {
+        let kin = eig
+            .iter()
+            .filter(|z| z.im > 0.0)
+            .min_by(|a, b| a.norm().total_cmp(&b.norm()))
+            .unwrap();
+        2.0 * std::f64::consts::PI * v / kin.im
+    }
+
     /// A wheelset of the sks700 stand-in's size on a cone (λ = 0.05).
     fn wheelset() -> Wheelset {
         let (f11, f22, _) = creep_coefficients(0.46, 0.0, 1.0 / 0.3, 50e3, 2.1e11, 0.28).unwrap();
@@ -582,12 +593,7 @@ mod tests {
                 .unwrap()
                 .eigenvalues(v)
                 .unwrap();
-            let kin = eig
-                .iter()
-                .filter(|z| z.im > 0.0)
-                .min_by(|a, b| a.norm().partial_cmp(&b.norm()).unwrap())
-                .unwrap();
-            let wavelength = 2.0 * std::f64::consts::PI * v / kin.im;
+            let wavelength = kinematic_wavelength(&eig, v);
             let l = ws.klingel_wavelength();
             assert!(
                 (wavelength / l - 1.0).abs() < 1e-4,
@@ -682,12 +688,7 @@ mod tests {
             .unwrap()
             .eigenvalues(v)
             .unwrap();
-        let kin = eig
-            .iter()
-            .filter(|z| z.im > 0.0)
-            .min_by(|a, b| a.norm().partial_cmp(&b.norm()).unwrap())
-            .unwrap();
-        let wavelength = 2.0 * std::f64::consts::PI * v / kin.im;
+        let wavelength = kinematic_wavelength(&eig, v);
         let (a, b) = (1.28f64, 0.75f64);
         let l = ws.klingel_wavelength() * (1.0 + ws.f22 / ws.f11 * (a / b).powi(2)).sqrt();
         assert!((wavelength / l - 1.0).abs() < 1e-3, "{wavelength} vs {l}");
