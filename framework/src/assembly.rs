@@ -1125,12 +1125,34 @@ impl Assembler {
                         out[e] += c * f;
                     }
                 }
-                Load::GroundMotion { series, scale, .. } => {
+                Load::GroundMotion {
+                    direction,
+                    series,
+                    scale,
+                } => {
                     let ag = scale * series.value(t);
                     for (o, r) in out.iter_mut().zip(&self.ground_unit[gi]) {
                         *o += r * ag;
                     }
-                    // Carried masses ride on the moving ground too.
+                    // Carried masses ride on the moving ground too: their DOFs are
+                    // relative to a carrier that travels over the ground, so they feel
+                    // `−M·r·a_g` like every other mass, with `r` the ground direction in
+                    // their nodal axes at time t (the axes turn as the carrier moves).
+                    if ag != 0.0 {
+                        let lin = direction * ag;
+                        for (ei, m) in &self.carried_mass {
+                            let map = &self.maps[*ei];
+                            let r: Vec<f64> = map
+                                .dofs
+                                .iter()
+                                .map(|&(node, d)| {
+                                    kinematic_vector(&self.kin[node], d, &lin, &Vector3::zeros())
+                                })
+                                .collect();
+                            let f = -(m * nalgebra::DVector::from_vec(r));
+                            scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);
+                        }
+                    }
                     gi += 1;
                 }
                 Load::MovingForce(mf) => self.add_moving_force(mf, t, out),
