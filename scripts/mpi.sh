@@ -4,7 +4,10 @@
 # and check under mpirun that
 #   - 1 rank gives the same study.csv bytes as the default (non-MPI) build,
 #   - 2 ranks give the same bytes as 1 rank, and
-#   - a case that panics on a worker rank is a failed row and the study ends (no hang).
+#   - a case that panics on a worker rank is a failed row and the study ends (no hang),
+#   - a rank that dies outright (abort, as a crash or a kill) ends the job with mpirun's
+#     message naming the rank, never a hang; the checkpoint keeps the finished cases and the
+#     same command then finishes the study with the serial run's table.
 # Usage: scripts/mpi.sh [PLAN.toml]   (default: a 24-case cut of examples/studies)
 # Timings of the whole 200-case plan: SCALE_OUT_BENCH=1 scripts/mpi.sh (docs/scale-out.md).
 set -euo pipefail
@@ -59,8 +62,19 @@ RAILFEM_STUDY_PANIC_CASE=0001 timeout 600 mpirun -n 2 --oversubscribe "${root_fl
     -x RAILFEM_STUDY_PANIC_CASE "$mpi_bin" study "$plan" --threads 1 -q --out "$work/panic" >/dev/null 2>"$work/panic.err" \
     || fail "the study with a panicking case did not end cleanly"
 grep -q '^0001,.*,failed,.*panic' "$work/panic/study.csv" || fail "the panicking case is not a failed row"
+# A rank that dies (case 0012 aborts its process, whichever rank runs it): the job ends
+# within the timeout (124 would be a hang), non-zero, with mpirun's line naming the rank.
+status=0
+RAILFEM_STUDY_ABORT_CASE=0012 timeout 300 mpirun -n 2 --oversubscribe "${root_flags[@]}" \
+    -x RAILFEM_STUDY_ABORT_CASE "$mpi_bin" study "$plan" --threads 1 -q --out "$work/died" >/dev/null 2>"$work/died.err" \
+    || status=$?
+[ "$status" -ne 0 ] && [ "$status" -ne 124 ] || fail "a dying rank: exit status $status (0: not noticed, 124: hung)"
+grep -qi 'rank' "$work/died.err" || fail "a dying rank: no message naming the rank ($(head -c 300 "$work/died.err"))"
+kept=$(grep -c . "$work/died/study.checkpoint" || true)
+mpirun_n 2 "$mpi_bin" study "$plan" --threads 1 -q --out "$work/died" >/dev/null
+cmp "$work/serial/study.csv" "$work/died/study.csv" || fail "the study resumed after a dying rank differs"
 rows=$(($(wc -l < "$work/serial/study.csv") - 1))
-echo "mpi.sh: ok — $rows cases: serial, 1 rank, 2 ranks and a resumed 2-rank run give the same study.csv bytes; a panicking case is a failed row"
+echo "mpi.sh: ok — $rows cases: serial, 1 rank, 2 ranks and a resumed 2-rank run give the same study.csv bytes; a panicking case is a failed row; a dying rank ended the job (exit $status, $kept checkpoint lines kept) and the resumed study is the same"
 
 if [ "${SCALE_OUT_BENCH:-0}" = 1 ]; then
     # Back-to-back timings of the 200-case plan (A B A B), with the load average.

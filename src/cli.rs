@@ -386,6 +386,9 @@ fn install_interrupt_handler(command: &str) {
 /// (`run.json`, [`crate::sidecar`]); returns the process exit code.
 pub fn run(a: &Args) -> Result<i32, FemError> {
     crate::progress::set_quiet(a.flag("quiet"));
+    // Under an MPI launcher every rank runs the same command line into the same folder;
+    // only rank 0 writes the sidecar (the ranks would otherwise overwrite each other's).
+    let writes_sidecar = crate::sidecar::launcher_rank().unwrap_or(0) == 0;
     let record = out_dir(a).map(|dir| crate::sidecar::RunRecord {
         command: a.command.clone(),
         argv: a
@@ -398,11 +401,14 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
         start: std::time::SystemTime::now(),
     });
     if let Some(r) = &record {
-        if let Ok(mut g) = RUNNING.lock() {
-            *g = Some(r.clone());
+        if writes_sidecar {
+            if let Ok(mut g) = RUNNING.lock() {
+                *g = Some(r.clone());
+            }
         }
         install_interrupt_handler(&a.command);
     }
+    let record = record.filter(|_| writes_sidecar);
     let result = dispatch(a);
     if let Some(r) = &record {
         let status = match &result {

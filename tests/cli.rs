@@ -823,3 +823,32 @@ fn sigint_stops_the_critical_radius_sweep_between_cases() {
     assert_eq!(data_rows(&whole.join("critical_separation.csv")), rows);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Under an MPI launcher every rank runs the same command into the same folder: only rank
+/// 0 writes run.json (the launcher's rank variable, Open MPI's or PMI's, says which rank a
+/// process is), while every rank still writes its outputs as asked.
+#[test]
+fn only_rank_zero_writes_the_sidecar() {
+    let dir = temp_dir("sidecar-rank");
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/models/sdof.toml");
+    for (var, rank, expect) in [
+        ("OMPI_COMM_WORLD_RANK", "1", false),
+        ("PMI_RANK", "3", false),
+        ("OMPI_COMM_WORLD_RANK", "0", true),
+    ] {
+        let out = dir.join(format!("{var}-{rank}"));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+            .args(["run", model.to_str().unwrap(), "--quiet", "--out"])
+            .arg(&out)
+            .env(var, rank)
+            .output()
+            .expect("railfem runs");
+        assert_eq!(o.status.code(), Some(0), "{var}={rank}");
+        assert_eq!(out.join("run.json").exists(), expect, "{var}={rank}");
+        assert!(
+            std::fs::read_dir(&out).unwrap().count() > usize::from(expect),
+            "{var}={rank}: outputs"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -18,6 +18,12 @@ use std::sync::{mpsc, Mutex};
 /// panic path (a panicking case is recorded as failed and the study goes on).
 pub const PANIC_HOOK: &str = "RAILFEM_STUDY_PANIC_CASE";
 
+/// Environment variable naming a case id whose process dies on the spot (`abort`, no
+/// unwinding, as a crash or a kill would): the test of a rank that dies under MPI
+/// (`scripts/mpi.sh`: the launcher ends the job with a message naming the rank, the
+/// checkpoint keeps the finished cases, and rerunning resumes).
+pub const ABORT_HOOK: &str = "RAILFEM_STUDY_ABORT_CASE";
+
 /// Where a case writes its histories (`DIR/cases/<id>/`) when the plan asks for them.
 pub fn history_dir(plan: &Plan, out: &Path, case: &Case) -> Option<PathBuf> {
     plan.histories.then(|| out.join("cases").join(&case.id))
@@ -27,6 +33,10 @@ pub fn history_dir(plan: &Plan, out: &Path, case: &Case) -> Option<PathBuf> {
 fn run_case(plan: &Plan, case: &Case, out: &Path) -> Result<Vec<String>, FemError> {
     if std::env::var(PANIC_HOOK).is_ok_and(|id| id == case.id) {
         panic!("{PANIC_HOOK} asked case {} to panic", case.id);
+    }
+    if std::env::var(ABORT_HOOK).is_ok_and(|id| id == case.id) {
+        eprintln!("{ABORT_HOOK} asked case {} to end its process", case.id);
+        std::process::abort();
     }
     let hist = history_dir(plan, out, case);
     match &plan.base {
