@@ -465,3 +465,78 @@ fn bad_plans_are_refused_in_one_line() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_model_file_base_reports_its_wheels_extremes_as_its_recorders_see_them() {
+    // A carriage of examples/models/irregular_straight.toml over two 2 mm bumps: the study
+    // reads every wheel element's Q, Y/Q and ΔQ/Q after each step; the model's own element
+    // recorder writes every wheel's Q each step (record_every = 1) by another path. The
+    // table's min Q, its wheel and its time must be the recorder's (to the table's seven
+    // digits); the bumps unload the wheels (at 10 m/s by 0.3 %: min Q at least 0.2 % under the first step's Q),
+    // and with the same profile under both rails Y/Q stays at round-off (< 1e-3).
+    let dir = temp_dir("study-wheels");
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/models");
+    let model = std::fs::read_to_string(src.join("irregular_straight.toml")).unwrap();
+    std::fs::write(dir.join("irregular_straight.toml"), model).unwrap();
+    std::fs::copy(
+        src.join("irregular_straight.csv"),
+        dir.join("irregular_straight.csv"),
+    )
+    .unwrap();
+    let plan = write_plan(
+        &dir,
+        "base = \"irregular_straight.toml\"\nhistories = true\n[[axis]]\nname = \"vehicle.0.speed\"\nvalues = [10.0, 20.0]\n",
+    );
+    let out = dir.join("o");
+    ok(&study(&plan, &out, &["--threads", "2"]));
+    let (h, rows) = cells(&table(&out));
+    assert_eq!(rows.len(), 2);
+    for r in &rows {
+        let get = |k: &str| r[col(&h, k)].clone();
+        let rec = std::fs::read_to_string(out.join("cases").join(&r[0]).join("wheels.csv"))
+            .expect("the case's recorder file");
+        let (rh, rr) = cells(&rec);
+        // Element-recorder columns: `<id>_Q [N]`; each wheel's (min Q, t) as recorded.
+        let mut mins: Vec<(String, f64, f64)> = Vec::new();
+        let mut first = f64::INFINITY;
+        for (j, name) in rh.iter().enumerate() {
+            let Some(id) = name.strip_suffix("_Q [N]") else {
+                continue;
+            };
+            first = first.min(rr[1][j].parse::<f64>().unwrap());
+            let mut m = (f64::INFINITY, 0.0);
+            for row in &rr[1..] {
+                let q: f64 = row[j].parse().unwrap();
+                if q < m.0 {
+                    m = (q, row[0].parse().unwrap());
+                }
+            }
+            mins.push((format!("e{id}"), m.0, m.1));
+        }
+        assert_eq!(mins.len(), 8, "eight wheels recorded");
+        let lowest = mins.iter().map(|m| m.1).fold(f64::INFINITY, f64::min);
+        let min_q: f64 = get("min_Q [N]").parse().unwrap();
+        assert!(
+            ((min_q - lowest) / lowest).abs() < 1e-6,
+            "{r:?}: min Q {min_q} against the recorder's {lowest}"
+        );
+        // The table's wheel is one whose recorded minimum is the lowest (left and right
+        // wheels tie to round-off under a profile common to both rails), at its time.
+        let (_, q_w, t_w) = mins
+            .iter()
+            .find(|m| m.0 == get("min_Q_wheel"))
+            .unwrap_or_else(|| panic!("{r:?}: no recorded wheel {}", get("min_Q_wheel")));
+        assert!(((q_w - lowest) / lowest).abs() < 1e-9, "{r:?}: {q_w}");
+        let t: f64 = get("t_min_Q [s]").parse().unwrap();
+        assert!((t - t_w).abs() < 1e-9, "{r:?}: t {t} against {t_w}");
+        assert!(
+            min_q < 0.998 * first,
+            "{r:?}: the bumps must unload a wheel"
+        );
+        let dqq: f64 = get("max_dQQ [-]").parse().unwrap();
+        assert!(dqq > 2e-3, "{r:?}: max ΔQ/Q {dqq}");
+        let yq: f64 = get("max_YQ [-]").parse().unwrap();
+        assert!((0.0..1e-3).contains(&yq), "{r:?}: Y/Q {yq}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1013,6 +1013,19 @@ impl Driver {
         keep: bool,
         progress: &mut dyn FnMut(f64),
     ) -> Result<(RunSummary, Vec<History>), FemError> {
+        self.run_observing(out, keep, progress, &mut |_, _| {})
+    }
+
+    /// [`Driver::run_keeping`], and `observe(model, t)` after every committed transient step
+    /// (each step, whether recorded or not): a caller that wants extremes over the whole run
+    /// (`railfem study`) reads the elements' outputs there without recording every row.
+    pub fn run_observing(
+        &mut self,
+        out: Option<&Path>,
+        keep: bool,
+        progress: &mut dyn FnMut(f64),
+        observe: &mut dyn FnMut(&Model, f64),
+    ) -> Result<(RunSummary, Vec<History>), FemError> {
         let start = Instant::now();
         let spec = self.model.analysis.clone();
         let mut rec = if out.is_some() || keep {
@@ -1056,6 +1069,7 @@ impl Driver {
                     // An interrupt stops the run at the end of this step, with this step
                     // on file: the last state recorded, the recorders flushed (whole
                     // lines), then say when.
+                    observe(&self.model, self.state.t);
                     let stop = railfem_framework::interrupt::requested() && k < nsteps;
                     if k % spec.record_every == 0 || k == nsteps || stop {
                         self.record_state(&mut rec, self.state.t)?;

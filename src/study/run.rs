@@ -61,17 +61,94 @@ fn run_case(plan: &Plan, case: &Case, out: &Path) -> Result<Vec<String>, FemErro
             let folder = path.parent().unwrap_or(Path::new(""));
             let model = crate::model_from_value(&v, &name, folder);
             let (mut driver, _) = crate::prepare(model, &name, false)?;
-            let s = driver
-                .run(hist.as_deref(), &mut |_| {})
+            let mut wheels = WheelExtremes::of(&driver.model);
+            let (s, _) = driver
+                .run_observing(hist.as_deref(), false, &mut |_| {}, &mut |m, t| {
+                    wheels.observe(m, t)
+                })
                 .map_err(|e| e.in_file(&name))?;
             let peak = driver.state.q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            Ok(vec![
+            let mut c = vec![
                 s.steps.to_string(),
                 s.iterations.to_string(),
                 s.cuts.to_string(),
                 num(peak),
-            ])
+            ];
+            c.extend(wheels.cells());
+            Ok(c)
         }
+    }
+}
+
+/// The wheel extremes of a model-file case: every element that reports `Q`, `YQ` and `dQQ`
+/// (`moving_axle`, `hertz_wheel`, `rigid_wheel`: Y/Q as |Y|/Q, ΔQ/Q against the wheel's
+/// own static load, 0 while a wheel carries no load), named `e<id>` by its model id, read
+/// after every transient step.
+struct WheelExtremes {
+    /// (element index, its id, positions of Q, YQ and dQQ among its outputs).
+    wheels: Vec<(usize, u64, [usize; 3])>,
+    /// Per wheel: (max Y/Q, t), (max ΔQ/Q, t), (min Q, t).
+    ext: Vec<[(f64, f64); 3]>,
+    buf: Vec<f64>,
+}
+
+impl WheelExtremes {
+    fn of(model: &crate::framework::model::Model) -> WheelExtremes {
+        let wheels: Vec<_> = model
+            .elements
+            .iter()
+            .enumerate()
+            .filter_map(|(i, e)| {
+                let names = e.element.output_names();
+                let at = |k: &str| names.iter().position(|n| n == k);
+                Some((i, e.id, [at("Q")?, at("YQ")?, at("dQQ")?]))
+            })
+            .collect();
+        let start = [
+            (f64::NEG_INFINITY, 0.0),
+            (f64::NEG_INFINITY, 0.0),
+            (f64::INFINITY, 0.0),
+        ];
+        WheelExtremes {
+            ext: vec![start; wheels.len()],
+            wheels,
+            buf: Vec::new(),
+        }
+    }
+
+    fn observe(&mut self, model: &crate::framework::model::Model, t: f64) {
+        for (w, &(i, _, [iq, iyq, idqq])) in self.wheels.iter().enumerate() {
+            self.buf.clear();
+            model.elements[i].element.outputs(&mut self.buf);
+            let e = &mut self.ext[w];
+            let (q, yq, dqq) = (self.buf[iq], self.buf[iyq], self.buf[idqq]);
+            if yq > e[0].0 {
+                e[0] = (yq, t);
+            }
+            if dqq > e[1].0 {
+                e[1] = (dqq, t);
+            }
+            if q < e[2].0 {
+                e[2] = (q, t);
+            }
+        }
+    }
+
+    /// The nine overall cells: value, wheel and time of max Y/Q, max ΔQ/Q and min Q
+    /// (empty without wheels or steps).
+    fn cells(&self) -> Vec<String> {
+        let mut c = Vec::new();
+        for (k, sign) in [(0usize, 1.0), (1, 1.0), (2, -1.0)] {
+            match argmax(self.ext.iter().map(|e| sign * e[k].0)) {
+                Some((w, _)) => c.extend([
+                    num(self.ext[w][k].0),
+                    format!("e{}", self.wheels[w].1),
+                    num(self.ext[w][k].1),
+                ]),
+                None => c.extend([String::new(), String::new(), String::new()]),
+            }
+        }
+        c
     }
 }
 

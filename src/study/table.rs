@@ -128,6 +128,7 @@ pub fn result_columns(plan: &Plan) -> Vec<String> {
                 .iter()
                 .map(|s| s.to_string()),
             );
+            c.extend(extremes.iter().map(|s| s.to_string()));
         }
     }
     c
