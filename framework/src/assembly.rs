@@ -1065,6 +1065,13 @@ impl Assembler {
         self.m_diag.as_deref()
     }
 
+    /// Whether every mass is the constant one (`m_const`): no element's mass is re-formed
+    /// between steps (time-varying masses and carried masses are, into `m_var` or their
+    /// off-pattern store). Then a product `M·x` formed in one step holds in the next.
+    pub fn mass_is_constant(&self) -> bool {
+        self.mass_elems.is_empty()
+    }
+
     /// Whether any damping can act: a constant damping matrix with a non-zero value, or
     /// variable elements' damping (on the pattern or off it). Without it `C·x` is zero.
     pub fn has_damping(&self) -> bool {

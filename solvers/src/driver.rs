@@ -105,7 +105,7 @@ pub(crate) struct StepWork {
     /// starts with, `a_w = (1−α_m)·a(Δu = 0) + α_m·a_n` from the step's state, and its
     /// inertia force `M·a_w`, formed in the same pass over the matrices as `K·q`. The next
     /// step uses the force if its own first `a_w` equals this one to the bit (same `Δt`,
-    /// same state), and forms it anew otherwise.
+    /// same state) and every mass is constant, and forms it anew otherwise.
     a_w_next: Vec<f64>,
     inertia_next: Vec<f64>,
     inertia_ready: bool,
@@ -780,7 +780,9 @@ impl Driver {
                 self.asm
                     .linear_state_products((q, v, a_w_next), (f_int, mv, inertia_next));
                 *mv_ready = true;
-                *inertia_ready = true;
+                // The next step re-forms masses that change between steps: its inertia
+                // force is formed anew then.
+                *inertia_ready = self.asm.mass_is_constant();
                 self.f_int_at.clear();
                 self.f_int_at.extend_from_slice(q);
                 // A linear model was solved exactly by the one correction: v, a and f_int
