@@ -742,12 +742,12 @@ fn bench(a: &Args) -> Result<i32, FemError> {
     let mass = match a.opt("mass") {
         None => crate::bench::BenchMass::Consistent,
         Some(m) => match crate::bench::BenchMass::parse(m) {
-            Some(k) if case == "beam" => k,
+            Some(k) if case == "beam" || case == "floor" => k,
             Some(_) => {
                 return Err(FemError::input(
                     "command line",
                     format!(
-                        "--mass {m}: only the beam case takes --mass; drop it or use --case beam"
+                        "--mass {m}: only the beam and floor cases take --mass; drop it or use --case beam"
                     ),
                 ))
             }
@@ -802,7 +802,7 @@ fn bench(a: &Args) -> Result<i32, FemError> {
         return Ok(0);
     }
     if case == "floor" {
-        crate::floor::run(&sizes, steps, &out)?;
+        crate::floor::run(&sizes, steps, mass, &out)?;
         return Ok(0);
     }
     if case == "sprung" {

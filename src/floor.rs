@@ -2,7 +2,8 @@
 //! memory-bandwidth floor of what a step must do, and the machine's bandwidth.
 //!
 //! A linear step with a kept factor must at least read the matrices' values once (K and M,
-//! and C when it is not zero: `nnz × 8` bytes each), their shared pattern once (row indices
+//! and C when it is not zero: `nnz × 8` bytes each; a diagonal (lumped) M only its
+//! diagonal, `n × 8` bytes, which is all of it a product needs), their shared pattern once (row indices
 //! and column pointers, at the width the code stores them) and the factor twice (forward
 //! and backward triangular solves: `factor entries × (8 + index width)` bytes each). At the
 //! measured streaming bandwidth `B` that traffic takes `floor = bytes / B`; the report
@@ -15,7 +16,7 @@
 //! are sequential). Write-allocate traffic is not counted, as in STREAM. The best of five
 //! repetitions is the bandwidth.
 
-use crate::bench::{BenchBeam, DT};
+use crate::bench::{BenchBeam, BenchMass, DT};
 use crate::framework::FemError;
 use crate::solvers::Driver;
 use std::path::Path;
@@ -64,6 +65,10 @@ pub fn bandwidth() -> Bandwidth {
 pub struct FloorRow {
     /// Requested DOF count.
     pub target: usize,
+    /// The beam's mass matrix.
+    pub mass: BenchMass,
+    /// Whether the assembler found M diagonal (and reads only its diagonal).
+    pub diagonal_mass: bool,
     /// Equations.
     pub equations: usize,
     /// Stored entries of K (= of M and C: one pattern).
@@ -86,8 +91,11 @@ pub struct FloorRow {
 
 /// Runs `steps` steps of the benchmark beam after a first step that carries the
 /// factorization; the floor's traffic from the model's actual storage.
-pub fn measure(target: usize, steps: usize) -> Result<FloorRow, FemError> {
-    let geo = BenchBeam::for_dof(target);
+pub fn measure(target: usize, steps: usize, mass: BenchMass) -> Result<FloorRow, FemError> {
+    let geo = BenchBeam {
+        mass,
+        ..BenchBeam::for_dof(target)
+    };
     let mut d = Driver::new(geo.model(steps + 1)?)?;
     d.initialize()?;
     d.step(DT)?;
@@ -103,13 +111,18 @@ pub fn measure(target: usize, steps: usize) -> Result<FloorRow, FemError> {
     let damping = d.asm.c_const.values.iter().any(|&c| c != 0.0);
     let factor_nnz = d.solver_stats().factor_nnz;
     let index = std::mem::size_of::<usize>() as f64;
-    let matrices = if damping { 3.0 } else { 2.0 };
-    let bytes = nnz as f64 * (8.0 * matrices + index)
+    let diagonal_mass = d.asm.mass_diagonal().is_some();
+    let pattern_matrices = if damping { 2.0 } else { 1.0 };
+    let m_bytes = 8.0 * if diagonal_mass { k.n } else { nnz } as f64;
+    let bytes = nnz as f64 * (8.0 * pattern_matrices + index)
+        + m_bytes
         + (k.n + 1) as f64 * index
         + 2.0 * factor_nnz as f64 * (8.0 + index);
     let s = steps.max(1) as f64;
     Ok(FloorRow {
         target,
+        mass,
+        diagonal_mass,
         equations: d.neq(),
         nnz,
         damping,
@@ -123,7 +136,12 @@ pub fn measure(target: usize, steps: usize) -> Result<FloorRow, FemError> {
 }
 
 /// The bandwidth, then every size; the table on stdout and in `out/floor.md`.
-pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<FloorRow>, FemError> {
+pub fn run(
+    sizes: &[usize],
+    steps: usize,
+    mass: BenchMass,
+    out: &Path,
+) -> Result<Vec<FloorRow>, FemError> {
     let bw = bandwidth();
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     let mut s = format!(
@@ -135,7 +153,7 @@ pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<FloorRow>, F
     eprint!("{s}");
     let mut rows = Vec::new();
     for &n in sizes {
-        let r = measure(n, steps)?;
+        let r = measure(n, steps, mass)?;
         eprintln!(
             "floor: {} equations: {:.3} ms/step",
             r.equations,
@@ -154,13 +172,15 @@ pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<FloorRow>, F
 /// The rows as a markdown table against bandwidth `bw` (bytes/s).
 pub fn markdown(rows: &[FloorRow], bw: f64) -> String {
     let mut s = String::from(
-        "| target DOF | equations | nnz(K) | C ≠ 0 | factor entries | floor traffic (MB) | floor (ms) | step (ms) | step / floor | assembly (ms) | solve (ms) | loads (ms) |\n|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| target DOF | mass | equations | nnz(K) | C ≠ 0 | factor entries | floor traffic (MB) | floor (ms) | step (ms) | step / floor | assembly (ms) | solve (ms) | loads (ms) |\n|---:|---|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         let floor = r.bytes / bw;
         s.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |\n",
+            "| {} | {}{} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} | {:.2} |\n",
             r.target,
+            r.mass.name(),
+            if r.diagonal_mass { " (diagonal)" } else { "" },
             r.equations,
             r.nnz,
             if r.damping { "yes" } else { "no" },

@@ -148,6 +148,12 @@ pub struct Assembler {
     /// Every value of `c_const` is zero (no dashpot, no Rayleigh damping): its products
     /// are zero vectors and are not formed.
     c_const_zero: bool,
+    /// The diagonal of `m_const` when every stored value off its diagonal is exactly zero
+    /// (a lumped mass), else `None`. Then `M·x` is `m_i·x_i` per equation: the same value
+    /// as the product over the pattern, whose every other term is `0·x_j` (exactly zero,
+    /// so adding it changes nothing but, at most, the sign of a zero), at the cost of one
+    /// pass over `n` values instead of over the pattern of K.
+    m_diag: Option<Vec<f64>>,
 }
 
 fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Vector3<f64>) -> f64 {
@@ -211,6 +217,7 @@ impl Assembler {
             threads: crate::parallel::threads(0),
             solver: crate::model::SolverChoice::Direct,
             c_const_zero: false,
+            m_diag: None,
         };
         let variable_dofs = model
             .elements
@@ -494,6 +501,7 @@ impl Assembler {
             empty
         };
         self.c_const_zero = c_const.values.iter().all(|&c| c == 0.0);
+        self.m_diag = diagonal_of(&m_const);
         self.k_const = k_const;
         self.m_const = m_const;
         self.c_const = c_const;
@@ -786,6 +794,69 @@ impl Assembler {
         self.times.products += t0.elapsed().as_secs_f64();
     }
 
+    /// The damping force `damping = C·v_w` alone (zeroed without constant damping), the
+    /// same values as [`Assembler::inertia_damping`]'s, for a step whose inertia force is
+    /// already known.
+    pub fn damping_force(&mut self, v_w: &[f64], damping: &mut [f64]) {
+        let t0 = std::time::Instant::now();
+        if self.c_const_zero {
+            damping.iter_mut().for_each(|d| *d = 0.0);
+        } else {
+            self.products(&[&self.c_const], &[v_w], &mut [&mut *damping]);
+        }
+        self.add_variable_damping(v_w, damping);
+        self.times.products += t0.elapsed().as_secs_f64();
+    }
+
+    /// For a model without variable elements, the products a solved linear step's state
+    /// needs, in one pass over the constant matrices: its internal force `f_int = K·q`
+    /// (the value [`Assembler::update`] forms), `mv = M·v` (the value
+    /// [`Assembler::mass_times`] forms: the energy balance's kinetic energy) and
+    /// `inertia = M·a_w`, the next step's first inertia force when its weighted
+    /// acceleration is `a_w` (the value [`Assembler::inertia_damping`] forms). Each product
+    /// is summed in the same order as alone, so the values are the same to the bit; a
+    /// diagonal mass takes both of its products from the diagonal.
+    pub fn linear_state_products(
+        &mut self,
+        (q, v, a_w): (&[f64], &[f64], &[f64]),
+        (f_int, mv, inertia): (&mut [f64], &mut [f64], &mut [f64]),
+    ) {
+        let t0 = std::time::Instant::now();
+        let mut mats: Vec<&CscMatrix> = vec![&self.k_const];
+        let mut xs: Vec<&[f64]> = vec![q];
+        let mut ys: Vec<&mut [f64]> = vec![f_int];
+        match &self.m_diag {
+            Some(d) => {
+                diagonal_times(d, v, mv);
+                diagonal_times(d, a_w, inertia);
+            }
+            None => {
+                mats.extend([&self.m_const, &self.m_const]);
+                xs.extend([v, a_w]);
+                ys.push(&mut *mv);
+                ys.push(&mut *inertia);
+            }
+        }
+        self.products(&mats, &xs, &mut ys);
+        drop(ys);
+        self.add_variable_mass(v, mv);
+        self.add_variable_mass(a_w, inertia);
+        self.times.products += t0.elapsed().as_secs_f64();
+    }
+
+    /// `ys[k] = mats[k]·xs[k]` for constant matrices: in one pass over their shared pattern
+    /// when every constant element is symmetric ([`crate::sparse::symmetric_products`]),
+    /// else one scatter product each.
+    fn products(&self, mats: &[&CscMatrix], xs: &[&[f64]], ys: &mut [&mut [f64]]) {
+        if self.const_symmetric {
+            crate::sparse::symmetric_products(mats, xs, ys, self.threads);
+        } else {
+            for ((m, x), y) in mats.iter().zip(xs).zip(ys.iter_mut()) {
+                m.mul_vec(x, y);
+            }
+        }
+    }
+
     /// `f_int = K·q` (when asked for), `inertia = M·a_w`, `damping = C·v_w` in one pass over
     /// the constant matrices (C left out when it is zero: `damping` is then zeroed), plus
     /// the variable masses' and dashpots' parts.
@@ -803,9 +874,14 @@ impl Assembler {
             xs.push(q);
             ys.push(f_int);
         }
-        mats.push(&self.m_const);
-        xs.push(a_w);
-        ys.push(&mut *inertia);
+        match &self.m_diag {
+            Some(d) => diagonal_times(d, a_w, inertia),
+            None => {
+                mats.push(&self.m_const);
+                xs.push(a_w);
+                ys.push(&mut *inertia);
+            }
+        }
         if self.c_const_zero {
             damping.iter_mut().for_each(|d| *d = 0.0);
         } else {
@@ -813,13 +889,7 @@ impl Assembler {
             xs.push(v_w);
             ys.push(&mut *damping);
         }
-        if self.const_symmetric {
-            crate::sparse::symmetric_products(&mats, &xs, &mut ys, self.threads);
-        } else {
-            for ((m, x), y) in mats.iter().zip(&xs).zip(ys.iter_mut()) {
-                m.mul_vec(x, y);
-            }
-        }
+        self.products(&mats, &xs, &mut ys);
         self.add_variable_mass(a_w, inertia);
         self.add_variable_damping(v_w, damping);
     }
@@ -955,7 +1025,9 @@ impl Assembler {
 
     /// `out = M·x` (constant and variable mass).
     pub fn mass_times(&self, x: &[f64], out: &mut [f64]) {
-        if self.const_symmetric {
+        if let Some(d) = &self.m_diag {
+            diagonal_times(d, x, out);
+        } else if self.const_symmetric {
             crate::sparse::symmetric_products(&[&self.m_const], &[x], &mut [out], self.threads);
         } else {
             self.m_const.mul_vec(x, out);
@@ -985,6 +1057,25 @@ impl Assembler {
                 off_pattern_times(off, c, x, out);
             }
         }
+    }
+
+    /// The constant mass's diagonal when it is diagonal (every stored value off the
+    /// diagonal exactly zero: a lumped mass), which every product with `M` then uses.
+    pub fn mass_diagonal(&self) -> Option<&[f64]> {
+        self.m_diag.as_deref()
+    }
+
+    /// Whether every mass is the constant one (`m_const`): no element's mass is re-formed
+    /// between steps (time-varying masses and carried masses are, into `m_var` or their
+    /// off-pattern store). Then a product `M·x` formed in one step holds in the next.
+    pub fn mass_is_constant(&self) -> bool {
+        self.mass_elems.is_empty()
+    }
+
+    /// Whether any damping can act: a constant damping matrix with a non-zero value, or
+    /// variable elements' damping (on the pattern or off it). Without it `C·x` is zero.
+    pub fn has_damping(&self) -> bool {
+        !self.c_const_zero || self.c_var_used || self.off.iter().any(|o| o.c.is_some())
     }
 
     /// `out += C·x` (constant and variable damping).
@@ -1262,6 +1353,28 @@ impl Assembler {
 }
 
 /// `out += A_e·x` for an off-pattern element matrix `a` over its equation terms.
+/// `Some(diagonal)` of `m` if every stored value off the diagonal is exactly zero.
+fn diagonal_of(m: &CscMatrix) -> Option<Vec<f64>> {
+    let mut d = vec![0.0; m.n];
+    for (j, dj) in d.iter_mut().enumerate() {
+        for p in m.col_ptr[j]..m.col_ptr[j + 1] {
+            if m.row_idx[p] == j {
+                *dj = m.values[p];
+            } else if m.values[p] != 0.0 {
+                return None;
+            }
+        }
+    }
+    Some(d)
+}
+
+/// `out_i = d_i·x_i`.
+fn diagonal_times(d: &[f64], x: &[f64], out: &mut [f64]) {
+    for ((o, m), v) in out.iter_mut().zip(d).zip(x) {
+        *o = m * v;
+    }
+}
+
 fn off_pattern_times(off: &OffPattern, a: &DMatrix<f64>, x: &[f64], out: &mut [f64]) {
     let nd = a.nrows();
     let mut xe = vec![0.0; nd];

@@ -70,6 +70,71 @@ pub struct State {
     pub f_ext: Vec<f64>,
 }
 
+/// The vectors of one step attempt, kept by the driver between steps so that a step
+/// allocates nothing (at 10⁵ equations each vector is 0.8 MB: allocated fresh every step,
+/// its pages were faulted in again each time).
+#[derive(Debug, Clone, Default)]
+pub(crate) struct StepWork {
+    /// Storage for the next committed state: the state the last committed step replaced.
+    pub(crate) next: State,
+    /// Residual.
+    r: Vec<f64>,
+    /// Acceleration at `n+1−α_m`.
+    a_w: Vec<f64>,
+    /// Velocity at `n+1−α_f`.
+    v_w: Vec<f64>,
+    /// Inertia force `M·a_w`.
+    inertia: Vec<f64>,
+    /// Damping force `C·v_w`.
+    damp: Vec<f64>,
+    /// The iterate before the last correction (backtracking).
+    q_prev: Vec<f64>,
+    /// The correction of this iteration.
+    dq: Vec<f64>,
+    /// The correction of the last iteration (backtracking).
+    dq_prev: Vec<f64>,
+    /// `(1−α_f)·f_ext(n+1) + α_f·f_ext(n)`.
+    f_ref_ext: Vec<f64>,
+    /// The step's increment on finite-rotation models.
+    du: Vec<f64>,
+    /// After a linear step: `M·v` of its state (the energy balance's kinetic energy), when
+    /// `mv_ready`.
+    pub(crate) mv: Vec<f64>,
+    pub(crate) mv_ready: bool,
+    /// After a linear step: the weighted acceleration the next step of the same `Δt`
+    /// starts with, `a_w = (1−α_m)·a(Δu = 0) + α_m·a_n` from the step's state, and its
+    /// inertia force `M·a_w`, formed in the same pass over the matrices as `K·q`. The next
+    /// step uses the force if its own first `a_w` equals this one to the bit (same `Δt`,
+    /// same state) and every mass is constant, and forms it anew otherwise.
+    a_w_next: Vec<f64>,
+    inertia_next: Vec<f64>,
+    inertia_ready: bool,
+}
+
+impl StepWork {
+    /// Every work vector at length `n` (the values left as they are: each is written
+    /// before it is read).
+    fn resize(&mut self, n: usize) {
+        for x in [
+            &mut self.r,
+            &mut self.a_w,
+            &mut self.v_w,
+            &mut self.inertia,
+            &mut self.damp,
+            &mut self.q_prev,
+            &mut self.dq,
+            &mut self.dq_prev,
+            &mut self.f_ref_ext,
+            &mut self.du,
+            &mut self.mv,
+            &mut self.a_w_next,
+            &mut self.inertia_next,
+        ] {
+            x.resize(n, 0.0);
+        }
+    }
+}
+
 /// The linear system about the reference state ([`Driver::reference_system`]).
 #[derive(Debug, Clone)]
 pub struct ReferenceSystem {
@@ -190,6 +255,8 @@ pub struct Driver {
     pub condense_residual: bool,
     /// The condensed Newton's caches and counters.
     pub(crate) condensed: crate::condensed::CondensedCache,
+    /// The step attempt's vectors, kept between steps.
+    pub(crate) work: StepWork,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -278,6 +345,7 @@ impl Driver {
             energy: Some(EnergyLedger::default()),
             condense_residual: true,
             condensed: Default::default(),
+            work: StepWork::default(),
         })
     }
 
@@ -588,57 +656,116 @@ impl Driver {
         Ok(())
     }
 
-    /// One attempt at a step of length `dt` from the committed state.
+    /// One attempt at a step of length `dt` from the committed state. The committed state
+    /// is moved out for the attempt (and back after it) rather than copied, and the
+    /// attempt's vectors are the driver's [`StepWork`], kept between steps.
     pub(crate) fn attempt(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
+        let s0 = std::mem::take(&mut self.state);
+        // Messages formed during the attempt name the time of the committed state.
+        self.state.t = s0.t;
+        let mut w = std::mem::take(&mut self.work);
+        let r = self.attempt_from(dt, &s0, &mut w);
+        self.state = s0;
+        self.work = w;
+        r
+    }
+
+    fn attempt_from(
+        &mut self,
+        dt: f64,
+        s0: &State,
+        w: &mut StepWork,
+    ) -> Result<(State, usize, f64), Attempt> {
         let n = self.neq();
         let ig = self.integrator;
-        let s0 = &self.state;
         let t1 = s0.t + dt;
+        // The next state's vectors: the ones the last committed step replaced.
+        let mut next = std::mem::take(&mut w.next);
+        w.resize(n);
+        w.mv_ready = false;
+        for x in [
+            &mut next.q,
+            &mut next.v,
+            &mut next.a,
+            &mut next.f_int,
+            &mut next.f_ext,
+        ] {
+            x.resize(n, 0.0);
+        }
+        let StepWork {
+            r,
+            a_w,
+            v_w,
+            inertia,
+            damp,
+            q_prev,
+            dq,
+            dq_prev,
+            f_ref_ext,
+            du,
+            mv,
+            mv_ready,
+            a_w_next,
+            inertia_next,
+            inertia_ready,
+            ..
+        } = w;
         let tl = Instant::now();
         self.asm.advance(&mut self.model, t1, dt)?;
-        let mut f_ext = vec![0.0; n];
-        self.asm.external_force(&self.model, t1, 1.0, &mut f_ext)?;
+        self.asm
+            .external_force(&self.model, t1, 1.0, &mut next.f_ext)?;
         self.summary.timings.loads += tl.elapsed().as_secs_f64();
-        let s0 = self.state.clone();
         let af = ig.alpha_f;
         let settings = self.model.analysis.newton;
         let linear =
             self.asm.variable_elements().is_empty() && !self.asm.dofmap.has_finite_rotations();
         let (ck, cc, cm) = ig.effective(dt);
-        let mut q = s0.q.clone();
-        let mut v = vec![0.0; n];
-        let mut a = vec![0.0; n];
-        let mut f_int = vec![0.0; n];
-        let mut r = vec![0.0; n];
-        let mut a_w = vec![0.0; n];
-        let mut v_w = vec![0.0; n];
-        let mut inertia = vec![0.0; n];
-        let mut damp = vec![0.0; n];
+        let State {
+            q,
+            v,
+            a,
+            f_int,
+            f_ext,
+            ..
+        } = &mut next;
+        q.copy_from_slice(&s0.q);
         let mut iters = 0;
         let mut disp_ok = false;
         // Backtracking: when a full Newton step raises the residual (an active set that
         // cycles — contact points entering and leaving, stick and slide flipping), go back
         // along the step by halves before solving again.
-        let mut q_prev = s0.q.clone();
-        let mut dq_prev: Vec<f64> = Vec::new();
+        // (A linear model takes one correction and never goes back.)
+        if !linear {
+            q_prev.copy_from_slice(&s0.q);
+        }
+        let mut have_dq_prev = false;
         let mut rn_prev = f64::INFINITY;
         let mut halvings = 0;
-        let f_ref_ext: Vec<f64> = (0..n)
-            .map(|i| (1.0 - af) * f_ext[i] + af * s0.f_ext[i])
-            .collect();
+        for i in 0..n {
+            f_ref_ext[i] = (1.0 - af) * f_ext[i] + af * s0.f_ext[i];
+        }
         // The step's increment: q − q_n, and on finite-rotation triples the incremental
         // rotation vector log(R·R_nᵀ) (see the module documentation); without such triples
         // it is formed inline, as it always was.
         let finite = self.asm.dofmap.has_finite_rotations();
-        let mut du = if finite { vec![0.0; n] } else { Vec::new() };
         for it in 0..=settings.max_iter {
             if finite {
-                self.asm.dofmap.increment(&s0.q, &q, &mut du);
+                self.asm.dofmap.increment(&s0.q, q, du);
             }
-            for i in 0..n {
-                let dui = if finite { du[i] } else { q[i] - s0.q[i] };
-                // The residual's inertia and damping act at the intermediate times.
-                (v[i], a[i], a_w[i], v_w[i]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
+            if linear && it > 0 {
+                // The solved state: its velocity and acceleration (no residual follows),
+                // and the weighted acceleration a next step of the same Δt starts with
+                // (its first iterate is this q: Δu = 0).
+                for i in 0..n {
+                    (v[i], a[i]) = ig.kinematics(dt, q[i] - s0.q[i], s0.v[i], s0.a[i]);
+                    a_w_next[i] = ig.trial(dt, 0.0, v[i], a[i]).2;
+                }
+            } else {
+                for i in 0..n {
+                    let dui = if finite { du[i] } else { q[i] - s0.q[i] };
+                    // The residual's inertia and damping act at the intermediate times.
+                    (v[i], a[i], a_w[i], v_w[i]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
+                }
             }
             let ta = Instant::now();
             let need_tangent = !linear
@@ -648,42 +775,44 @@ impl Driver {
                     NewtonKind::Initial => self.factored.is_none(),
                 };
             if linear && it > 0 {
+                // No variable element to update: K·q, M·v and the next inertia force in
+                // one pass.
                 self.asm
-                    .update(&mut self.model, &q, &v, &a, t1, dt, &mut f_int, false)?;
+                    .linear_state_products((q, v, a_w_next), (f_int, mv, inertia_next));
+                *mv_ready = true;
+                // The next step re-forms masses that change between steps: its inertia
+                // force is formed anew then.
+                *inertia_ready = self.asm.mass_is_constant();
                 self.f_int_at.clear();
-                self.f_int_at.extend_from_slice(&q);
+                self.f_int_at.extend_from_slice(q);
                 // A linear model was solved exactly by the one correction: v, a and f_int
                 // are updated above; the inertia and damping products of a residual check
                 // would only confirm round-off.
                 self.summary.timings.assembly += ta.elapsed().as_secs_f64();
-                return Ok((
-                    State {
-                        t: t1,
-                        q,
-                        v,
-                        a,
-                        f_int,
-                        f_ext,
-                    },
-                    iters,
-                    rn_prev,
-                ));
+                next.t = t1;
+                return Ok((next, iters, rn_prev));
             }
             // Residual at the intermediate times. A linear model's first iterate is the
             // committed displacement, whose internal force the state holds (formed by the
             // same product, so the same to the bit): only M·a and C·v are formed.
             if linear && it == 0 && self.f_int_at == s0.q {
                 f_int.copy_from_slice(&s0.f_int);
-                self.asm
-                    .inertia_damping((&a_w, &v_w), (&mut inertia, &mut damp));
+                if *inertia_ready && a_w == a_w_next {
+                    // M·a_w was formed with the last step's K·q (the same product).
+                    std::mem::swap(inertia, inertia_next);
+                    self.asm.damping_force(v_w, damp);
+                } else {
+                    self.asm.inertia_damping((a_w, v_w), (inertia, damp));
+                }
+                *inertia_ready = false;
             } else {
                 self.asm.update_transient(
                     &mut self.model,
-                    (&q, &v, &a),
-                    (&a_w, &v_w),
+                    (q, v, a),
+                    (a_w, v_w),
                     t1,
                     dt,
-                    (&mut f_int, &mut inertia, &mut damp),
+                    (f_int, inertia, damp),
                     need_tangent || it == 0,
                 )?;
             }
@@ -694,47 +823,44 @@ impl Driver {
                     - ((1.0 - af) * f_int[i] + af * s0.f_int[i]);
             }
             self.summary.timings.assembly += ta.elapsed().as_secs_f64();
-            let rn = norm(&r);
-            let reference = norm(&f_ref_ext).max(norm(&f_int)).max(norm(&inertia));
+            let rn = norm(r);
+            // A linear model takes its one correction whatever the force check says: the
+            // check's reference is formed only for a nonlinear model or the trace.
+            let check = !linear || self.trace;
+            let reference = if check {
+                norm(f_ref_ext).max(norm(f_int)).max(norm(inertia))
+            } else {
+                0.0
+            };
             let force_ok = rn <= settings.tol * reference + settings.abs_tol;
             if self.trace {
-                let (v, dof) = self.largest(&r);
+                let (v, dof) = self.largest(r);
                 eprintln!(
                     "t = {t1:.6} s, dt = {dt:.3e} s, iteration {it}: |R| = {rn:.3e} N (tolerance {:.3e}), largest {v:.3e} at {dof}",
                     settings.tol * reference + settings.abs_tol
                 );
             }
             if it > 0 && (linear || (force_ok && disp_ok)) {
-                return Ok((
-                    State {
-                        t: t1,
-                        q,
-                        v,
-                        a,
-                        f_int,
-                        f_ext,
-                    },
-                    iters,
-                    rn,
-                ));
+                next.t = t1;
+                return Ok((next, iters, rn));
             }
             if !linear
                 && it >= 2
                 && it < settings.max_iter
                 && rn > rn_prev
                 && halvings < 3
-                && !dq_prev.is_empty()
+                && have_dq_prev
             {
                 halvings += 1;
                 for d in dq_prev.iter_mut() {
                     *d *= 0.5;
                 }
-                q.copy_from_slice(&q_prev);
-                self.asm.dofmap.add_correction(&mut q, &dq_prev);
+                q.copy_from_slice(q_prev);
+                self.asm.dofmap.add_correction(q, dq_prev);
                 continue;
             }
             if it == settings.max_iter {
-                let (val, dof) = self.largest(&r);
+                let (val, dof) = self.largest(r);
                 return Err(Attempt::NotConverged {
                     residual: val,
                     dof,
@@ -758,16 +884,22 @@ impl Driver {
                 self.factor_tangent(ck, cm, cc, dt)?;
                 self.summary.factorizations += 1;
             }
-            let mut dq = r.clone();
-            self.solve(&mut dq)?;
+            // The residual is solved in place (it is formed anew before it is read again).
+            std::mem::swap(r, dq);
+            self.solve(dq)?;
             iters += 1;
-            let dn = norm(&dq);
-            q_prev.copy_from_slice(&q);
-            self.asm.dofmap.add_correction(&mut q, &dq);
-            dq_prev = dq;
+            if !linear {
+                q_prev.copy_from_slice(q);
+            }
+            self.asm.dofmap.add_correction(q, dq);
+            if !linear {
+                let dn = norm(dq);
+                disp_ok = dn <= settings.tol * norm(q) + settings.disp_tol;
+            }
+            std::mem::swap(dq, dq_prev);
+            have_dq_prev = true;
             rn_prev = rn;
             halvings = 0;
-            disp_ok = dn <= settings.tol * norm(&q) + settings.disp_tol;
         }
         unreachable!("the loop returns")
     }
@@ -798,9 +930,13 @@ impl Driver {
             Ok((s, it, res)) => {
                 self.asm.commit(&mut self.model);
                 if let Some(e) = self.energy.as_mut() {
-                    e.record(&self.asm, &self.model, &self.state, &s);
+                    // A linear step formed its state's M·v with its K·q.
+                    let mv = self.work.mv_ready.then_some(&self.work.mv[..]);
+                    e.record(&self.asm, &self.model, &self.state, &s, mv);
                 }
-                self.state = s;
+                self.work.mv_ready = false;
+                // The replaced state's vectors hold the next attempt's state.
+                self.work.next = std::mem::replace(&mut self.state, s);
                 rep.iterations += it;
                 rep.residual = res;
                 Ok(())

@@ -98,6 +98,11 @@ pub struct EnergyLedger {
     peak_residual: f64,
     /// One row per committed step.
     pub history: Vec<EnergyRow>,
+    /// Work vectors kept between steps: the step's increment, `M·v`, and `C·v` of the
+    /// state before the last (storage for the next `C·v`).
+    dq: Vec<f64>,
+    buf: Vec<f64>,
+    cv: Vec<f64>,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -111,10 +116,13 @@ fn kinetic(asm: &Assembler, v: &[f64], buf: &mut Vec<f64>) -> f64 {
     0.5 * dot(buf, v)
 }
 
-fn damping_force(asm: &Assembler, v: &[f64]) -> Vec<f64> {
-    let mut cv = vec![0.0; v.len()];
-    asm.damping_times_add(v, &mut cv);
-    cv
+/// `out = C·v` (zero without damping: then nothing but the fill).
+fn damping_force(asm: &Assembler, v: &[f64], out: &mut Vec<f64>) {
+    out.clear();
+    out.resize(v.len(), 0.0);
+    if asm.has_damping() {
+        asm.damping_times_add(v, out);
+    }
 }
 
 impl EnergyLedger {
@@ -130,44 +138,80 @@ impl EnergyLedger {
     }
 
     /// Adds the step from the committed state `prev` to the committed state `next`. The
-    /// first call also takes `prev` as the start of the balance.
-    pub fn record(&mut self, asm: &Assembler, model: &Model, prev: &State, next: &State) {
-        let mut buf = Vec::new();
+    /// first call also takes `prev` as the start of the balance. `next_mv` is `M·v` of
+    /// `next` when the caller has it (the kinetic energy is then `½·vᵀ·(M·v)` from it, the
+    /// same value), else it is formed here. Without damping
+    /// ([`Assembler::has_damping`]) `C·v` is the zero vector at both ends and the step adds
+    /// nothing to `D_c`: no product is formed. The vectors are the ledger's own, kept
+    /// between steps.
+    pub fn record(
+        &mut self,
+        asm: &Assembler,
+        model: &Model,
+        prev: &State,
+        next: &State,
+        next_mv: Option<&[f64]>,
+    ) {
+        let mut buf = std::mem::take(&mut self.buf);
         if !self.started || self.cv_prev.len() != prev.v.len() {
+            let mut cv_prev = Vec::new();
+            damping_force(asm, &prev.v, &mut cv_prev);
             *self = EnergyLedger {
                 started: true,
                 kinetic0: kinetic(asm, &prev.v, &mut buf),
                 friction0: asm.dissipated_energy(model),
-                cv_prev: damping_force(asm, &prev.v),
+                cv_prev,
                 ..Default::default()
             };
             self.now.t = prev.t;
             self.now.kinetic = self.kinetic0;
         }
-        let mut dq = vec![0.0; next.q.len()];
-        asm.dofmap.increment(&prev.q, &next.q, &mut dq);
-        let trap = |f0: &[f64], f1: &[f64]| -> f64 {
-            0.5 * dq
-                .iter()
-                .enumerate()
-                .map(|(i, d)| (f0[i] + f1[i]) * d)
-                .sum::<f64>()
-        };
-        let cv = damping_force(asm, &next.v);
+        // The step's increment: on finite-rotation triples the incremental rotation vector,
+        // formed into `dq`; otherwise `q_{n+1} − q_n` inline.
+        let finite = asm.dofmap.has_finite_rotations();
+        let mut dq = std::mem::take(&mut self.dq);
+        if finite {
+            dq.resize(next.q.len(), 0.0);
+            asm.dofmap.increment(&prev.q, &next.q, &mut dq);
+        }
+        let damped = asm.has_damping() || self.cv_prev.iter().any(|&c| c != 0.0);
+        let mut cv = std::mem::take(&mut self.cv);
+        if damped {
+            damping_force(asm, &next.v, &mut cv);
+        }
+        // The three trapezoidal works `½·Σ (f_n + f_{n+1})ᵢ·Δqᵢ` in one pass, each sum
+        // accumulated in index order from −0 (as `Iterator::sum`).
+        let (mut ext, mut int, mut damp) = (-0.0f64, -0.0f64, -0.0f64);
+        for i in 0..next.q.len() {
+            let d = if finite { dq[i] } else { next.q[i] - prev.q[i] };
+            ext += (prev.f_ext[i] + next.f_ext[i]) * d;
+            int += (prev.f_int[i] + next.f_int[i]) * d;
+            if damped {
+                damp += (self.cv_prev[i] + cv[i]) * d;
+            }
+        }
         let r = &mut self.now;
         r.t = next.t;
-        r.external_work += trap(&prev.f_ext, &next.f_ext);
-        self.internal_work += trap(&prev.f_int, &next.f_int);
-        r.damping += trap(&self.cv_prev, &cv);
-        r.kinetic = kinetic(asm, &next.v, &mut buf);
+        r.external_work += 0.5 * ext;
+        self.internal_work += 0.5 * int;
+        if damped {
+            r.damping += 0.5 * damp;
+            std::mem::swap(&mut self.cv_prev, &mut cv);
+        }
+        self.cv = cv;
+        r.kinetic = match next_mv {
+            Some(mv) => 0.5 * dot(mv, &next.v),
+            None => kinetic(asm, &next.v, &mut buf),
+        };
         r.friction = asm.dissipated_energy(model) - self.friction0;
         r.strain = self.internal_work - r.friction;
         r.integrator =
             r.external_work - (r.kinetic - self.kinetic0) - r.strain - r.damping - r.friction;
-        self.cv_prev = cv;
         self.peak_scale = self.peak_scale.max(r.scale()).max(self.kinetic0);
         self.peak_residual = self.peak_residual.max(r.integrator.abs());
         self.history.push(*r);
+        self.dq = dq;
+        self.buf = buf;
     }
 
     /// The totals after the last recorded step.
