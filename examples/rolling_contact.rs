@@ -6,7 +6,7 @@
 //! cargo run --release --example rolling_contact -- klingel
 //! cargo run --release --example rolling_contact -- hunting [DT]
 //! cargo run --release --example rolling_contact -- curving
-//! cargo run --release --example rolling_contact -- sks700 [DT]
+//! cargo run --release --example rolling_contact -- sks700 [DT] [V1,V2,…]
 //! ```
 //!
 //! Model files and histories go to `target/rolling-contact/<case>/`.
@@ -174,10 +174,10 @@ fn curving() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-fn sks700(dt: f64) -> Result<(), Box<dyn std::error::Error>> {
+fn sks700(dt: f64, speeds: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
     println!("| V (m/s) | dt (s) | σ of the leading wheel's attack angle (1/s) | peak attack angle after the step (mrad) | wavelength (m) |");
     println!("|---|---|---|---|---|");
-    for v in [30.0, 50.0, 70.0, 90.0, 110.0] {
+    for &v in speeds {
         let (t, s, a) = run_sks700(v, dt, (2.5 * v).max(80.0), 2e-3, &dir("sks700"))?;
         // Stations of the leading wheel: the ramp ends at 44 m.
         let from = 50.0;
@@ -203,9 +203,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("klingel") => klingel(),
         Some("hunting") => hunting(args.get(2).map_or(Ok(0.0005), |s| s.parse())?),
         Some("curving") => curving(),
-        Some("sks700") => sks700(args.get(2).map_or(Ok(0.001), |s| s.parse())?),
+        Some("sks700") => {
+            let dt = args.get(2).map_or(Ok(0.001), |s| s.parse())?;
+            let speeds = match args.get(3) {
+                Some(list) => list
+                    .split(',')
+                    .map(str::parse)
+                    .collect::<Result<Vec<f64>, _>>()?,
+                None => vec![30.0, 50.0, 70.0, 90.0, 110.0],
+            };
+            sks700(dt, &speeds)
+        }
         _ => {
-            eprintln!("usage: rolling_contact conicity|klingel|hunting [DT]|curving|sks700 [DT]");
+            eprintln!("usage: rolling_contact conicity|klingel|hunting [DT]|curving|sks700 [DT] [V1,V2,…]");
             std::process::exit(2);
         }
     }
