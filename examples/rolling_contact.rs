@@ -204,12 +204,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("hunting") => hunting(args.get(2).map_or(Ok(0.0005), |s| s.parse())?),
         Some("curving") => curving(),
         Some("sks700") => {
-            let dt = args.get(2).map_or(Ok(0.001), |s| s.parse())?;
+            // Bad arguments: one line and exit code 2.
+            let refuse = |what: &str| -> ! {
+                eprintln!("rolling_contact sks700: {what}");
+                std::process::exit(2)
+            };
+            let dt = match args.get(2).map(|s| s.parse::<f64>()) {
+                None => 0.001,
+                Some(Ok(dt)) if dt > 0.0 && dt.is_finite() => dt,
+                _ => refuse("DT must be a time step > 0 s, e.g. 0.001"),
+            };
             let speeds = match args.get(3) {
-                Some(list) => list
+                Some(list) => match list
                     .split(',')
-                    .map(str::parse)
-                    .collect::<Result<Vec<f64>, _>>()?,
+                    .map(str::parse::<f64>)
+                    .collect::<Result<Vec<f64>, _>>()
+                {
+                    Ok(v) if v.iter().all(|x| *x > 0.0 && x.is_finite()) => v,
+                    _ => refuse(
+                        "speeds must be a comma-separated list of speeds > 0 m/s, e.g. 80,85,90",
+                    ),
+                },
                 None => vec![30.0, 50.0, 70.0, 90.0, 110.0],
             };
             sks700(dt, &speeds)
