@@ -180,17 +180,8 @@ fn sks700(dt: f64, speeds: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
     for &v in speeds {
         let (t, s, a) = run_sks700(v, dt, (2.5 * v).max(80.0), 2e-3, &dir("sks700"))?;
         // Stations of the leading wheel: the ramp ends at 44 m.
-        let from = 50.0;
-        let m = mean_between(&s, &a, from, 1e9);
-        let centred: Vec<f64> = a.iter().map(|x| x - m).collect();
-        let t_from = t[s.partition_point(|x| *x < from).min(t.len() - 1)];
-        let g = growth_rate(&t, &centred, t_from).unwrap_or(f64::NAN);
-        let peak = centred
-            .iter()
-            .zip(&s)
-            .filter(|(_, s)| **s > from)
-            .fold(0.0f64, |p, (x, _)| p.max(x.abs()));
-        let w = wavelength(&s, &centred, from).unwrap_or(f64::NAN);
+        let (g, peak, w) = step_response(&t, &s, &a, 50.0);
+        let (g, w) = (g.unwrap_or(f64::NAN), w.unwrap_or(f64::NAN));
         println!("| {v} | {dt} | {g:+.3} | {:.3} | {w:.2} |", peak * 1e3);
     }
     Ok(())

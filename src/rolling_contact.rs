@@ -392,6 +392,32 @@ pub fn growth_rate(t: &[f64], y: &[f64], from: f64) -> Option<f64> {
     Some(num / den)
 }
 
+/// The response of an angle history `a` (rad) to a disturbance that ends before station
+/// `from` (m): the growth rate σ of its envelope about its mean after `from` (1/s,
+/// [`growth_rate`]; `None` below three half waves), its largest deviation from that mean
+/// there (rad) and the wavelength of its zero crossings (m, [`wavelength`]). `t` and `s`
+/// are the times and stations of the samples.
+pub fn step_response(
+    t: &[f64],
+    s: &[f64],
+    a: &[f64],
+    from: f64,
+) -> (Option<f64>, f64, Option<f64>) {
+    let m = mean_between(s, a, from, 1e9);
+    let centred: Vec<f64> = a.iter().map(|x| x - m).collect();
+    let t_from = t[s.partition_point(|x| *x < from).min(t.len() - 1)];
+    let peak = centred
+        .iter()
+        .zip(s)
+        .filter(|(_, s)| **s > from)
+        .fold(0.0f64, |p, (x, _)| p.max(x.abs()));
+    (
+        growth_rate(t, &centred, t_from),
+        peak,
+        wavelength(s, &centred, from),
+    )
+}
+
 /// Mean of `v` over the entries whose `x` lies in `[from, to]`.
 pub fn mean_between(x: &[f64], v: &[f64], from: f64, to: f64) -> f64 {
     let (mut s, mut n) = (0.0, 0);
