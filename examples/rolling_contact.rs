@@ -6,7 +6,7 @@
 //! cargo run --release --example rolling_contact -- klingel
 //! cargo run --release --example rolling_contact -- hunting [DT]
 //! cargo run --release --example rolling_contact -- curving
-//! cargo run --release --example rolling_contact -- sks700 [DT]
+//! cargo run --release --example rolling_contact -- sks700 [DT] [V1,V2,…]
 //! ```
 //!
 //! Model files and histories go to `target/rolling-contact/<case>/`.
@@ -174,23 +174,14 @@ fn curving() -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-fn sks700(dt: f64) -> Result<(), Box<dyn std::error::Error>> {
+fn sks700(dt: f64, speeds: &[f64]) -> Result<(), Box<dyn std::error::Error>> {
     println!("| V (m/s) | dt (s) | σ of the leading wheel's attack angle (1/s) | peak attack angle after the step (mrad) | wavelength (m) |");
     println!("|---|---|---|---|---|");
-    for v in [30.0, 50.0, 70.0, 90.0, 110.0] {
+    for &v in speeds {
         let (t, s, a) = run_sks700(v, dt, (2.5 * v).max(80.0), 2e-3, &dir("sks700"))?;
         // Stations of the leading wheel: the ramp ends at 44 m.
-        let from = 50.0;
-        let m = mean_between(&s, &a, from, 1e9);
-        let centred: Vec<f64> = a.iter().map(|x| x - m).collect();
-        let t_from = t[s.partition_point(|x| *x < from).min(t.len() - 1)];
-        let g = growth_rate(&t, &centred, t_from).unwrap_or(f64::NAN);
-        let peak = centred
-            .iter()
-            .zip(&s)
-            .filter(|(_, s)| **s > from)
-            .fold(0.0f64, |p, (x, _)| p.max(x.abs()));
-        let w = wavelength(&s, &centred, from).unwrap_or(f64::NAN);
+        let (g, peak, w) = step_response(&t, &s, &a, 50.0);
+        let (g, w) = (g.unwrap_or(f64::NAN), w.unwrap_or(f64::NAN));
         println!("| {v} | {dt} | {g:+.3} | {:.3} | {w:.2} |", peak * 1e3);
     }
     Ok(())
@@ -203,9 +194,34 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Some("klingel") => klingel(),
         Some("hunting") => hunting(args.get(2).map_or(Ok(0.0005), |s| s.parse())?),
         Some("curving") => curving(),
-        Some("sks700") => sks700(args.get(2).map_or(Ok(0.001), |s| s.parse())?),
+        Some("sks700") => {
+            // Bad arguments: one line and exit code 2.
+            let refuse = |what: &str| -> ! {
+                eprintln!("rolling_contact sks700: {what}");
+                std::process::exit(2)
+            };
+            let dt = match args.get(2).map(|s| s.parse::<f64>()) {
+                None => 0.001,
+                Some(Ok(dt)) if dt > 0.0 && dt.is_finite() => dt,
+                _ => refuse("DT must be a time step > 0 s, e.g. 0.001"),
+            };
+            let speeds = match args.get(3) {
+                Some(list) => match list
+                    .split(',')
+                    .map(str::parse::<f64>)
+                    .collect::<Result<Vec<f64>, _>>()
+                {
+                    Ok(v) if v.iter().all(|x| *x > 0.0 && x.is_finite()) => v,
+                    _ => refuse(
+                        "speeds must be a comma-separated list of speeds > 0 m/s, e.g. 80,85,90",
+                    ),
+                },
+                None => vec![30.0, 50.0, 70.0, 90.0, 110.0],
+            };
+            sks700(dt, &speeds)
+        }
         _ => {
-            eprintln!("usage: rolling_contact conicity|klingel|hunting [DT]|curving|sks700 [DT]");
+            eprintln!("usage: rolling_contact conicity|klingel|hunting [DT]|curving|sks700 [DT] [V1,V2,…]");
             std::process::exit(2);
         }
     }

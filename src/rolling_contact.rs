@@ -154,24 +154,44 @@ pub struct History {
 /// Station at t = 0 (m).
 pub const START: f64 = 2.0;
 
+/// The alignment table (CSV, mm) of a lateral step of both rails: `offset` (m) up to
+/// station `ramp` (m), a half-cosine down to zero over the next 2 m, zero beyond; a row
+/// every 0.25 m up to `ramp + 6 m` and one at `end`. The irregularity is a not-a-knot cubic
+/// spline through the rows, so the step must be sampled densely: through the sparse knots
+/// 0, 42, 42.5, …, 44 and 400 m (the sks700 case's table before this helper) the spline
+/// swings to −232 mm at 10 m and +2.6 m at 100 m instead of a 2 mm step — the carriage's
+/// wheelsets then followed rails that veered sideways (docs/rolling-contact.md). Between
+/// densely sampled flat rows the spline's ringing from the ramp decays by about 0.27 per
+/// row.
+fn step_alignment(offset: f64, ramp: f64, end: f64) -> String {
+    let mut align = String::from("station [m],alignment [mm]\n");
+    let rows = ((ramp + 6.0) / 0.25).round() as usize;
+    for i in 0..=rows {
+        let s = i as f64 * 0.25;
+        let _ = writeln!(align, "{s},{}", step_shape(s, ramp) * offset * 1e3);
+    }
+    let _ = writeln!(align, "{end},0");
+    align
+}
+
+/// The step of [`step_alignment`] in units of its height at station `s`: 1 up to `ramp`,
+/// `½(1 + cos(π(s − ramp)/2))` over the next 2 m, 0 beyond.
+fn step_shape(s: f64, ramp: f64) -> f64 {
+    if s <= ramp {
+        1.0
+    } else if s >= ramp + 2.0 {
+        0.0
+    } else {
+        0.5 * (1.0 + (std::f64::consts::PI * (s - ramp) / 2.0).cos())
+    }
+}
+
 /// Writes the model of `case` and its profile/irregularity tables into `dir`; returns the
 /// model path.
 pub fn write_model(case: &Case, dir: &Path) -> Result<PathBuf, FemError> {
     let io = |e: std::io::Error| FemError::input(dir.display().to_string(), e.to_string());
     std::fs::create_dir_all(dir).map_err(io)?;
-    let mut align = String::from("station [m],alignment [mm]\n");
-    for i in 0..=40 {
-        let s = i as f64 * 0.25;
-        let a = if s <= START + 2.0 {
-            1.0
-        } else if s >= START + 4.0 {
-            0.0
-        } else {
-            0.5 * (1.0 + (std::f64::consts::PI * (s - START - 2.0) / 2.0).cos())
-        };
-        let _ = writeln!(align, "{s},{}", a * case.offset * 1e3);
-    }
-    let _ = writeln!(align, "{},0", START + case.distance + 100.0);
+    let align = step_alignment(case.offset, START + 2.0, START + case.distance + 100.0);
     std::fs::write(dir.join("align.csv"), align).map_err(io)?;
     let wheel_keys = match case.wheel {
         Wheel::Cone(lambda) => {
@@ -372,6 +392,32 @@ pub fn growth_rate(t: &[f64], y: &[f64], from: f64) -> Option<f64> {
     Some(num / den)
 }
 
+/// The response of an angle history `a` (rad) to a disturbance that ends before station
+/// `from` (m): the growth rate σ of its envelope about its mean after `from` (1/s,
+/// [`growth_rate`]; `None` below three half waves), its largest deviation from that mean
+/// there (rad) and the wavelength of its zero crossings (m, [`wavelength`]). `t` and `s`
+/// are the times and stations of the samples.
+pub fn step_response(
+    t: &[f64],
+    s: &[f64],
+    a: &[f64],
+    from: f64,
+) -> (Option<f64>, f64, Option<f64>) {
+    let m = mean_between(s, a, from, 1e9);
+    let centred: Vec<f64> = a.iter().map(|x| x - m).collect();
+    let t_from = t[s.partition_point(|x| *x < from).min(t.len() - 1)];
+    let peak = centred
+        .iter()
+        .zip(s)
+        .filter(|(_, s)| **s > from)
+        .fold(0.0f64, |p, (x, _)| p.max(x.abs()));
+    (
+        growth_rate(t, &centred, t_from),
+        peak,
+        wavelength(s, &centred, from),
+    )
+}
+
 /// Mean of `v` over the entries whose `x` lies in `[from, to]`.
 pub fn mean_between(x: &[f64], v: &[f64], from: f64, to: f64) -> f64 {
     let (mut s, mut n) = (0.0, 0);
@@ -467,18 +513,7 @@ pub fn run_sks700(
     // The carriage spans about ±9.3 m about its centre: it starts at 30 m, every
     // wheelset on rails shifted by `offset`, which return to zero over 42–44 m.
     const SKS_START: f64 = 30.0;
-    let mut align = String::from("station [m],alignment [mm]\n");
-    for (st, a) in [
-        (0.0, 1.0),
-        (42.0, 1.0),
-        (42.5, 0.8535533905932737),
-        (43.0, 0.5),
-        (43.5, 0.14644660940672627),
-        (44.0, 0.0),
-        (SKS_START + distance + 100.0, 0.0),
-    ] {
-        let _ = writeln!(align, "{st},{}", a * offset * 1e3);
-    }
+    let align = step_alignment(offset, 42.0, SKS_START + distance + 100.0);
     std::fs::write(dir.join("align.csv"), align)
         .map_err(|e| FemError::input(dir.display().to_string(), e.to_string()))?;
     let steps = (distance / speed / dt).round().max(1.0);
@@ -544,6 +579,57 @@ wheel = {{tangential = "kalker_linear"}}
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::elements::rail::irregularity::csv::read_table;
+    use crate::elements::rail::irregularity::IrregularityPart;
+
+    /// Largest deviation (in units of the step) of the spline through an alignment table
+    /// from the intended step — `offset` up to `ramp`, the half-cosine over 2 m, zero
+    /// beyond — sampled every 5 cm on [0, end], away from the ramp and on it.
+    fn step_error(csv: &str, ramp: f64, end: f64) -> (f64, f64) {
+        let table = read_table(csv, "align.csv").unwrap();
+        let part = IrregularityPart::from_table(&table, "align.csv").unwrap();
+        let spline = &part.splines[0].1;
+        let plateau = spline.value(0.0);
+        let (mut away, mut on) = (0.0f64, 0.0f64);
+        for i in 0..=(end / 0.05) as usize {
+            let s = i as f64 * 0.05;
+            let e = (spline.value(s) / plateau - step_shape(s, ramp)).abs();
+            if s > ramp - 1.0 && s < ramp + 3.0 {
+                on = on.max(e);
+            } else {
+                away = away.max(e);
+            }
+        }
+        (away, on)
+    }
+
+    /// The irregularity is a not-a-knot cubic spline through the table's rows: the sks700
+    /// case's step must come out as a step. Through `step_alignment`'s rows (every 0.25 m to
+    /// 6 m past the ramp) the spline stays within 1e-3 of the step away from the ramp and
+    /// 1 % on it (a half-cosine sampled eight times per half wave); through the sparse
+    /// knots the case used before (0, 42–44 m by 0.5 m, the end), the same check fails by
+    /// a factor of more than 100 (the spline swings hundreds of millimetres off a 2 mm step).
+    #[test]
+    fn the_alignment_step_is_a_step() {
+        let (ramp, end) = (42.0, 400.0);
+        let (away, on) = step_error(&step_alignment(2e-3, ramp, end), ramp, end);
+        println!("dense rows: away {away:.2e}, on the ramp {on:.2e}");
+        assert!(away < 1e-3 && on < 1e-2, "{away} {on}");
+        let mut sparse = String::from("station [m],alignment [mm]\n");
+        for (st, a) in [
+            (0.0, 2.0),
+            (42.0, 2.0),
+            (42.5, 1.7071),
+            (43.0, 1.0),
+            (43.5, 0.2929),
+        ] {
+            let _ = writeln!(sparse, "{st},{a}");
+        }
+        let _ = writeln!(sparse, "44,0\n{end},0");
+        let (away, _) = step_error(&sparse, ramp, end);
+        println!("sparse knots: away {away:.2e} (in units of the 2 mm step)");
+        assert!(away > 100.0, "{away}");
+    }
 
     #[test]
     fn a_sampled_sine_gives_its_wavelength_and_growth() {

@@ -284,6 +284,19 @@ fn negative_time_step_is_refused() {
     );
 }
 
+#[test]
+fn unknown_newton_predictor_is_refused() {
+    let text = edit(
+        "kind = \"static\"",
+        "kind = \"transient\"\ndt = 0.001\n\n[analysis.newton]\npredictor = \"extrapolate\"",
+    );
+    check(
+        "predictor.toml",
+        &text,
+        &["[analysis]", "extrapolate", "`previous` or `increment`"],
+    );
+}
+
 /// Bad options of the validation commands: one line, exit code 2, never a hang or a panic.
 #[test]
 fn curve_command_refuses_bad_options() {

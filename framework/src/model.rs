@@ -97,6 +97,34 @@ pub enum NewtonKind {
     Initial,
 }
 
+/// The first iterate of a transient step (`[analysis.newton] predictor`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Predictor {
+    /// The committed displacements: `q⁰ = q_n` (the integrator's kinematics then give the
+    /// trial velocity and acceleration of a zero increment).
+    #[default]
+    Previous,
+    /// The last step's increment again, scaled to this step's length:
+    /// `q⁰ = q_n + (dt/dt_prev)·(q_n − q_{n−1})` (on finite-rotation triples the
+    /// incremental rotation vector, composed). Exact for a motion at constant rate, so the
+    /// first correction is of the order of the increment's change over a step instead of
+    /// the increment itself. It pays where a steady drift meets a nonlinear law: a rolling
+    /// wheelset's spin and contact masters advance every step, and the creep laws are
+    /// nonlinear in that advance (docs/performance.md, "Rolling-contact laws in the curve
+    /// case"). Not used by the condensed Newton (which then hands the step to the
+    /// full-residual attempt).
+    Increment,
+}
+
+impl Predictor {
+    /// Whether this is the default (kept out of serialized settings, so a model that
+    /// does not choose a predictor serializes as it always did).
+    pub fn is_previous(&self) -> bool {
+        *self == Predictor::Previous
+    }
+}
+
 /// Which linear solver the Newton iterations use (`[analysis] solver`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
@@ -225,6 +253,9 @@ pub struct NewtonSettings {
     pub kind: NewtonKind,
     /// How many times a failing step is halved before the run stops.
     pub max_cuts: usize,
+    /// First iterate of a transient step: `"previous"` (default) or `"increment"`.
+    #[serde(skip_serializing_if = "Predictor::is_previous")]
+    pub predictor: Predictor,
 }
 
 impl Default for NewtonSettings {
@@ -236,6 +267,7 @@ impl Default for NewtonSettings {
             max_iter: 25,
             kind: NewtonKind::Full,
             max_cuts: 4,
+            predictor: Predictor::Previous,
         }
     }
 }

@@ -212,6 +212,11 @@ impl Driver {
         let Some(p) = &self.partition else {
             return false;
         };
+        // Its iterations start from the committed state; another predictor takes the
+        // full-residual attempt.
+        if !self.model.analysis.newton.predictor.is_previous() {
+            return false;
+        }
         p.equations() == self.neq()
             && self.model.analysis.newton.kind == NewtonKind::Full
             && !self.asm.variable_elements().is_empty()

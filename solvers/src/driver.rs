@@ -37,7 +37,7 @@ use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
-use railfem_framework::model::{AnalysisKind, Model, NewtonKind, SolverChoice};
+use railfem_framework::model::{AnalysisKind, Model, NewtonKind, Predictor, SolverChoice};
 use railfem_framework::recorder::{History, Recorders};
 use railfem_framework::sparse::CscMatrix;
 use railfem_framework::DofSet;
@@ -228,6 +228,10 @@ pub struct Driver {
     k_eff: CscMatrix,
     /// `(dt, pattern id)` the current factor belongs to, when it is still valid.
     pub(crate) factored: Option<(f64, u64)>,
+    /// Length and increment `q_{n} − q_{n−1}` of the last converged transient step (for
+    /// [`Predictor::Increment`]; `None` before the first, and always with the default
+    /// predictor).
+    last_increment: Option<(f64, Vec<f64>)>,
     /// Totals.
     pub summary: RunSummary,
     initialized: bool,
@@ -335,6 +339,7 @@ impl Driver {
             solver,
             k_eff,
             factored: None,
+            last_increment: None,
             initialized: false,
             trace: std::env::var_os("RAILFEM_TRACE").is_some(),
             partition,
@@ -729,6 +734,15 @@ impl Driver {
             ..
         } = &mut next;
         q.copy_from_slice(&s0.q);
+        // A linear model is solved exactly by one correction from any start (and its first
+        // residual reuses the committed internal force, formed at `q_n`): no predictor.
+        if let (false, Predictor::Increment, Some((dt_prev, inc))) =
+            (linear, settings.predictor, &self.last_increment)
+        {
+            let scale = dt / dt_prev;
+            let dq0: Vec<f64> = inc.iter().map(|x| x * scale).collect();
+            self.asm.dofmap.add_correction(q, &dq0);
+        }
         let mut iters = 0;
         let mut disp_ok = false;
         // Backtracking: when a full Newton step raises the residual (an active set that
@@ -895,6 +909,13 @@ impl Driver {
             if !linear {
                 let dn = norm(dq);
                 disp_ok = dn <= settings.tol * norm(q) + settings.disp_tol;
+                if self.trace {
+                    let (v, dof) = self.largest(dq);
+                    eprintln!(
+                        "t = {t1:.6} s, correction {iters}: |dq| = {dn:.3e} (tolerance {:.3e}), largest {v:.3e} at {dof}",
+                        settings.tol * norm(q) + settings.disp_tol
+                    );
+                }
             }
             std::mem::swap(dq, dq_prev);
             have_dq_prev = true;
@@ -934,6 +955,13 @@ impl Driver {
                     let mv = self.work.mv_ready.then_some(&self.work.mv[..]);
                     e.record(&self.asm, &self.model, &self.state, &s, mv);
                 }
+                self.last_increment = (dt > 0.0
+                    && self.model.analysis.newton.predictor == Predictor::Increment)
+                    .then(|| {
+                        let mut inc = vec![0.0; s.q.len()];
+                        self.asm.dofmap.increment(&self.state.q, &s.q, &mut inc);
+                        (dt, inc)
+                    });
                 self.work.mv_ready = false;
                 // The replaced state's vectors hold the next attempt's state.
                 self.work.next = std::mem::replace(&mut self.state, s);
