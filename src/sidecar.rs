@@ -103,6 +103,24 @@ fn civil_date(days: i64) -> (i64, u32, u32) {
     (y, m, d)
 }
 
+/// This process's rank when an MPI launcher started it (`mpirun`/`mpiexec` of Open MPI,
+/// MPICH/Hydra or PMIx set one of these variables in every rank's environment), else
+/// `None`. Read from the environment, so the default build (without the `mpi` feature)
+/// also knows it is one of several ranks.
+pub fn launcher_rank() -> Option<u32> {
+    ["OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"]
+        .iter()
+        .find_map(|k| std::env::var(k).ok()?.trim().parse().ok())
+}
+
+/// Ranks in the job when an MPI launcher started this process (the launcher's size
+/// variable), else `None`.
+pub fn launcher_size() -> Option<u32> {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]
+        .iter()
+        .find_map(|k| std::env::var(k).ok()?.trim().parse().ok())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -127,14 +145,4 @@ mod tests {
         assert_eq!(at(47_540 * 86_400), "2100-02-28T00:00:00Z");
         assert_eq!(at(47_541 * 86_400), "2100-03-01T00:00:00Z");
     }
-}
-
-/// This process's rank when an MPI launcher started it (`mpirun`/`mpiexec` of Open MPI,
-/// MPICH/Hydra or PMIx set one of these variables in every rank's environment), else
-/// `None`. Read from the environment, so the default build (without the `mpi` feature)
-/// also knows it is one of several ranks.
-pub fn launcher_rank() -> Option<u32> {
-    ["OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK"]
-        .iter()
-        .find_map(|k| std::env::var(k).ok()?.trim().parse().ok())
 }
