@@ -133,3 +133,39 @@ fn a_model_without_the_partitioned_solver_is_refused_with_the_fix() {
     );
     assert_eq!(text.lines().count(), 1, "{text}");
 }
+
+/// The default build (no `mpi` feature) started by a launcher with two ranks refuses to run
+/// the model alone on each rank: one line naming the fix, exit 2, nothing written. (The MPI
+/// build under `mpirun` is checked by scripts/mpi.sh.)
+#[test]
+fn the_default_build_under_a_launcher_with_two_ranks_is_refused() {
+    if cfg!(feature = "mpi") {
+        return;
+    }
+    let dir = common::temp_dir("distributed-no-mpi");
+    let out = dir.join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args([
+            "train-bridge",
+            "--cars",
+            "1",
+            "--spans",
+            "1",
+            "--steps",
+            "2",
+            "-q",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .env("OMPI_COMM_WORLD_SIZE", "2")
+        .env("OMPI_COMM_WORLD_RANK", "0")
+        .output()
+        .expect("run railfem");
+    common::refused_with(
+        "train-bridge under a 2-rank launcher",
+        &o,
+        &["2 ranks", "this build has no MPI", "--features mpi"],
+    );
+    assert!(!out.join("wheels.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
