@@ -81,8 +81,9 @@ echo "mpi.sh: ok — $rows cases: serial, 1 rank, 2 ranks and a resumed 2-rank r
 # One model across ranks (issue 15 item 2, docs/scale-out.md): the partitioned solver's
 # blocks shared by 2 ranks give the serial run's recorders to 1e-12 relative (each column
 # against its largest value); 1 rank is the serial run; only rank 0 writes.
-tb=(train-bridge --cars 1 --spans 3 --span 10 --element-length 0.5 --speed 80 --dt 0.002
-    --steps 40 --solver partitioned --block-size 300 -q)
+tb0=(train-bridge --cars 1 --spans 3 --span 10 --element-length 0.5 --speed 80 --dt 0.002
+    --steps 40 --block-size 300 -q)
+tb=("${tb0[@]}" --solver partitioned)
 "$serial_bin" "${tb[@]}" --out "$work/tb-serial" >/dev/null
 mpirun_n 1 "$mpi_bin" "${tb[@]}" --out "$work/tb-mpi1" >/dev/null
 mpirun_n 2 "$mpi_bin" "${tb[@]}" --out "$work/tb-mpi2" >"$work/tb-mpi2.out"
@@ -122,7 +123,7 @@ mpirun_n 2 "$serial_bin" "${tb[@]}" --out "$work/tb-nompi" >/dev/null 2>"$work/n
 [ "$status" -ne 0 ] && grep -q 'this build has no MPI; build with' "$work/nompi.err" \
     || fail "the default build under mpirun -n 2: exit $status, $(head -c 300 "$work/nompi.err")"
 status=0
-mpirun_n 2 "$mpi_bin" "${tb[@]}" --solver direct --out "$work/tb-direct" >/dev/null 2>"$work/direct.err" || status=$?
+mpirun_n 2 "$mpi_bin" "${tb0[@]}" --solver direct --out "$work/tb-direct" >/dev/null 2>"$work/direct.err" || status=$?
 [ "$status" -ne 0 ] && grep -q "give \`--solver partitioned\`" "$work/direct.err" \
     || fail "a direct-solver model under mpirun -n 2: exit $status, $(head -c 300 "$work/direct.err")"
 echo "mpi.sh: ok — train-bridge across 2 ranks equals the serial run; the default build and a direct-solver model under mpirun are refused"

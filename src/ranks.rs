@@ -49,18 +49,18 @@ pub fn writes_outputs() -> bool {
 #[cfg(feature = "mpi")]
 mod mpi_exchange {
     use crate::solvers::exchange::Exchange;
+    use crate::study::mpi::World;
     use mpi::datatype::PartitionMut;
-    use mpi::environment::Universe;
     use mpi::topology::SimpleCommunicator;
     use mpi::traits::*;
     use mpi::Count;
     use std::thread::ThreadId;
 
-    /// The job's world communicator. MPI is initialized with the `Funneled` threading level:
-    /// only the thread that initialized it may call it, which every method checks.
+    /// The job's world communicator. MPI is initialized with the `Funneled` threading level
+    /// (as for `railfem study`): only the thread that initialized it may call it, which
+    /// every method checks.
     pub struct MpiExchange {
-        _universe: Universe,
-        world: SimpleCommunicator,
+        job: World,
         thread: ThreadId,
     }
 
@@ -72,13 +72,14 @@ mod mpi_exchange {
 
     impl MpiExchange {
         pub fn init() -> Option<MpiExchange> {
-            let (universe, _) = mpi::initialize_with_threading(mpi::Threading::Funneled)?;
-            let world = universe.world();
             Some(MpiExchange {
-                _universe: universe,
-                world,
+                job: World::init()?,
                 thread: std::thread::current().id(),
             })
+        }
+
+        fn world(&self) -> &SimpleCommunicator {
+            self.job.communicator()
         }
 
         fn check(&self) {
@@ -115,18 +116,18 @@ mod mpi_exchange {
 
     impl Exchange for MpiExchange {
         fn rank(&self) -> usize {
-            self.world.rank() as usize
+            self.world().rank() as usize
         }
 
         fn size(&self) -> usize {
-            self.world.size() as usize
+            self.world().size() as usize
         }
 
         fn gather(&self, local: &[f64]) -> Option<Vec<Vec<f64>>> {
             self.check();
-            let root = self.world.process_at_rank(0);
+            let root = self.world().process_at_rank(0);
             let n = local.len() as Count;
-            if self.world.rank() == 0 {
+            if self.world().rank() == 0 {
                 let mut counts = vec![0 as Count; self.size()];
                 root.gather_into_root(&n, &mut counts[..]);
                 let (displs, total) = Self::layout(&counts);
@@ -145,7 +146,7 @@ mod mpi_exchange {
 
         fn broadcast(&self, data: &mut Vec<f64>) {
             self.check();
-            let root = self.world.process_at_rank(0);
+            let root = self.world().process_at_rank(0);
             let mut n = data.len() as u64;
             root.broadcast_into(&mut n);
             data.resize(n as usize, 0.0);
@@ -156,12 +157,12 @@ mod mpi_exchange {
             self.check();
             let n = local.len() as Count;
             let mut counts = vec![0 as Count; self.size()];
-            self.world.all_gather_into(&n, &mut counts[..]);
+            self.world().all_gather_into(&n, &mut counts[..]);
             let (displs, total) = Self::layout(&counts);
             let mut buf = vec![0.0f64; total];
             {
                 let mut part = PartitionMut::new(&mut buf[..], &counts[..], &displs[..]);
-                self.world.all_gather_varcount_into(local, &mut part);
+                self.world().all_gather_varcount_into(local, &mut part);
             }
             Self::split(&buf, &counts)
         }
