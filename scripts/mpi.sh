@@ -7,7 +7,9 @@
 #   - a case that panics on a worker rank is a failed row and the study ends (no hang),
 #   - a rank that dies outright (abort, as a crash or a kill) ends the job with mpirun's
 #     message naming the rank, never a hang; the checkpoint keeps the finished cases and the
-#     same command then finishes the study with the serial run's table.
+#     same command then finishes the study with the serial run's table;
+# and that `railfem train-bridge` with the partitioned solver's blocks shared by 2 ranks
+# writes the serial run's recorders (to 1e-12 relative), as does 1 rank.
 # Usage: scripts/mpi.sh [PLAN.toml]   (default: a 24-case cut of examples/studies)
 # Timings of the whole 200-case plan: SCALE_OUT_BENCH=1 scripts/mpi.sh (docs/scale-out.md).
 set -euo pipefail
@@ -75,6 +77,56 @@ mpirun_n 2 "$mpi_bin" study "$plan" --threads 1 -q --out "$work/died" >/dev/null
 cmp "$work/serial/study.csv" "$work/died/study.csv" || fail "the study resumed after a dying rank differs"
 rows=$(($(wc -l < "$work/serial/study.csv") - 1))
 echo "mpi.sh: ok — $rows cases: serial, 1 rank, 2 ranks and a resumed 2-rank run give the same study.csv bytes; a panicking case is a failed row; a dying rank ended the job (exit $status, $kept checkpoint lines kept) and the resumed study is the same"
+
+# One model across ranks (issue 15 item 2, docs/scale-out.md): the partitioned solver's
+# blocks shared by 2 ranks give the serial run's recorders to 1e-12 relative (each column
+# against its largest value); 1 rank is the serial run; only rank 0 writes.
+tb0=(train-bridge --cars 1 --spans 3 --span 10 --element-length 0.5 --speed 80 --dt 0.002
+    --steps 40 --block-size 300 -q)
+tb=("${tb0[@]}" --solver partitioned)
+"$serial_bin" "${tb[@]}" --out "$work/tb-serial" >/dev/null
+mpirun_n 1 "$mpi_bin" "${tb[@]}" --out "$work/tb-mpi1" >/dev/null
+mpirun_n 2 "$mpi_bin" "${tb[@]}" --out "$work/tb-mpi2" >"$work/tb-mpi2.out"
+grep -q 'partitioned solver across 2 ranks: rank 0 owns' "$work/tb-mpi2.out" \
+    || fail "the 2-rank train-bridge did not share the partitioned solver ($(head -c 300 "$work/tb-mpi2.out"))"
+[ "$(grep -c '^train-bridge:' "$work/tb-mpi2.out")" -eq 1 ] || fail "more than rank 0 printed the report"
+same_numbers() { # FILE_A FILE_B: every column within 1e-12 of its largest |value|
+    python3 - "$1" "$2" <<'PY'
+import sys
+rows = [[l.rstrip("\n").split(",") for l in open(f) if l.strip()] for f in sys.argv[1:3]]
+a, b = rows
+if len(a) != len(b) or a[0] != b[0]:
+    sys.exit(f"{sys.argv[2]}: {len(b)} lines/header differ from {sys.argv[1]} ({len(a)} lines)")
+worst = 0.0
+for j in range(len(a[0])):
+    try:
+        x = [float(r[j]) for r in a[1:]]
+        y = [float(r[j]) for r in b[1:]]
+    except ValueError:
+        continue
+    scale = max(abs(v) for v in x) or 1.0
+    worst = max(worst, max(abs(u - v) for u, v in zip(x, y)) / scale)
+if worst > 1e-12:
+    sys.exit(f"{sys.argv[2]}: differs from {sys.argv[1]} by {worst:.3e} of a column's largest value")
+print(f"{worst:.1e}")
+PY
+}
+for f in wheels.csv midspan.csv; do
+    d1=$(same_numbers "$work/tb-serial/$f" "$work/tb-mpi1/$f") || fail "1 rank: $f"
+    d2=$(same_numbers "$work/tb-serial/$f" "$work/tb-mpi2/$f") || fail "2 ranks: $f"
+    echo "mpi.sh: train-bridge $f: 1 rank differs from serial by $d1, 2 ranks by $d2 (relative, limit 1e-12)"
+done
+# Bad input under a launcher, one line and exit 2 from each rank: the default build (no MPI)
+# and a model that does not use the partitioned solver.
+status=0
+mpirun_n 2 "$serial_bin" "${tb[@]}" --out "$work/tb-nompi" >/dev/null 2>"$work/nompi.err" || status=$?
+[ "$status" -ne 0 ] && grep -q 'this build has no MPI; build with' "$work/nompi.err" \
+    || fail "the default build under mpirun -n 2: exit $status, $(head -c 300 "$work/nompi.err")"
+status=0
+mpirun_n 2 "$mpi_bin" "${tb0[@]}" --solver direct --out "$work/tb-direct" >/dev/null 2>"$work/direct.err" || status=$?
+[ "$status" -ne 0 ] && grep -q "give \`--solver partitioned\`" "$work/direct.err" \
+    || fail "a direct-solver model under mpirun -n 2: exit $status, $(head -c 300 "$work/direct.err")"
+echo "mpi.sh: ok — train-bridge across 2 ranks equals the serial run; the default build and a direct-solver model under mpirun are refused"
 
 if [ "${SCALE_OUT_BENCH:-0}" = 1 ]; then
     # Back-to-back timings of the 200-case plan (A B A B), with the load average.

@@ -22,9 +22,11 @@
 //! Nothing here is asserted: times depend on the machine and on what else it is doing.
 
 use crate::framework::FemError;
+use crate::solvers::exchange::Exchange;
 use crate::train_bridge::{build, TrainBridgeCase};
 use std::io::Write;
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
 
 /// One measured size.
@@ -84,12 +86,20 @@ fn median(v: &mut [f64]) -> f64 {
     }
 }
 
-/// Builds and times one case.
-pub fn measure(case: &TrainBridgeCase, steps: usize) -> Result<PhaseRow, FemError> {
+/// Builds and times one case; with `ranks`, the partitioned solver shares its blocks
+/// among them ([`crate::ranks`]) and each rank prints its share, memory and messages.
+pub fn measure(
+    case: &TrainBridgeCase,
+    steps: usize,
+    ranks: Option<Arc<dyn Exchange>>,
+) -> Result<PhaseRow, FemError> {
     let t0 = Instant::now();
     let mut m = build(case)?;
     let t_build = t0.elapsed().as_secs_f64();
     let d = &mut m.driver;
+    if let Some(ex) = ranks {
+        d.set_exchange(ex)?;
+    }
     let t1 = Instant::now();
     d.static_solve(0.0, 10)?;
     d.initialize()?;
@@ -120,11 +130,29 @@ pub fn measure(case: &TrainBridgeCase, steps: usize) -> Result<PhaseRow, FemErro
         d.partition_stats().unwrap_or_default(),
     );
     let c = d.condensed_stats();
-    println!(
-        "          condensed Newton (whole run): {} steps, {} top-system iterations, {} full evaluations, {} rejected verifications, {} steps handed back",
-        c.steps, c.top_iterations, c.full_evaluations, c.rejected, c.fallbacks
-    );
     let iters = (s1.iterations - s0.iterations).max(1);
+    if p1.ranks > 1 {
+        let per_it = |x: u64, y: u64| (x - y) as f64 / iters as f64;
+        println!(
+            "          rank {} of {}: {} of {} blocks ({} interior equations), peak {:.0} MiB, per iteration {:.0} B sent, {:.0} B received, {:.0} collectives, {:.1} ms in them",
+            crate::sidecar::launcher_rank().unwrap_or(0),
+            p1.ranks,
+            p1.owned_blocks,
+            p1.blocks,
+            p1.owned_interior_equations,
+            crate::bench::peak_memory_mib().unwrap_or(f64::NAN),
+            per_it(p1.comm.bytes_sent, p0.comm.bytes_sent),
+            per_it(p1.comm.bytes_received, p0.comm.bytes_received),
+            per_it(p1.comm.collectives, p0.comm.collectives),
+            1e3 * (p1.comm.time - p0.comm.time) / iters as f64,
+        );
+    }
+    if crate::ranks::writes_outputs() {
+        println!(
+            "          condensed Newton (whole run): {} steps, {} top-system iterations, {} full evaluations, {} rejected verifications, {} steps handed back",
+            c.steps, c.top_iterations, c.full_evaluations, c.rejected, c.fallbacks
+        );
+    }
     let per = |x: f64| x / iters as f64;
     let search = a1.search - a0.search;
     let elements = a1.elements - a0.elements;
@@ -208,9 +236,23 @@ pub fn run(
     geometry: crate::framework::model::Geometry,
     out: &Path,
 ) -> Result<Vec<PhaseRow>, FemError> {
-    std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
+    let ranks = crate::ranks::launcher_exchange("bench --case train-bridge")?;
+    // Under a launcher only rank 0 prints the table and writes the files.
+    let root = crate::ranks::writes_outputs();
+    if root {
+        std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
+    } else {
+        crate::progress::set_quiet(true);
+    }
     let mut rows = Vec::new();
-    println!(
+    macro_rules! say {
+        ($($t:tt)*) => {
+            if root {
+                println!($($t)*);
+            }
+        };
+    }
+    say!(
         "train-bridge benchmark: {cars} carriage(s), Δt = {dt} s, {steps} steps per size, {} threads, vehicle geometry {}",
         crate::framework::parallel::threads(0),
         geometry.name()
@@ -226,14 +268,14 @@ pub fn run(
         }
         bar.set(k as u64);
         let case = case_for(n, cars, dt, geometry);
-        let r = match measure(&case, steps) {
+        let r = match measure(&case, steps, ranks.clone()) {
             Err(FemError::Interrupted { .. }) => {
                 stopped = true;
                 break;
             }
             r => r?,
         };
-        println!(
+        say!(
             "{:>9} DOF ({} spans, h = {:.3} m): build {:.1} s, setup {:.1} s, {:.2} iterations/step, median {:.1} ms/iteration, {:.1} ms/step, {:.1} promotions/step, {} block refactorizations, peak {:.0} MiB",
             r.dofs,
             r.spans,
@@ -252,7 +294,7 @@ pub fn run(
             .zip(r.phases)
             .map(|(k, v)| format!("{k} {:.1}", 1e3 * v))
             .collect();
-        println!("          per iteration (ms): {}", parts.join(", "));
+        say!("          per iteration (ms): {}", parts.join(", "));
         rows.push(r);
         bar.set(rows.len() as u64);
     }
@@ -261,13 +303,15 @@ pub fn run(
             .iter()
             .map(|r| (r.dofs as f64, r.median_iteration))
             .collect();
-        println!(
+        say!(
             "time per iteration grows as DOF^{:.2} (least squares over {} sizes)",
             growth_exponent(&pts),
             rows.len()
         );
     }
-    write(&rows, out)?;
+    if root {
+        write(&rows, out)?;
+    }
     if stopped {
         return Err(FemError::InterruptedAfter {
             after: format!("{} of {} sizes", rows.len(), sizes.len()),

@@ -1148,12 +1148,56 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
         },
         Some(file) => Quake::File(file.to_path_buf()),
     };
+    if let Some(s) = a.opt("solver") {
+        use crate::framework::model::SolverChoice;
+        c.solver = match s {
+            "auto" => SolverChoice::Auto,
+            "direct" => SolverChoice::Direct,
+            "partitioned" => SolverChoice::Partitioned,
+            "low_rank" => SolverChoice::LowRank,
+            other => {
+                return Err(FemError::input(
+                    "command line",
+                    format!(
+                        "--solver {other}: use auto (the default), direct, partitioned or low_rank"
+                    ),
+                ))
+            }
+        };
+    }
     let steps = count("steps")?;
     let out = a
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out/train_bridge"));
+    let block_size = count("block-size")?;
+    let ranks = crate::ranks::launcher_exchange("train-bridge")?;
     let mut m = build(&c)?;
+    if let Some(b) = block_size {
+        m.driver
+            .set_partition_options(crate::solvers::partition::PartitionOptions {
+                block_size: b,
+                threads: 0,
+            });
+    }
+    if let Some(ex) = ranks {
+        let size = ex.size();
+        if m.driver.partition_stats().is_none() {
+            return Err(FemError::input(
+                "command line",
+                format!("`railfem train-bridge` across {size} ranks shares the partitioned solver's blocks, but this {}-DOF model uses another solver; give `--solver partitioned`", m.dofs),
+            ));
+        }
+        m.driver.set_exchange(ex)?;
+    }
+    // Under a launcher rank 0 alone prints and writes the outputs; the others compute.
+    if !crate::ranks::writes_outputs() {
+        crate::progress::set_quiet(true);
+        if !a.flags.iter().any(|f| f == "build-only") {
+            run(&mut m, &c, steps, None)?;
+        }
+        return Ok(0);
+    }
     if let (Some(q), Some(p)) = (&m.quake, a.path("quake-out")) {
         q.write_csv(p)?;
     }
@@ -1195,6 +1239,12 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
         r.wall,
         out.display()
     );
+    if let Some(p) = m.driver.partition_stats().filter(|p| p.ranks > 1) {
+        println!(
+            "partitioned solver across {} ranks: rank 0 owns {} of {} blocks; it sent {} B and received {} B in {} collectives",
+            p.ranks, p.owned_blocks, p.blocks, p.comm.bytes_sent, p.comm.bytes_received, p.comm.collectives
+        );
+    }
     println!("wheel   Q_static(N)   max Y/Q   t(s)   max dQ/Q   t(s)   min Q(N)   t(s)");
     for (i, e) in r.wheels.iter().enumerate() {
         println!(

@@ -379,6 +379,14 @@ pub struct TrainBridgeCmd {
     /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
     #[arg(long, value_name = "linear|nonlinear")]
     pub geometry: Option<OsString>,
+    /// Linear solver of the Newton iterations: auto (partitioned from 50 000 equations),
+    /// direct, partitioned or low_rank [default: auto]. Under `mpirun -n P` (P > 1, build
+    /// with `--features mpi`) the partitioned solver's blocks are shared among the ranks.
+    #[arg(long, value_name = "auto|direct|partitioned|low_rank")]
+    pub solver: Option<OsString>,
+    /// Target interior equations per block of the partitioned solver [default: 3000].
+    #[arg(long, value_name = "N")]
+    pub block_size: Option<OsString>,
     /// Output directory: wheels.csv, midspan.csv, summary.csv, run.json
     /// [default: out/train_bridge].
     #[arg(long, value_name = "DIR")]

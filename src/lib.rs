@@ -27,6 +27,7 @@ pub mod pareto;
 pub mod pareto_peer;
 pub mod pareto_train;
 pub mod progress;
+pub mod ranks;
 pub mod rolling_contact;
 pub mod sidecar;
 pub mod small_models;

@@ -113,6 +113,14 @@ pub fn launcher_rank() -> Option<u32> {
         .find_map(|k| std::env::var(k).ok()?.trim().parse().ok())
 }
 
+/// Ranks in the job when an MPI launcher started this process (the launcher's size
+/// variable), else `None`.
+pub fn launcher_size() -> Option<u32> {
+    ["OMPI_COMM_WORLD_SIZE", "PMI_SIZE"]
+        .iter()
+        .find_map(|k| std::env::var(k).ok()?.trim().parse().ok())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

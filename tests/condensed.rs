@@ -8,6 +8,8 @@
 //! every step shows that every step ended at the same iterate, and the counters show that
 //! the condensed path did the steps (it did not hand them back to the full one).
 
+mod common;
+
 use railfem::framework::model::{Geometry, SolverChoice};
 use railfem::solvers::partition::PartitionOptions;
 use railfem::train_bridge::{build, TrainBridgeCase};
@@ -44,27 +46,10 @@ fn history(
     (out, iters, d.condensed_stats(), promotions)
 }
 
-/// Largest difference over all steps, relative to the largest value, for q, v and a.
-fn worst(a: &[[Vec<f64>; 3]], b: &[[Vec<f64>; 3]]) -> [f64; 3] {
-    let mut r = [0.0; 3];
-    for (k, rk) in r.iter_mut().enumerate() {
-        let (mut scale, mut diff) = (0.0f64, 0.0f64);
-        for (x, y) in a.iter().zip(b) {
-            for (u, w) in x[k].iter().zip(&y[k]) {
-                scale = scale.max(u.abs());
-                diff = diff.max((u - w).abs());
-            }
-        }
-        assert!(scale > 0.0);
-        *rk = diff / scale;
-    }
-    r
-}
-
 fn compare(name: &str, case: &TrainBridgeCase, block: usize, steps: usize) -> usize {
     let (full, it_full, s_full, _) = history(case, false, block, steps);
     let (cond, it_cond, s_cond, promotions) = history(case, true, block, steps);
-    let e = worst(&full, &cond);
+    let e = common::worst_relative(&full, &cond);
     println!(
         "{name}: {steps} steps, iterations {it_full} (full) / {it_cond} (condensed), relative differences q {:.1e}, v {:.1e}, a {:.1e}; {promotions} promotions; {s_cond:?}",
         e[0], e[1], e[2]

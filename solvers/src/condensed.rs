@@ -423,7 +423,7 @@ impl Driver {
                     .add_variable_inertia_damping(&w.a_w, &w.v_w, &mut in_var, &mut damp_var);
                 let nt_top = top.len();
                 let delta: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
-                let p = self.partition.as_ref().expect("partitioned");
+                let p = self.partition.as_mut().expect("partitioned");
                 let mut rt = vec![0.0; nt_top];
                 p.top_constant_times(&delta, &mut rt);
                 // rt = g − S_A·δ + (A_TT·δ − Δc_T) − Δv_T

@@ -261,6 +261,8 @@ pub struct Driver {
     pub(crate) condensed: crate::condensed::CondensedCache,
     /// The step attempt's vectors, kept between steps.
     pub(crate) work: StepWork,
+    /// The ranks the partitioned solver shares its blocks with ([`Driver::set_exchange`]).
+    exchange: Option<std::sync::Arc<dyn crate::exchange::Exchange>>,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -351,6 +353,7 @@ impl Driver {
             condense_residual: true,
             condensed: Default::default(),
             work: StepWork::default(),
+            exchange: None,
         })
     }
 
@@ -386,9 +389,44 @@ impl Driver {
     /// direct mode. Takes effect at the next factorization, which rebuilds every block.
     pub fn set_partition_options(&mut self, options: PartitionOptions) {
         if self.partition.is_some() {
-            self.partition = Some(Partitioned::new(self.asm.symmetric(), options));
+            self.partition = Some(self.new_partitioned(self.asm.symmetric(), options));
             self.factored = None;
         }
+    }
+
+    /// A partitioned solver, sharing its blocks with the driver's ranks if it has some.
+    fn new_partitioned(&self, symmetric: bool, options: PartitionOptions) -> Partitioned {
+        let mut p = Partitioned::new(symmetric, options);
+        if let Some(ex) = &self.exchange {
+            p.set_exchange(ex.clone());
+        }
+        p
+    }
+
+    /// Runs the partitioned solver across the ranks of `exchange`
+    /// ([`crate::partition`], *Across ranks*): every rank builds the same model and calls
+    /// the same driver methods in the same order; each factors and condenses its share of
+    /// the blocks, rank 0 the top system. Every rank ends each step with the whole state, the
+    /// same as one process's. An error if the driver does not use the partitioned solver
+    /// (the direct and low-rank solvers are not shared); call it before the first step.
+    pub fn set_exchange(
+        &mut self,
+        exchange: std::sync::Arc<dyn crate::exchange::Exchange>,
+    ) -> Result<(), FemError> {
+        let Some(p) = self.partition.as_mut() else {
+            return Err(FemError::input(
+                &self.model.origin,
+                format!(
+                    "the solve across {} ranks needs the partitioned solver, and this model uses the {} one; set `solver = \"partitioned\"` in [analysis] (or run one process)",
+                    exchange.size(),
+                    if self.lowrank.is_some() { "low-rank" } else { "direct" }
+                ),
+            ));
+        };
+        p.set_exchange(exchange.clone());
+        self.exchange = Some(exchange);
+        self.factored = None;
+        Ok(())
     }
 
     /// Replaces the linear solver of the direct mode (the dense or sparse one the driver
@@ -638,7 +676,7 @@ impl Driver {
             }
         }
         if self.asm.off_pattern() {
-            let mut p = Partitioned::new(true, PartitionOptions::default());
+            let mut p = self.new_partitioned(true, PartitionOptions::default());
             p.factor(&m, [0.0, 1.0, 0.0], &variable_mass)
                 .map_err(|e| self.singular(e))?;
             p.solve_in_place(&mut rhs).map_err(|e| self.singular(e))?;

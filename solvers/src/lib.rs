@@ -15,6 +15,7 @@ pub mod condensed;
 pub mod dense;
 pub mod driver;
 pub mod energy;
+pub mod exchange;
 pub mod integrator;
 pub mod linear;
 pub mod lowrank;

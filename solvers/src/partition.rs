@@ -37,11 +37,30 @@
 //!
 //! `A` must be symmetric positive definite on every block interior (any transient: the mass
 //! term makes it so); `V` may be unsymmetric (the top system then uses LU).
+//!
+//! **Across ranks** ([`Partitioned::set_exchange`], [`crate::exchange`]). The three sums
+//! over `b` above are independent per block, so the blocks can be shared among processes:
+//! rank `k` of `P` owns a contiguous range of blocks, those whose middle falls in the `k`-th
+//! `P`-th of the interior equations (a rule of the structure alone, so every rank finds the
+//! same split without talking). Every rank holds the same `A` and the same variable triplets
+//! (the model and its assembly are replicated), hence knows the split, the promoted sets
+//! and the top set. Per factorization each rank factors and promotes its own blocks and
+//! sends rank 0 what changed of their condensation (`C` after a new `A`, `G⁻¹` and `W_P`
+//! after a new promotion); rank 0 forms `S` from them, in block order, as one process does,
+//! factors it and sends the outcome. Per solve each rank condenses its blocks' right-hand
+//! sides onto their boundaries and sends those `|B_b| + |P_b|` numbers to rank 0, which
+//! sums them in block order, solves the top system and sends `x_T` to every rank; each
+//! rank recovers its interiors and every rank receives all of them, so that all ranks end
+//! with the whole solution. The operations and their order are those of one process: the
+//! answers are the same to the last bit (tests/distributed.rs checks 1e-12).
 
 use crate::dense::DenseLu;
+use crate::exchange::{decode_status, encode_status, Comm, CommStats, Exchange};
 use crate::linear::{solver_for, LinearSolver, SolverError, SparseCholesky};
 use railfem_framework::parallel::{map_mut as par_each, threads};
 use railfem_framework::sparse::CscMatrix;
+use std::ops::Range;
+use std::sync::Arc;
 use std::time::Instant;
 
 const NONE: u32 = u32::MAX;
@@ -91,6 +110,14 @@ pub struct PartitionStats {
     pub time_top: f64,
     /// Seconds spent in solves.
     pub time_solve: f64,
+    /// Ranks the solver runs on (1: one process).
+    pub ranks: usize,
+    /// Blocks this rank owns (factors, condenses and back-substitutes).
+    pub owned_blocks: usize,
+    /// Interior equations of the owned blocks.
+    pub owned_interior_equations: usize,
+    /// This rank's messages (zero in one process).
+    pub comm: CommStats,
 }
 
 /// One block's base factor (no promotion) and condensed correction.
@@ -122,8 +149,28 @@ struct Promotion {
 struct Block {
     /// The block's interior equations (global, sorted).
     all: Vec<usize>,
+    /// Top equations coupled to the interior (global, sorted): known on every rank, from
+    /// the pattern alone.
+    boundary: Vec<usize>,
+    /// The promoted equations of the last factorization (global, sorted), on every rank.
+    promoted: Vec<usize>,
+    /// Owner only: the base factor and the promotion.
     base: Option<BlockState>,
     promotion: Option<Promotion>,
+    /// Owner on a rank other than 0: the base correction, or the promotion, changed since
+    /// they were last sent to rank 0.
+    base_unsent: bool,
+    promotion_unsent: bool,
+}
+
+/// Rank 0's copy of a block another rank owns: what the top system needs of it.
+#[derive(Default, Clone)]
+struct Received {
+    /// `C = A_BI·A_II⁻¹·A_IB` (`|B| × |B|`).
+    correction: Vec<f64>,
+    /// `G⁻¹` (`|P| × |P|`) and `W_P` (`|P| × |B|`); empty without promoted equations.
+    g_inv: Vec<f64>,
+    w_p: Vec<f64>,
 }
 
 impl Block {
@@ -174,6 +221,13 @@ pub struct Partitioned {
     /// Counts changes of the top set (a promotion changed which equations are on top).
     top_generation: u64,
     stats: PartitionStats,
+    /// The other ranks, when the blocks are shared among processes (module documentation,
+    /// *Across ranks*); `None`: one process owns every block.
+    comm: Option<Comm>,
+    /// Each rank's blocks (contiguous, in block order).
+    ranges: Vec<Range<usize>>,
+    /// Rank 0 only: the blocks of the other ranks, as last received.
+    received: Vec<Received>,
 }
 
 impl Partitioned {
@@ -197,7 +251,36 @@ impl Partitioned {
             constant_stale: true,
             top_generation: 0,
             stats: PartitionStats::default(),
+            comm: None,
+            ranges: Vec::new(),
+            received: Vec::new(),
         }
+    }
+
+    /// Shares the blocks among the ranks of `exchange` (module documentation, *Across
+    /// ranks*): every rank of the job must call the solver's methods in the same order with
+    /// the same arguments. Takes effect at the next factorization, which builds the structure
+    /// anew.
+    pub fn set_exchange(&mut self, exchange: Arc<dyn Exchange>) {
+        self.comm = (exchange.size() > 1).then(|| Comm::new(exchange));
+        self.pattern_id = 0;
+        self.n = 0;
+        self.key = None;
+        self.top_factored = false;
+    }
+
+    /// The blocks this rank owns (all of them in one process).
+    pub fn owned_blocks(&self) -> Range<usize> {
+        self.owned()
+    }
+
+    fn owned(&self) -> Range<usize> {
+        let r = self.comm.as_ref().map_or(0, Comm::rank);
+        self.ranges.get(r).cloned().unwrap_or(0..self.blocks.len())
+    }
+
+    fn is_root(&self) -> bool {
+        self.comm.as_ref().is_none_or(Comm::is_root)
     }
 
     /// The top equations of the last factorization (global, sorted).
@@ -230,26 +313,43 @@ impl Partitioned {
     }
 
     /// `out = S_A·x` on the top equations: the constant part of the last top system (the
-    /// Schur complement of `A` onto the top set, without the variable elements).
-    pub fn top_constant_times(&self, x: &[f64], out: &mut [f64]) {
+    /// Schur complement of `A` onto the top set, without the variable elements). Across
+    /// ranks rank 0, which holds the top system, forms it and sends it to the others.
+    pub fn top_constant_times(&mut self, x: &[f64], out: &mut [f64]) {
         out.iter_mut().for_each(|v| *v = 0.0);
-        let Some(c) = &self.top_cache else {
-            return;
-        };
-        let m = &c.matrix;
-        for (j, &xj) in x.iter().enumerate().take(m.n) {
-            if xj == 0.0 {
-                continue;
+        if self.is_root() {
+            if let Some(c) = &self.top_cache {
+                let m = &c.matrix;
+                for (j, &xj) in x.iter().enumerate().take(m.n) {
+                    if xj == 0.0 {
+                        continue;
+                    }
+                    for p in m.col_ptr[j]..m.col_ptr[j + 1] {
+                        out[m.row_idx[p]] += c.constant[p] * xj;
+                    }
+                }
             }
-            for p in m.col_ptr[j]..m.col_ptr[j + 1] {
-                out[m.row_idx[p]] += c.constant[p] * xj;
-            }
+        }
+        if let Some(comm) = &mut self.comm {
+            let mut v = if comm.is_root() {
+                out.to_vec()
+            } else {
+                Vec::new()
+            };
+            comm.broadcast(&mut v);
+            out.copy_from_slice(&v);
         }
     }
 
-    /// Work counters and times.
+    /// Work counters and times (of this rank's share of the work).
     pub fn stats(&self) -> PartitionStats {
-        self.stats
+        let mut s = self.stats;
+        s.ranks = self.comm.as_ref().map_or(1, Comm::size);
+        let owned = self.owned();
+        s.owned_blocks = owned.len();
+        s.owned_interior_equations = self.blocks[owned].iter().map(|b| b.all.len()).sum();
+        s.comm = self.comm.as_ref().map(|c| c.stats).unwrap_or_default();
+        s
     }
 
     /// Splits the equations of `a` into blocks and the base top set.
@@ -338,6 +438,23 @@ impl Partitioned {
             }
         }
         self.base_top.sort_unstable();
+        // Each block's boundary, from the pattern: the rows outside its interior in its
+        // interior's columns (separator equations: interiors of two blocks never couple).
+        for (b, blk) in self.blocks.iter_mut().enumerate() {
+            let mut boundary: Vec<usize> = blk
+                .all
+                .iter()
+                .flat_map(|&g| a.row_idx[a.col_ptr[g]..a.col_ptr[g + 1]].iter().copied())
+                .filter(|&r| self.block_of[r] != b as u32)
+                .collect();
+            boundary.sort_unstable();
+            boundary.dedup();
+            blk.boundary = boundary;
+        }
+        let sizes: Vec<usize> = self.blocks.iter().map(|b| b.all.len()).collect();
+        let ranks = self.comm.as_ref().map_or(1, Comm::size);
+        self.ranges = ownership(&sizes, ranks);
+        self.received = vec![Received::default(); self.blocks.len()];
         self.stats.blocks = self.blocks.len();
         self.stats.interior_equations = self.blocks.iter().map(|b| b.all.len()).sum();
         self.stats.base_top_equations = self.base_top.len();
@@ -351,15 +468,36 @@ impl Partitioned {
         }
         self.blocks.push(Block {
             all,
+            boundary: Vec::new(),
+            promoted: Vec::new(),
             base: None,
             promotion: None,
+            base_unsent: false,
+            promotion_unsent: false,
         });
     }
 
     /// Factors `a + V` where `V` is given by `(row, column, value)` triplets and `key`
     /// identifies `a`'s values (e.g. the integrator coefficients): block factors are kept
-    /// while `key` and `a`'s pattern are unchanged.
+    /// while `key` and `a`'s pattern are unchanged. Across ranks each rank factors and
+    /// promotes its own blocks, sends what changed of their condensation to rank 0, which
+    /// forms and factors the top system; every rank returns the same outcome.
     pub fn factor(
+        &mut self,
+        a: &CscMatrix,
+        key: [f64; 3],
+        variable: &[(usize, usize, f64)],
+    ) -> Result<(), SolverError> {
+        let r = self.factor_inner(a, key, variable);
+        if r.is_err() {
+            // Some blocks may lack their base factor now (on some rank): start afresh at the
+            // next factorization, the same way on every rank.
+            self.key = None;
+        }
+        r
+    }
+
+    fn factor_inner(
         &mut self,
         a: &CscMatrix,
         key: [f64; 3],
@@ -375,7 +513,10 @@ impl Partitioned {
             for b in &mut self.blocks {
                 b.base = None;
                 b.promotion = None;
+                b.promoted.clear();
+                b.promotion_unsent = false;
             }
+            self.received = vec![Received::default(); self.blocks.len()];
             self.key = Some(key);
         }
         let n = self.n;
@@ -401,48 +542,72 @@ impl Partitioned {
             wanted[b as usize].push(e);
         }
         let nt = threads(self.options.threads);
-        // Base factors of blocks that have none (the first factorization, a new `A`).
+        let owned = self.owned();
+        let mut local: Result<(), SolverError> = Ok(());
+        // Base factors of owned blocks that have none (the first factorization, a new `A`).
         let t0 = Instant::now();
-        let mut missing: Vec<(usize, &[usize])> = self
-            .blocks
+        let mut missing: Vec<(usize, &[usize], &[usize])> = self.blocks[owned.clone()]
             .iter()
             .enumerate()
             .filter(|(_, b)| b.base.is_none())
-            .map(|(i, b)| (i, &b.all[..]))
+            .map(|(i, b)| (owned.start + i, &b.all[..], &b.boundary[..]))
             .collect();
         let block_of = &self.block_of;
-        let results = par_each(&mut missing, nt, |(_, all)| block_state(a, all, block_of));
+        let results = par_each(&mut missing, nt, |(_, all, boundary)| {
+            block_state(a, all, boundary, block_of)
+        });
         let targets: Vec<usize> = missing.iter().map(|m| m.0).collect();
         drop(missing);
-        self.constant_stale |= !targets.is_empty();
         self.stats.block_factorizations += targets.len();
         for (bi, r) in targets.into_iter().zip(results) {
-            self.blocks[bi].base = Some(r?);
+            match r {
+                Ok(st) => {
+                    self.blocks[bi].base = Some(st);
+                    self.blocks[bi].base_unsent = true;
+                }
+                Err(e) => {
+                    if local.is_ok() {
+                        local = Err(e);
+                    }
+                }
+            }
         }
         self.stats.time_blocks += t0.elapsed().as_secs_f64();
-        // Promotions whose set changed.
+        // Promotions whose set changed: known on every rank (the promoted sets are), formed
+        // by the owner.
         let t0 = Instant::now();
-        let mut jobs: Vec<(&mut Block, Vec<usize>)> = self
-            .blocks
-            .iter_mut()
-            .zip(wanted)
-            .filter(|(b, want)| match (&b.promotion, want.is_empty()) {
-                (None, true) => false,
-                (Some(p), false) => p.promoted != *want,
-                _ => true,
-            })
-            .collect();
-        let changed = jobs.iter().filter(|(_, w)| !w.is_empty()).count();
-        self.constant_stale |= !jobs.is_empty();
-        let results = par_each(&mut jobs, nt, |(blk, want)| {
-            if want.is_empty() {
-                return Ok(None);
+        let mut jobs: Vec<(&mut Block, Vec<usize>)> = Vec::new();
+        for (b, (blk, want)) in self.blocks.iter_mut().zip(wanted).enumerate() {
+            if blk.promoted == want {
+                continue;
             }
-            let base = blk.base.as_mut().expect("base factored above");
-            promotion(base, std::mem::take(want)).map(Some)
-        });
-        for ((blk, _), r) in jobs.iter_mut().zip(results) {
-            blk.promotion = r?;
+            self.constant_stale = true;
+            blk.promoted.clone_from(&want);
+            if owned.contains(&b) {
+                jobs.push((blk, want));
+            }
+        }
+        let changed = jobs.iter().filter(|(_, w)| !w.is_empty()).count();
+        if local.is_ok() {
+            let results = par_each(&mut jobs, nt, |(blk, want)| {
+                if want.is_empty() {
+                    return Ok(None);
+                }
+                let base = blk.base.as_mut().expect("base factored above");
+                promotion(base, std::mem::take(want)).map(Some)
+            });
+            for ((blk, _), r) in jobs.iter_mut().zip(results) {
+                blk.promotion_unsent = true;
+                match r {
+                    Ok(p) => blk.promotion = p,
+                    Err(e) => {
+                        blk.promotion = None;
+                        if local.is_ok() {
+                            local = Err(e);
+                        }
+                    }
+                }
+            }
         }
         drop(jobs);
         self.stats.promotions += changed;
@@ -470,6 +635,98 @@ impl Partitioned {
             self.top_generation += 1;
             self.constant_stale = true;
         }
+        let nt_top = self.top.len();
+        self.stats.top_equations = nt_top;
+        // Across ranks: the owners' changed condensations to rank 0 (with their outcome).
+        if self.comm.is_some() && self.constant_stale {
+            local = self.send_condensations(local);
+        }
+        let r = if !self.is_root() {
+            Ok(())
+        } else if local.is_err() {
+            local
+        } else {
+            self.factor_top(a, variable)
+        };
+        let r = match &mut self.comm {
+            Some(comm) => {
+                let mut status = if comm.is_root() {
+                    encode_status(&r)
+                } else {
+                    Vec::new()
+                };
+                comm.broadcast(&mut status);
+                decode_status(&status).0
+            }
+            None => r,
+        };
+        self.constant_stale = false;
+        self.stats.time_top += t1.elapsed().as_secs_f64();
+        r?;
+        self.stats.top_factorizations += 1;
+        self.top_factored = true;
+        Ok(())
+    }
+
+    /// Across ranks: every rank other than 0 sends its owned blocks' condensations that
+    /// changed since it last sent them, `[block, 0, C]` for a new base correction and
+    /// `[block, 1, G⁻¹, W_P]` for a new promotion (sizes known on rank 0 from the boundary
+    /// and the promoted set), after its outcome; rank 0 keeps them. Returns the job's first
+    /// failure in rank order (on rank 0; the others return their own).
+    fn send_condensations(&mut self, local: Result<(), SolverError>) -> Result<(), SolverError> {
+        let comm = self.comm.as_mut().expect("across ranks");
+        let mut msg = encode_status(&local);
+        if !comm.is_root() && local.is_ok() {
+            let owned = self.ranges[comm.rank()].clone();
+            for (b, blk) in self.blocks[owned.clone()].iter_mut().enumerate() {
+                let b = (owned.start + b) as f64;
+                if std::mem::take(&mut blk.base_unsent) {
+                    msg.extend([b, 0.0]);
+                    msg.extend_from_slice(&blk.base.as_ref().expect("owned").correction);
+                }
+                if std::mem::take(&mut blk.promotion_unsent) {
+                    msg.extend([b, 1.0]);
+                    if let Some(p) = &blk.promotion {
+                        msg.extend_from_slice(&p.g_inv);
+                        msg.extend_from_slice(&p.w_p);
+                    }
+                }
+            }
+        }
+        let Some(pieces) = comm.gather(&msg) else {
+            return local;
+        };
+        let mut first = local;
+        for piece in pieces.iter().skip(1) {
+            let (status, mut at) = decode_status(piece);
+            if first.is_ok() {
+                first = status;
+            }
+            while at < piece.len() {
+                let b = piece[at] as usize;
+                let (nb, np) = (self.blocks[b].boundary.len(), self.blocks[b].promoted.len());
+                let rec = &mut self.received[b];
+                at += 2;
+                if piece[at - 1] == 0.0 {
+                    rec.correction = piece[at..at + nb * nb].to_vec();
+                    at += nb * nb;
+                } else {
+                    rec.g_inv = piece[at..at + np * np].to_vec();
+                    at += np * np;
+                    rec.w_p = piece[at..at + np * nb].to_vec();
+                    at += np * nb;
+                }
+            }
+        }
+        first
+    }
+
+    /// Forms and factors the top system (rank 0 across ranks).
+    fn factor_top(
+        &mut self,
+        a: &CscMatrix,
+        variable: &[(usize, usize, f64)],
+    ) -> Result<(), SolverError> {
         let nt_top = self.top.len();
         let ti = &self.top_index;
         let vtrip: Vec<(u32, u32, f64)> = variable
@@ -534,7 +791,6 @@ impl Partitioned {
             for (&p, t) in cache.positions.iter().zip(&ctrip) {
                 cache.constant[p] += t.2;
             }
-            self.constant_stale = false;
         }
         let cache = self.top_cache.as_mut().expect("set above");
         // Constant part first, then the variable triplets in order: the same sums as
@@ -554,22 +810,17 @@ impl Partitioned {
             self.top_dense = dense;
         }
         let r = self.top_solver.factor(s);
-        self.stats.time_top += t1.elapsed().as_secs_f64();
-        self.stats.top_equations = nt_top;
         r.map_err(|e| match e {
             SolverError::Singular { equation } => SolverError::Singular {
                 equation: self.top.get(equation).copied().unwrap_or(equation),
             },
             other => other,
-        })?;
-        self.stats.top_factorizations += 1;
-        self.top_factored = true;
-        Ok(())
+        })
     }
 
     /// The constant part of the top system as `(row, column, value)` triplets in top
     /// numbering: `A` between base top equations and each block's condensation (module
-    /// documentation).
+    /// documentation), the owned blocks' from their factors, the others' as received.
     fn constant_triplets(&self, a: &CscMatrix) -> Vec<(usize, usize, f64)> {
         let mut trip: Vec<(usize, usize, f64)> = Vec::new();
         let ti = &self.top_index;
@@ -583,55 +834,32 @@ impl Partitioned {
                 }
             }
         }
-        for blk in &self.blocks {
-            let st = blk.state();
-            let nb = st.boundary.len();
-            // S_BB − A_BB = −C (+ W_Pᵀ·G⁻¹·W_P below).
-            for (cj, &gj) in st.boundary.iter().enumerate() {
-                let tj = ti[gj] as usize;
-                for (ci, &gi) in st.boundary.iter().enumerate() {
-                    let v = st.correction[ci + cj * nb];
-                    if v != 0.0 {
-                        trip.push((ti[gi] as usize, tj, -v));
-                    }
+        let owned = self.owned();
+        for (b, blk) in self.blocks.iter().enumerate() {
+            let (correction, g_inv, w_p) = if owned.contains(&b) {
+                let st = blk.state();
+                match &blk.promotion {
+                    Some(p) => (&st.correction[..], &p.g_inv[..], &p.w_p[..]),
+                    None => (&st.correction[..], &[][..], &[][..]),
                 }
-            }
-            let Some(pr) = &blk.promotion else {
-                continue;
+            } else {
+                let r = &self.received[b];
+                (&r.correction[..], &r.g_inv[..], &r.w_p[..])
             };
-            let np = pr.promoted.len();
-            // H = G⁻¹·W_P (|P| × |B|).
-            let mut h = vec![0.0; np * nb];
-            for j in 0..nb {
-                for k in 0..np {
-                    h[k + j * np] = (0..np)
-                        .map(|l| pr.g_inv[k + l * np] * pr.w_p[l + j * np])
-                        .sum();
-                }
-            }
-            for (k, &gk) in pr.promoted.iter().enumerate() {
-                let tk = ti[gk] as usize;
-                for (l, &gl) in pr.promoted.iter().enumerate() {
-                    trip.push((ti[gl] as usize, tk, pr.g_inv[l + k * np]));
-                }
-                for (j, &gj) in st.boundary.iter().enumerate() {
-                    let tj = ti[gj] as usize;
-                    let v = h[k + j * np];
-                    trip.push((tk, tj, v));
-                    trip.push((tj, tk, v));
-                }
-            }
-            for (cj, &gj) in st.boundary.iter().enumerate() {
-                let tj = ti[gj] as usize;
-                for (ci, &gi) in st.boundary.iter().enumerate() {
-                    let v: f64 = (0..np).map(|k| pr.w_p[k + ci * np] * h[k + cj * np]).sum();
-                    trip.push((ti[gi] as usize, tj, v));
-                }
-            }
+            let np = blk.promoted.len();
+            debug_assert_eq!(g_inv.len(), np * np, "block {b}'s promotion");
+            block_triplets(
+                ti,
+                &blk.boundary,
+                &blk.promoted,
+                correction,
+                g_inv,
+                w_p,
+                &mut trip,
+            );
         }
         trip
     }
-
     /// Solves `(A + V)·x = b` in place with the last factorization: the interiors'
     /// right-hand sides condensed onto the top ([`Partitioned::condense_rhs`]), the top
     /// solve ([`Partitioned::solve_top`]), the interiors recovered
@@ -667,15 +895,18 @@ impl Partitioned {
     /// The forward half of a solve: `b`'s block interiors condensed onto the top equations,
     /// `g_T = b_T − Σ_b A_{T I_b}·A_{I_b I_b}⁻¹·b_{I_b}` (with the promoted equations' own
     /// form, module documentation), returned in top numbering ([`Partitioned::top_equations`]).
-    /// One triangular solve pair per block, in parallel.
+    /// One triangular solve pair per block, in parallel. Across ranks each rank condenses
+    /// its blocks and sends the pieces (`|B_b| + |P_b|` numbers a block) to rank 0, which
+    /// sums them in block order, as one process does, and sends `g_T` to every rank.
     pub fn condense_rhs(&mut self, b: &[f64]) -> Result<Vec<f64>, SolverError> {
         self.check_ready(b.len())?;
         let t0 = Instant::now();
         let nt = threads(self.options.threads);
         let rhs: &[f64] = b;
+        let owned = self.owned();
         // Condense the interiors' right-hand sides onto their boundaries (and promoted
         // equations).
-        let parts = par_each(&mut self.blocks, nt, |blk| {
+        let parts = par_each(&mut self.blocks[owned], nt, |blk| {
             let Block {
                 base, promotion, ..
             } = blk;
@@ -701,23 +932,72 @@ impl Partitioned {
             }
             Ok::<_, SolverError>((c, u))
         });
-        let mut xt: Vec<f64> = self.top.iter().map(|&i| b[i]).collect();
-        for (blk, part) in self.blocks.iter().zip(parts) {
-            let (c, u) = part?;
-            for (&g, c) in blk.state().boundary.iter().zip(c) {
-                xt[self.top_index[g] as usize] -= c;
-            }
-            if let Some(pr) = &blk.promotion {
-                for (&g, u) in pr.promoted.iter().zip(u) {
-                    xt[self.top_index[g] as usize] = u;
+        let xt = if let Some(comm) = &mut self.comm {
+            let local = first_error(&parts);
+            let mut msg = encode_status(&local);
+            if local.is_ok() {
+                for (c, u) in parts.into_iter().flatten() {
+                    msg.extend(c);
+                    msg.extend(u);
                 }
             }
-        }
+            let mut reply = match comm.gather(&msg) {
+                Some(pieces) => {
+                    let mut xt: Vec<f64> = self.top.iter().map(|&i| b[i]).collect();
+                    let mut first = Ok(());
+                    for (r, piece) in pieces.iter().enumerate() {
+                        let (status, mut at) = decode_status(piece);
+                        if status.is_err() {
+                            first = status;
+                            break;
+                        }
+                        for bi in self.ranges[r].clone() {
+                            let blk = &self.blocks[bi];
+                            let (nb, np) = (blk.boundary.len(), blk.promoted.len());
+                            let (c, u) = piece[at..at + nb + np].split_at(nb);
+                            self.add_condensed(&mut xt, bi, c, u);
+                            at += nb + np;
+                        }
+                    }
+                    let mut reply = encode_status(&first);
+                    if first.is_ok() {
+                        reply.extend(xt);
+                    }
+                    reply
+                }
+                None => Vec::new(),
+            };
+            let comm = self.comm.as_mut().expect("across ranks");
+            comm.broadcast(&mut reply);
+            let (status, at) = decode_status(&reply);
+            status?;
+            reply.split_off(at)
+        } else {
+            let mut xt: Vec<f64> = self.top.iter().map(|&i| b[i]).collect();
+            for (bi, part) in parts.into_iter().enumerate() {
+                let (c, u) = part?;
+                self.add_condensed(&mut xt, bi, &c, &u);
+            }
+            xt
+        };
         self.stats.time_solve += t0.elapsed().as_secs_f64();
         Ok(xt)
     }
 
-    /// Solves the factored top system `S·x = g` in place (top numbering).
+    /// Block `bi`'s condensed right-hand side into `g_T`: `−c` on its boundary, `u` as
+    /// the values of its promoted equations.
+    fn add_condensed(&self, xt: &mut [f64], bi: usize, c: &[f64], u: &[f64]) {
+        let blk = &self.blocks[bi];
+        for (&g, c) in blk.boundary.iter().zip(c) {
+            xt[self.top_index[g] as usize] -= c;
+        }
+        for (&g, &u) in blk.promoted.iter().zip(u) {
+            xt[self.top_index[g] as usize] = u;
+        }
+    }
+
+    /// Solves the factored top system `S·x = g` in place (top numbering). Across ranks
+    /// rank 0 solves and sends `x` to every rank.
     pub fn solve_top(&mut self, x: &mut [f64]) -> Result<(), SolverError> {
         if !self.top_factored || x.len() != self.top.len() {
             return Err(SolverError::Failed(format!(
@@ -732,7 +1012,29 @@ impl Partitioned {
             )));
         }
         let t0 = Instant::now();
-        let r = self.top_solver.solve_in_place(x);
+        let r = if self.is_root() {
+            self.top_solver.solve_in_place(x)
+        } else {
+            Ok(())
+        };
+        let r = match &mut self.comm {
+            Some(comm) => {
+                let mut msg = Vec::new();
+                if comm.is_root() {
+                    msg = encode_status(&r);
+                    if r.is_ok() {
+                        msg.extend_from_slice(x);
+                    }
+                }
+                comm.broadcast(&mut msg);
+                let (status, at) = decode_status(&msg);
+                if status.is_ok() {
+                    x.copy_from_slice(&msg[at..]);
+                }
+                status
+            }
+            None => r,
+        };
         self.stats.time_solve += t0.elapsed().as_secs_f64();
         r
     }
@@ -741,7 +1043,9 @@ impl Partitioned {
     /// solve per block): column `k` has the right-hand side `b_k` (`None`: zero) and the
     /// top values `x_T,k`; its interiors `x_I = A_II⁻¹·(b_I − A_IB·x_B)` (with the promoted
     /// equations' form, module documentation) are written into `outs[k]` (added to it when
-    /// `add`). Top entries of `outs`, promoted ones included, are left alone.
+    /// `add`). Top entries of `outs`, promoted ones included, are left alone. Across ranks
+    /// each rank recovers its blocks' interiors and every rank receives all of them (the
+    /// state stays whole on every rank).
     pub fn back_substitute(
         &mut self,
         columns: &[(Option<&[f64]>, &[f64])],
@@ -760,7 +1064,8 @@ impl Partitioned {
         let nt = threads(self.options.threads);
         let nc = columns.len();
         let top_index = &self.top_index;
-        let parts = par_each(&mut self.blocks, nt, |blk| {
+        let owned = self.owned();
+        let parts = par_each(&mut self.blocks[owned.clone()], nt, |blk| {
             let Block {
                 base, promotion, ..
             } = blk;
@@ -809,51 +1114,162 @@ impl Partitioned {
             }
             Ok::<_, SolverError>(z)
         });
-        for (blk, z) in self.blocks.iter().zip(parts) {
-            let z = z?;
-            let interior = &blk.state().interior;
-            let ni = interior.len();
-            // Promoted equations are top equations: their values are the caller's.
-            let promoted = blk.promotion.is_some();
-            for (k, out) in outs.iter_mut().enumerate() {
-                let zk = &z[k * ni..(k + 1) * ni];
-                for (&i, v) in interior.iter().zip(zk) {
-                    if promoted && self.top_index[i] != NONE {
-                        continue;
-                    }
-                    if add {
-                        out[i] += v;
-                    } else {
-                        out[i] = *v;
-                    }
+        if let Some(comm) = &mut self.comm {
+            let local = first_error(&parts);
+            let mut msg = encode_status(&local);
+            if local.is_ok() {
+                for z in parts.into_iter().flatten() {
+                    msg.extend(z);
                 }
+            }
+            let pieces = comm.all_gather(&msg);
+            for piece in &pieces {
+                decode_status(piece).0?;
+            }
+            for (r, piece) in pieces.iter().enumerate() {
+                let mut at = decode_status(piece).1;
+                for bi in self.ranges[r].clone() {
+                    let len = self.blocks[bi].all.len() * nc;
+                    self.write_interiors(bi, &piece[at..at + len], outs, add);
+                    at += len;
+                }
+            }
+        } else {
+            for (bi, z) in owned.zip(parts) {
+                self.write_interiors(bi, &z?, outs, add);
             }
         }
         self.stats.time_solve += t0.elapsed().as_secs_f64();
         Ok(())
     }
-}
 
-/// Factors one block's interior `all` and forms its condensed correction.
-fn block_state(a: &CscMatrix, all: &[usize], block_of: &[u32]) -> Result<BlockState, SolverError> {
-    let interior: Vec<usize> = all.to_vec();
-    let local = |g: usize| interior.binary_search(&g).ok();
-    // Interior pattern and the boundary rows met on the way.
-    let mut cols: Vec<Vec<usize>> = Vec::with_capacity(interior.len());
-    let mut boundary: Vec<usize> = Vec::new();
-    for &g in &interior {
-        let mut c = Vec::new();
-        for p in a.col_ptr[g]..a.col_ptr[g + 1] {
-            let r = a.row_idx[p];
-            match local(r) {
-                Some(l) => c.push(l),
-                None => boundary.push(r),
+    /// Block `bi`'s recovered interiors `z` (`nc` columns) into `outs`, except its
+    /// promoted equations (top equations: their values are the caller's).
+    fn write_interiors(&self, bi: usize, z: &[f64], outs: &mut [&mut [f64]], add: bool) {
+        let blk = &self.blocks[bi];
+        let interior = &blk.all;
+        let ni = interior.len();
+        let promoted = !blk.promoted.is_empty();
+        for (k, out) in outs.iter_mut().enumerate() {
+            let zk = &z[k * ni..(k + 1) * ni];
+            for (&i, v) in interior.iter().zip(zk) {
+                if promoted && self.top_index[i] != NONE {
+                    continue;
+                }
+                if add {
+                    out[i] += v;
+                } else {
+                    out[i] = *v;
+                }
             }
         }
+    }
+}
+
+/// The first failure among the blocks' results, in block order.
+fn first_error<T>(parts: &[Result<T, SolverError>]) -> Result<(), SolverError> {
+    parts
+        .iter()
+        .find_map(|p| p.as_ref().err().cloned())
+        .map_or(Ok(()), Err)
+}
+
+/// Contiguous ranges of blocks, one per rank, balanced by interior equations: block `b`
+/// goes to the rank whose share `[k·N/P, (k+1)·N/P)` of the `N` interior equations holds
+/// the middle of `b`. Deterministic from the sizes, so every rank finds the same split.
+fn ownership(sizes: &[usize], ranks: usize) -> Vec<Range<usize>> {
+    let total: usize = sizes.iter().sum::<usize>().max(1);
+    let mut owner = Vec::with_capacity(sizes.len());
+    let mut before = 0usize;
+    for &s in sizes {
+        let mid = 2 * before + s; // twice the middle, to stay in integers
+        owner.push(((mid * ranks) / (2 * total)).min(ranks - 1));
+        before += s;
+    }
+    (0..ranks)
+        .map(|k| {
+            let lo = owner.partition_point(|&o| o < k);
+            let hi = owner.partition_point(|&o| o <= k);
+            lo..hi
+        })
+        .collect()
+}
+
+/// Pushes one block's condensation onto the top system as triplets (module
+/// documentation): `−C` on `B × B`, and with promoted equations `P`, `G⁻¹` on `P × P`,
+/// `H = G⁻¹·W_P` on `P × B` and `B × P`, and `W_Pᵀ·H` on `B × B`.
+fn block_triplets(
+    ti: &[u32],
+    boundary: &[usize],
+    promoted: &[usize],
+    correction: &[f64],
+    g_inv: &[f64],
+    w_p: &[f64],
+    trip: &mut Vec<(usize, usize, f64)>,
+) {
+    let nb = boundary.len();
+    // S_BB − A_BB = −C (+ W_Pᵀ·G⁻¹·W_P below).
+    for (cj, &gj) in boundary.iter().enumerate() {
+        let tj = ti[gj] as usize;
+        for (ci, &gi) in boundary.iter().enumerate() {
+            let v = correction[ci + cj * nb];
+            if v != 0.0 {
+                trip.push((ti[gi] as usize, tj, -v));
+            }
+        }
+    }
+    let np = promoted.len();
+    if np == 0 {
+        return;
+    }
+    // H = G⁻¹·W_P (|P| × |B|).
+    let mut h = vec![0.0; np * nb];
+    for j in 0..nb {
+        for k in 0..np {
+            h[k + j * np] = (0..np).map(|l| g_inv[k + l * np] * w_p[l + j * np]).sum();
+        }
+    }
+    for (k, &gk) in promoted.iter().enumerate() {
+        let tk = ti[gk] as usize;
+        for (l, &gl) in promoted.iter().enumerate() {
+            trip.push((ti[gl] as usize, tk, g_inv[l + k * np]));
+        }
+        for (j, &gj) in boundary.iter().enumerate() {
+            let tj = ti[gj] as usize;
+            let v = h[k + j * np];
+            trip.push((tk, tj, v));
+            trip.push((tj, tk, v));
+        }
+    }
+    for (cj, &gj) in boundary.iter().enumerate() {
+        let tj = ti[gj] as usize;
+        for (ci, &gi) in boundary.iter().enumerate() {
+            let v: f64 = (0..np).map(|k| w_p[k + ci * np] * h[k + cj * np]).sum();
+            trip.push((ti[gi] as usize, tj, v));
+        }
+    }
+}
+
+/// Factors one block's interior `all` (with its `boundary`) and forms its condensed
+/// correction.
+fn block_state(
+    a: &CscMatrix,
+    all: &[usize],
+    boundary: &[usize],
+    block_of: &[u32],
+) -> Result<BlockState, SolverError> {
+    let interior: Vec<usize> = all.to_vec();
+    let local = |g: usize| interior.binary_search(&g).ok();
+    // Interior pattern (the boundary rows met on the way are the block's boundary).
+    let mut cols: Vec<Vec<usize>> = Vec::with_capacity(interior.len());
+    for &g in &interior {
+        let c = a.row_idx[a.col_ptr[g]..a.col_ptr[g + 1]]
+            .iter()
+            .filter_map(|&r| local(r))
+            .collect();
         cols.push(c);
     }
-    boundary.sort_unstable();
-    boundary.dedup();
+    let boundary = boundary.to_vec();
     debug_assert!(boundary.iter().all(|&r| block_of[r] == NONE));
     let mut m = CscMatrix::from_columns(cols);
     let nb = boundary.len();
@@ -1026,19 +1442,9 @@ mod tests {
             },
         );
         for step in 0..8 {
-            let at = 3 * (37 * step % 190);
-            let mut v = Vec::new();
-            for (k, &(i, j)) in [(at, 600), (at + 4, 601), (602, at + 7), (603, 604)]
-                .iter()
-                .enumerate()
-            {
-                // unsymmetric on purpose (a consistent sliding tangent)
-                let s = 3.0 + k as f64;
-                v.push((i, i, s));
-                v.push((j, j, s));
-                v.push((i, j, -s));
-                v.push((j, i, -0.8 * s));
-            }
+            // A coupling moving along the chain, unsymmetric on purpose (a consistent
+            // sliding tangent).
+            let v = moving(step);
             p.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();
             let b = rhs(n);
             let mut x = b.clone();
@@ -1054,6 +1460,124 @@ mod tests {
         // The base factors are made once; the moving coupling only forms promotions.
         assert_eq!(s.block_factorizations, s.blocks, "{s:?}");
         assert!(s.promotions >= 8, "{s:?}");
+    }
+
+    /// The moving coupling of `matches_a_dense_solve_with_moving_coupling` at `step`.
+    fn moving(step: usize) -> Vec<(usize, usize, f64)> {
+        let at = 3 * (37 * step % 190);
+        let mut v = Vec::new();
+        for (k, &(i, j)) in [(at, 600), (at + 4, 601), (602, at + 7), (603, 604)]
+            .iter()
+            .enumerate()
+        {
+            let s = 3.0 + k as f64;
+            v.push((i, i, s));
+            v.push((j, j, s));
+            v.push((i, j, -s));
+            v.push((j, i, -0.8 * s));
+        }
+        v
+    }
+
+    /// Everything a rank computes over eight factorizations of the moving coupling (a new
+    /// key at step 5, so every block is factored again): full solves, and the split solve
+    /// of the condensed Newton with a two-column back-substitution.
+    fn run_rank(
+        exchange: Option<Arc<dyn Exchange>>,
+        block_size: usize,
+    ) -> (Vec<f64>, PartitionStats) {
+        let a = chain(200, 6);
+        let n = a.n;
+        let mut p = Partitioned::new(
+            false,
+            PartitionOptions {
+                block_size,
+                threads: 1,
+            },
+        );
+        if let Some(ex) = exchange {
+            p.set_exchange(ex);
+        }
+        let mut out = Vec::new();
+        for step in 0..8 {
+            let key = if step < 5 {
+                [1.0, 0.0, 0.0]
+            } else {
+                [1.0, 0.5, 0.0]
+            };
+            let mut a = a.clone();
+            a.values.iter_mut().for_each(|v| *v *= 1.0 + key[1]);
+            p.factor(&a, key, &moving(step)).unwrap();
+            let mut x: Vec<f64> = rhs(n).iter().map(|v| v + step as f64).collect();
+            p.solve_in_place(&mut x).unwrap();
+            out.extend_from_slice(&x);
+            let b = rhs(n);
+            let mut g = p.condense_rhs(&b).unwrap();
+            p.solve_top(&mut g).unwrap();
+            let mut sx = vec![0.0; p.top_equations().len()];
+            p.top_constant_times(&g, &mut sx);
+            let (mut o1, mut o2) = (vec![1.0; n], vec![0.0; n]);
+            p.back_substitute(
+                &[(Some(&b), &g), (None, &sx)],
+                &mut [&mut o1, &mut o2],
+                true,
+            )
+            .unwrap();
+            out.extend(g.iter().chain(&sx).chain(&o1).chain(&o2));
+        }
+        (out, p.stats())
+    }
+
+    #[test]
+    fn across_thread_ranks_the_answers_are_one_process_answers() {
+        for block_size in [50, 250] {
+            let (serial, s1) = run_rank(None, block_size);
+            for ranks in [2, 3] {
+                let results: Vec<(Vec<f64>, PartitionStats)> = std::thread::scope(|sc| {
+                    let hs: Vec<_> = crate::exchange::thread_ranks(ranks)
+                        .into_iter()
+                        .map(|ex| sc.spawn(move || run_rank(Some(ex), block_size)))
+                        .collect();
+                    hs.into_iter().map(|h| h.join().unwrap()).collect()
+                });
+                for (r, (x, st)) in results.iter().enumerate() {
+                    // The same operations in the same order (rank 0 sums the pieces in block
+                    // order): round-off alone could differ, and 1e-12 bounds it.
+                    let e = max_rel(x, &serial);
+                    assert!(
+                        e <= 1e-12,
+                        "{ranks} ranks, rank {r}, blocks of {block_size}: {e:e}"
+                    );
+                    assert_eq!(st.ranks, ranks);
+                    assert!(st.comm.bytes_received > 0, "{st:?}");
+                }
+                // Every block is owned by exactly one rank, and factored only there.
+                let owned: usize = results.iter().map(|r| r.1.owned_blocks).sum();
+                assert_eq!(owned, s1.blocks, "{ranks} ranks, blocks of {block_size}");
+                let factored: usize = results.iter().map(|r| r.1.block_factorizations).sum();
+                assert_eq!(factored, s1.block_factorizations);
+                let sent: u64 = results.iter().map(|r| r.1.comm.bytes_sent).sum();
+                let received: u64 = results.iter().map(|r| r.1.comm.bytes_received).sum();
+                assert_eq!(sent, received);
+            }
+        }
+    }
+
+    #[test]
+    fn ownership_is_contiguous_complete_and_balanced() {
+        let sizes = [10, 10, 10, 10, 40, 10, 10];
+        for ranks in 1..=9 {
+            let r = ownership(&sizes, ranks);
+            assert_eq!(r.len(), ranks);
+            assert_eq!(r[0].start, 0);
+            assert_eq!(r[ranks - 1].end, sizes.len());
+            for w in r.windows(2) {
+                assert_eq!(w[0].end, w[1].start);
+            }
+        }
+        // Two ranks: the 40-equation block's middle (at 60 of 100) falls in the second half.
+        assert_eq!(ownership(&sizes, 2), vec![0..4, 4..7]);
+        assert_eq!(ownership(&[], 3), vec![0..0, 0..0, 0..0]);
     }
 
     #[test]

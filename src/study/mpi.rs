@@ -48,6 +48,11 @@ impl World {
         })
     }
 
+    /// The job's world communicator.
+    pub(crate) fn communicator(&self) -> &SimpleCommunicator {
+        &self.world
+    }
+
     /// Ranks in the job.
     pub fn size(&self) -> usize {
         self.world.size() as usize

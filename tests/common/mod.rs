@@ -196,3 +196,21 @@ pub fn plugin_lib() -> &'static Path {
         lib
     })
 }
+
+/// For histories of states `[q, v, a]` (one per step): the largest difference over all steps
+/// relative to the largest value, for q, v and a separately.
+pub fn worst_relative(a: &[[Vec<f64>; 3]], b: &[[Vec<f64>; 3]]) -> [f64; 3] {
+    let mut r = [0.0; 3];
+    for (k, rk) in r.iter_mut().enumerate() {
+        let (mut scale, mut diff) = (0.0f64, 0.0f64);
+        for (x, y) in a.iter().zip(b) {
+            for (u, w) in x[k].iter().zip(&y[k]) {
+                scale = scale.max(u.abs());
+                diff = diff.max((u - w).abs());
+            }
+        }
+        assert!(scale > 0.0);
+        *rk = diff / scale;
+    }
+    r
+}

@@ -1,0 +1,100 @@
+#!/usr/bin/env python3
+"""Cost model of the partitioned solver shared by P ranks (docs/scale-out.md, "Cost model
+and projection"), fitted to the measured bench rows below and projected to 8-64 ranks and
+10M DOF. Prints the table the page shows.
+
+Per Newton iteration, milliseconds:
+
+    T(P, N) = R(N) + Prom + Bs(N)/P + Top(n_T(N)) + Comm(P, N)
+
+R     replicated work, the same on every rank (search, elements, assembly, loads, other):
+      r0 + r1*N (r0: the 96 wheels' contact, r1: the products with K, M, C over N);
+Prom  the promotions of the blocks under the train ("blocks" phase): a function of the
+      train, not of N (measured 18.0 and 17.6 ms); done by the owners of the few blocks under
+      the train, so not divided among the ranks;
+Bs    block triangular solves ("solve" phase): b0 + b1*N, divided among the ranks;
+Top   forming and factoring the top system on rank 0 ("top"): t0 + t1*n_T, with the top
+      equations n_T = v + s*blocks (v: the carriages' bodies and promoted equations, s:
+      separator equations per block) and blocks proportional to N (3000 interior equations
+      a block). The blocks do not depend on P, so neither does the top system;
+Comm  N_COLL collectives of latency ALPHA*ceil(log2 P) each, plus the bytes the busiest rank
+      receives at bandwidth BETA: (P-1)/P * (c1*N + c2*n_T) (the interiors of the other ranks
+      once per step, the block pieces and top vectors), fitted at P = 2.
+
+Memory per rank: M(P, N) = Mr(N) + Mf(N)/P, both affine in N, with Mr (replicated: model,
+matrices, state, top system) = 2*M2 - M1 and Mf (block factors, promotions) = 2*(M1 - M2)
+from the 1-rank peak M1 and the larger 2-rank peak M2.
+
+Every affine law goes through the two measured sizes exactly (two points, two parameters).
+"""
+import math
+
+# Measured (docs/scale-out.md, Measurements), one rank: ms per iteration by phase.
+N = [101346, 1049766]
+BLOCKS = [33, 347]
+R = [17.7, 92.8]     # search + elements + assembly + loads + other
+PROM = [18.0, 17.6]  # blocks
+BS = [6.0, 34.2]     # solve
+TOP = [14.0, 34.0]   # top
+NT = [2520, 8160]    # top equations
+# Two ranks: bytes received by the busiest rank per iteration; peak memory (MiB) of one rank
+# and of the larger of the two ranks.
+RECV2 = [604167, 3036013]
+MEM1 = [547, 4772]
+MEM2 = [451, 3903]
+# Assumed network: latency of one step of a collective, bandwidth (a 100 Gb/s fabric).
+ALPHA = 2e-3  # ms
+BETA = 10e9   # B/s
+N_COLL = 4    # collectives per iteration (measured)
+
+
+def affine(x, y):
+    """y = a + b*x through the two points."""
+    b = (y[1] - y[0]) / (x[1] - x[0])
+    return y[0] - b * x[0], b
+
+
+def main():
+    r0, r1 = affine(N, R)
+    b0, b1 = affine(N, BS)
+    v, s = affine(BLOCKS, NT)
+    t0, t1 = affine(NT, TOP)
+    prom = sum(PROM) / 2
+    per_block = N[1] / BLOCKS[1]
+    # 2*RECV2 = c1*N + c2*n_T at the two sizes.
+    y = [2 * x for x in RECV2]
+    det = N[0] * NT[1] - NT[0] * N[1]
+    c1 = (y[0] * NT[1] - NT[0] * y[1]) / det
+    c2 = (N[0] * y[1] - N[1] * y[0]) / det
+    mr0, mr1 = affine(N, [2 * m2 - m1 for m1, m2 in zip(MEM1, MEM2)])
+    mf0, mf1 = affine(N, [2 * (m1 - m2) for m1, m2 in zip(MEM1, MEM2)])
+    print(f"R = {r0:.1f} ms + {r1 * 1e6:.1f} ms per 1e6 DOF; Bs = {b0:.1f} + {b1 * 1e6:.1f} per 1e6 DOF; "
+          f"Prom = {prom:.1f} ms")
+    print(f"n_T = {v:.0f} + {s:.1f} per block; Top = {t0:.1f} ms + {t1 * 1e3:.2f} ms per 1000 top equations")
+    print(f"busiest rank receives (P-1)/P * ({c1:.2f} B per DOF + {c2:.0f} B per top equation)")
+    print(f"memory: replicated {mr0:.0f} MiB + {mr1 * 1e6:.0f} MiB per 1e6 DOF; "
+          f"factors {mf0:.0f} MiB + {mf1 * 1e6:.0f} MiB per 1e6 DOF")
+    print()
+    print("| DOF | ranks | top equations | ms/iteration | replicated | promotions | block solves / P | "
+          "top (rank 0) | communication | received by the busiest rank | GiB per rank |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for n in [1e6, 1e7]:
+        nt = v + s * n / per_block
+        for p in [1, 2, 8, 16, 32, 64]:
+            recv = (p - 1) / p * (c1 * n + c2 * nt)
+            comm = N_COLL * ALPHA * math.ceil(math.log2(p)) + recv / BETA * 1e3 if p > 1 else 0.0
+            parts = [r0 + r1 * n, prom, (b0 + b1 * n) / p, t0 + t1 * nt, comm]
+            mem = (mr0 + mr1 * n + (mf0 + mf1 * n) / p) / 1024
+            print(f"| {n:.0e} | {p} | {nt:.0f} | {sum(parts):.0f} | {parts[0]:.0f} | {parts[1]:.0f} | "
+                  f"{parts[2]:.1f} | {parts[3]:.0f} | {parts[4]:.1f} | {recv / 1e6:.1f} MB | {mem:.1f} |")
+    print()
+    for n in [1e5, 1e6, 1e7]:
+        nt = v + s * n / per_block
+        top = t0 + t1 * nt
+        bs = b0 + b1 * n
+        print(f"N = {n:.0e}: top {top:.0f} ms, block solves {bs:.0f} ms: the top exceeds the divided "
+              f"block solves from P = {bs / top:.1f}; replicated {r0 + r1 * n:.0f} ms")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,171 @@
+//! The partitioned solver across ranks gives the one-process answers.
+//!
+//! A train crosses a bridge; the model is stepped in one process and on 2 and 3 in-process
+//! "ranks" (threads, `railfem::solvers::exchange::thread_ranks`), each rank with its own copy
+//! of the model and driver, as MPI processes would have. The ranks share the blocks of the
+//! partitioned solver: each factors, promotes and condenses only its own, rank 0 forms and
+//! solves the top system, and the interiors are exchanged so that every rank ends each step
+//! with the whole state. The blocks are small and the train fast, so the wheels move onto
+//! new rail nodes every step and blocks of every rank gain and lose promoted equations.
+//!
+//! Reference: the one-process partitioned solver (itself checked against the direct solver in
+//! tests/partitioned.rs and against the full-residual Newton in tests/condensed.rs). The
+//! distributed solve performs the same floating-point operations in the same order (rank 0
+//! sums the blocks' pieces in block order), so the histories agree to round-off at most;
+//! 1e-12 of the largest value bounds that, far below the Newton tolerance (an iteration
+//! more or less would change the answer by ~1e-8 of its scale).
+
+mod common;
+
+use railfem::framework::model::SolverChoice;
+use railfem::solvers::exchange::{thread_ranks, Exchange};
+use railfem::solvers::partition::{PartitionOptions, PartitionStats};
+use railfem::train_bridge::{build, TrainBridgeCase};
+use std::sync::Arc;
+
+fn case(solver: SolverChoice) -> TrainBridgeCase {
+    TrainBridgeCase {
+        cars: 1,
+        spans: 2,
+        element_length: 0.4,
+        speed: 100.0,
+        dt: 0.004,
+        mu: 0.3,
+        solver,
+        ..Default::default()
+    }
+}
+
+type History = Vec<[Vec<f64>; 3]>;
+
+/// `steps` steps on one rank of `exchange` (`None`: one process): the state after each step,
+/// the Newton iterations and the solver's counters.
+fn history(
+    exchange: Option<Arc<dyn Exchange>>,
+    condensed: bool,
+    steps: usize,
+) -> (History, usize, PartitionStats) {
+    let mut m = build(&case(SolverChoice::Partitioned)).expect("model");
+    let d = &mut m.driver;
+    d.condense_residual = condensed;
+    d.set_partition_options(PartitionOptions {
+        block_size: 120,
+        threads: 1,
+    });
+    if let Some(ex) = exchange {
+        d.set_exchange(ex).expect("partitioned model");
+    }
+    d.static_solve(0.0, 4).expect("static preload");
+    d.initialize().expect("initial accelerations");
+    let mut out = Vec::new();
+    let mut iterations = 0;
+    for _ in 0..steps {
+        iterations += d.step(0.004).expect("step").iterations;
+        out.push([d.state.q.clone(), d.state.v.clone(), d.state.a.clone()]);
+    }
+    (out, iterations, d.partition_stats().expect("partitioned"))
+}
+
+fn compare(condensed: bool, steps: usize) {
+    let (serial, it_serial, s1) = history(None, condensed, steps);
+    // The wheels enter new rail nodes every step (0.4 m per step over 0.4 m elements).
+    assert!(s1.promotions >= steps, "{s1:?}");
+    assert!(s1.blocks >= 6, "{s1:?}");
+    for ranks in [2, 3] {
+        let runs: Vec<(History, usize, PartitionStats)> = std::thread::scope(|s| {
+            let hs: Vec<_> = thread_ranks(ranks)
+                .into_iter()
+                .map(|ex| s.spawn(move || history(Some(ex), condensed, steps)))
+                .collect();
+            hs.into_iter().map(|h| h.join().expect("rank")).collect()
+        });
+        for (r, (h, it, st)) in runs.iter().enumerate() {
+            let e = common::worst_relative(h, &serial);
+            println!(
+                "condensed {condensed}, {ranks} ranks, rank {r}: relative differences q {:.1e}, v {:.1e}, a {:.1e}; {} of {} blocks; {} bytes sent, {} received",
+                e[0], e[1], e[2], st.owned_blocks, st.blocks, st.comm.bytes_sent, st.comm.bytes_received
+            );
+            assert_eq!(
+                *it, it_serial,
+                "{ranks} ranks, rank {r}: the same Newton iterations"
+            );
+            for (what, x) in ["displacements", "velocities", "accelerations"]
+                .iter()
+                .zip(e)
+            {
+                assert!(
+                    x <= 1e-12,
+                    "{ranks} ranks, rank {r}: {what} differ by {x:e}"
+                );
+            }
+        }
+        // The blocks are shared, not repeated: each is owned, factored and promoted on one
+        // rank only, and every rank owns some.
+        let sum = |f: fn(&PartitionStats) -> usize| runs.iter().map(|r| f(&r.2)).sum::<usize>();
+        assert_eq!(sum(|s| s.owned_blocks), s1.blocks);
+        assert_eq!(sum(|s| s.block_factorizations), s1.block_factorizations);
+        assert_eq!(sum(|s| s.promotions), s1.promotions);
+        assert!(runs.iter().all(|r| r.2.owned_blocks > 0));
+    }
+}
+
+#[test]
+fn condensed_newton_across_ranks_equals_one_process() {
+    compare(true, 20);
+}
+
+#[test]
+fn full_residual_newton_across_ranks_equals_one_process() {
+    compare(false, 6);
+}
+
+#[test]
+fn a_model_without_the_partitioned_solver_is_refused_with_the_fix() {
+    let mut m = build(&case(SolverChoice::Direct)).expect("model");
+    let e = m
+        .driver
+        .set_exchange(thread_ranks(2).remove(0))
+        .expect_err("the direct solver is not shared among ranks");
+    let text = e.to_string();
+    assert!(
+        text.contains("2 ranks") && text.contains("solver = \"partitioned\""),
+        "{text}"
+    );
+    assert_eq!(text.lines().count(), 1, "{text}");
+}
+
+/// The default build (no `mpi` feature) started by a launcher with two ranks refuses to run
+/// the model alone on each rank: one line naming the fix, exit 2, nothing written. (The MPI
+/// build under `mpirun` is checked by scripts/mpi.sh.)
+#[test]
+fn the_default_build_under_a_launcher_with_two_ranks_is_refused() {
+    if cfg!(feature = "mpi") {
+        return;
+    }
+    let dir = common::temp_dir("distributed-no-mpi");
+    let out = dir.join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args([
+            "train-bridge",
+            "--cars",
+            "1",
+            "--spans",
+            "1",
+            "--steps",
+            "2",
+            "-q",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .env("OMPI_COMM_WORLD_SIZE", "2")
+        .env("OMPI_COMM_WORLD_RANK", "0")
+        .output()
+        .expect("run railfem");
+    common::refused_with(
+        "train-bridge under a 2-rank launcher",
+        &o,
+        &["2 ranks", "this build has no MPI", "--features mpi"],
+    );
+    assert!(!out.join("wheels.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
