@@ -1191,15 +1191,7 @@ impl Assembler {
                 let nd = map.dofs.len();
                 let mut m = DMatrix::zeros(nd, nd);
                 model.elements[ei].element.mass(&mut m);
-                let gv: Vec<f64> = map
-                    .dofs
-                    .iter()
-                    .map(|&(node, d)| {
-                        kinematic_vector(&self.kin[node], d, &grav, &Vector3::zeros())
-                    })
-                    .collect();
-                let f = m * nalgebra::DVector::from_vec(gv);
-                scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);
+                self.add_mass_times_uniform(ei, &m, &grav, out);
             }
         }
         let mut gi = 0;
@@ -1230,18 +1222,9 @@ impl Assembler {
                     // `−M·r·a_g` like every other mass, with `r` the ground direction in
                     // their nodal axes at time t (the axes turn as the carrier moves).
                     if ag != 0.0 {
-                        let lin = direction * ag;
+                        let lin = -(direction * ag);
                         for (ei, m) in &self.carried_mass {
-                            let map = &self.maps[*ei];
-                            let r: Vec<f64> = map
-                                .dofs
-                                .iter()
-                                .map(|&(node, d)| {
-                                    kinematic_vector(&self.kin[node], d, &lin, &Vector3::zeros())
-                                })
-                                .collect();
-                            let f = -(m * nalgebra::DVector::from_vec(r));
-                            scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);
+                            self.add_mass_times_uniform(*ei, m, &lin, out);
                         }
                     }
                     gi += 1;
@@ -1409,6 +1392,29 @@ fn scatter_dense(map: &DofMap, dofs: &[(usize, usize)], k: &DMatrix<f64>, out: &
                 }
             }
         }
+    }
+}
+
+impl Assembler {
+    /// Adds `M·r` of element `ei` to `out`: `r` the element's DOF values of a uniform
+    /// translational acceleration `lin` (global axes) seen in each node's axes, so `M·r` is
+    /// the force that acceleration's field puts on the element's mass (gravity: `lin = g`;
+    /// ground motion: `lin = −a_g`).
+    fn add_mass_times_uniform(
+        &self,
+        ei: usize,
+        m: &DMatrix<f64>,
+        lin: &Vector3<f64>,
+        out: &mut [f64],
+    ) {
+        let map = &self.maps[ei];
+        let r: Vec<f64> = map
+            .dofs
+            .iter()
+            .map(|&(node, d)| kinematic_vector(&self.kin[node], d, lin, &Vector3::zeros()))
+            .collect();
+        let f = m * nalgebra::DVector::from_vec(r);
+        scatter_vec(&self.dofmap, &map.dofs, f.as_slice(), out);
     }
 }
 
