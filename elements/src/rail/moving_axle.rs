@@ -42,7 +42,7 @@
 //! C on the rail's beam line. At build time the wheel profile is shifted along axis 2 so
 //! that its smallest gap to the rail is −1 nm: the wheel starts just touching.
 
-use super::contact_geometry::{candidate_window, rail_node_gap, rail_node_gap_near};
+use super::contact_geometry::{candidate_window, rail_node_gap};
 use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent};
 use super::creep::hertz::{hertz_ellipse, Curvatures};
 use super::creep::kalker::kalker_coefficients;
@@ -216,11 +216,6 @@ pub struct MovingAxle {
     /// distance is 1-Lipschitz, so a node whose gap exceeds how far it has moved since is
     /// still open and needs no search.
     last_gap: Vec<Option<(Vector2<f64>, f64)>>,
-    /// Wheel-spline interval of each rail node's last closest point, the start of its next
-    /// search with a creep law (a touching node moves a fraction of a millimetre between
-    /// evaluations, so the search is O(1) instead of a scan of the profile). The Coulomb
-    /// law keeps the full scan, and its results, unchanged.
-    last_segment: Vec<Option<usize>>,
     /// Rolling radius of the tape circle (m): the axle's height above it.
     r0: f64,
     /// Ellipse shape of each rail node for this step (creep laws), computed once per step
@@ -645,7 +640,6 @@ impl MovingAxle {
             frames: vec![(Vector3::x(), Vector3::z()); n],
             relative: (Vector2::zeros(), 0.0),
             last_gap: vec![None; n],
-            last_segment: vec![None; n],
             r0: 0.0,
             shapes: vec![None; n],
             creep_out: Vec::new(),
@@ -951,22 +945,11 @@ impl MovingAxle {
                     continue;
                 }
             }
-            let hint = if creep.is_some() {
-                self.last_segment[kx]
-            } else {
-                None
-            };
-            let Some(cp) = rail_node_gap_near(set.wheel.spline(), p, hint) else {
+            let Some(cp) = rail_node_gap(set.wheel.spline(), p) else {
                 self.last_gap[kx] = None;
-                self.last_segment[kx] = None;
                 continue;
             };
             self.last_gap[kx] = Some((p, cp.gap));
-            if creep.is_some() {
-                let knots = set.wheel.spline().knots();
-                let seg = knots.partition_point(|k| *k <= cp.t).saturating_sub(1);
-                self.last_segment[kx] = Some(seg.min(knots.len().saturating_sub(2)));
-            }
             let w3 = Vector3::new(cp.normal.x, cp.normal.y, 0.0);
             let u3 = Vector3::new(cp.tangent.x, cp.tangent.y, 0.0);
             self.frames[kx] = (u3, Vector3::z());
