@@ -777,9 +777,12 @@ impl Driver {
         if let (false, Predictor::Increment, Some((dt_prev, inc))) =
             (linear, settings.predictor, &self.last_increment)
         {
+            // `dq` is free until the first solve writes it.
             let scale = dt / dt_prev;
-            let dq0: Vec<f64> = inc.iter().map(|x| x * scale).collect();
-            self.asm.dofmap.add_correction(q, &dq0);
+            for (d, x) in dq.iter_mut().zip(inc) {
+                *d = x * scale;
+            }
+            self.asm.dofmap.add_correction(q, dq);
         }
         let mut iters = 0;
         let mut disp_ok = false;
@@ -993,13 +996,14 @@ impl Driver {
                     let mv = self.work.mv_ready.then_some(&self.work.mv[..]);
                     e.record(&self.asm, &self.model, &self.state, &s, mv);
                 }
-                self.last_increment = (dt > 0.0
-                    && self.model.analysis.newton.predictor == Predictor::Increment)
-                    .then(|| {
-                        let mut inc = vec![0.0; s.q.len()];
-                        self.asm.dofmap.increment(&self.state.q, &s.q, &mut inc);
-                        (dt, inc)
-                    });
+                // The increment for the next step's predictor, in last step's vector.
+                let kept = self.last_increment.take();
+                if dt > 0.0 && self.model.analysis.newton.predictor == Predictor::Increment {
+                    let mut inc = kept.map(|(_, v)| v).unwrap_or_default();
+                    inc.resize(s.q.len(), 0.0);
+                    self.asm.dofmap.increment(&self.state.q, &s.q, &mut inc);
+                    self.last_increment = Some((dt, inc));
+                }
                 self.work.mv_ready = false;
                 // The replaced state's vectors hold the next attempt's state.
                 self.work.next = std::mem::replace(&mut self.state, s);
