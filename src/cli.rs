@@ -1149,21 +1149,12 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
         Some(file) => Quake::File(file.to_path_buf()),
     };
     if let Some(s) = a.opt("solver") {
-        use crate::framework::model::SolverChoice;
-        c.solver = match s {
-            "auto" => SolverChoice::Auto,
-            "direct" => SolverChoice::Direct,
-            "partitioned" => SolverChoice::Partitioned,
-            "low_rank" => SolverChoice::LowRank,
-            other => {
-                return Err(FemError::input(
-                    "command line",
-                    format!(
-                        "--solver {other}: use auto (the default), direct, partitioned or low_rank"
-                    ),
-                ))
-            }
-        };
+        c.solver = crate::framework::model::SolverChoice::parse(s).ok_or_else(|| {
+            FemError::input(
+                "command line",
+                format!("--solver {s}: use auto (the default), direct, partitioned or low_rank"),
+            )
+        })?;
     }
     let steps = count("steps")?;
     let out = a

@@ -64,16 +64,6 @@ pub struct Settings {
     pub solver: SolverChoice,
 }
 
-/// Name of a solver for tables.
-pub fn solver_name(s: SolverChoice) -> &'static str {
-    match s {
-        SolverChoice::Auto => "auto",
-        SolverChoice::Direct => "direct",
-        SolverChoice::Partitioned => "partitioned",
-        SolverChoice::LowRank => "low_rank",
-    }
-}
-
 /// The train–bridge case of `s` for `duration` s.
 pub fn case(s: &Settings, duration: f64) -> TrainBridgeCase {
     let mut c = TrainBridgeCase {
@@ -358,7 +348,7 @@ fn history_tag(s: &Settings, duration: f64) -> String {
         s.dt,
         s.h,
         s.scheme.name(),
-        solver_name(s.solver),
+        s.solver.name(),
         duration
     )
 }
@@ -448,7 +438,7 @@ pub fn run_grid(grid: &TbGrid) -> Vec<(Settings, History)> {
                     r.dofs,
                     s.dt,
                     s.scheme.name(),
-                    solver_name(s.solver),
+                    s.solver.name(),
                     r.wall
                 );
                 out.push((*s, r));
@@ -458,7 +448,7 @@ pub fn run_grid(grid: &TbGrid) -> Vec<(Settings, History)> {
                 s.h,
                 s.dt,
                 s.scheme.name(),
-                solver_name(s.solver)
+                s.solver.name()
             ),
         }
     }
@@ -494,7 +484,7 @@ pub fn csv(runs: &[TbRun]) -> String {
         s.push_str(&format!(
             "train-bridge,{},{},{},{},{:.6e},{},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{}\n",
             r.settings.scheme.name(),
-            solver_name(r.settings.solver),
+            r.settings.solver.name(),
             r.settings.h,
             r.dofs,
             r.settings.dt,
@@ -524,7 +514,7 @@ pub fn markdown(runs: &[TbRun]) -> String {
             s.push_str(&format!(
                 "| {} | {} | {} | {} | {:.2e} | {:.2} | {:.3e} | {:.3e} | {:.3e} |\n",
                 r.settings.scheme.name(),
-                solver_name(r.settings.solver),
+                r.settings.solver.name(),
                 r.settings.h,
                 r.dofs,
                 r.settings.dt,
@@ -566,7 +556,7 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
                 .collect();
             if !pts.is_empty() {
                 p = p.with(Series::new(
-                    &format!("{}, {}", scheme.name(), solver_name(solver)),
+                    &format!("{}, {}", scheme.name(), solver.name()),
                     pts.iter().map(|r| r.wall).collect(),
                     pts.iter().map(|r| r.errors[q]).collect(),
                     Style::Markers,

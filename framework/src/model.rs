@@ -146,6 +146,31 @@ pub enum SolverChoice {
     LowRank,
 }
 
+impl SolverChoice {
+    /// Every choice, in the order the docs list them.
+    pub const ALL: [SolverChoice; 4] = [
+        SolverChoice::Auto,
+        SolverChoice::Direct,
+        SolverChoice::Partitioned,
+        SolverChoice::LowRank,
+    ];
+
+    /// The name a model file and the command line use (`[analysis] solver`).
+    pub fn name(self) -> &'static str {
+        match self {
+            SolverChoice::Auto => "auto",
+            SolverChoice::Direct => "direct",
+            SolverChoice::Partitioned => "partitioned",
+            SolverChoice::LowRank => "low_rank",
+        }
+    }
+
+    /// The choice of that name, if any.
+    pub fn parse(name: &str) -> Option<SolverChoice> {
+        SolverChoice::ALL.into_iter().find(|s| s.name() == name)
+    }
+}
+
 /// Geometry of rigid links and of the vehicle builder's suspensions (`[analysis] geometry`,
 /// a `[[link]]`'s `geometry`, the `--geometry` option of the built-in cases).
 ///
@@ -1079,4 +1104,20 @@ impl BuildContext for Ctx {
 /// The frame of node `i` as a 3×3 rotation (identity when not carried).
 pub fn node_frame(k: &[NodeKinematics], i: usize) -> Matrix3<f64> {
     k[i].frame
+}
+
+#[cfg(test)]
+mod solver_choice_tests {
+    use super::SolverChoice;
+
+    /// The names the command line parses are the ones a model file's serde reads.
+    #[test]
+    fn names_are_the_model_files_names() {
+        for s in SolverChoice::ALL {
+            let json = serde_json::to_string(&s).unwrap();
+            assert_eq!(json, format!("\"{}\"", s.name()));
+            assert_eq!(SolverChoice::parse(s.name()), Some(s));
+        }
+        assert_eq!(SolverChoice::parse("lowrank"), None);
+    }
 }
