@@ -748,6 +748,13 @@ impl Assembler {
         f_int: &mut [f64],
         form_tangent: bool,
     ) -> Result<(), FemError> {
+        self.constant_internal_force(q, f_int);
+        self.update_variable(model, q, v, a, t, dt, f_int, form_tangent)
+    }
+
+    /// `f_int = K·q` of the constant elements alone (the value [`Assembler::update`] starts
+    /// from): for a model without variable elements, its internal force.
+    pub fn constant_internal_force(&mut self, q: &[f64], f_int: &mut [f64]) {
         let t0 = std::time::Instant::now();
         if self.const_symmetric {
             crate::sparse::symmetric_products(&[&self.k_const], &[q], &mut [f_int], self.threads);
@@ -755,7 +762,6 @@ impl Assembler {
             self.k_const.mul_vec(q, f_int);
         }
         self.times.products += t0.elapsed().as_secs_f64();
-        self.update_variable(model, q, v, a, t, dt, f_int, form_tangent)
     }
 
     /// [`Assembler::update`] for a transient iteration that also forms the inertia and

@@ -78,7 +78,7 @@ pub(crate) struct StepWork {
     /// Storage for the next committed state: the state the last committed step replaced.
     pub(crate) next: State,
     /// Residual.
-    r: Vec<f64>,
+    pub(crate) r: Vec<f64>,
     /// Acceleration at `n+1−α_m`.
     a_w: Vec<f64>,
     /// Velocity at `n+1−α_f`.
@@ -90,7 +90,7 @@ pub(crate) struct StepWork {
     /// The iterate before the last correction (backtracking).
     q_prev: Vec<f64>,
     /// The correction of this iteration.
-    dq: Vec<f64>,
+    pub(crate) dq: Vec<f64>,
     /// The correction of the last iteration (backtracking).
     dq_prev: Vec<f64>,
     /// `(1−α_f)·f_ext(n+1) + α_f·f_ext(n)`.
@@ -108,13 +108,13 @@ pub(crate) struct StepWork {
     /// same state) and every mass is constant, and forms it anew otherwise.
     a_w_next: Vec<f64>,
     inertia_next: Vec<f64>,
-    inertia_ready: bool,
+    pub(crate) inertia_ready: bool,
 }
 
 impl StepWork {
     /// Every work vector at length `n` (the values left as they are: each is written
     /// before it is read).
-    fn resize(&mut self, n: usize) {
+    pub(crate) fn resize(&mut self, n: usize) {
         for x in [
             &mut self.r,
             &mut self.a_w,
@@ -249,7 +249,11 @@ pub struct Driver {
     /// The displacement the last linear attempt formed its internal force at (`K·q`, kept
     /// as the state's `f_int`): the next step's first residual starts from the same `q`
     /// and takes `f_int` from the state instead of a pass over `K`.
-    f_int_at: Vec<f64>,
+    pub(crate) f_int_at: Vec<f64>,
+    /// A linear model with a diagonal mass and no damping takes its step in three fused
+    /// passes ([`crate::lumped_step`]); `false` sends it through the general attempt (same
+    /// answers to the bit; for comparisons).
+    pub lumped_step: bool,
     /// The energy balance, updated after each committed step ([`crate::energy`]); `None`
     /// skips the accounting (two matrix–vector products per step).
     pub energy: Option<EnergyLedger>,
@@ -351,6 +355,7 @@ impl Driver {
             f_int_at: Vec::new(),
             energy: Some(EnergyLedger::default()),
             condense_residual: true,
+            lumped_step: true,
             condensed: Default::default(),
             work: StepWork::default(),
             exchange: None,
@@ -496,6 +501,16 @@ impl Driver {
     }
 
     fn solve(&mut self, b: &mut [f64]) -> Result<(), FemError> {
+        self.solve_unchecked(b)?;
+        if let Some(i) = b.iter().position(|x| !x.is_finite()) {
+            return Err(self.non_finite_solution(i));
+        }
+        Ok(())
+    }
+
+    /// Solves with the current factor, leaving the finiteness of the solution to the caller
+    /// ([`Driver::non_finite_solution`] names the equation).
+    pub(crate) fn solve_unchecked(&mut self, b: &mut [f64]) -> Result<(), FemError> {
         let t0 = Instant::now();
         let r = match (self.lowrank.as_mut(), self.partition.as_mut()) {
             (Some(l), _) => l.solve_in_place(b),
@@ -503,16 +518,17 @@ impl Driver {
             (None, None) => self.solver.solve_in_place(b),
         };
         self.summary.timings.solve += t0.elapsed().as_secs_f64();
-        r.map_err(|e| self.singular(e))?;
-        if let Some(i) = b.iter().position(|x| !x.is_finite()) {
-            let (n, d) = self.asm.dofmap.dof_of(i);
-            return Err(FemError::NonFinite(format!(
-                "the solution is not finite at {} (t = {} s); the model is singular or unstable there",
-                self.model.dof_name(n, d),
-                self.state.t
-            )));
-        }
-        Ok(())
+        r.map_err(|e| self.singular(e))
+    }
+
+    /// The error of a solution that is not finite at equation `i`.
+    pub(crate) fn non_finite_solution(&self, i: usize) -> FemError {
+        let (n, d) = self.asm.dofmap.dof_of(i);
+        FemError::NonFinite(format!(
+            "the solution is not finite at {} (t = {} s); the model is singular or unstable there",
+            self.model.dof_name(n, d),
+            self.state.t
+        ))
     }
 
     fn largest(&self, r: &[f64]) -> (f64, String) {
@@ -707,22 +723,26 @@ impl Driver {
         // Messages formed during the attempt name the time of the committed state.
         self.state.t = s0.t;
         let mut w = std::mem::take(&mut self.work);
-        let r = self.attempt_from(dt, &s0, &mut w);
+        let r = if self.lumped_linear_applies() {
+            self.attempt_lumped_linear(dt, &s0, &mut w)
+        } else {
+            self.attempt_from(dt, &s0, &mut w)
+        };
         self.state = s0;
         self.work = w;
         r
     }
 
-    fn attempt_from(
+    /// The start of every attempt: the next state's vectors (the ones the last committed
+    /// step replaced) and the work vectors at the model's length, the model advanced to
+    /// `t1` and the external force of `t1` in the next state.
+    pub(crate) fn begin_attempt(
         &mut self,
+        t1: f64,
         dt: f64,
-        s0: &State,
         w: &mut StepWork,
-    ) -> Result<(State, usize, f64), Attempt> {
+    ) -> Result<State, FemError> {
         let n = self.neq();
-        let ig = self.integrator;
-        let t1 = s0.t + dt;
-        // The next state's vectors: the ones the last committed step replaced.
         let mut next = std::mem::take(&mut w.next);
         w.resize(n);
         w.mv_ready = false;
@@ -735,6 +755,24 @@ impl Driver {
         ] {
             x.resize(n, 0.0);
         }
+        let tl = Instant::now();
+        self.asm.advance(&mut self.model, t1, dt)?;
+        self.asm
+            .external_force(&self.model, t1, 1.0, &mut next.f_ext)?;
+        self.summary.timings.loads += tl.elapsed().as_secs_f64();
+        Ok(next)
+    }
+
+    fn attempt_from(
+        &mut self,
+        dt: f64,
+        s0: &State,
+        w: &mut StepWork,
+    ) -> Result<(State, usize, f64), Attempt> {
+        let n = self.neq();
+        let ig = self.integrator;
+        let t1 = s0.t + dt;
+        let mut next = self.begin_attempt(t1, dt, w)?;
         let StepWork {
             r,
             a_w,
@@ -753,11 +791,6 @@ impl Driver {
             inertia_ready,
             ..
         } = w;
-        let tl = Instant::now();
-        self.asm.advance(&mut self.model, t1, dt)?;
-        self.asm
-            .external_force(&self.model, t1, 1.0, &mut next.f_ext)?;
-        self.summary.timings.loads += tl.elapsed().as_secs_f64();
         let af = ig.alpha_f;
         let settings = self.model.analysis.newton;
         let linear =

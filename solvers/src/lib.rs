@@ -4,7 +4,8 @@
 //! (Woodbury) solver for a few moving equations ([`lowrank`]), modal analysis ([`modal`]), the
 //! generalized-α family of integrators ([`integrator`]), the energy balance of a run
 //! ([`energy`]) and the driver that runs static and
-//! transient analyses with Newton–Raphson and step cutting ([`driver`]), and the checks made
+//! transient analyses with Newton–Raphson and step cutting ([`driver`]; a lumped linear model's
+//! step in fused passes, [`lumped_step`]), and the checks made
 //! before its first step ([`preflight`]). What does not:
 //! elements (railfem-elements) and the model itself (railfem-framework).
 
@@ -19,6 +20,7 @@ pub mod exchange;
 pub mod integrator;
 pub mod linear;
 pub mod lowrank;
+pub mod lumped_step;
 pub mod modal;
 pub mod partition;
 pub mod preflight;
