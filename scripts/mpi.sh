@@ -9,7 +9,8 @@
 #     message naming the rank, never a hang; the checkpoint keeps the finished cases and the
 #     same command then finishes the study with the serial run's table;
 # and that `railfem train-bridge` with the partitioned solver's blocks shared by 2 ranks
-# writes the serial run's recorders (to 1e-12 relative), as does 1 rank.
+# writes the serial run's recorders (to 1e-12 relative), as does 1 rank, and that a SIGTERM
+# to one of its ranks stops both at the same step (exit 130, rank 0's rows whole).
 # Usage: scripts/mpi.sh [PLAN.toml]   (default: a 24-case cut of examples/studies)
 # Timings of the whole 200-case plan: SCALE_OUT_BENCH=1 scripts/mpi.sh (docs/scale-out.md).
 set -euo pipefail
@@ -116,6 +117,38 @@ for f in wheels.csv midspan.csv; do
     d2=$(same_numbers "$work/tb-serial/$f" "$work/tb-mpi2/$f") || fail "2 ranks: $f"
     echo "mpi.sh: train-bridge $f: 1 rank differs from serial by $d1, 2 ranks by $d2 (relative, limit 1e-12)"
 done
+# A stop request (SIGTERM) sent to rank 1 alone: every rank stops at the same step (they
+# agree on the flag each step), so the job ends — exit 130, not a hang (124 from timeout) —
+# and rank 0's rows are whole: the serial run of as many steps gives them to 1e-12.
+stop_case=(train-bridge --cars 1 --spans 3 --span 10 --element-length 0.5 --speed 5 --dt 0.002
+    --block-size 300 -q --solver partitioned --record-every 1)
+status=0
+timeout 300 mpirun -n 2 --oversubscribe "${root_flags[@]}" "$mpi_bin" "${stop_case[@]}" \
+    --steps 100000 --out "$work/tb-stop" >/dev/null 2>"$work/stop.err" &
+job=$!
+rank1=""
+for _ in $(seq 1 600); do
+    sleep 0.1
+    for p in $(pgrep -f "$mpi_bin train-bridge" || true); do
+        if tr '\0' '\n' < "/proc/$p/environ" 2>/dev/null | grep -qx 'OMPI_COMM_WORLD_RANK=1'; then
+            rank1=$p
+        fi
+    done
+    if [ -n "$rank1" ] && [ -f "$work/tb-stop/wheels.csv" ] \
+        && [ "$(wc -l < "$work/tb-stop/wheels.csv")" -gt 20 ]; then
+        break
+    fi
+done
+[ -n "$rank1" ] || fail "no rank 1 of the long train-bridge run found"
+kill -TERM "$rank1"
+wait "$job" || status=$?
+[ "$status" -eq 130 ] || fail "SIGTERM to rank 1: the job ended with $status (124: it hung), $(head -c 300 "$work/stop.err")"
+rows=$(($(wc -l < "$work/tb-stop/wheels.csv") - 1))
+"$serial_bin" "${stop_case[@]}" --steps "$rows" --out "$work/tb-stop-serial" >/dev/null
+for f in wheels.csv midspan.csv; do
+    d=$(same_numbers "$work/tb-stop-serial/$f" "$work/tb-stop/$f") || fail "after a stop on rank 1: $f"
+done
+echo "mpi.sh: ok — SIGTERM to rank 1 alone stopped both ranks after $rows steps (exit 130); rank 0's rows equal the serial run's ($d)"
 # Bad input under a launcher, one line and exit 2 from each rank: the default build (no MPI)
 # and a model that does not use the partitioned solver.
 status=0

@@ -116,7 +116,11 @@ pub fn measure(
     let mut per_step = Vec::with_capacity(steps);
     let t2 = Instant::now();
     for _ in 0..steps {
-        crate::framework::interrupt::check(d.state.t)?;
+        // Every rank stops at the same step (a stop seen by one rank alone would leave the
+        // others waiting in the next collective).
+        if d.stop_requested() {
+            return Err(FemError::Interrupted { t: d.state.t });
+        }
         let ts = Instant::now();
         let r = d.step(case.dt)?;
         let w = ts.elapsed().as_secs_f64();
@@ -262,7 +266,10 @@ pub fn run(
     // measurement), writes the sizes done and returns InterruptedAfter.
     let mut stopped = false;
     for (k, &n) in sizes.iter().enumerate() {
-        if crate::framework::interrupt::requested() {
+        if crate::solvers::exchange::any_rank(
+            ranks.as_deref(),
+            crate::framework::interrupt::requested(),
+        ) {
             stopped = true;
             break;
         }

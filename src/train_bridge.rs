@@ -774,8 +774,9 @@ pub fn run(
         let r = d.step(dt)?;
         iterations += r.iterations;
         bar.set(k as u64);
-        // Asked to stop (SIGINT/SIGTERM): record this step, then end as a whole run would.
-        let stop = crate::framework::interrupt::requested() && k < total;
+        // Asked to stop (SIGINT/SIGTERM, on any rank): record this step, then end as a whole
+        // run would.
+        let stop = d.stop_requested() && k < total;
         if stop {
             interrupted = Some(d.state.t);
         }

@@ -434,6 +434,16 @@ impl Driver {
         Ok(())
     }
 
+    /// Whether a stop was asked for (SIGINT/SIGTERM) on this process or, when the blocks are
+    /// shared among ranks ([`Driver::set_exchange`]), on any of them: every rank of the job
+    /// calls it at the same step and gets the same answer ([`crate::exchange::any_rank`]).
+    pub fn stop_requested(&self) -> bool {
+        crate::exchange::any_rank(
+            self.exchange.as_deref(),
+            railfem_framework::interrupt::requested(),
+        )
+    }
+
     /// Replaces the linear solver of the direct mode (the dense or sparse one the driver
     /// chose by size, [`DIRECT_DENSE_LIMIT`]); the next iteration factors anew. For
     /// comparisons of solvers on one model; no effect in the partitioned or low-rank modes.

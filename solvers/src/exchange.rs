@@ -33,6 +33,21 @@ pub trait Exchange: Send + Sync {
     fn all_gather(&self, local: &[f64]) -> Vec<Vec<f64>>;
 }
 
+/// Whether `flag` holds on any rank of `exchange` (on this process alone without one).
+/// Every rank must call it at the same point of the program, and every rank gets the same
+/// answer: a stop request (SIGINT/SIGTERM) seen by one rank stops all of them at the same
+/// step, where a rank that stopped alone would leave the others waiting in their next
+/// collective. One all-gather of one value per rank.
+pub fn any_rank(exchange: Option<&dyn Exchange>, flag: bool) -> bool {
+    match exchange {
+        Some(ex) if ex.size() > 1 => ex
+            .all_gather(&[if flag { 1.0 } else { 0.0 }])
+            .iter()
+            .any(|v| v.first().is_some_and(|&x| x != 0.0)),
+        _ => flag,
+    }
+}
+
 /// Payload counters of one rank (module documentation).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct CommStats {
@@ -246,6 +261,33 @@ pub(crate) fn decode_status(data: &[f64]) -> (Result<(), crate::linear::SolverEr
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A stop flag raised on one rank only is seen by every rank, in each of two rounds, and
+    /// no rank sees one that nobody raised; one process sees its own flag.
+    #[test]
+    fn any_rank_agrees_on_a_flag_raised_by_one_rank() {
+        let ranks = thread_ranks(3);
+        let out: Vec<Vec<bool>> = std::thread::scope(|s| {
+            let hs: Vec<_> = ranks
+                .iter()
+                .map(|ex| {
+                    s.spawn(move || {
+                        let r = ex.rank();
+                        let ex: &dyn Exchange = ex.as_ref();
+                        [r == 2, false, r == 0]
+                            .iter()
+                            .map(|&flag| any_rank(Some(ex), flag))
+                            .collect()
+                    })
+                })
+                .collect();
+            hs.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for o in &out {
+            assert_eq!(o, &vec![true, false, true]);
+        }
+        assert!(any_rank(None, true) && !any_rank(None, false));
+    }
 
     #[test]
     fn thread_ranks_gather_broadcast_and_all_gather_in_rank_order() {
