@@ -545,7 +545,8 @@ const MIN_LATERAL_CURVATURE: f64 = 0.05;
 const SHAPE_LOAD: f64 = 1.0e4;
 
 /// The ellipse shape at rolling radius `r` (m) and transverse curvatures (1/m): Hertz at
-/// [`SHAPE_LOAD`], Kalker's coefficients of its ratio clamped to his table (0.1–10).
+/// [`SHAPE_LOAD`], Kalker's coefficients of its ratio (his table, and his slender-ellipse
+/// asymptotes beyond it).
 fn ellipse_shape(r: f64, wheel_k: f64, rail_k: f64, young: f64, poisson: f64) -> EllipseShape {
     let lateral = (wheel_k + rail_k).max(MIN_LATERAL_CURVATURE);
     let curv = Curvatures {
@@ -562,8 +563,7 @@ fn ellipse_shape(r: f64, wheel_k: f64, rail_k: f64, young: f64, poisson: f64) ->
             (c, c)
         }
     };
-    let ratio = (a / b).clamp(0.1, 10.0);
-    let c = kalker_coefficients(ratio, poisson)
+    let c = kalker_coefficients(a / b, poisson)
         .unwrap_or(kalker_coefficients(1.0, 0.28).expect("table"));
     EllipseShape {
         n_ref: SHAPE_LOAD,
