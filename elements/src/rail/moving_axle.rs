@@ -223,7 +223,7 @@ pub struct MovingAxle {
     shapes: Vec<Option<EllipseShape>>,
     /// Per contact point (parallel to `points`): ξx, ξy, φ (1/m), Fx, Fy (N), rolling
     /// radius (m).
-    creep_out: Vec<[f64; 6]>,
+    creep_out: Vec<[f64; 8]>,
     /// Yaw θ2 of the axle node at the trial (rad): the angle of attack.
     attack: f64,
     /// Rolling over the current step (None: no rolling, the Coulomb law applies).
@@ -991,7 +991,8 @@ impl MovingAxle {
                         }
                     }
                 }
-                self.creep_out.push([0.0, 0.0, 0.0, st.f_v, st.f_u, radius]);
+                self.creep_out
+                    .push([0.0, 0.0, 0.0, st.f_v, st.f_u, radius, 0.0, 0.0]);
                 st
             };
             self.contact_force += st.phi;
@@ -1098,8 +1099,13 @@ impl MovingAxle {
                     }
                 }
                 let [xi_x, xi_y, spin] = pc.creepage;
+                // The patch's ellipse at its load (Hertz: a, b ∝ N^{1/3}).
+                let grow = (shared.map_or(pc.f_n, |s| s.0) / shape.n_ref)
+                    .max(0.0)
+                    .cbrt();
+                let (a, b) = (shape.a_ref * grow, shape.b_ref * grow);
                 self.creep_out
-                    .push([xi_x, xi_y, spin, pc.fx, pc.fy, c.radius]);
+                    .push([xi_x, xi_y, spin, pc.fx, pc.fy, c.radius, a, b]);
                 // Reported as sliding once the creep force is within 1 % of μN.
                 let saturated = pc.fx.hypot(pc.fy) >= 0.99 * mat.mu * pc.f_n;
                 let st = PointState {
@@ -1309,7 +1315,7 @@ impl Element for MovingAxle {
         v.push("rolling_radius".into());
         v.push("attack_angle".into());
         for i in 1..=CREEP_SLOTS {
-            for f in ["radius", "xi_x", "xi_y", "spin", "fx", "fy"] {
+            for f in ["radius", "xi_x", "xi_y", "spin", "fx", "fy", "a", "b"] {
                 v.push(format!("c{i}_{f}"));
             }
         }
@@ -1320,7 +1326,7 @@ impl Element for MovingAxle {
         // In the order of `output_names`: station, Q, Y, X, YQ, dQQ, the three counts,
         // spring_f2, the two contact angles, contact_y, contact_z; per point p1..p3
         // rail_y, wheel_y, fn, mode (a code); rolling_radius, attack_angle; per creep slot
-        // radius, xi_x, xi_y (ratios), spin (rad/m), fx, fy.
+        // radius, xi_x, xi_y (ratios), spin (rad/m), fx, fy, the ellipse's semi-axes a, b.
         let mut v: Vec<String> = [
             "m", "N", "N", "N", "-", "-", "-", "-", "-", "N", "rad", "rad", "m", "m",
         ]
@@ -1332,7 +1338,7 @@ impl Element for MovingAxle {
         }
         v.extend(["m", "rad"].map(String::from));
         for _ in 1..=CREEP_SLOTS {
-            v.extend(["m", "-", "-", "1/m", "N", "N"].map(String::from));
+            v.extend(["m", "-", "-", "1/m", "N", "N", "m", "m"].map(String::from));
         }
         v
     }
@@ -1402,8 +1408,8 @@ impl Element for MovingAxle {
         out.extend_from_slice(&[r, self.attack]);
         for i in 0..CREEP_SLOTS {
             match order.get(i).and_then(|&k| self.creep_out.get(k)) {
-                Some(c) => out.extend_from_slice(&[c[5], c[0], c[1], c[2], c[3], c[4]]),
-                None => out.extend_from_slice(&[0.0; 6]),
+                Some(c) => out.extend_from_slice(&[c[5], c[0], c[1], c[2], c[3], c[4], c[6], c[7]]),
+                None => out.extend_from_slice(&[0.0; 8]),
             }
         }
     }
@@ -1841,6 +1847,39 @@ mod tests {
 #[cfg(test)]
 mod creep_tests {
     use super::*;
+
+    /// The Polach defaults are Polach's (2005) dry-rail set, and his wet-rail set passes
+    /// the parameter checks.
+    #[test]
+    fn polach_defaults_are_polachs_dry_set() {
+        use crate::rail::creep::law::{POLACH_DRY, POLACH_WET};
+        let default = |key: &str| {
+            MovingAxleParams::docs()
+                .into_iter()
+                .find(|d| d.key == key)
+                .and_then(|d| d.default)
+                .and_then(|v| v.as_f64())
+                .unwrap()
+        };
+        assert_eq!(default("polach_ka"), POLACH_DRY.ka);
+        assert_eq!(default("polach_ks"), POLACH_DRY.ks);
+        assert_eq!(default("polach_a"), POLACH_DRY.a);
+        assert_eq!(default("polach_b"), POLACH_DRY.b);
+        let keys = serde_json::json!({
+            "side": "left", "tangential": "polach", "mu": POLACH_WET.mu0,
+            "polach_ka": POLACH_WET.ka, "polach_ks": POLACH_WET.ks,
+            "polach_a": POLACH_WET.a, "polach_b": POLACH_WET.b,
+        });
+        let spec = ElementSpec {
+            id: 1,
+            kind: "moving_axle".into(),
+            nodes: vec![1],
+            params: keys.as_object().unwrap().clone(),
+            origin: "test".into(),
+        };
+        let wet: MovingAxleParams = spec.parse().unwrap();
+        assert!(matches!(creep_law(&wet), Ok(Some(_))));
+    }
 
     fn tangent_at(s: &mut Sample) -> DMatrix<f64> {
         let z = vec![0.0; 21];

@@ -27,6 +27,39 @@ pub enum TangentialLaw {
     Polach { ka: f64, ks: f64, a: f64, b: f64 },
 }
 
+/// One parameter set of Polach's model: reduction factors `kA`, `kS`, friction at zero
+/// slip `μ0`, falling friction `A = μ∞/μ0` and `B` (s/m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PolachSet {
+    pub ka: f64,
+    pub ks: f64,
+    pub mu0: f64,
+    pub a: f64,
+    pub b: f64,
+}
+
+/// Polach (2005), the parameters fitted to the locomotive measurements on dry rail; the
+/// `moving_axle` defaults of `polach_ka`, `polach_ks`, `polach_a`, `polach_b` (its `mu`
+/// keeps the paper's 0.3, not this μ0). The two sets below are corroborated by Open Rails
+/// (`Axle.cs`, citing Polach 2005), whose straight-line fits of kA, kS and B in μ0
+/// (A = 0.4 fixed) pass exactly through both.
+pub const POLACH_DRY: PolachSet = PolachSet {
+    ka: 1.0,
+    ks: 0.4,
+    mu0: 0.55,
+    a: 0.4,
+    b: 0.6,
+};
+
+/// Polach (2005), the same fit on wet rail.
+pub const POLACH_WET: PolachSet = PolachSet {
+    ka: 0.3,
+    ks: 0.1,
+    mu0: 0.3,
+    a: 0.4,
+    b: 0.2,
+};
+
 /// The load-independent part of the contact: the ellipse at a reference load and Kalker's
 /// coefficients for its shape.
 #[derive(Debug, Clone, Copy, PartialEq)]
