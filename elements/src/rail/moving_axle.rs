@@ -1704,15 +1704,20 @@ fn sample_scene() -> (Arc<TrackModel>, Vec<NodeKinematics>, f64) {
     (tm, nodes, offset)
 }
 
-/// Rebuilds a sample wheel from its parameters (the conformance kit's serde check).
-fn rebuild_sample(params: &serde_json::Value) -> Result<Box<dyn Element>, FemError> {
-    let spec = ElementSpec {
+/// A one-node `moving_axle` entry with the keys `params` (samples and tests).
+fn sample_spec(params: &serde_json::Value, origin: &str) -> ElementSpec {
+    ElementSpec {
         id: 1,
         kind: "moving_axle".into(),
         nodes: vec![1],
         params: params.as_object().cloned().unwrap_or_default(),
-        origin: "conformance sample".into(),
-    };
+        origin: origin.into(),
+    }
+}
+
+/// Rebuilds a sample wheel from its parameters (the conformance kit's serde check).
+fn rebuild_sample(params: &serde_json::Value) -> Result<Box<dyn Element>, FemError> {
+    let spec = sample_spec(params, "conformance sample");
     let p: MovingAxleParams = spec.parse()?;
     let (tm, nodes, offset) = sample_scene();
     if p.tangential != "coulomb" {
@@ -1870,14 +1875,7 @@ mod creep_tests {
             "polach_ka": POLACH_WET.ka, "polach_ks": POLACH_WET.ks,
             "polach_a": POLACH_WET.a, "polach_b": POLACH_WET.b,
         });
-        let spec = ElementSpec {
-            id: 1,
-            kind: "moving_axle".into(),
-            nodes: vec![1],
-            params: keys.as_object().unwrap().clone(),
-            origin: "test".into(),
-        };
-        let wet: MovingAxleParams = spec.parse().unwrap();
+        let wet: MovingAxleParams = sample_spec(&keys, "test").parse().unwrap();
         assert!(matches!(creep_law(&wet), Ok(Some(_))));
     }
 
