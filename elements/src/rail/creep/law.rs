@@ -163,8 +163,8 @@ struct PolachInput {
 ///
 /// **Spin** (Polach 1999): the lateral creepage is replaced by `ξyC = ξy + φ·a` where
 /// that is larger in magnitude than `ξy` (otherwise `ξyC = ξy`), and the lateral force
-/// gains `F_yS = (9/16)·a·μN·K_S·K_M·φ/s_C` (written with Kalker's sign; Polach's forces
-/// carry the opposite one) with
+/// gains `F_yS = (9/16)·a·μN·K_S·K_M·φ/s_C` (written with Kalker's sign, the force on the
+/// wheel opposing the creepage) with
 /// `K_S = 1 + 6.3·(1 − e^{−a/b})`,
 /// `ε_M = (8/3)·G·b·√(ab)·C23·|ξyC| / (K_S·μN)`, `δ = (ε_M² − 1)/(ε_M² + 1)`,
 /// `K_M = ε_M·(δ³/3 − δ²/2 + 1/6) − (1/3)·(1 − δ²)^{3/2}`.
