@@ -115,6 +115,10 @@ railfem_framework::element_params! {
         polach_a: f64 ["-"] = 0.4,
         /// Polach's falling friction: decay B (s/m), 0 ≤ B ≤ 100.
         polach_b: f64 ["s/m"] = 0.6,
+        /// Polach's spin term: "off" (the law of 2005: spin does not enter) or "polach_1999"
+        /// (the spin-corrected lateral creepage and force of his 1999 method; about 1.8× the
+        /// Newton iterations in the curve case, docs/creep.md).
+        polach_spin: String [""] = "off",
     }
 }
 
@@ -266,7 +270,13 @@ pub fn ignored_keys(params: &serde_json::Map<String, serde_json::Value>) -> Opti
         .get("tangential")
         .and_then(|v| v.as_str())
         .unwrap_or("coulomb");
-    for key in ["polach_ka", "polach_ks", "polach_a", "polach_b"] {
+    for key in [
+        "polach_ka",
+        "polach_ks",
+        "polach_a",
+        "polach_b",
+        "polach_spin",
+    ] {
         if params.contains_key(key) && law != "polach" {
             return Some(format!(
                 "`{key}` would be ignored: it is a constant of `tangential = \"polach\"`, but the law is \"{law}\"; remove `{key}` or set `tangential = \"polach\"`"
@@ -462,6 +472,15 @@ fn creep_law(p: &MovingAxleParams) -> Result<Option<(TangentialLaw, Material)>, 
             ks: p.polach_ks,
             a: p.polach_a,
             b: p.polach_b,
+            spin: match p.polach_spin.as_str() {
+                "off" => false,
+                "polach_1999" => true,
+                s => {
+                    return Err(format!(
+                        "`polach_spin` = \"{s}\"; use \"off\" (Polach 2005, the default) or \"polach_1999\" (his spin term)"
+                    ))
+                }
+            },
         },
         s => {
             return Err(format!(
@@ -483,7 +502,7 @@ fn creep_law(p: &MovingAxleParams) -> Result<Option<(TangentialLaw, Material)>, 
             fmt_num(p.poisson)
         ));
     }
-    if let TangentialLaw::Polach { ka, ks, a, b } = law {
+    if let TangentialLaw::Polach { ka, ks, a, b, .. } = law {
         if !(ka.is_finite() && ka > 0.0 && ka <= 1.0) {
             return Err(format!(
                 "`polach_ka` = {}; give 0 < kA ≤ 1 (Polach's dry rail: 1.0)",

@@ -23,8 +23,15 @@ use std::f64::consts::PI;
 pub enum TangentialLaw {
     /// Kalker's linear creep saturated by Shen–Hedrick–Elkins.
     KalkerLinear,
-    /// Polach (2005) with reduction factors `ka`, `ks` and falling friction `a`, `b` (s/m).
-    Polach { ka: f64, ks: f64, a: f64, b: f64 },
+    /// Polach (2005) with reduction factors `ka`, `ks` and falling friction `a`, `b` (s/m);
+    /// `spin` adds the spin term of his 1999 method ([`polach`]).
+    Polach {
+        ka: f64,
+        ks: f64,
+        a: f64,
+        b: f64,
+        spin: bool,
+    },
 }
 
 /// One parameter set of Polach's model: reduction factors `kA`, `kS`, friction at zero
@@ -120,7 +127,7 @@ pub fn creep_forces(
             };
             (eps * fx, eps * fy)
         }
-        TangentialLaw::Polach { ka, ks, a, b } => {
+        TangentialLaw::Polach { ka, ks, a, b, spin } => {
             let semi = (scale * shape.a_ref, scale * shape.b_ref);
             polach(
                 &PolachInput {
@@ -128,6 +135,7 @@ pub fn creep_forces(
                     ks,
                     a,
                     b,
+                    spin,
                     speed,
                 },
                 semi,
@@ -146,6 +154,8 @@ struct PolachInput {
     ks: f64,
     a: f64,
     b: f64,
+    /// The 1999 spin term on (`false`: spin does not enter the law).
+    spin: bool,
     speed: f64,
 }
 
@@ -186,7 +196,7 @@ fn polach(
     let half = 0.5 * (p.ka + p.ks);
     // Polach (1999): spin acts as lateral creepage φ·a where it adds to it.
     let y_spin = y + sp * semi_a;
-    let yc = if y_spin.v.abs() > y.v.abs() {
+    let yc = if p.spin && y_spin.v.abs() > y.v.abs() {
         y_spin
     } else {
         y
@@ -194,10 +204,15 @@ fn polach(
     let sc = (x * x + yc * yc).sqrt();
     if sc.v < 1e-14 {
         // The limit of vanishing creepage: (kA + kS)/2 of Kalker's translational slopes and
-        // Kalker's linear spin force.
+        // (with spin) Kalker's linear spin force.
+        let fy = -(ab * y) * (g * c.c22 * half);
         return (
             -(ab * x) * (g * c.c11 * half),
-            -(ab * y) * (g * c.c22 * half) - (ab.powf(1.5) * sp) * (g * c.c23),
+            if p.spin {
+                fy - (ab.powf(1.5) * sp) * (g * c.c23)
+            } else {
+                fy
+            },
         );
     }
     let mu = ((sc * (-p.b * p.speed)).exp() * (1.0 - p.a) + p.a) * mu0;
@@ -219,6 +234,9 @@ fn polach(
         let f = force((cx * cx + cy * cy).sqrt());
         (-(f * x / sc), -(f * y / sc))
     };
+    if !p.spin {
+        return (fx, fy);
+    }
     let k_s = (-(semi_a / semi_b)).exp() * (-6.3) + 7.3;
     let eps_m = semi_b * ab.sqrt() * yc.abs() * (8.0 / 3.0 * g * c.c23) / (k_s * n * mu);
     let e2 = eps_m * eps_m;
@@ -292,6 +310,7 @@ mod tests {
             ks: 0.4,
             a: 0.4,
             b: 0.6,
+            spin: false,
         };
         let xi = 1e-7;
         let (fx, _) = creep_forces(&law, &s, &MAT, 30.0, [xi, 0.0, 0.0, n]);
@@ -322,6 +341,7 @@ mod tests {
                 ks,
                 a: 0.4,
                 b: 0.6,
+                spin: true,
             };
             for phi in [1e-4, -3e-4] {
                 let (fx, fy) = creep_forces(&law, &s, &MAT, 30.0, [0.0, 0.0, phi, n]);
@@ -329,6 +349,30 @@ mod tests {
                 assert!(fx.v.abs() < 1e-12 * kalker.abs());
                 assert!((fy.v / kalker - 1.0).abs() < 1e-3, "{} vs {kalker}", fy.v);
             }
+        }
+    }
+
+    /// Without the spin term Polach's forces do not depend on the spin at all (the law of
+    /// 2005 alone), and with it the same translational creepage gains a lateral force.
+    #[test]
+    fn polach_without_spin_ignores_the_spin_creepage() {
+        let s = shape();
+        let law = |spin| TangentialLaw::Polach {
+            ka: 1.0,
+            ks: 0.4,
+            a: 0.4,
+            b: 0.6,
+            spin,
+        };
+        for (x, y) in [(2e-4, -1e-4), (4e-3, 6e-3), (0.0, 0.0)] {
+            let (fx0, fy0) = creep_forces(&law(false), &s, &MAT, 30.0, [x, y, 0.0, 2e4]);
+            let (fx1, fy1) = creep_forces(&law(false), &s, &MAT, 30.0, [x, y, 0.3, 2e4]);
+            assert_eq!((fx0.v, fy0.v), (fx1.v, fy1.v));
+            let (_, fy2) = creep_forces(&law(true), &s, &MAT, 30.0, [x, y, 0.3, 2e4]);
+            assert!(
+                (fy2.v - fy1.v).abs() > 1e-3 * (1.0 + fy1.v.abs()),
+                "{x}, {y}"
+            );
         }
     }
 
@@ -344,6 +388,7 @@ mod tests {
             ks: 0.4,
             a: 1.0, // no falling friction: the limit is exactly μ0·N
             b: 0.0,
+            spin: true,
         };
         let n = 1e4;
         for a_over_b in [0.2_f64, 1.0, 5.0] {
@@ -381,6 +426,14 @@ mod tests {
                 ks: 0.4,
                 a: 0.4,
                 b: 0.6,
+                spin: false,
+            },
+            TangentialLaw::Polach {
+                ka: 1.0,
+                ks: 0.4,
+                a: 0.4,
+                b: 0.6,
+                spin: true,
             },
         ];
         for law in &laws {
