@@ -680,6 +680,15 @@ fn non_physical_vehicle_values_are_refused() {
             &["moving_axle", "`polach_b` = -1", "0 ≤ B ≤ 100 s/m"][..],
         ),
         (
+            "pspin",
+            "wheel = {tangential = \"polach\", polach_spin = \"on\"}",
+            &[
+                "moving_axle",
+                "`polach_spin` = \"on\"",
+                "\"off\" (Polach 2005, the default) or \"polach_1999\"",
+            ][..],
+        ),
+        (
             "pignored",
             "wheel = {tangential = \"kalker_linear\", polach_b = 0.2}",
             &[

@@ -115,6 +115,10 @@ railfem_framework::element_params! {
         polach_a: f64 ["-"] = 0.4,
         /// Polach's falling friction: decay B (s/m), 0 ≤ B ≤ 100.
         polach_b: f64 ["s/m"] = 0.6,
+        /// Polach's spin term: "off" (the law of 2005: spin does not enter) or "polach_1999"
+        /// (the spin-corrected lateral creepage and force of his 1999 method; about 1.8× the
+        /// Newton iterations in the curve case, docs/creep.md).
+        polach_spin: String [""] = "off",
     }
 }
 
@@ -223,7 +227,7 @@ pub struct MovingAxle {
     shapes: Vec<Option<EllipseShape>>,
     /// Per contact point (parallel to `points`): ξx, ξy, φ (1/m), Fx, Fy (N), rolling
     /// radius (m).
-    creep_out: Vec<[f64; 6]>,
+    creep_out: Vec<[f64; 8]>,
     /// Yaw θ2 of the axle node at the trial (rad): the angle of attack.
     attack: f64,
     /// Rolling over the current step (None: no rolling, the Coulomb law applies).
@@ -266,7 +270,13 @@ pub fn ignored_keys(params: &serde_json::Map<String, serde_json::Value>) -> Opti
         .get("tangential")
         .and_then(|v| v.as_str())
         .unwrap_or("coulomb");
-    for key in ["polach_ka", "polach_ks", "polach_a", "polach_b"] {
+    for key in [
+        "polach_ka",
+        "polach_ks",
+        "polach_a",
+        "polach_b",
+        "polach_spin",
+    ] {
         if params.contains_key(key) && law != "polach" {
             return Some(format!(
                 "`{key}` would be ignored: it is a constant of `tangential = \"polach\"`, but the law is \"{law}\"; remove `{key}` or set `tangential = \"polach\"`"
@@ -462,6 +472,15 @@ fn creep_law(p: &MovingAxleParams) -> Result<Option<(TangentialLaw, Material)>, 
             ks: p.polach_ks,
             a: p.polach_a,
             b: p.polach_b,
+            spin: match p.polach_spin.as_str() {
+                "off" => false,
+                "polach_1999" => true,
+                s => {
+                    return Err(format!(
+                        "`polach_spin` = \"{s}\"; use \"off\" (Polach 2005, the default) or \"polach_1999\" (his spin term)"
+                    ))
+                }
+            },
         },
         s => {
             return Err(format!(
@@ -483,7 +502,7 @@ fn creep_law(p: &MovingAxleParams) -> Result<Option<(TangentialLaw, Material)>, 
             fmt_num(p.poisson)
         ));
     }
-    if let TangentialLaw::Polach { ka, ks, a, b } = law {
+    if let TangentialLaw::Polach { ka, ks, a, b, .. } = law {
         if !(ka.is_finite() && ka > 0.0 && ka <= 1.0) {
             return Err(format!(
                 "`polach_ka` = {}; give 0 < kA ≤ 1 (Polach's dry rail: 1.0)",
@@ -545,7 +564,8 @@ const MIN_LATERAL_CURVATURE: f64 = 0.05;
 const SHAPE_LOAD: f64 = 1.0e4;
 
 /// The ellipse shape at rolling radius `r` (m) and transverse curvatures (1/m): Hertz at
-/// [`SHAPE_LOAD`], Kalker's coefficients of its ratio clamped to his table (0.1–10).
+/// [`SHAPE_LOAD`], Kalker's coefficients of its ratio (his table, and his slender-ellipse
+/// asymptotes beyond it).
 fn ellipse_shape(r: f64, wheel_k: f64, rail_k: f64, young: f64, poisson: f64) -> EllipseShape {
     let lateral = (wheel_k + rail_k).max(MIN_LATERAL_CURVATURE);
     let curv = Curvatures {
@@ -562,8 +582,7 @@ fn ellipse_shape(r: f64, wheel_k: f64, rail_k: f64, young: f64, poisson: f64) ->
             (c, c)
         }
     };
-    let ratio = (a / b).clamp(0.1, 10.0);
-    let c = kalker_coefficients(ratio, poisson)
+    let c = kalker_coefficients(a / b, poisson)
         .unwrap_or(kalker_coefficients(1.0, 0.28).expect("table"));
     EllipseShape {
         n_ref: SHAPE_LOAD,
@@ -991,7 +1010,8 @@ impl MovingAxle {
                         }
                     }
                 }
-                self.creep_out.push([0.0, 0.0, 0.0, st.f_v, st.f_u, radius]);
+                self.creep_out
+                    .push([0.0, 0.0, 0.0, st.f_v, st.f_u, radius, 0.0, 0.0]);
                 st
             };
             self.contact_force += st.phi;
@@ -1098,8 +1118,13 @@ impl MovingAxle {
                     }
                 }
                 let [xi_x, xi_y, spin] = pc.creepage;
+                // The patch's ellipse at its load (Hertz: a, b ∝ N^{1/3}).
+                let grow = (shared.map_or(pc.f_n, |s| s.0) / shape.n_ref)
+                    .max(0.0)
+                    .cbrt();
+                let (a, b) = (shape.a_ref * grow, shape.b_ref * grow);
                 self.creep_out
-                    .push([xi_x, xi_y, spin, pc.fx, pc.fy, c.radius]);
+                    .push([xi_x, xi_y, spin, pc.fx, pc.fy, c.radius, a, b]);
                 // Reported as sliding once the creep force is within 1 % of μN.
                 let saturated = pc.fx.hypot(pc.fy) >= 0.99 * mat.mu * pc.f_n;
                 let st = PointState {
@@ -1309,7 +1334,7 @@ impl Element for MovingAxle {
         v.push("rolling_radius".into());
         v.push("attack_angle".into());
         for i in 1..=CREEP_SLOTS {
-            for f in ["radius", "xi_x", "xi_y", "spin", "fx", "fy"] {
+            for f in ["radius", "xi_x", "xi_y", "spin", "fx", "fy", "a", "b"] {
                 v.push(format!("c{i}_{f}"));
             }
         }
@@ -1320,7 +1345,7 @@ impl Element for MovingAxle {
         // In the order of `output_names`: station, Q, Y, X, YQ, dQQ, the three counts,
         // spring_f2, the two contact angles, contact_y, contact_z; per point p1..p3
         // rail_y, wheel_y, fn, mode (a code); rolling_radius, attack_angle; per creep slot
-        // radius, xi_x, xi_y (ratios), spin (rad/m), fx, fy.
+        // radius, xi_x, xi_y (ratios), spin (rad/m), fx, fy, the ellipse's semi-axes a, b.
         let mut v: Vec<String> = [
             "m", "N", "N", "N", "-", "-", "-", "-", "-", "N", "rad", "rad", "m", "m",
         ]
@@ -1332,7 +1357,7 @@ impl Element for MovingAxle {
         }
         v.extend(["m", "rad"].map(String::from));
         for _ in 1..=CREEP_SLOTS {
-            v.extend(["m", "-", "-", "1/m", "N", "N"].map(String::from));
+            v.extend(["m", "-", "-", "1/m", "N", "N", "m", "m"].map(String::from));
         }
         v
     }
@@ -1402,8 +1427,8 @@ impl Element for MovingAxle {
         out.extend_from_slice(&[r, self.attack]);
         for i in 0..CREEP_SLOTS {
             match order.get(i).and_then(|&k| self.creep_out.get(k)) {
-                Some(c) => out.extend_from_slice(&[c[5], c[0], c[1], c[2], c[3], c[4]]),
-                None => out.extend_from_slice(&[0.0; 6]),
+                Some(c) => out.extend_from_slice(&[c[5], c[0], c[1], c[2], c[3], c[4], c[6], c[7]]),
+                None => out.extend_from_slice(&[0.0; 8]),
             }
         }
     }
@@ -1698,15 +1723,20 @@ fn sample_scene() -> (Arc<TrackModel>, Vec<NodeKinematics>, f64) {
     (tm, nodes, offset)
 }
 
-/// Rebuilds a sample wheel from its parameters (the conformance kit's serde check).
-fn rebuild_sample(params: &serde_json::Value) -> Result<Box<dyn Element>, FemError> {
-    let spec = ElementSpec {
+/// A one-node `moving_axle` entry with the keys `params` (samples and tests).
+fn sample_spec(params: &serde_json::Value, origin: &str) -> ElementSpec {
+    ElementSpec {
         id: 1,
         kind: "moving_axle".into(),
         nodes: vec![1],
         params: params.as_object().cloned().unwrap_or_default(),
-        origin: "conformance sample".into(),
-    };
+        origin: origin.into(),
+    }
+}
+
+/// Rebuilds a sample wheel from its parameters (the conformance kit's serde check).
+fn rebuild_sample(params: &serde_json::Value) -> Result<Box<dyn Element>, FemError> {
+    let spec = sample_spec(params, "conformance sample");
     let p: MovingAxleParams = spec.parse()?;
     let (tm, nodes, offset) = sample_scene();
     if p.tangential != "coulomb" {
@@ -1841,6 +1871,32 @@ mod tests {
 #[cfg(test)]
 mod creep_tests {
     use super::*;
+
+    /// The Polach defaults are Polach's (2005) dry-rail set, and his wet-rail set passes
+    /// the parameter checks.
+    #[test]
+    fn polach_defaults_are_polachs_dry_set() {
+        use crate::rail::creep::law::{POLACH_DRY, POLACH_WET};
+        let default = |key: &str| {
+            MovingAxleParams::docs()
+                .into_iter()
+                .find(|d| d.key == key)
+                .and_then(|d| d.default)
+                .and_then(|v| v.as_f64())
+                .unwrap()
+        };
+        assert_eq!(default("polach_ka"), POLACH_DRY.ka);
+        assert_eq!(default("polach_ks"), POLACH_DRY.ks);
+        assert_eq!(default("polach_a"), POLACH_DRY.a);
+        assert_eq!(default("polach_b"), POLACH_DRY.b);
+        let keys = serde_json::json!({
+            "side": "left", "tangential": "polach", "mu": POLACH_WET.mu0,
+            "polach_ka": POLACH_WET.ka, "polach_ks": POLACH_WET.ks,
+            "polach_a": POLACH_WET.a, "polach_b": POLACH_WET.b,
+        });
+        let wet: MovingAxleParams = sample_spec(&keys, "test").parse().unwrap();
+        assert!(matches!(creep_law(&wet), Ok(Some(_))));
+    }
 
     fn tangent_at(s: &mut Sample) -> DMatrix<f64> {
         let z = vec![0.0; 21];

@@ -57,6 +57,16 @@ impl D4 {
         self.chain(y, p * y / self.v)
     }
 
+    /// `|x|`; the gradient at 0 is that of `+x` (callers multiply it by a factor that
+    /// vanishes there).
+    pub fn abs(self) -> D4 {
+        if self.v < 0.0 {
+            -self
+        } else {
+            self
+        }
+    }
+
     /// `x · k` for a constant `k`.
     pub fn scale(self, k: f64) -> D4 {
         self.chain(self.v * k, k)
@@ -125,6 +135,13 @@ impl Add<f64> for D4 {
     }
 }
 
+impl Sub<f64> for D4 {
+    type Output = D4;
+    fn sub(self, o: f64) -> D4 {
+        self + (-o)
+    }
+}
+
 impl Mul<f64> for D4 {
     type Output = D4;
     fn mul(self, k: f64) -> D4 {
@@ -146,6 +163,8 @@ mod tests {
             let n = D4::var(x[3], 3);
             let s = (a * a + b * b).sqrt();
             ((s * c).atan() + (-n).exp() * 2.0) / (n.powf(1.0 / 3.0) + 1.0) - a * b
+                + (b - 0.2).abs()
+                + (a - 0.1).abs()
         };
         let x0 = [0.3, -0.7, 1.9, 0.8];
         let y = f(x0);
