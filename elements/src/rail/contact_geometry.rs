@@ -188,20 +188,33 @@ pub fn closest_point_near(
                 *best = (d2, t);
             }
         };
+        // Squared distance and `f` at knot `k`, from one evaluation of the spline there (a
+        // knot belongs to the interval it starts, the last knot to the last one). Each
+        // knot is evaluated once: the end of one interval is the start of the next, and
+        // considering the same point twice changes nothing.
+        let at_knot = |k: usize| {
+            let t = knots[k];
+            let [c, d1, _] = curve.eval_in(curve.interval_near(t, k.min(n_seg - 1)), t);
+            let r = c - p;
+            (r.norm_squared(), r.dot(&d1))
+        };
+        let (mut d2a, mut fa) = at_knot(first);
         for i in first..=last {
             let (a, b) = (knots[i], knots[i + 1]);
-            consider(a, i, &mut best);
-            // A knot belongs to the interval it starts (the last knot to the last one).
-            let at_b = (i + 1).min(n_seg - 1);
-            consider(b, at_b, &mut best);
-            let (fa, _) = stationarity(curve, p, a, i);
-            let (fb, _) = stationarity(curve, p, b, at_b);
+            if d2a < best.0 {
+                best = (d2a, a);
+            }
+            let (d2b, fb) = at_knot(i + 1);
+            if d2b < best.0 {
+                best = (d2b, b);
+            }
             if fa < 0.0 && fb > 0.0 {
                 let t0 = if i == seg { t_seed } else { 0.5 * (a + b) };
                 let (t, it) = newton_in_bracket(curve, p, (a, b), t0, i);
                 iterations += it;
                 consider(t, i, &mut best);
             }
+            (d2a, fa) = (d2b, fb);
         }
         let mut t = best.1;
         let (mut f, _) = stationarity(curve, p, t, seg);
