@@ -33,6 +33,8 @@ pub struct DenseLu {
     order: Option<FillOrder>,
     /// Rows with a nonzero multiplier in the current pivot column (scratch).
     rows: Vec<usize>,
+    /// The permuted right-hand side of a reordered solve (scratch).
+    work: Vec<f64>,
 }
 
 /// A symmetric renumbering of one sparsity pattern: `A'[k][l] = A[old[k]][old[l]]`.
@@ -173,25 +175,51 @@ impl LinearSolver for DenseLu {
 
     fn solve_in_place(&mut self, b: &mut [f64]) -> Result<(), SolverError> {
         let n = self.lu.nrows();
-        let old_of = self.order.as_ref().map(|o| o.old.as_slice());
-        let at = |k: usize| old_of.map_or(k, |m| m[k]);
-        let mut x: Vec<f64> = self.perm.iter().map(|&p| b[at(p)]).collect();
-        for i in 0..n {
-            let mut s = x[i];
-            for j in 0..i {
-                s -= self.lu[(i, j)] * x[j];
+        let Some(order) = &self.order else {
+            let mut x: Vec<f64> = self.perm.iter().map(|&p| b[p]).collect();
+            for i in 0..n {
+                let mut s = x[i];
+                for j in 0..i {
+                    s -= self.lu[(i, j)] * x[j];
+                }
+                x[i] = s;
             }
-            x[i] = s;
-        }
-        for i in (0..n).rev() {
-            let mut s = x[i];
-            for j in i + 1..n {
-                s -= self.lu[(i, j)] * x[j];
+            for i in (0..n).rev() {
+                let mut s = x[i];
+                for j in i + 1..n {
+                    s -= self.lu[(i, j)] * x[j];
+                }
+                x[i] = s / self.lu[(i, i)];
             }
-            x[i] = s / self.lu[(i, i)];
+            b.copy_from_slice(&x);
+            self.stats.solves += 1;
+            return Ok(());
+        };
+        // Reordered: the substitutions by columns (contiguous in the column-major factor),
+        // a column skipped where the unknown it carries is zero.
+        let x = &mut self.work;
+        x.clear();
+        x.extend(self.perm.iter().map(|&p| b[order.old[p]]));
+        let a = self.lu.as_slice();
+        for j in 0..n {
+            let xj = x[j];
+            if xj != 0.0 {
+                for (xi, &l) in x[j + 1..].iter_mut().zip(&a[j * n + j + 1..(j + 1) * n]) {
+                    *xi -= l * xj;
+                }
+            }
         }
-        for (k, xk) in x.into_iter().enumerate() {
-            b[at(k)] = xk;
+        for j in (0..n).rev() {
+            x[j] /= a[j * n + j];
+            let xj = x[j];
+            if xj != 0.0 {
+                for (xi, &u) in x[..j].iter_mut().zip(&a[j * n..j * n + j]) {
+                    *xi -= u * xj;
+                }
+            }
+        }
+        for (k, &xk) in x.iter().enumerate() {
+            b[order.old[k]] = xk;
         }
         self.stats.solves += 1;
         Ok(())
