@@ -129,9 +129,24 @@ impl LinearSolver for DenseLu {
         }
         self.perm = (0..n).collect();
         let lu = &mut self.lu;
+        let sparse = self.reorder;
         for k in 0..n {
+            // Reordered, most of column k is zero: its nonzero rows are listed first and the
+            // pivot search, the division and the update visit only them (a zero is never a
+            // larger pivot, so the pivot is the same). The plain order keeps its loops, and
+            // with them the sign of every zero multiplier, bit for bit.
+            self.rows.clear();
+            if sparse {
+                let col = &lu.as_slice()[k * n..(k + 1) * n];
+                self.rows.extend((k + 1..n).filter(|&i| col[i] != 0.0));
+            }
             let (mut piv, mut best) = (k, lu[(k, k)].abs());
-            for i in k + 1..n {
+            let below: &mut dyn Iterator<Item = usize> = if sparse {
+                &mut self.rows.iter().copied()
+            } else {
+                &mut (k + 1..n)
+            };
+            for i in below {
                 if lu[(i, k)].abs() > best {
                     best = lu[(i, k)].abs();
                     piv = i;
@@ -143,6 +158,14 @@ impl LinearSolver for DenseLu {
             if piv != k {
                 lu.swap_rows(piv, k);
                 self.perm.swap(piv, k);
+                // Row `piv` of column k is now the old diagonal entry.
+                if sparse {
+                    self.rows.retain(|&i| i != piv);
+                    if lu[(piv, k)] != 0.0 {
+                        let at = self.rows.partition_point(|&i| i < piv);
+                        self.rows.insert(at, piv);
+                    }
+                }
             }
             // Column-major storage: the multipliers fill column k below the pivot, then each
             // later column j is updated along its contiguous part, `a_ij −= l_ik·u_kj`.
@@ -150,15 +173,25 @@ impl LinearSolver for DenseLu {
             // elimination would give it, so the factor is the same to the bit.
             let a = lu.as_mut_slice();
             let d = a[k * n + k];
-            for x in &mut a[k * n + k + 1..(k + 1) * n] {
-                *x /= d;
+            if sparse {
+                for &i in &self.rows {
+                    a[k * n + i] /= d;
+                }
+            } else {
+                for x in &mut a[k * n + k + 1..(k + 1) * n] {
+                    *x /= d;
+                }
             }
             let (left, right) = a.split_at_mut((k + 1) * n);
             let l = &left[k * n..(k + 1) * n];
             // Only the rows with a nonzero multiplier are updated (the same entries, in the
             // same order, as testing each multiplier in the column loop).
-            self.rows.clear();
-            self.rows.extend((k + 1..n).filter(|&i| l[i] != 0.0));
+            if !sparse {
+                self.rows.extend((k + 1..n).filter(|&i| l[i] != 0.0));
+            } else {
+                // A multiplier can underflow to zero in the division.
+                self.rows.retain(|&i| l[i] != 0.0);
+            }
             for col in right.chunks_exact_mut(n) {
                 let u = col[k];
                 if u == 0.0 {
