@@ -53,6 +53,28 @@ pub const DENSE_LIMIT: usize = 200;
 /// was measured, when a 121-equation model ran slower than a 241-equation one).
 pub const DIRECT_DENSE_LIMIT: usize = railfem_framework::model::DENSE_UP_TO;
 
+/// The driver factors an *unsymmetric* tangent of at most this many equations by the dense
+/// LU in a fill-reducing order ([`DenseLu::fill_reducing`]), above it by the sparse LU.
+/// Measured on the curve case's vehicle with creep forces (`sks700` carriages with
+/// `tangential = "kalker_linear"`, per Newton iteration, docs/performance.md "Rolling-contact
+/// laws in the curve case"): 18 against 42–48 µs at 66 equations, 18–27 against 23–29 at
+/// 132, 25–34 against 50–61 at 198, but 64 against 43 µs at 264. A symmetric tangent keeps
+/// [`DIRECT_DENSE_LIMIT`] (sparse Cholesky is faster from 18 equations on).
+pub const DIRECT_DENSE_LU_LIMIT: usize = 200;
+
+/// The linear solver of the whole tangent for a model of `n` equations: dense LU in the
+/// plain order up to [`DIRECT_DENSE_LIMIT`]; for an unsymmetric tangent the ordered dense LU
+/// up to [`DIRECT_DENSE_LU_LIMIT`]; the sparse solver otherwise (Cholesky if `symmetric`).
+pub fn direct_solver(n: usize, symmetric: bool) -> Box<dyn LinearSolver> {
+    if n <= DIRECT_DENSE_LIMIT {
+        Box::new(DenseLu::default())
+    } else if !symmetric && n <= DIRECT_DENSE_LU_LIMIT {
+        Box::new(DenseLu::fill_reducing())
+    } else {
+        solver_for(symmetric)
+    }
+}
+
 /// The committed state of a run.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct State {
@@ -316,11 +338,7 @@ impl Driver {
                 "the model has no free DOF (every DOF is fixed or unused); free some DOFs or add elements",
             ));
         }
-        let solver: Box<dyn LinearSolver> = if n <= DIRECT_DENSE_LIMIT {
-            Box::new(DenseLu::default())
-        } else {
-            solver_for(asm.symmetric())
-        };
+        let solver = direct_solver(n, asm.symmetric());
         let integrator = Integrator::from_spec(&model.analysis);
         let k_eff = asm.k_const.zeros_like();
         let lowrank = (asm.solver() == SolverChoice::LowRank).then(LowRank::new);
@@ -707,11 +725,7 @@ impl Driver {
                 .map_err(|e| self.singular(e))?;
             p.solve_in_place(&mut rhs).map_err(|e| self.singular(e))?;
         } else {
-            let mut solver: Box<dyn LinearSolver> = if n <= DIRECT_DENSE_LIMIT {
-                Box::new(DenseLu::default())
-            } else {
-                solver_for(true)
-            };
+            let mut solver = direct_solver(n, true);
             solver.factor(&m).map_err(|e| self.singular(e))?;
             solver
                 .solve_in_place(&mut rhs)

@@ -75,11 +75,17 @@ pub fn outward_normal(curve: &ParametricSpline, t: f64) -> Vector2<f64> {
 }
 
 /// `f(t) = (c(t) − p)·c'(t)` (half the derivative of the squared distance) and its
-/// derivative `f'(t) = |c'|² + (c − p)·c''`.
-fn stationarity(curve: &ParametricSpline, p: Vector2<f64>, t: f64) -> (f64, f64) {
-    let [c, d1, d2] = curve.eval_all(t);
+/// derivative `f'(t) = |c'|² + (c − p)·c''`; `near` is the spline interval `t` probably
+/// lies in (checked, so only the speed depends on it: the search below knows it).
+fn stationarity(curve: &ParametricSpline, p: Vector2<f64>, t: f64, near: usize) -> (f64, f64) {
+    let [c, d1, d2] = curve.eval_in(curve.interval_near(t, near), t);
     let r = c - p;
     (r.dot(&d1), d1.norm_squared() + r.dot(&d2))
+}
+
+/// The point `c(t)`, with the interval guess `near` as in [`stationarity`].
+fn point_near(curve: &ParametricSpline, t: f64, near: usize) -> Vector2<f64> {
+    curve.eval_in(curve.interval_near(t, near), t)[0]
 }
 
 /// Closest point of the segment `[a, b]` to `p`, as the fraction `u ∈ [0, 1]` and the
@@ -96,14 +102,14 @@ fn segment_projection(a: Vector2<f64>, b: Vector2<f64>, p: Vector2<f64>) -> (f64
 fn newton_in_bracket(
     curve: &ParametricSpline,
     p: Vector2<f64>,
-    mut lo: f64,
-    mut hi: f64,
+    (mut lo, mut hi): (f64, f64),
     t0: f64,
+    near: usize,
 ) -> (f64, usize) {
     let tol = 1e-15 * (1.0 + curve.domain().1.abs());
     let mut t = t0.clamp(lo, hi);
     for it in 1..=100 {
-        let (f, fp) = stationarity(curve, p, t);
+        let (f, fp) = stationarity(curve, p, t, near);
         if f == 0.0 {
             return (t, it);
         }
@@ -176,59 +182,76 @@ pub fn closest_point_near(
     loop {
         // Candidates: every knot in the window and the interior minima.
         let mut best = (f64::INFINITY, knots[first]);
-        let consider = |t: f64, best: &mut (f64, f64)| {
-            let d2 = (curve.point(t) - p).norm_squared();
+        let consider = |t: f64, near: usize, best: &mut (f64, f64)| {
+            let d2 = (point_near(curve, t, near) - p).norm_squared();
             if d2 < best.0 {
                 *best = (d2, t);
             }
         };
+        // Squared distance and `f` at knot `k`, from one evaluation of the spline there (a
+        // knot belongs to the interval it starts, the last knot to the last one). Each
+        // knot is evaluated once: the end of one interval is the start of the next, and
+        // considering the same point twice changes nothing.
+        let at_knot = |k: usize| {
+            let t = knots[k];
+            let [c, d1, _] = curve.eval_in(curve.interval_near(t, k.min(n_seg - 1)), t);
+            let r = c - p;
+            (r.norm_squared(), r.dot(&d1))
+        };
+        let (mut d2a, mut fa) = at_knot(first);
         for i in first..=last {
             let (a, b) = (knots[i], knots[i + 1]);
-            consider(a, &mut best);
-            consider(b, &mut best);
-            let (fa, _) = stationarity(curve, p, a);
-            let (fb, _) = stationarity(curve, p, b);
+            if d2a < best.0 {
+                best = (d2a, a);
+            }
+            let (d2b, fb) = at_knot(i + 1);
+            if d2b < best.0 {
+                best = (d2b, b);
+            }
             if fa < 0.0 && fb > 0.0 {
                 let t0 = if i == seg { t_seed } else { 0.5 * (a + b) };
-                let (t, it) = newton_in_bracket(curve, p, a, b, t0);
+                let (t, it) = newton_in_bracket(curve, p, (a, b), t0, i);
                 iterations += it;
-                consider(t, &mut best);
+                consider(t, i, &mut best);
             }
+            (d2a, fa) = (d2b, fb);
         }
         let mut t = best.1;
-        let (mut f, _) = stationarity(curve, p, t);
+        let (mut f, _) = stationarity(curve, p, t, seg);
         // A knot at which the distance still falls into a segment of the window: that
         // segment holds a lower point its end values did not bracket (a coarse, wiggly
         // spline: f goes −, +, − across it). Find the first sign change from the knot's side
         // on a fine subdivision and refine it.
         if let Some(k) = (first..=last + 1).find(|&k| knots[k] == t) {
+            // The segment walked into, and its interval.
             let inward = if f < 0.0 && k <= last {
-                Some((knots[k], knots[k + 1]))
+                Some((knots[k], knots[k + 1], k))
             } else if f > 0.0 && k > first {
-                Some((knots[k], knots[k - 1]))
+                Some((knots[k], knots[k - 1], k - 1))
             } else {
                 None
             };
-            if let Some((from, to)) = inward {
+            if let Some((from, to, interval)) = inward {
                 const PARTS: usize = 16;
                 let mut prev = (from, f);
                 for j in 1..=PARTS {
                     let s = from + (to - from) * j as f64 / PARTS as f64;
-                    let fs = stationarity(curve, p, s).0;
+                    let fs = stationarity(curve, p, s, interval).0;
                     // Forward (f < 0 at the knot): a minimum where f turns positive;
                     // backward (f > 0): where f, walking back, turns negative.
                     let turned = if f < 0.0 { fs >= 0.0 } else { fs <= 0.0 };
                     if turned {
                         let (lo, hi) = if from < to { (prev.0, s) } else { (s, prev.0) };
-                        let (tm, it) = newton_in_bracket(curve, p, lo, hi, 0.5 * (lo + hi));
+                        let (tm, it) =
+                            newton_in_bracket(curve, p, (lo, hi), 0.5 * (lo + hi), interval);
                         iterations += it;
-                        consider(tm, &mut best);
+                        consider(tm, interval, &mut best);
                         break;
                     }
                     prev = (s, fs);
                 }
                 t = best.1;
-                f = stationarity(curve, p, t).0;
+                f = stationarity(curve, p, t, interval).0;
             }
         }
         // Grow the window if the best is its edge knot and the distance falls outwards.

@@ -290,9 +290,26 @@ impl CubicSpline {
         k.saturating_sub(1).min(self.t.len() - 2)
     }
 
+    /// [`CubicSpline::interval`] when the caller knows where `t` probably lies: `i` if it
+    /// is the interval `interval(t)` would return (checked against the knots by the same
+    /// rule, O(1)), otherwise the binary search. The same index in every case.
+    pub fn interval_near(&self, t: f64, i: usize) -> usize {
+        let last = self.t.len() - 2;
+        if i <= last && (i == 0 || self.t[i] <= t) && (i == last || t < self.t[i + 1]) {
+            i
+        } else {
+            self.interval(t)
+        }
+    }
+
     /// Value, first and second derivative at `t`: `[y, y', y'']`.
     pub fn eval_all(&self, t: f64) -> [f64; 3] {
-        let i = self.interval(t);
+        self.eval_in(self.interval(t), t)
+    }
+
+    /// [`CubicSpline::eval_all`] on the cubic of interval `i` (`i = interval(t)` gives
+    /// `eval_all(t)` to the bit; another `i` extrapolates that interval's cubic).
+    pub fn eval_in(&self, i: usize, t: f64) -> [f64; 3] {
         let d = t - self.t[i];
         let (s, c2, c3) = (self.s[i], self.c2[i], self.c3[i]);
         [
@@ -384,15 +401,28 @@ impl ParametricSpline {
         self.y.interval(t)
     }
 
-    /// The point `c(t)` (m).
-    pub fn point(&self, t: f64) -> Vector2<f64> {
-        Vector2::new(self.y.value(t), self.z.value(t))
+    /// [`ParametricSpline::interval`] checked against a guess `i` first (O(1) when right;
+    /// the same index in every case, see [`CubicSpline::interval_near`]).
+    pub fn interval_near(&self, t: f64, i: usize) -> usize {
+        self.y.interval_near(t, i)
     }
 
-    /// `[c(t), c'(t), c''(t)]` (m, dimensionless, 1/m).
+    /// The point `c(t)` (m).
+    pub fn point(&self, t: f64) -> Vector2<f64> {
+        self.eval_all(t)[0]
+    }
+
+    /// `[c(t), c'(t), c''(t)]` (m, dimensionless, 1/m). Both coordinates share the knots,
+    /// so one interval search serves both.
     pub fn eval_all(&self, t: f64) -> [Vector2<f64>; 3] {
-        let y = self.y.eval_all(t);
-        let z = self.z.eval_all(t);
+        self.eval_in(self.interval(t), t)
+    }
+
+    /// [`ParametricSpline::eval_all`] on the cubics of interval `i` (`i = interval(t)`, as
+    /// [`ParametricSpline::interval_near`] returns it, gives `eval_all(t)` to the bit).
+    pub fn eval_in(&self, i: usize, t: f64) -> [Vector2<f64>; 3] {
+        let y = self.y.eval_in(i, t);
+        let z = self.z.eval_in(i, t);
         [
             Vector2::new(y[0], z[0]),
             Vector2::new(y[1], z[1]),
@@ -402,12 +432,12 @@ impl ParametricSpline {
 
     /// The derivative `c'(t)` (close to a unit vector for chord-length parameters).
     pub fn derivative(&self, t: f64) -> Vector2<f64> {
-        Vector2::new(self.y.derivative(t), self.z.derivative(t))
+        self.eval_all(t)[1]
     }
 
     /// The second derivative `c''(t)` (1/m).
     pub fn second_derivative(&self, t: f64) -> Vector2<f64> {
-        Vector2::new(self.y.second_derivative(t), self.z.second_derivative(t))
+        self.eval_all(t)[2]
     }
 
     /// The unit tangent `c'/|c'|` at `t`.
@@ -1139,6 +1169,36 @@ mod tests {
 
     fn v(y: f64, z: f64) -> Vector2<f64> {
         Vector2::new(y, z)
+    }
+
+    /// The checked interval guess returns the binary search's interval for every guess:
+    /// at every knot, between knots, outside the domain and for NaN; and the spline
+    /// evaluated there is the plain evaluation to the bit.
+    #[test]
+    fn interval_near_is_the_binary_search_for_every_guess() {
+        let w = WheelProfile::s1002(40);
+        let sp = w.spline();
+        let k = sp.knots();
+        let mut ts = vec![k[0] - 1.0, f64::NAN, k[k.len() - 1] + 1.0, -0.0];
+        for i in 0..k.len() {
+            ts.push(k[i]);
+            ts.push(k[i] - 1e-17);
+            if i + 1 < k.len() {
+                ts.push(0.5 * (k[i] + k[i + 1]));
+            }
+        }
+        for &t in &ts {
+            let want = sp.interval(t);
+            for guess in 0..k.len() + 2 {
+                assert_eq!(sp.interval_near(t, guess), want, "t {t}, guess {guess}");
+            }
+            let a = sp.eval_in(sp.interval_near(t, want), t);
+            let b = sp.eval_all(t);
+            for (x, y) in a.iter().zip(&b) {
+                assert!(x.x.to_bits() == y.x.to_bits() || (x.x.is_nan() && y.x.is_nan()));
+                assert!(x.y.to_bits() == y.y.to_bits() || (x.y.is_nan() && y.y.is_nan()));
+            }
+        }
     }
 
     /// A not-a-knot spline reproduces any cubic exactly, on uneven knots, n = 4 and n = 9.

@@ -105,14 +105,15 @@ pub fn creep_forces(
     let y = D4::var(input[1], 1);
     let sp = D4::var(input[2], 2);
     let n = D4::var(input[3], 3);
-    let scale = (n * (1.0 / shape.n_ref)).powf(1.0 / 3.0);
+    let scale = (n * (1.0 / shape.n_ref)).cbrt();
     let ab = scale * scale * (shape.a_ref * shape.b_ref);
     let g = mat.shear_modulus;
     let c = &shape.c;
     match *law {
         TangentialLaw::KalkerLinear => {
             let fx = -(ab * x) * (g * c.c11);
-            let fy = -(ab * y) * (g * c.c22) - (ab.powf(1.5) * sp) * (g * c.c23);
+            // (ab)^{3/2} as ab·√(ab): a square root instead of a power.
+            let fy = -(ab * y) * (g * c.c22) - ((ab * ab.sqrt()) * sp) * (g * c.c23);
             let f = (fx * fx + fy * fy).sqrt();
             if f.v == 0.0 {
                 return (fx, fy);
