@@ -17,7 +17,7 @@
 //! the solution is relative to the ground), one per non-zero direction, global X, Y, Z.
 
 use crate::elements::rail::alignment::{Alignment, Hand, Segment};
-use crate::elements::rail::bridge::{BridgeSpec, SlabTrack};
+use crate::elements::rail::bridge::BridgeSpec;
 use crate::elements::rail::cant::{Cant, Track};
 use crate::elements::rail::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
 use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
@@ -378,17 +378,9 @@ impl TrainBridgeCase {
 
     fn bridge(&self) -> BridgeSpec {
         BridgeSpec {
-            start: self.approach(),
-            spans: self.spans,
             span: self.span,
-            girder: RailSection::pc_box_girder(),
-            bearing_fixed: [5.0e9, 1.0e10, 5.0e9, 0.0, 0.0, 6.0e10],
-            bearing_roller: [5.0e9, 1.0e10, 1.0e6, 0.0, 0.0, 6.0e10],
-            bearing_c: [0.0; 6],
             pier_height: self.pier_height,
-            pier: RailSection::rc_pier(),
-            pier_elements: 4,
-            slab_track: SlabTrack::default(),
+            ..BridgeSpec::new(self.approach(), self.spans)
         }
     }
 

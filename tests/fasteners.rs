@@ -16,15 +16,15 @@
 //!
 //! `cargo test --release --test fasteners`.
 
+mod common;
+
 use nalgebra::{DMatrix, DVector};
 use railfem::elements::rail::alignment::Alignment;
-use railfem::elements::rail::bridge::{BridgeSpec, SlabTrack};
+use railfem::elements::rail::bridge::BridgeSpec;
 use railfem::elements::rail::cant::{Cant, Track};
 use railfem::elements::rail::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
-use railfem::framework::loads::{LoadSpec, TimeSeries};
-use railfem::framework::model::{AnalysisKind, AnalysisSpec, ModelBuilder};
+use railfem::framework::model::ModelBuilder;
 use railfem::framework::Dof;
-use railfem::solvers::Driver;
 use std::sync::Arc;
 
 /// Fastener spacing (m), the slab track's default.
@@ -43,19 +43,7 @@ fn discrete() -> RailSupport {
 }
 
 fn bridge() -> RailSupport {
-    RailSupport::Bridge(Box::new(BridgeSpec {
-        start: 10.0,
-        spans: 2,
-        span: 29.75,
-        girder: RailSection::pc_box_girder(),
-        bearing_fixed: [5.0e9, 1.0e10, 5.0e9, 0.0, 0.0, 6.0e10],
-        bearing_roller: [5.0e9, 1.0e10, 1.0e6, 0.0, 0.0, 6.0e10],
-        bearing_c: [0.0; 6],
-        pier_height: 10.0,
-        pier: RailSection::rc_pier(),
-        pier_elements: 4,
-        slab_track: SlabTrack::default(),
-    }))
+    RailSupport::Bridge(Box::new(BridgeSpec::new(10.0, 2)))
 }
 
 /// A straight track of `len` m meshed at `h` on `support`, over `window`.
@@ -248,25 +236,14 @@ fn rail_on_discrete_supports_is_exact_at_the_nodes_on_every_mesh() {
         let exact = exact_deflections(&x, &springs, load, -p);
         let peak = exact.iter().fold(0.0f64, |m, w| m.max(w.abs()));
         for k in ks {
-            let (mut b, tm) = model(len, SPACING / k as f64, discrete(), None);
+            let (b, tm) = model(len, SPACING / k as f64, discrete(), None);
             let rail = tm.rails[0].first_id;
             let node_at = |s: f64| {
                 let i = tm.stations.partition_point(|x| *x < s - 1e-9);
                 assert!((tm.stations[i] - s).abs() < 1e-9, "no node at {s} m");
                 rail + i as u64
             };
-            b.load(LoadSpec::Nodal {
-                node: node_at(at),
-                dof: "uz".into(),
-                value: -p,
-                series: TimeSeries::Constant,
-            });
-            b.analysis(AnalysisSpec {
-                kind: AnalysisKind::Static,
-                ..Default::default()
-            });
-            let mut d = Driver::new(b.build().unwrap()).unwrap();
-            d.static_solve(0.0, 1).unwrap();
+            let d = common::solve_under_point_load(b, node_at(at), -p);
             let mut worst = 0.0f64;
             for (s, w) in x.iter().zip(&exact) {
                 let fe = d.node_value(node_at(*s), Dof::Uz.index()).unwrap();

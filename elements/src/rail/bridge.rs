@@ -223,6 +223,25 @@ fn default_pier_elements() -> usize {
 }
 
 impl BridgeSpec {
+    /// `spans` spans from station `start` (m), every other key at its model-file default:
+    /// 29.75 m spans of [`RailSection::pc_box_girder`] on pot bearings, 10 m piers of four
+    /// elements, the default slab track.
+    pub fn new(start: f64, spans: usize) -> Self {
+        BridgeSpec {
+            start,
+            spans,
+            span: default_span(),
+            girder: RailSection::pc_box_girder(),
+            bearing_fixed: default_bearing_fixed(),
+            bearing_roller: default_bearing_roller(),
+            bearing_c: [0.0; 6],
+            pier_height: default_pier_height(),
+            pier: RailSection::rc_pier(),
+            pier_elements: default_pier_elements(),
+            slab_track: SlabTrack::default(),
+        }
+    }
+
     /// Stations of the joints (abutments and piers), `spans + 1` of them (m).
     pub fn joints(&self) -> Vec<f64> {
         (0..=self.spans)
