@@ -256,3 +256,26 @@ fn rail_on_discrete_supports_is_exact_at_the_nodes_on_every_mesh() {
         }
     }
 }
+
+/// Every support is a node, so a support spacing of 1e-9 m on 40 m of track implies 4e10
+/// stations: the size guard refuses it before anything is allocated, and names the
+/// spacing (the element length, 0.6 m, is not the cause).
+#[test]
+fn a_tiny_support_spacing_is_refused_by_the_size_guard() {
+    railfem::elements::link();
+    let track = Arc::new(Track::new(Alignment::straight(40.0), Cant::none()).unwrap());
+    let mut b = ModelBuilder::new("fastener test");
+    let mesh = TrackMesh {
+        support: RailSupport::Discrete {
+            spacing: 1e-9,
+            k: [1e7; 6],
+            c: [0.0; 6],
+        },
+        ..Default::default()
+    };
+    let e = track_model::generate(&mut b, track, &mesh)
+        .expect_err("a 1e-9 m spacing must be refused")
+        .to_string();
+    assert!(e.contains("a rail support every 1e-9 m"), "{e}");
+    assert!(e.contains("support spacing"), "{e}");
+}

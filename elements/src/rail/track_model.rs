@@ -392,13 +392,22 @@ pub fn check_mesh_size(
         Some(_) => format!("the `window` [{}, {}] m", fmt_num(from), fmt_num(to)),
         None => format!("{} m of track", fmt_num(to - from)),
     };
-    limits::check_memory(
-        &format!("`element_length` = {} m over {span}", fmt_num(h)),
-        stations,
-        what,
-        per_station,
-        "give a larger `element_length` or mesh a shorter `window`",
-    )
+    // Every support is a node: a tiny spacing is named, not blamed on the element length.
+    let (subject, hint) = match mesh.support_spacing() {
+        Some(sp) => (
+            format!(
+                "`element_length` = {} m with a rail support every {} m over {span}",
+                fmt_num(h),
+                fmt_num(sp)
+            ),
+            "give a larger `element_length` or support spacing, or mesh a shorter `window`",
+        ),
+        None => (
+            format!("`element_length` = {} m over {span}", fmt_num(h)),
+            "give a larger `element_length` or mesh a shorter `window`",
+        ),
+    };
+    limits::check_memory(&subject, stations, what, per_station, hint)
 }
 
 /// Generates the rails of `track` into `b` and registers the resource `"track"`. Node ids
