@@ -15,7 +15,7 @@
 //! error of the grid (what they measure is written into `pareto-train-bridge.md`).
 //!
 //! Quantities, each compared with the reference at the reference's sample times (every
-//! step of the reference, `t ≤` the shorter run's end), the compared run linearly
+//! step of the reference from [`SETTLE`] to the shorter run's end), the compared run linearly
 //! interpolated between its own samples (an interpolation error `≤ Δt²/8·max|ẍ|`, part of
 //! what a user sampling at Δt would see, so it is counted in the error):
 //!
@@ -62,6 +62,15 @@ pub const DURATION: f64 = 1.6;
 /// Simulated time of the reference's convergence runs (s): the entry onto the bridge
 /// (front wheelset on the abutment at 0.06 s) and the front bogie past span 1's midspan.
 pub const CONV_DURATION: f64 = 0.3;
+
+/// Errors are measured from this time on (s). The run starts from the static equilibrium
+/// with the carriage already at 80 m/s; the jump sets every wheel's 1e10 N/m penalty
+/// spring ringing at ≈ 500 Hz, an artefact of the start, not of the crossing. Over the
+/// first 0.01 s even the reference is off by 1–5e-3 of the static load (half its step
+/// changes it by that), from 0.02 s by 7.7e-4; and counted from t = 0 the grid's largest
+/// Q errors on the fine meshes all sat at t = 2–8 ms. The front wheelset reaches the
+/// bridge at 0.0625 s.
+pub const SETTLE: f64 = 0.02;
 
 /// The settings of one run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -585,7 +594,7 @@ pub fn evaluate(histories: &[(Settings, History)], reference: &History) -> Vec<T
             dofs: h.dofs,
             steps: h.steps,
             wall: h.wall,
-            errors: errors(h, reference),
+            errors: errors_from(h, reference, SETTLE),
             pareto: [false; 3],
         })
         .collect();
@@ -738,7 +747,9 @@ pub fn run(grid: &TbGrid, out: &Path) -> Result<Vec<TbRun>, FemError> {
     let half_dt = refs
         .iter()
         .position(|r| r.0 == HALF_DT_FILE)
-        .map_or([f64::NAN; 3], |i| errors(&ref_histories[i], reference));
+        .map_or([f64::NAN; 3], |i| {
+            errors_from(&ref_histories[i], reference, SETTLE)
+        });
     let seq = mesh_sequence(&refs, &ref_histories, reference);
     let runs = evaluate(&histories, reference);
     let p = out.join("pareto-train-bridge.csv");
@@ -748,8 +759,9 @@ pub fn run(grid: &TbGrid, out: &Path) -> Result<Vec<TbRun>, FemError> {
         "Load average: {} at the start, {} at the end.\n\n\
          Reference: h = {:.4} m (0.625/9), dt = {} s, generalized-α ρ∞ = 0.8, partitioned \
          solver ({} equations, {} steps over {} s, {:.0} s wall).\n\n\
-         Its own error over the first {} s: half the step changes Q by {:.3e}, ΔQ/Q by \
-         {:.3e}, w by {:.3e}.\n",
+         Errors are measured from t = {SETTLE} s on (after the start from rest). The \
+         reference's own error over the first {} s: half the step changes Q by {:.3e}, \
+         ΔQ/Q by {:.3e}, w by {:.3e}.\n",
         load.trim(),
         load_end.trim(),
         base.h,
@@ -788,7 +800,7 @@ fn convergence_markdown(seq: &[(usize, &History)]) -> String {
     );
     for (i, (k, h)) in seq.iter().enumerate() {
         let next = seq.get(i + 1);
-        let e = next.map(|(_, f)| errors(h, f));
+        let e = next.map(|(_, f)| errors_from(h, f, SETTLE));
         let cell = |q: usize| e.map_or("—".to_string(), |e| format!("{:.3e}", e[q]));
         s.push_str(&format!(
             "| {k} | {:.4} | {} | {:.1} | {:.0} | {} | {} | {} | {} |\n",

@@ -104,7 +104,7 @@ fn moving_force_error_falls_with_mesh_refinement() {
 #[test]
 fn train_bridge_error_falls_with_dt() {
     use railfem::framework::model::SolverChoice;
-    use railfem::pareto_train::{errors, errors_from, simulate, Settings, SPACING};
+    use railfem::pareto_train::{errors, errors_from, simulate, Settings, SETTLE, SPACING};
     let t_end = 0.12;
     let run = |dt: f64| {
         simulate(
@@ -123,7 +123,7 @@ fn train_bridge_error_falls_with_dt() {
         .iter()
         .map(|&dt| {
             let r = run(dt);
-            let (all, late) = (errors(&r, &reference), errors_from(&r, &reference, 0.02));
+            let (all, late) = (errors(&r, &reference), errors_from(&r, &reference, SETTLE));
             [late[0], late[1], all[2]]
         })
         .collect();
