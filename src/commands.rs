@@ -325,7 +325,8 @@ pub struct TrainBridgeCmd {
     /// Span length in m [default: 29.75].
     #[arg(long, value_name = "L")]
     pub span: Option<OsString>,
-    /// Beam element length in m [default: 0.6].
+    /// Largest beam element length in m; fasteners (every 0.625 m) are always nodes, so
+    /// each bay gets ceil(0.625/H) equal elements [default: 0.625].
     #[arg(long, value_name = "H")]
     pub element_length: Option<OsString>,
     /// Aim at about N DOFs (sets the element length) [default: none; --element-length rules].

@@ -17,11 +17,9 @@
 //! the solution is relative to the ground), one per non-zero direction, global X, Y, Z.
 
 use crate::elements::rail::alignment::{Alignment, Hand, Segment};
-use crate::elements::rail::bridge::{BridgeSpec, SlabTrack};
+use crate::elements::rail::bridge::BridgeSpec;
 use crate::elements::rail::cant::{Cant, Track};
-use crate::elements::rail::track_model::{
-    self, mesh_stations_cut, RailSection, RailSupport, TrackMesh, TrackModel,
-};
+use crate::elements::rail::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
 use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
 use crate::framework::limits::{self, fmt_num};
 use crate::framework::loads::{LoadSpec, TimeSeries};
@@ -66,7 +64,8 @@ pub struct TrainBridgeCase {
     pub spans: usize,
     /// Span length (m); 3362 m / 113 spans ≈ 29.75 m.
     pub span: f64,
-    /// Rail, slab and girder element length (m); ignored when `dof_target` is given.
+    /// Largest rail, slab and girder element length (m); each 0.625 m fastener bay is
+    /// split into `ceil(0.625/h)` equal elements. Ignored when `dof_target` is given.
     pub element_length: f64,
     /// Choose the element length so that the model has at least this many DOFs.
     pub dof_target: Option<usize>,
@@ -113,7 +112,9 @@ impl Default for TrainBridgeCase {
             cars: 12,
             spans: 113,
             span: 29.75,
-            element_length: 0.6,
+            // One element per 0.625 m fastener bay (fasteners are always nodes; 0.6 m would
+            // split every bay in two).
+            element_length: 0.625,
             dof_target: None,
             speed: 80.0,
             radius: None,
@@ -358,7 +359,8 @@ pub struct TrainBridgeModel {
     pub elements: usize,
     /// Nodes.
     pub nodes: usize,
-    /// Element length used (m).
+    /// The longest rail element (m): the requested length or less (every fastener is a
+    /// node, so a bay of 0.625 m is split into equal elements no longer than it).
     pub element_length: f64,
     /// Wall time to generate and build (s): (generation, framework build, driver set-up).
     pub build_seconds: [f64; 3],
@@ -376,17 +378,18 @@ impl TrainBridgeCase {
 
     fn bridge(&self) -> BridgeSpec {
         BridgeSpec {
-            start: self.approach(),
-            spans: self.spans,
             span: self.span,
-            girder: RailSection::pc_box_girder(),
-            bearing_fixed: [5.0e9, 1.0e10, 5.0e9, 0.0, 0.0, 6.0e10],
-            bearing_roller: [5.0e9, 1.0e10, 1.0e6, 0.0, 0.0, 6.0e10],
-            bearing_c: [0.0; 6],
             pier_height: self.pier_height,
-            pier: RailSection::rc_pier(),
-            pier_elements: 4,
-            slab_track: SlabTrack::default(),
+            ..BridgeSpec::new(self.approach(), self.spans)
+        }
+    }
+
+    /// The track mesh at rail element length `h` (at most; fasteners are nodes).
+    fn mesh(&self, h: f64) -> TrackMesh {
+        TrackMesh {
+            element_length: h,
+            support: RailSupport::Bridge(Box::new(self.bridge())),
+            ..Default::default()
         }
     }
 
@@ -415,9 +418,8 @@ impl TrainBridgeCase {
     /// per station and joint, piers 6 per free node, vehicle 66 per carriage).
     fn element_length_for(&self, track: &Track, target: usize) -> f64 {
         let len = track.alignment.length();
-        let joints = self.bridge().joints();
         let count = |h: f64| {
-            let n = mesh_stations_cut(track, 0.0, len, h, &joints, true).len();
+            let n = self.mesh(h).stations(track, [0.0, len]).len();
             let segs = self.spans + 2;
             6 * (3 * n + segs - 1) + 6 * 4 * (self.spans - 1) + 66 * self.cars
         };
@@ -523,12 +525,8 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         None => case.element_length,
     };
     let mut b = ModelBuilder::new("train-bridge case");
-    let mesh = TrackMesh {
-        element_length: h,
-        support: RailSupport::Bridge(Box::new(case.bridge())),
-        ..Default::default()
-    };
-    let tm = track_model::generate(&mut b, track.clone(), &mesh)?;
+    let tm = track_model::generate(&mut b, track.clone(), &case.mesh(h))?;
+    let longest = tm.longest_element();
     let spec = TrainSpec {
         name: "sks700".into(),
         carriage: CarriageData::sks700(),
@@ -555,12 +553,13 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         alpha: (1.0 - case.rho_inf) / (1.0 + case.rho_inf),
         record_every: case.record_every.max(1),
         solver: case.solver,
-        // Wheel loads are ~1e5 N and displacements ~1e-3 m: a relative 1e-6, 1e-2 N and
-        // 1e-10 m end the iterations well below what the outputs resolve.
+        // Wheel loads are ~1e5 N and displacements ~1e-3 m: a relative 1e-6, 1e-2 N (or the
+        // round-off floor of a fine mesh, `residual_floor`) and 1e-10 m end the iterations
+        // well below what the outputs resolve.
         newton: NewtonSettings {
             max_iter: 60,
             tol: 1e-6,
-            abs_tol: 1e-2,
+            abs_tol: residual_floor(&tm).max(1e-2),
             disp_tol: 1e-10,
             ..Default::default()
         },
@@ -604,11 +603,33 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         wheel_index,
         elements,
         nodes,
-        element_length: h,
+        element_length: longest,
         build_seconds: [t_gen, t_build, t_driver],
         duration,
         quake,
     })
+}
+
+/// The round-off floor of the residual norm (N) on the mesh of `tm`. A girder node's
+/// vertical force is the sum of bending terms `12·E·I/h³·w` of its two elements — for the
+/// PC box girder on h = 0.0347 m, 1.1e17 N/m × 6.5 mm (the self-weight deflection of a
+/// 29.75 m span) = 7e14 N — cancelling to a nodal load of a few kN; rounding leaves about
+/// `ε·12·E·I/h³·w` per node, with `w` = 10 mm (a bound on that deflection) and `h` the
+/// shortest element, and the norm over the `n` girder nodes `√n` times that. Three spans:
+/// 17 N at h = 0.0347 m (shortest elements 0.031 m; the preload stalled there at 0.05 N
+/// under the old 0.01 N), 1.5 N at 0.0694 m, 0.066 N at 0.625 m (shortest 0.125 m); 113
+/// spans at 0.625 m: 0.40 N. Against a static wheel load of 68.7 kN.
+pub fn residual_floor(tm: &TrackModel) -> f64 {
+    let g = RailSection::pc_box_girder();
+    let h = tm
+        .stations
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(f64::INFINITY, f64::min);
+    let nodes: u64 = tm.bridge.as_ref().map_or(0, |b| {
+        b.spans.iter().map(|s| s.last_node - s.first_node + 1).sum()
+    });
+    f64::EPSILON * 12.0 * g.e * g.i_vertical / h.powi(3) * 0.01 * (nodes as f64).sqrt()
 }
 
 /// Extremes of one wheel over a run.

@@ -34,17 +34,8 @@ const GRAV: f64 = 9.81;
 
 fn bridge_spec(spans: usize) -> BridgeSpec {
     BridgeSpec {
-        start: APPROACH,
-        spans,
         span: SPAN,
-        girder: RailSection::pc_box_girder(),
-        bearing_fixed: [5.0e9, 1.0e10, 5.0e9, 0.0, 0.0, 6.0e10],
-        bearing_roller: [5.0e9, 1.0e10, 1.0e6, 0.0, 0.0, 6.0e10],
-        bearing_c: [0.0; 6],
-        pier_height: 10.0,
-        pier: RailSection::rc_pier(),
-        pier_elements: 4,
-        slab_track: SlabTrack::default(),
+        ..BridgeSpec::new(APPROACH, spans)
     }
 }
 

@@ -83,8 +83,8 @@ fn moving_force_error_falls_with_mesh_refinement() {
 
 /// The train–bridge case (`railfem::pareto_train`) on a short window: the first 0.12 s, in
 /// which the front wheelset rolls from the approach onto the bridge (at 0.0625 s) — the
-/// largest wheel-force transient of the crossing — on the 0.6 m mesh, generalized-α
-/// ρ∞ = 0.8, errors against a run at Δt = 0.125 ms.
+/// largest wheel-force transient of the crossing — on the 0.625 m mesh (one element per
+/// fastener bay), generalized-α ρ∞ = 0.8, errors against a run at Δt = 0.125 ms.
 ///
 /// Generalized-α is second order, so halving Δt divides the error by ≈ 4 where the
 /// response is resolved. The girder's deflection w is (its modes are at ω·Δt ≤ 0.1): the
@@ -93,19 +93,24 @@ fn moving_force_error_falls_with_mesh_refinement() {
 /// (ω·Δt = 6.7 at 2 ms, 1.7 at 0.5 ms), where the scheme damps and shifts it by amounts
 /// that do not shrink as Δt² yet; measured, one halving gives order ≈ 1.0, the next ≈ 1.5.
 /// So for Q: the error must fall at each halving and its mean order over the two halvings
-/// must lie between 1 and 2.5. The reference's own error (≤ that of a 0.25 ms run) enters
-/// every error equally and cannot raise an observed order above 2 (it would flatten it);
-/// its convergence on the full case is measured by `railfem pareto --cases train-bridge`.
+/// must lie between 1 and 2.5. The reference's own error enters every error equally and
+/// cannot raise an observed order (it flattens it). Q is therefore compared from
+/// t = 0.02 s on: the start from rest into 80 m/s sets the penalty spring ringing, and over
+/// the first 0.01 s the reference itself is off by 1–5e-3 of the static load (half its
+/// step changes it by that; from 0.02 s by 7.7e-4, measured on the h = 0.0694 m reference
+/// of `railfem pareto --cases train-bridge`), half the 0.5 ms run's error; counted from
+/// t = 0, that flattened the second halving to an order of 0.47 on this mesh. w is compared
+/// over the whole window.
 #[test]
 fn train_bridge_error_falls_with_dt() {
     use railfem::framework::model::SolverChoice;
-    use railfem::pareto_train::{errors, simulate, Settings};
+    use railfem::pareto_train::{errors, errors_from, simulate, Settings, SETTLE, SPACING};
     let t_end = 0.12;
     let run = |dt: f64| {
         simulate(
             &Settings {
                 dt,
-                h: 0.6,
+                h: SPACING,
                 scheme: Scheme::GenAlpha,
                 solver: SolverChoice::Direct,
             },
@@ -116,9 +121,13 @@ fn train_bridge_error_falls_with_dt() {
     let reference = run(1.25e-4);
     let e: Vec<[f64; 3]> = [2e-3, 1e-3, 5e-4]
         .iter()
-        .map(|&dt| errors(&run(dt), &reference))
+        .map(|&dt| {
+            let r = run(dt);
+            let (all, late) = (errors(&r, &reference), errors_from(&r, &reference, SETTLE));
+            [late[0], late[1], all[2]]
+        })
         .collect();
-    eprintln!("train-bridge, 0.6 m, dt = 2, 1, 0.5 ms: errors [Q, dQ/Q, w] {e:?}");
+    eprintln!("train-bridge, 0.625 m, dt = 2, 1, 0.5 ms: errors [Q, dQ/Q (t ≥ 0.02 s), w] {e:?}");
     for (q, name) in [(0, "Q"), (2, "w")] {
         assert!(
             e[0][q] > e[1][q] && e[1][q] > e[2][q],

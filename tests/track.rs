@@ -17,12 +17,13 @@
 //!
 //! Tests build with `--release` (`cargo test --release --test track`).
 
+mod common;
+
 use railfem::elements::rail::alignment::{Alignment, Hand, Segment};
 use railfem::elements::rail::cant::{Cant, Track};
 use railfem::elements::rail::track_model::{
     self, mesh_stations, RailSection, RailSupport, TrackMesh, TrackModel,
 };
-use railfem::framework::loads::{LoadSpec, TimeSeries};
 use railfem::framework::model::{AnalysisKind, AnalysisSpec, ModelBuilder};
 use railfem::framework::moving::{Carrier, Path};
 use railfem::solvers::Driver;
@@ -440,18 +441,7 @@ fn rail_on_supports(load_index: usize) -> (Vec<f64>, Vec<f64>) {
     };
     let tm = track_model::generate(&mut b, track, &mesh).unwrap();
     let first = tm.rails[0].first_id;
-    b.load(LoadSpec::Nodal {
-        node: first + load_index as u64,
-        dof: "uz".into(),
-        value: -P_LOAD,
-        series: TimeSeries::Constant,
-    });
-    b.analysis(AnalysisSpec {
-        kind: AnalysisKind::Static,
-        ..Default::default()
-    });
-    let mut d = Driver::new(b.build().unwrap()).unwrap();
-    d.static_solve(0.0, 1).unwrap();
+    let d = common::solve_under_point_load(b, first + load_index as u64, -P_LOAD);
     let w = (0..tm.stations.len())
         .map(|i| d.node_value(first + i as u64, 2).unwrap())
         .collect();

@@ -679,6 +679,11 @@ impl ModelBuilder {
         self.element_specs.iter().map(|e| e.id).max().unwrap_or(0)
     }
 
+    /// The elements added so far, in order (what a generator made, for inspection).
+    pub fn element_specs(&self) -> &[ElementSpec] {
+        &self.element_specs
+    }
+
     /// Adds an element of registered type `kind` with parameters `params` (any serde
     /// struct or JSON object with the kind's keys).
     pub fn element<P: Serialize>(

@@ -214,3 +214,27 @@ pub fn worst_relative(a: &[[Vec<f64>; 3]], b: &[[Vec<f64>; 3]]) -> [f64; 3] {
     }
     r
 }
+
+/// Solves `b` statically, in one load step, under a point load `value` (N, positive up)
+/// along global Z at `node`: the driver holds the solution.
+pub fn solve_under_point_load(
+    mut b: railfem::framework::model::ModelBuilder,
+    node: u64,
+    value: f64,
+) -> railfem::solvers::Driver {
+    use railfem::framework::loads::{LoadSpec, TimeSeries};
+    use railfem::framework::model::{AnalysisKind, AnalysisSpec};
+    b.load(LoadSpec::Nodal {
+        node,
+        dof: "uz".into(),
+        value,
+        series: TimeSeries::Constant,
+    });
+    b.analysis(AnalysisSpec {
+        kind: AnalysisKind::Static,
+        ..Default::default()
+    });
+    let mut d = railfem::solvers::Driver::new(b.build().unwrap()).unwrap();
+    d.static_solve(0.0, 1).unwrap();
+    d
+}

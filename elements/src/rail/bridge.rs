@@ -8,8 +8,10 @@
 //! reference line, with one node per rail station. On the ground every slab node has a
 //! grounded `spring_damper` (the subgrade), whose rates are the given rates per metre times
 //! the node's tributary length (half of each adjacent element), so the slab sees a Winkler
-//! foundation. Each rail is tied to the slab by a FASTENER every `fastener_spacing` m (at the
-//! rail node nearest each multiple): a two-node `spring_damper` between the rail node and an
+//! foundation. Each rail is tied to the slab by a FASTENER at every multiple of
+//! `fastener_spacing` (m of station; the mesh has a rail and slab node at each, whatever the
+//! element length, so the support pattern does not change with the mesh): a two-node
+//! `spring_damper` between the rail node and an
 //! ANCHOR node at the same position, the anchor rigidly linked (all six DOFs) to the slab
 //! node of that station. The rigid link carries the lateral and vertical offset (a slab roll
 //! lifts one rail and lowers the other); the spring joins coincident nodes, so it is
@@ -28,8 +30,7 @@
 //! node to the pier-top node at the same position (abutments: to the ground): the start of a
 //! span sits on a FIXED bearing, its end on a ROLLER (soft longitudinally). Piers are
 //! `beam3d` columns of `pier_height` under every interior joint, fixed at the base, where a
-//! ground motion acts. Stations of every joint are mesh nodes and each span gets an even
-//! number of elements, so a node sits at midspan.
+//! ground motion acts. Stations of every joint and every midspan are mesh nodes.
 //!
 //! # Numbering
 //!
@@ -222,10 +223,36 @@ fn default_pier_elements() -> usize {
 }
 
 impl BridgeSpec {
+    /// `spans` spans from station `start` (m), every other key at its model-file default:
+    /// 29.75 m spans of [`RailSection::pc_box_girder`] on pot bearings, 10 m piers of four
+    /// elements, the default slab track.
+    pub fn new(start: f64, spans: usize) -> Self {
+        BridgeSpec {
+            start,
+            spans,
+            span: default_span(),
+            girder: RailSection::pc_box_girder(),
+            bearing_fixed: default_bearing_fixed(),
+            bearing_roller: default_bearing_roller(),
+            bearing_c: [0.0; 6],
+            pier_height: default_pier_height(),
+            pier: RailSection::rc_pier(),
+            pier_elements: default_pier_elements(),
+            slab_track: SlabTrack::default(),
+        }
+    }
+
     /// Stations of the joints (abutments and piers), `spans + 1` of them (m).
     pub fn joints(&self) -> Vec<f64> {
         (0..=self.spans)
             .map(|k| self.start + k as f64 * self.span)
+            .collect()
+    }
+
+    /// Stations of the midspans, one per span (m).
+    pub fn midspans(&self) -> Vec<f64> {
+        (0..self.spans)
+            .map(|k| self.start + (k as f64 + 0.5) * self.span)
             .collect()
     }
 }
@@ -285,7 +312,7 @@ pub struct SpanLayout {
     pub first_node: u64,
     /// Last girder node id.
     pub last_node: u64,
-    /// Girder node at midspan (an even number of elements puts one there).
+    /// Girder node at midspan (a mesh cut puts one there).
     pub midspan_node: u64,
 }
 
@@ -433,36 +460,40 @@ pub(super) struct RailsInfo<'a> {
     pub next_node: u64,
 }
 
-/// Station indices nearest to each multiple of `spacing` inside `[from, to]`.
-pub(super) fn picks(stations: &[f64], spacing: f64) -> Vec<usize> {
+/// Stations of the rail supports (discrete supports or fasteners) on `[from, to]` (m):
+/// every multiple of `spacing`, `m·spacing`, whatever the element length. The mesh makes
+/// each of them a node ([`super::track_model::TrackMesh::cuts`]).
+pub fn support_stations(from: f64, to: f64, spacing: f64) -> Vec<f64> {
+    let first = (from / spacing - 1e-9).ceil() as i64;
+    let last = (to / spacing + 1e-9).floor() as i64;
+    (first..=last).map(|m| m as f64 * spacing).collect()
+}
+
+/// The node index of each support station in `stations` (which hold every one of them,
+/// see [`support_stations`]). A support that is not a node is a bug of the mesher, reported
+/// as an internal error rather than moved to a neighbour.
+pub(super) fn support_nodes(
+    stations: &[f64],
+    spacing: f64,
+    origin: &str,
+) -> Result<Vec<usize>, FemError> {
     let (from, to) = (stations[0], stations[stations.len() - 1]);
-    let mut out = Vec::new();
-    let mut m = (from / spacing).ceil();
-    loop {
-        let next = m * spacing;
-        if next > to + 1e-9 {
-            break;
-        }
-        let i = stations
-            .partition_point(|x| *x < next)
-            .min(stations.len() - 1);
-        let i = if i > 0 && (stations[i] - next).abs() > (stations[i - 1] - next).abs() {
-            i - 1
-        } else {
-            i
-        };
-        if out.last() != Some(&i) {
-            out.push(i);
-        }
-        // Multiples nearer to station i than to i + 1 pick i again: skip them, so a spacing
-        // far below the element length costs one pass over the stations, not (to − from) /
-        // spacing iterations.
-        m += 1.0;
-        if let Some(&after) = stations.get(i + 1) {
-            m = m.max((0.5 * (stations[i] + after) / spacing).floor());
-        }
-    }
-    out
+    support_stations(from, to, spacing)
+        .into_iter()
+        .map(|s| {
+            let i = stations
+                .partition_point(|x| *x < s - 1e-6)
+                .min(stations.len() - 1);
+            if (stations[i] - s).abs() <= 1e-6 {
+                Ok(i)
+            } else {
+                Err(FemError::input(
+                    origin,
+                    format!("internal: the rail support at {s} m is not a mesh station"),
+                ))
+            }
+        })
+        .collect()
 }
 
 /// Generates slab, fasteners, subgrade and (with `bridge`) girders, bearings and piers.
@@ -552,7 +583,7 @@ pub(super) fn generate_structure(
         }
     }
     // Fasteners: anchor nodes rigidly linked to the slab, springs to the rails.
-    let fasteners = picks(st, slab.fastener_spacing);
+    let fasteners = support_nodes(st, slab.fastener_spacing, origin)?;
     let anchor_first = next_node;
     next_node += 2 * fasteners.len() as u64;
     for (p, &i) in fasteners.iter().enumerate() {

@@ -1,8 +1,13 @@
 //! The track model generator: two rails as `beam3d` elements along a canted alignment, on
 //! discrete supports, plus the lookup a moving wheel uses to find the rail element under it.
 //!
-//! Rails are meshed at stations common to both rails (segment joints are always nodes, the
-//! rest evenly at about `element_length`). A rail's beam line is the top centre of its
+//! Rails are meshed at stations common to both rails. Segment joints, every rail support
+//! (each multiple of the support or fastener spacing) and, on a bridge, every span joint
+//! and midspan are nodes ([`TrackMesh::cuts`]); between two such cuts the interval is split
+//! into `ceil(length / element_length)` equal elements. `element_length` is thus an upper
+//! bound: the supports sit at their true stations on every mesh, and with `element_length`
+//! above the support spacing each bay is one element ([`TrackModel::longest_element`]
+//! gives the length actually used). A rail's beam line is the top centre of its
 //! head, at `±rail_offset` along the wheel frame's axis 1 (in the canted plane), so the
 //! outer rail is raised by the cant. The default offset `G/2 + 36 mm` puts the gauge faces
 //! of 60E1 heads (14 mm below the top) `G` apart. Supports:
@@ -19,7 +24,8 @@
 //! moving wheel can re-pick its nodes by index in O(log n) ([`TrackModel::locate`]).
 
 use super::bridge::{
-    generate_structure, picks, BridgeLayout, BridgeSpec, RailsInfo, SlabLayout, SlabTrack,
+    generate_structure, support_nodes, support_stations, BridgeLayout, BridgeSpec, RailsInfo,
+    SlabLayout, SlabTrack,
 };
 use super::cant::Track;
 use super::irregularity::Irregularity;
@@ -100,7 +106,8 @@ pub enum RailSupport {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrackMesh {
-    /// Target rail element length (m).
+    /// Largest rail element length (m): every interval between cuts (segment joints,
+    /// supports, bridge joints and midspans) is split into equal elements no longer than it.
     #[serde(default = "default_element_length")]
     pub element_length: f64,
     /// Lateral offset of each rail's beam line from the centre line (m); default
@@ -188,6 +195,41 @@ impl Default for TrackMesh {
     }
 }
 
+impl TrackMesh {
+    /// Spacing of the rail supports (m): the discrete supports' or the fasteners'; `None`
+    /// on a rigid track.
+    pub fn support_spacing(&self) -> Option<f64> {
+        match &self.support {
+            RailSupport::Rigid => None,
+            RailSupport::Discrete { spacing, .. } => Some(*spacing),
+            RailSupport::Slab(sl) => Some(sl.fastener_spacing),
+            RailSupport::Bridge(br) => Some(br.slab_track.fastener_spacing),
+        }
+    }
+
+    /// Stations on `[from, to]` that must be nodes besides the alignment's segment joints:
+    /// every rail support (each multiple of [`TrackMesh::support_spacing`]) and, on a
+    /// bridge, every joint and midspan (m, unsorted).
+    pub fn cuts(&self, [from, to]: [f64; 2]) -> Vec<f64> {
+        let mut out = self
+            .support_spacing()
+            .map_or_else(Vec::new, |sp| support_stations(from, to, sp));
+        if let RailSupport::Bridge(br) = &self.support {
+            out.extend(br.joints());
+            out.extend(br.midspans());
+        }
+        out
+    }
+
+    /// The rail node stations on `[from, to]` (m): [`mesh_stations_cut`] at
+    /// `element_length` with [`TrackMesh::cuts`]. The support spacing must be valid (as
+    /// [`generate`] checks).
+    pub fn stations(&self, track: &Track, [from, to]: [f64; 2]) -> Vec<f64> {
+        let cuts = self.cuts([from, to]);
+        mesh_stations_cut(track, from, to, self.element_length, &cuts)
+    }
+}
+
 /// One rail of the mesh.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RailLine {
@@ -225,6 +267,15 @@ impl TrackModel {
     /// node to the last element). `None` off the mesh.
     pub fn locate(&self, s: f64) -> Option<(usize, f64)> {
         super::railline::locate_in(&self.stations, s)
+    }
+
+    /// The longest rail element (m): `element_length` or less, the support spacing when
+    /// `element_length` exceeds it (supports are always nodes).
+    pub fn longest_element(&self) -> f64 {
+        self.stations
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(0.0, f64::max)
     }
 
     /// Reference position of rail `r` at station `s` (m), global.
@@ -276,20 +327,12 @@ impl OffsetFromStart {
 
 /// Mesh stations on `[a, b]`: every segment joint inside, the rest evenly at about `h`.
 pub fn mesh_stations(track: &Track, a: f64, b: f64, h: f64) -> Vec<f64> {
-    mesh_stations_cut(track, a, b, h, &[], false)
+    mesh_stations_cut(track, a, b, h, &[])
 }
 
-/// Mesh stations on `[a, b]` cut at every segment joint and at `extra` stations; with
-/// `even`, every interval between cuts gets an even number of elements (a node at its
-/// middle — the midspan of a bridge span).
-pub fn mesh_stations_cut(
-    track: &Track,
-    a: f64,
-    b: f64,
-    h: f64,
-    extra: &[f64],
-    even: bool,
-) -> Vec<f64> {
+/// Mesh stations on `[a, b]` cut at every segment joint and at `extra` stations; each
+/// interval between cuts is split into `ceil(length / h)` equal elements.
+pub fn mesh_stations_cut(track: &Track, a: f64, b: f64, h: f64, extra: &[f64]) -> Vec<f64> {
     let mut cuts = vec![a];
     let mut s0 = 0.0;
     for seg in track.alignment.segments() {
@@ -309,10 +352,9 @@ pub fn mesh_stations_cut(
     cuts.dedup_by(|x, y| (*x - *y).abs() < 1e-6);
     let mut out = vec![a];
     for w in cuts.windows(2) {
-        let mut n = ((w[1] - w[0]) / h).ceil().max(1.0) as usize;
-        if even && n % 2 == 1 {
-            n += 1;
-        }
+        // Less a round-off allowance: a bay of m·0.1 − (m − 1)·0.1 = 0.10000000000000003 m
+        // meshed at h = 0.1 is one element, not two.
+        let n = ((w[1] - w[0]) / h - 1e-9).ceil().max(1.0) as usize;
         for i in 1..=n {
             out.push(w[0] + (w[1] - w[0]) * i as f64 / n as f64);
         }
@@ -321,17 +363,25 @@ pub fn mesh_stations_cut(
 }
 
 /// The size guard of [`generate`]: the stations `[from, to]` meshed at `element_length`
-/// (plus one per segment joint and per `extra` cut, doubled at most for even counts), each
-/// carrying two rail nodes — fixed for a rigid support, else 12 DOFs of rails plus 6 of
-/// the slab or girder — against the memory budget ([`limits::check_memory`]).
+/// plus at most one per cut (segment joint, rail support, bridge joint or midspan; counted
+/// twice, a margin), each carrying two rail nodes — fixed for a rigid support, else 12
+/// DOFs of rails plus 6 of the slab or girder — against the memory budget
+/// ([`limits::check_memory`]). Counted, not generated, so that a tiny spacing is refused
+/// before its stations are allocated.
 pub fn check_mesh_size(
     track: &Track,
     mesh: &TrackMesh,
     [from, to]: [f64; 2],
-    extra: usize,
 ) -> Result<(), String> {
     let h = mesh.element_length;
-    let cuts = (track.alignment.segments().len() + extra + 1) as f64;
+    let supports = mesh
+        .support_spacing()
+        .map_or(0.0, |sp| (to - from) / sp + 1.0);
+    let bridge = match &mesh.support {
+        RailSupport::Bridge(br) => 2 * br.spans + 1,
+        _ => 0,
+    };
+    let cuts = (track.alignment.segments().len() + bridge + 1) as f64 + supports;
     let stations = (to - from) / h + 2.0 * cuts + 1.0;
     let (per_station, what) = match mesh.support {
         RailSupport::Rigid => (2.0 * limits::BYTES_PER_NODE, "rail nodes"),
@@ -342,13 +392,22 @@ pub fn check_mesh_size(
         Some(_) => format!("the `window` [{}, {}] m", fmt_num(from), fmt_num(to)),
         None => format!("{} m of track", fmt_num(to - from)),
     };
-    limits::check_memory(
-        &format!("`element_length` = {} m over {span}", fmt_num(h)),
-        stations,
-        what,
-        per_station,
-        "give a larger `element_length` or mesh a shorter `window`",
-    )
+    // Every support is a node: a tiny spacing is named, not blamed on the element length.
+    let (subject, hint) = match mesh.support_spacing() {
+        Some(sp) => (
+            format!(
+                "`element_length` = {} m with a rail support every {} m over {span}",
+                fmt_num(h),
+                fmt_num(sp)
+            ),
+            "give a larger `element_length` or support spacing, or mesh a shorter `window`",
+        ),
+        None => (
+            format!("`element_length` = {} m over {span}", fmt_num(h)),
+            "give a larger `element_length` or mesh a shorter `window`",
+        ),
+    };
+    limits::check_memory(&subject, stations, what, per_station, hint)
 }
 
 /// Generates the rails of `track` into `b` and registers the resource `"track"`. Node ids
@@ -384,20 +443,18 @@ pub fn generate_with(
             "window must be [from, to] with from < to (m)",
         ));
     }
-    let (extra, even) = match &mesh.support {
-        RailSupport::Bridge(br) => {
-            br.validate(&origin, from, to)?;
-            (br.joints(), true)
+    match &mesh.support {
+        RailSupport::Bridge(br) => br.validate(&origin, from, to)?,
+        RailSupport::Slab(sl) => sl.validate(&origin)?,
+        RailSupport::Discrete { spacing, .. } => {
+            if !(spacing.is_finite() && *spacing > 0.0) {
+                return Err(FemError::input(&origin, "support spacing must be > 0 m"));
+            }
         }
-        RailSupport::Slab(sl) => {
-            sl.validate(&origin)?;
-            (Vec::new(), false)
-        }
-        _ => (Vec::new(), false),
-    };
-    check_mesh_size(&track, mesh, [from, to], extra.len())
-        .map_err(|m| FemError::input(&origin, m))?;
-    let stations = mesh_stations_cut(&track, from, to, h, &extra, even);
+        RailSupport::Rigid => {}
+    }
+    check_mesh_size(&track, mesh, [from, to]).map_err(|m| FemError::input(&origin, m))?;
+    let stations = mesh.stations(&track, [from, to]);
     let offset = mesh.rail_offset.unwrap_or(track.gauge / 2.0 + 0.036);
     if !(offset.is_finite() && offset > 0.0) {
         return Err(FemError::input(&origin, "rail_offset must be > 0 m"));
@@ -470,10 +527,7 @@ pub fn generate_with(
         }
         match &mesh.support {
             RailSupport::Discrete { spacing, k, c } => {
-                if !(spacing.is_finite() && *spacing > 0.0) {
-                    return Err(FemError::input(&origin, "support spacing must be > 0 m"));
-                }
-                let picks = picks(&model.stations, *spacing);
+                let picks = support_nodes(&model.stations, *spacing, &origin)?;
                 for rail in &model.rails {
                     for &i in &picks {
                         let f = track.at(model.stations[i]).frame;
