@@ -605,6 +605,7 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     if let Some(t) = a.opt("tangential") {
         case.tangential = t.to_string();
     }
+    case.polach_spin = polach_spin(a, &case.tangential)?;
     case.geometry = geometry(a)?;
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/curve"));
     let steps = case.steps_estimate();
@@ -1020,6 +1021,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
         dt: a.num("dt")?.unwrap_or(0.01),
         geometry: geometry(a)?,
         tangential: tangential.to_string(),
+        polach_spin: polach_spin(a, tangential)?,
     };
     let out = a.out.clone();
     let r = crate::critical::run_with_sections(&case, out.as_deref())?;
@@ -1251,4 +1253,25 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
         );
     }
     Ok(0)
+}
+
+/// `--polach-spin off|polach_1999` (the `moving_axle` key `polach_spin`), checked against
+/// the law it belongs to: only `--tangential polach` has the term.
+fn polach_spin(a: &Args, tangential: &str) -> Result<Option<String>, FemError> {
+    let Some(v) = a.opt("polach-spin") else {
+        return Ok(None);
+    };
+    if !["off", "polach_1999"].contains(&v) {
+        return Err(FemError::input(
+            "command line",
+            format!("--polach-spin {v}: use off (Polach 2005, the default) or polach_1999 (his spin term)"),
+        ));
+    }
+    if tangential != "polach" {
+        return Err(FemError::input(
+            "command line",
+            format!("--polach-spin {v} with --tangential {tangential}: the spin term belongs to Polach's law; add --tangential polach or drop --polach-spin"),
+        ));
+    }
+    Ok(Some(v.to_string()))
 }

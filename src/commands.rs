@@ -206,6 +206,10 @@ pub struct CurveCmd {
     /// polach (rolling-contact creep, docs/creep.md) [default: coulomb].
     #[arg(long, value_name = "coulomb|kalker_linear|polach")]
     pub tangential: Option<OsString>,
+    /// Polach's spin term with `--tangential polach`: off (his 2005 law) or polach_1999 (his
+    /// spin-corrected lateral creepage and force, docs/creep.md) [default: off].
+    #[arg(long, value_name = "off|polach_1999")]
+    pub polach_spin: Option<OsString>,
 }
 
 /// `railfem critical-radius`.
@@ -243,6 +247,10 @@ pub struct CriticalCmd {
     /// gross criterion, docs/creep.md) [default: coulomb]. Single runs only.
     #[arg(long, value_name = "coulomb|kalker_linear|polach")]
     pub tangential: Option<OsString>,
+    /// Polach's spin term with `--tangential polach`: off (his 2005 law) or polach_1999 (his
+    /// spin-corrected lateral creepage and force, docs/creep.md) [default: off].
+    #[arg(long, value_name = "off|polach_1999")]
+    pub polach_spin: Option<OsString>,
     /// Clothoid length in m [default: 2000].
     #[arg(long, value_name = "L")]
     pub clothoid: Option<OsString>,

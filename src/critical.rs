@@ -60,6 +60,9 @@ pub struct CriticalCase {
     /// paper's), "kalker_linear" or "polach" (docs/creep.md).
     #[serde(default = "coulomb")]
     pub tangential: String,
+    /// Polach's spin term (`moving_axle` key `polach_spin`); `None`: the element's default.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub polach_spin: Option<String>,
 }
 
 fn coulomb() -> String {
@@ -190,6 +193,7 @@ pub fn run_with_sections(
         sliding_tangent: "consistent".into(),
         geometry: case.geometry,
         tangential: case.tangential.clone(),
+        polach_spin: case.polach_spin.clone(),
         ..CurveCase::default()
     };
     let mut m = curve.build()?;
@@ -416,6 +420,7 @@ pub fn sweep(
                     dt,
                     geometry,
                     tangential: coulomb(),
+                    polach_spin: None,
                 });
             }
         }
@@ -555,6 +560,7 @@ pub fn write_sweep(
                 dt: 0.0,
                 geometry: Geometry::Linear,
                 tangential: coulomb(),
+                polach_spin: None,
             };
             let (st, _) = theory_radius(&case, 1.507, 9.81);
             xs.push(v);

@@ -72,6 +72,9 @@ pub struct CurveCase {
     /// Tangential law of the wheels (`moving_axle` key `tangential`): "coulomb" (the
     /// paper's), "kalker_linear" or "polach" (docs/creep.md).
     pub tangential: String,
+    /// Polach's spin term (`moving_axle` key `polach_spin`, with `tangential = "polach"`):
+    /// `None` leaves the element's default ("off").
+    pub polach_spin: Option<String>,
 }
 
 impl CurveCase {
@@ -118,6 +121,7 @@ impl Default for CurveCase {
             geometry: Geometry::Linear,
             anti_roll: 0.0,
             tangential: "coulomb".into(),
+            polach_spin: None,
         }
     }
 }
@@ -277,6 +281,9 @@ impl CurveCase {
         });
         if self.tangential != "coulomb" {
             wheel["tangential"] = serde_json::Value::String(self.tangential.clone());
+        }
+        if let Some(s) = &self.polach_spin {
+            wheel["polach_spin"] = serde_json::Value::String(s.clone());
         }
         let spec = TrainSpec {
             name: "sks700".into(),

@@ -308,6 +308,22 @@ fn curve_command_refuses_bad_options() {
         vec!["critical-radius", "--criterion", "tipping"],
         vec!["critical-radius", "--tangential", "fastsim"],
         vec!["critical-radius", "--sweep", "--tangential", "polach"],
+        vec![
+            "curve",
+            "--quick",
+            "--tangential",
+            "polach",
+            "--polach-spin",
+            "on",
+        ],
+        vec!["curve", "--quick", "--polach-spin", "polach_1999"],
+        vec![
+            "critical-radius",
+            "--tangential",
+            "kalker_linear",
+            "--polach-spin",
+            "off",
+        ],
     ] {
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
             .args(&args)

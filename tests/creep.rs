@@ -374,3 +374,37 @@ fn increment_predictor_reaches_the_same_rolling_state_in_fewer_iterations() {
         );
     }
 }
+
+/// `--polach-spin polach_1999` reaches the wheels: Polach's spin term changes the run (its
+/// lateral force moves the wheelsets, and its switch costs Newton iterations: 6648 against
+/// 3840 in the quick curve, docs/creep.md), while `--polach-spin off` is the default law to
+/// the bit.
+#[test]
+fn polach_spin_option_reaches_the_wheels() {
+    let run = |extra: &[&str], dir: &str| {
+        let out =
+            std::env::temp_dir().join(format!("railfem-polach-spin-{dir}-{}", std::process::id()));
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+            .args([
+                "curve",
+                "--quick",
+                "--tangential",
+                "polach",
+                "--quiet",
+                "--out",
+            ])
+            .arg(&out)
+            .args(extra)
+            .output()
+            .expect("runs");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let csv = std::fs::read_to_string(out.join("curve.csv")).expect("curve.csv");
+        let _ = std::fs::remove_dir_all(&out);
+        csv
+    };
+    let default = run(&[], "default");
+    let off = run(&["--polach-spin", "off"], "off");
+    let spin = run(&["--polach-spin", "polach_1999"], "spin");
+    assert_eq!(default, off);
+    assert_ne!(default, spin);
+}

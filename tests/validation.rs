@@ -54,6 +54,7 @@ fn fig7_sliding_radius_matches_theory() {
             dt: 0.01,
             geometry: Default::default(),
             tangential: "coulomb".into(),
+            polach_spin: None,
         };
         let r = critical::run(&case).expect("runs");
         let (fe, th) = (r.fe.expect("FE slides"), r.theory.expect("theory slides"));
@@ -87,6 +88,7 @@ fn fig9_separation_radius_matches_statics_about_the_contact() {
         dt: 0.01,
         geometry: Default::default(),
         tangential: "coulomb".into(),
+        polach_spin: None,
     };
     let r = critical::run(&case).expect("runs");
     let fe = r.fe.expect("the inner wheel separates");

@@ -144,6 +144,7 @@ fn separation_with_lean_follows_the_lean_statics() {
         dt: 0.01,
         geometry: Geometry::Nonlinear,
         tangential: "coulomb".into(),
+        polach_spin: None,
     };
     let r = critical::run(&case).expect("runs");
     let fe = r.fe.expect("the inner wheel separates");
