@@ -67,7 +67,8 @@ pub struct TrainBridgeCase {
     /// Largest rail, slab and girder element length (m); each 0.625 m fastener bay is
     /// split into `ceil(0.625/h)` equal elements. Ignored when `dof_target` is given.
     pub element_length: f64,
-    /// Choose the element length so that the model has at least this many DOFs.
+    /// Choose the element length so that the model has about this many DOFs (the nearest
+    /// count the mesh can make).
     pub dof_target: Option<usize>,
     /// Speed (m/s).
     pub speed: f64,
@@ -414,8 +415,12 @@ impl TrainBridgeCase {
         }
     }
 
-    /// The element length that gives at least `target` DOFs (rails 2·6 per station, slab 6
-    /// per station and joint, piers 6 per free node, vehicle 66 per carriage).
+    /// The element length whose DOF count is nearest `target` (rails 2·6 per station, slab 6
+    /// per station and joint, piers 6 per free node, vehicle 66 per carriage). Every rail
+    /// support is a node and each bay gets a whole number of elements, so the count moves in
+    /// steps of one element per bay: the paper's 1 043 430 DOF is its 0.069 m mesh, nine
+    /// elements per 0.625 m bay (1 044 366 DOF), not the ten per bay of the first count
+    /// above the target (1 156 686).
     fn element_length_for(&self, track: &Track, target: usize) -> f64 {
         let len = track.alignment.length();
         let count = |h: f64| {
@@ -423,11 +428,20 @@ impl TrainBridgeCase {
             let segs = self.spans + 2;
             6 * (3 * n + segs - 1) + 6 * 4 * (self.spans - 1) + 66 * self.cars
         };
-        let mut h = 18.0 * len / target as f64;
-        while count(h) < target {
+        // From four times the estimate down (18 m of track per DOF-equivalent), so that the
+        // last count below the target is seen as well as the first above it.
+        let mut h = 72.0 * len / target as f64;
+        let mut c = count(h);
+        let mut below = None;
+        while c < target {
+            below = Some((h, c));
             h *= 0.995;
+            c = count(h);
         }
-        h
+        match below {
+            Some((hb, cb)) if target - cb < c - target => hb,
+            _ => h,
+        }
     }
 
     fn validate(&self) -> Result<(), FemError> {
