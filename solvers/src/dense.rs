@@ -39,18 +39,18 @@ pub struct DenseLu {
 
 /// A symmetric renumbering of one sparsity pattern: `A'[k][l] = A[old[k]][old[l]]`.
 #[derive(Debug)]
-struct FillOrder {
+pub(crate) struct FillOrder {
     /// `(pattern_id, n, nnz)` of the pattern it was computed for.
-    pattern: (u64, usize, usize),
+    pub(crate) pattern: (u64, usize, usize),
     /// Old equation at each new position.
-    old: Vec<usize>,
+    pub(crate) old: Vec<usize>,
     /// New position of each old equation.
-    new: Vec<usize>,
+    pub(crate) new: Vec<usize>,
 }
 
 impl FillOrder {
     /// The approximate minimum degree order of `A + Aᵀ` (faer's AMD).
-    fn of(a: &CscMatrix) -> Result<FillOrder, SolverError> {
+    pub(crate) fn of(a: &CscMatrix) -> Result<FillOrder, SolverError> {
         let n = a.n;
         let fail = |e| SolverError::Failed(format!("fill-reducing order: {e:?}"));
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &a.col_ptr, None, &a.row_idx);
@@ -84,6 +84,12 @@ impl DenseLu {
             reorder: true,
             ..Default::default()
         }
+    }
+
+    /// The row exchanges of the last factorization: position `k` of the factor holds row
+    /// `perm[k]` (in the fill-reducing numbering when reordered).
+    pub(crate) fn row_perm(&self) -> &[usize] {
+        &self.perm
     }
 
     /// The order for `a`'s pattern (recomputed when the pattern changed), `None` without
@@ -264,7 +270,7 @@ impl LinearSolver for DenseLu {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// The column-oriented elimination gives the row-by-row one's factor to the bit (the
@@ -319,7 +325,7 @@ mod tests {
 
     /// A sparse unsymmetric `n × n` matrix (about a third of the entries, a small leading
     /// diagonal so that the elimination must pivot), pseudo-random from `seed`.
-    fn sparse_unsymmetric(n: usize, mut seed: u64) -> CscMatrix {
+    pub(crate) fn sparse_unsymmetric(n: usize, mut seed: u64) -> CscMatrix {
         let mut t = Vec::new();
         for j in 0..n {
             for i in 0..n {

@@ -34,6 +34,7 @@ use crate::integrator::Integrator;
 use crate::linear::{solver_for, LinearSolver, SolverError};
 use crate::lowrank::{LowRank, LowRankStats};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
+use crate::static_lu::StaticLu;
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
@@ -53,23 +54,25 @@ pub const DENSE_LIMIT: usize = 200;
 /// was measured, when a 121-equation model ran slower than a 241-equation one).
 pub const DIRECT_DENSE_LIMIT: usize = railfem_framework::model::DENSE_UP_TO;
 
-/// The driver factors an *unsymmetric* tangent of at most this many equations by the dense
-/// LU in a fill-reducing order ([`DenseLu::fill_reducing`]), above it by the sparse LU.
-/// Measured on the curve case's vehicle with creep forces (`sks700` carriages with
-/// `tangential = "kalker_linear"`, per Newton iteration, docs/performance.md "Rolling-contact
-/// laws in the curve case"): 18 against 42–48 µs at 66 equations, 18–27 against 23–29 at
-/// 132, 25–34 against 50–61 at 198, but 64 against 43 µs at 264. A symmetric tangent keeps
-/// [`DIRECT_DENSE_LIMIT`] (sparse Cholesky is faster from 18 equations on).
+/// The driver factors an *unsymmetric* tangent of at most this many equations by the LU that
+/// replays the last row exchanges ([`StaticLu`], falling back to the dense LU in a
+/// fill-reducing order, [`DenseLu::fill_reducing`], whose factor it reproduces to the bit),
+/// above it by the sparse LU. The limit was measured for the ordered dense LU, on the curve
+/// case's vehicle with creep forces (`sks700` carriages with `tangential = "kalker_linear"`,
+/// per Newton iteration, docs/performance.md "Rolling-contact laws in the curve case"): 18
+/// against 42–48 µs at 66 equations, 18–27 against 23–29 at 132, 25–34 against 50–61 at 198,
+/// but 64 against 43 µs at 264. A symmetric tangent keeps [`DIRECT_DENSE_LIMIT`] (sparse
+/// Cholesky is faster from 18 equations on).
 pub const DIRECT_DENSE_LU_LIMIT: usize = 200;
 
 /// The linear solver of the whole tangent for a model of `n` equations: dense LU in the
-/// plain order up to [`DIRECT_DENSE_LIMIT`]; for an unsymmetric tangent the ordered dense LU
-/// up to [`DIRECT_DENSE_LU_LIMIT`]; the sparse solver otherwise (Cholesky if `symmetric`).
+/// plain order up to [`DIRECT_DENSE_LIMIT`]; for an unsymmetric tangent [`StaticLu`] up to
+/// [`DIRECT_DENSE_LU_LIMIT`]; the sparse solver otherwise (Cholesky if `symmetric`).
 pub fn direct_solver(n: usize, symmetric: bool) -> Box<dyn LinearSolver> {
     if n <= DIRECT_DENSE_LIMIT {
         Box::new(DenseLu::default())
     } else if !symmetric && n <= DIRECT_DENSE_LU_LIMIT {
-        Box::new(DenseLu::fill_reducing())
+        Box::new(StaticLu::new())
     } else {
         solver_for(symmetric)
     }

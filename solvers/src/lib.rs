@@ -1,7 +1,7 @@
 //! railfem-solvers: linear solvers, time integrators and the analysis driver.
 //!
-//! What lives here: sparse and dense linear solvers ([`linear`], [`dense`]), the low-rank
-//! (Woodbury) solver for a few moving equations ([`lowrank`]), modal analysis ([`modal`]), the
+//! What lives here: sparse and dense linear solvers ([`linear`], [`dense`], the replayed LU
+//! [`static_lu`]), the low-rank (Woodbury) solver for a few moving equations ([`lowrank`]), modal analysis ([`modal`]), the
 //! generalized-α family of integrators ([`integrator`]), the energy balance of a run
 //! ([`energy`]) and the driver that runs static and
 //! transient analyses with Newton–Raphson and step cutting ([`driver`]; a lumped linear model's
@@ -24,5 +24,6 @@ pub mod lumped_step;
 pub mod modal;
 pub mod partition;
 pub mod preflight;
+pub mod static_lu;
 
 pub use driver::{Driver, ReferenceSystem, RunSummary, State, StepReport};
