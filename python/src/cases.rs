@@ -197,6 +197,7 @@ pub fn critical_radius<'py>(
         dt,
         geometry: self::geometry(geometry, "critical_radius()")?,
         tangential: "coulomb".into(),
+        polach_spin: None,
     };
     let r = guarded(py, || {
         railfem::critical::run_with_sections(&case, out.as_deref())
