@@ -573,7 +573,7 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         newton: NewtonSettings {
             max_iter: 60,
             tol: 1e-6,
-            abs_tol: residual_floor(&tm).max(1e-2),
+            abs_tol: residual_floor(&tm, &case.bridge().girder).max(1e-2),
             disp_tol: 1e-10,
             ..Default::default()
         },
@@ -624,7 +624,8 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
     })
 }
 
-/// The round-off floor of the residual norm (N) on the mesh of `tm`. A girder node's
+/// The round-off floor of the residual norm (N) on the mesh of `tm` with girders of
+/// section `g` (the case's bridge, [`RailSection::pc_box_girder`]). A girder node's
 /// vertical force is the sum of bending terms `12·E·I/h³·w` of its two elements — for the
 /// PC box girder on h = 0.0347 m, 1.1e17 N/m × 6.5 mm (the self-weight deflection of a
 /// 29.75 m span) = 7e14 N — cancelling to a nodal load of a few kN; rounding leaves about
@@ -633,8 +634,7 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
 /// 17 N at h = 0.0347 m (shortest elements 0.031 m; the preload stalled there at 0.05 N
 /// under the old 0.01 N), 1.5 N at 0.0694 m, 0.066 N at 0.625 m (shortest 0.125 m); 113
 /// spans at 0.625 m: 0.40 N. Against a static wheel load of 68.7 kN.
-pub fn residual_floor(tm: &TrackModel) -> f64 {
-    let g = RailSection::pc_box_girder();
+pub fn residual_floor(tm: &TrackModel, g: &RailSection) -> f64 {
     let h = tm
         .stations
         .windows(2)
