@@ -66,6 +66,24 @@ pub struct PhaseRow {
     pub top: usize,
     /// Peak resident memory of the process after this size (MiB).
     pub peak_mib: f64,
+    /// Every timed step, in order (`steps-<dofs>.csv`).
+    pub timeline: Vec<StepTime>,
+}
+
+/// One timed step: what a user planning a long run needs to see where the time goes as
+/// the train moves (entering the viaduct costs more iterations than running on it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepTime {
+    /// Time at the end of the step (s).
+    pub t: f64,
+    /// Newton iterations over its sub-steps.
+    pub iterations: usize,
+    /// Halvings of the step.
+    pub cuts: usize,
+    /// Block factorizations during the step.
+    pub block_factorizations: usize,
+    /// Wall time of the step (s).
+    pub wall: f64,
 }
 
 /// Names of [`PhaseRow::phases`].
@@ -114,6 +132,7 @@ pub fn measure(
     );
     let mut per_iter = Vec::with_capacity(steps);
     let mut per_step = Vec::with_capacity(steps);
+    let mut timeline = Vec::with_capacity(steps);
     let t2 = Instant::now();
     for _ in 0..steps {
         // Every rank stops at the same step (a stop seen by one rank alone would leave the
@@ -122,10 +141,29 @@ pub fn measure(
             return Err(FemError::Interrupted { t: d.state.t });
         }
         let ts = Instant::now();
+        let f0 = d.partition_stats().unwrap_or_default().block_factorizations;
         let r = d.step(case.dt)?;
         let w = ts.elapsed().as_secs_f64();
+        timeline.push(StepTime {
+            t: d.state.t,
+            iterations: r.iterations,
+            cuts: r.cuts,
+            block_factorizations: d.partition_stats().unwrap_or_default().block_factorizations - f0,
+            wall: w,
+        });
         per_step.push(w);
         per_iter.push(w / r.iterations.max(1) as f64);
+        // A long segment reports as it goes (a segment of thousands of steps takes hours).
+        let k = timeline.len();
+        if k % 500 == 0 && k < steps && crate::ranks::writes_outputs() {
+            let its: usize = timeline.iter().map(|s| s.iterations).sum();
+            println!(
+                "          step {k}: t = {:.4} s, {:.1} s wall so far, {:.2} iterations/step",
+                d.state.t,
+                t2.elapsed().as_secs_f64(),
+                its as f64 / k as f64
+            );
+        }
     }
     let wall = t2.elapsed().as_secs_f64();
     let (s1, a1, p1) = (
@@ -191,6 +229,7 @@ pub fn measure(
         blocks: p1.blocks,
         top: p1.top_equations,
         peak_mib: crate::bench::peak_memory_mib().unwrap_or(f64::NAN),
+        timeline,
     })
 }
 
@@ -231,7 +270,8 @@ pub fn case_for(
     }
 }
 
-/// Runs the sizes and writes `phases.csv` and `phases.md` into `out`.
+/// Runs the sizes and writes `phases.csv`, `phases.md` and, per size, every timed step in
+/// `steps-<dofs>.csv` into `out`.
 pub fn run(
     sizes: &[usize],
     cars: usize,
@@ -391,6 +431,18 @@ fn write(rows: &[PhaseRow], out: &Path) -> Result<(), FemError> {
         ));
     }
     std::fs::write(&p, md).map_err(|e| FemError::output(&p, e))?;
+    for r in rows {
+        let p = out.join(format!("steps-{}.csv", r.dofs));
+        let mut text =
+            String::from("t [s],iterations [-],halvings [-],block_factorizations [-],wall [s]\n");
+        for s in &r.timeline {
+            text.push_str(&format!(
+                "{:.6},{},{},{},{:.6}\n",
+                s.t, s.iterations, s.cuts, s.block_factorizations, s.wall
+            ));
+        }
+        std::fs::write(&p, text).map_err(|e| FemError::output(&p, e))?;
+    }
     if rows.len() >= 2 {
         plot(rows, &out.join("phases.svg"))?;
     }

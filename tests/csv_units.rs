@@ -147,6 +147,26 @@ fn every_csv_header_field_carries_a_unit() {
         "--out",
         &out("bench_train"),
     ]);
+    // The per-step timeline adds up to the phase table's totals, one row per timed step,
+    // each a paper step of 0.5 ms after the previous one.
+    {
+        let bt = dir.join("bench_train");
+        let phases = std::fs::read_to_string(bt.join("phases.csv")).unwrap();
+        let row: Vec<&str> = phases.lines().nth(1).unwrap().split(',').collect();
+        let (dofs, steps, iterations) = (row[0], row[7], row[8]);
+        let timeline = std::fs::read_to_string(bt.join(format!("steps-{dofs}.csv"))).unwrap();
+        let rows: Vec<Vec<f64>> = timeline
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(rows.len().to_string(), steps);
+        let its: f64 = rows.iter().map(|r| r[1]).sum();
+        assert_eq!(its.to_string(), iterations);
+        for w in rows.windows(2) {
+            assert!((w[1][0] - w[0][0] - 5e-4).abs() < 1e-9, "{w:?}");
+        }
+    }
     run_ok(&[
         "critical-radius",
         "--sweep",
