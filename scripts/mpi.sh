@@ -160,6 +160,24 @@ mpirun_n 2 "$mpi_bin" "${tb0[@]}" --solver direct --out "$work/tb-direct" >/dev/
 [ "$status" -ne 0 ] && grep -q "give \`--solver partitioned\`" "$work/direct.err" \
     || fail "a direct-solver model under mpirun -n 2: exit $status, $(head -c 300 "$work/direct.err")"
 echo "mpi.sh: ok — train-bridge across 2 ranks equals the serial run; the default build and a direct-solver model under mpirun are refused"
+# A model file shared among ranks (`railfem run`): the sprung-mass example on the partitioned
+# solver in blocks of 20 equations; 2 ranks write the serial run's recorders to 1e-12, and
+# the same file on its default (low-rank) solver is refused with the fix.
+sed 's/^gravity = .*/&\nsolver = "partitioned"\nblock_size = 20/' \
+    examples/models/moving_sprung_mass.toml > "$work/model-partitioned.toml"
+"$serial_bin" run "$work/model-partitioned.toml" -q --out "$work/mf-serial" >/dev/null
+mpirun_n 2 "$mpi_bin" run "$work/model-partitioned.toml" -q --out "$work/mf-mpi2" >"$work/mf-mpi2.out"
+grep -q 'partitioned solver across 2 ranks: rank 0 owns' "$work/mf-mpi2.out" \
+    || fail "the 2-rank model-file run did not share the partitioned solver ($(head -c 300 "$work/mf-mpi2.out"))"
+for f in midspan.csv sprung_mass.csv; do
+    d2=$(same_numbers "$work/mf-serial/$f" "$work/mf-mpi2/$f") || fail "model file, 2 ranks: $f"
+    echo "mpi.sh: model file $f: 2 ranks differ from serial by $d2 (relative, limit 1e-12)"
+done
+status=0
+mpirun_n 2 "$mpi_bin" run examples/models/moving_sprung_mass.toml -q --out "$work/mf-lowrank" >/dev/null 2>"$work/mf-lowrank.err" || status=$?
+[ "$status" -ne 0 ] && grep -q 'set `solver = "partitioned"`' "$work/mf-lowrank.err" \
+    || fail "a model file on another solver under mpirun -n 2: exit $status, $(head -c 300 "$work/mf-lowrank.err")"
+echo "mpi.sh: ok — a model file across 2 ranks equals the serial run; one on another solver is refused"
 
 if [ "${SCALE_OUT_BENCH:-0}" = 1 ]; then
     # Back-to-back timings of the 200-case plan (A B A B), with the load average.

@@ -487,7 +487,19 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         "run" => {
             let path = model_arg(a)?;
             let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out"));
+            let ranks = crate::ranks::launcher_exchange("run")?;
             let (mut driver, _) = prepare(path, false)?;
+            if let Some(ex) = ranks {
+                share_among_ranks(&mut driver, ex, path)?;
+                // Rank 0 alone prints and writes the recorders; the others compute.
+                if !crate::ranks::writes_outputs() {
+                    crate::progress::set_quiet(true);
+                    driver
+                        .run(None, &mut |_| {})
+                        .map_err(|e| e.in_file(&path.display().to_string()))?;
+                    return Ok(0);
+                }
+            }
             let an = &driver.model.analysis;
             let steps = match an.kind {
                 crate::framework::model::AnalysisKind::Transient => {
@@ -512,6 +524,12 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
             );
             if let Some(e) = driver.energy.as_ref().filter(|e| e.started()) {
                 println!("{}", e.summary());
+            }
+            if let Some(p) = driver.partition_stats().filter(|p| p.ranks > 1) {
+                println!(
+                    "partitioned solver across {} ranks: rank 0 owns {} of {} blocks; it sent {} B and received {} B in {} collectives",
+                    p.ranks, p.owned_blocks, p.blocks, p.comm.bytes_sent, p.comm.bytes_received, p.comm.collectives
+                );
             }
             Ok(0)
         }
@@ -1274,4 +1292,22 @@ fn polach_spin(a: &Args, tangential: &str) -> Result<Option<String>, FemError> {
         ));
     }
     Ok(Some(v.to_string()))
+}
+
+/// A model file's partitioned solver shared among the ranks of `mpirun -n P` (P > 1): each
+/// rank factors and condenses its own blocks ([`crate::ranks`]). A model on another solver is
+/// refused with the fix.
+fn share_among_ranks(
+    driver: &mut crate::solvers::Driver,
+    ex: std::sync::Arc<dyn crate::solvers::exchange::Exchange>,
+    path: &Path,
+) -> Result<(), FemError> {
+    let size = ex.size();
+    if driver.partition_stats().is_none() {
+        return Err(FemError::input(
+            path.display().to_string(),
+            format!("[analysis]: under `mpirun -n {size}` the ranks share the partitioned solver's blocks, but `solver = \"{}\"` does not run it for this model's {} equations; set `solver = \"partitioned\"` (and `block_size`, interior equations per block, so that there are at least {size} blocks)", driver.model.analysis.solver.name(), driver.state.q.len()),
+        ));
+    }
+    driver.set_exchange(ex)
 }

@@ -344,6 +344,10 @@ pub struct AnalysisSpec {
     pub record_every: usize,
     /// Linear solver of the Newton iterations.
     pub solver: SolverChoice,
+    /// Target interior equations per block of the partitioned solver (`None`: 3000). Under
+    /// `mpirun -n P` the ranks share the blocks, so a model needs at least P blocks to give
+    /// every rank work.
+    pub block_size: Option<usize>,
     /// Geometry of rigid links and vehicle suspensions: "linear" or "nonlinear".
     pub geometry: Geometry,
 }
@@ -367,6 +371,7 @@ impl Default for AnalysisSpec {
             rayleigh: None,
             record_every: 1,
             solver: SolverChoice::Auto,
+            block_size: None,
             geometry: Geometry::Linear,
         }
     }
@@ -436,6 +441,9 @@ impl AnalysisSpec {
         }
         if self.steps == 0 || self.record_every == 0 {
             bad("`steps` and `record_every` must be at least 1".into());
+        }
+        if self.block_size == Some(0) {
+            bad("`block_size` must be at least 1 (interior equations per block of the partitioned solver; leave it out for 3000)".into());
         }
         // The step count means something only once `dt` and `duration` are valid.
         if errors.is_empty() {

@@ -366,6 +366,17 @@ fn ignored_analysis_keys(raw: &Value, spec: &AnalysisSpec, o: &str) -> Vec<FemEr
                 Some("only a static analysis reads it".to_string())
             }
             "modes" if spec.kind != K::Modal => Some("only a modal analysis reads it".to_string()),
+            "block_size"
+                if matches!(
+                    spec.solver,
+                    crate::model::SolverChoice::Direct | crate::model::SolverChoice::LowRank
+                ) =>
+            {
+                Some(format!(
+                    "only the partitioned solver reads it, and `solver` = \"{}\"",
+                    spec.solver.name()
+                ))
+            }
             _ => None,
         };
         if let Some(r) = reason {

@@ -345,8 +345,15 @@ impl Driver {
         let integrator = Integrator::from_spec(&model.analysis);
         let k_eff = asm.k_const.zeros_like();
         let lowrank = (asm.solver() == SolverChoice::LowRank).then(LowRank::new);
+        let options = PartitionOptions {
+            block_size: model
+                .analysis
+                .block_size
+                .unwrap_or(PartitionOptions::default().block_size),
+            ..PartitionOptions::default()
+        };
         let partition = (asm.off_pattern() && lowrank.is_none())
-            .then(|| Partitioned::new(asm.symmetric(), PartitionOptions::default()));
+            .then(|| Partitioned::new(asm.symmetric(), options));
         Ok(Driver {
             state: State {
                 t: 0.0,
@@ -1336,7 +1343,9 @@ impl Driver {
                     // on file: the last state recorded, the recorders flushed (whole
                     // lines), then say when.
                     observe(&self.model, self.state.t);
-                    let stop = railfem_framework::interrupt::requested() && k < nsteps;
+                    // Every rank sees the same answer (a stop seen by one rank alone
+                    // would leave the others waiting in the next step's collectives).
+                    let stop = self.stop_requested() && k < nsteps;
                     if k % spec.record_every == 0 || k == nsteps || stop {
                         self.record_state(&mut rec, self.state.t)?;
                     }

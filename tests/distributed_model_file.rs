@@ -1,0 +1,161 @@
+//! A model file's partitioned solver shared among ranks gives the one-process answers.
+//!
+//! `mpirun -n P railfem run MODEL.toml` (build `--features mpi`) shares the blocks of a model
+//! file whose `[analysis]` picks `solver = "partitioned"`; `block_size` sets how many blocks
+//! there are. Here the ranks are in-process threads (`thread_ranks`), each loading the file
+//! and stepping its own driver as an MPI process would; scripts/mpi.sh runs the same model
+//! under `mpirun -n 2`.
+//!
+//! The model: a continuous beam over six 25 m spans (300 elements of 0.5 m) with a sprung
+//! mass crossing it at 50 m/s, from 20 m to 40 m, so it passes from one block into the next
+//! and the blocks of both ranks gain and lose promoted equations. Reference: the same file
+//! run in one process. The ranks perform the same floating-point operations in the same
+//! order (rank 0 sums the blocks' pieces in block order), so 1e-12 of each column's largest
+//! value bounds the difference, far below the Newton tolerance.
+
+mod common;
+
+use railfem::solvers::exchange::{thread_ranks, Exchange};
+use railfem::solvers::partition::PartitionStats;
+use std::path::Path;
+use std::sync::Arc;
+
+const ELEMENTS: usize = 300;
+const H: f64 = 0.5;
+
+/// The model file: beam, supports every 50 elements, sprung mass, two recorders.
+fn model_text(analysis_extra: &str) -> String {
+    let mut t = format!(
+        "[analysis]\nkind = \"transient\"\nintegrator = \"newmark\"\ndt = 0.002\nduration = 0.4\n\
+         gravity = [0.0, 0.0, -9.81]\nsolver = \"partitioned\"\n{analysis_extra}\n"
+    );
+    for i in 0..=ELEMENTS {
+        t.push_str(&format!(
+            "[[node]]\nid = {i}\nxyz = [{}, 0.0, 0.0]\n",
+            i as f64 * H
+        ));
+        if i == 0 {
+            t.push_str("fix = [\"ux\", \"uy\", \"uz\", \"rx\"]\n");
+        } else if i % 50 == 0 {
+            t.push_str("fix = [\"uy\", \"uz\"]\n");
+        }
+    }
+    t.push_str("[[node]]\nid = 1000\nxyz = [0.0, 0.0, 1.0]\n");
+    for e in 1..=ELEMENTS {
+        t.push_str(&format!(
+            "[[element]]\ntype = \"beam3d\"\nid = {e}\nnodes = [{}, {}]\nE = 2.943e10\nG = 1.2e10\n\
+             A = 1.0\nIy = 1.0\nIz = 2.0\nJ = 0.5\nrho = 2303.0\nmass = \"consistent\"\n",
+            e - 1,
+            e
+        ));
+    }
+    let path: Vec<String> = (1..=ELEMENTS).map(|e| e.to_string()).collect();
+    t.push_str(&format!(
+        "[[element]]\ntype = \"moving_sprung_mass\"\nid = 2000\nnodes = [1000]\nm = 5750.0\n\
+         k = 1.595e6\npath = [{}]\nstart = 20.0\nspeed = 50.0\n",
+        path.join(", ")
+    ));
+    t.push_str(
+        "[[recorder]]\ntype = \"node\"\nnode = 75\ndofs = [\"uz\"]\nfile = \"span2.csv\"\n\
+         [[recorder]]\ntype = \"element\"\nelement = 2000\noutputs = [\"contact_force\", \"mass_disp\"]\n\
+         file = \"mass.csv\"\n",
+    );
+    t
+}
+
+fn write_model(dir: &Path, analysis_extra: &str) -> std::path::PathBuf {
+    let p = dir.join("beam.toml");
+    std::fs::write(&p, model_text(analysis_extra)).unwrap();
+    p
+}
+
+/// Runs the file on one rank of `exchange` (`None`: one process) and keeps its recorders'
+/// rows.
+fn run(path: &Path, exchange: Option<Arc<dyn Exchange>>) -> (Vec<Vec<f64>>, PartitionStats) {
+    let mut d =
+        railfem::solvers::Driver::new(railfem::load_model(path).expect("model")).expect("driver");
+    if let Some(ex) = exchange {
+        d.set_exchange(ex).expect("partitioned model");
+    }
+    let (_, kept) = d.run_keeping(None, true, &mut |_| {}).expect("run");
+    let stats = d.partition_stats().expect("partitioned");
+    (kept.into_iter().map(|h| h.values).collect(), stats)
+}
+
+/// Largest difference per recorder file, relative to the file's largest value.
+fn worst(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| {
+            assert_eq!(x.len(), y.len());
+            let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            x.iter()
+                .zip(y)
+                .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
+                / scale
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_model_file_across_ranks_equals_one_process() {
+    let dir = common::temp_dir("distributed-model-file");
+    let path = write_model(&dir, "block_size = 150");
+    let (serial, s1) = run(&path, None);
+    // The block size reached the solver: ~1800 equations in blocks of 150.
+    assert!(s1.blocks >= 6, "{s1:?}");
+    assert!(s1.promotions > 0, "{s1:?}");
+    assert!(serial[0].len() > 100, "rows recorded");
+    for ranks in [2, 3] {
+        let runs: Vec<(Vec<Vec<f64>>, PartitionStats)> = std::thread::scope(|s| {
+            let hs: Vec<_> = thread_ranks(ranks)
+                .into_iter()
+                .map(|ex| {
+                    let p = path.clone();
+                    s.spawn(move || run(&p, Some(ex)))
+                })
+                .collect();
+            hs.into_iter().map(|h| h.join().expect("rank")).collect()
+        });
+        for (r, (h, st)) in runs.iter().enumerate() {
+            let e = worst(h, &serial);
+            println!(
+                "{ranks} ranks, rank {r}: recorders differ by {e:.1e} of their largest value; {} of {} blocks",
+                st.owned_blocks, st.blocks
+            );
+            assert!(e <= 1e-12, "{ranks} ranks, rank {r}: {e:e}");
+        }
+        let owned: usize = runs.iter().map(|r| r.1.owned_blocks).sum();
+        assert_eq!(owned, s1.blocks, "every block owned by exactly one rank");
+        assert!(runs.iter().all(|r| r.1.owned_blocks > 0));
+    }
+}
+
+#[test]
+fn block_size_is_checked_in_the_model_file() {
+    let dir = common::temp_dir("block-size-keys");
+    for (extra, expect) in [
+        ("block_size = 0", "`block_size` must be at least 1"),
+        ("block_size = -3", "[analysis]: invalid value: integer `-3`"),
+    ] {
+        let p = write_model(&dir, extra);
+        let e = match railfem::load_model(&p) {
+            Ok(_) => panic!("{extra}: accepted"),
+            Err(e) => e.to_string(),
+        };
+        assert!(e.contains(expect), "{extra}: {e}");
+    }
+    // With the direct solver the key would be ignored: refused, naming the solver.
+    let text =
+        model_text("block_size = 200").replace("solver = \"partitioned\"", "solver = \"direct\"");
+    let p = dir.join("direct.toml");
+    std::fs::write(&p, text).unwrap();
+    let e = match railfem::load_model(&p) {
+        Ok(_) => panic!("block_size with the direct solver: accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        e.contains("block_size") && e.contains("only the partitioned solver reads it"),
+        "{e}"
+    );
+}
