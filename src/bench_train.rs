@@ -253,6 +253,7 @@ pub fn case_for(
     dofs: usize,
     cars: usize,
     dt: f64,
+    train_start: f64,
     geometry: crate::framework::model::Geometry,
 ) -> TrainBridgeCase {
     let per_span = 1_043_430.0 / 113.0;
@@ -266,6 +267,7 @@ pub fn case_for(
         // equations), so that the growth exponent compares like with like.
         solver: crate::framework::model::SolverChoice::Partitioned,
         geometry,
+        train_start,
         ..Default::default()
     }
 }
@@ -277,6 +279,7 @@ pub fn run(
     cars: usize,
     steps: usize,
     dt: f64,
+    train_start: f64,
     geometry: crate::framework::model::Geometry,
     out: &Path,
 ) -> Result<Vec<PhaseRow>, FemError> {
@@ -297,7 +300,7 @@ pub fn run(
         };
     }
     say!(
-        "train-bridge benchmark: {cars} carriage(s), Δt = {dt} s, {steps} steps per size, {} threads, vehicle geometry {}",
+        "train-bridge benchmark: {cars} carriage(s), Δt = {dt} s, {steps} steps per size, {} threads, vehicle geometry {}, front carriage starting {train_start} m from the bridge",
         crate::framework::parallel::threads(0),
         geometry.name()
     );
@@ -314,7 +317,7 @@ pub fn run(
             break;
         }
         bar.set(k as u64);
-        let case = case_for(n, cars, dt, geometry);
+        let case = case_for(n, cars, dt, train_start, geometry);
         let r = match measure(&case, steps, ranks.clone()) {
             Err(FemError::Interrupted { .. }) => {
                 stopped = true;

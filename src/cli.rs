@@ -817,7 +817,8 @@ fn bench(a: &Args) -> Result<i32, FemError> {
                 ))
             }
         };
-        crate::bench_train::run(&sizes, cars, steps, dt, geometry(a)?, &out)?;
+        let start = a.num("train-start")?.unwrap_or(-15.0);
+        crate::bench_train::run(&sizes, cars, steps, dt, start, geometry(a)?, &out)?;
         return Ok(0);
     }
     if case == "floor" {
@@ -1146,6 +1147,9 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
     }
     if let Some(v) = a.num("pier-height")? {
         c.pier_height = v;
+    }
+    if let Some(v) = a.num("train-start")? {
+        c.train_start = v;
     }
     if let Some(list) = a.opt("midspans") {
         c.midspans = list

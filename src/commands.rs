@@ -314,6 +314,10 @@ pub struct BenchCmd {
     /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
     #[arg(long, value_name = "linear|nonlinear")]
     pub geometry: Option<OsString>,
+    /// Train-bridge case: station of the front carriage's centre at t = 0 from the bridge's
+    /// first abutment, in m [default: -15, entering the viaduct].
+    #[arg(long, value_name = "X", allow_hyphen_values = true)]
+    pub train_start: Option<OsString>,
     /// Mass matrix of the beam case: consistent (cubic Hermite, as OpenSees -cMass) or
     /// lumped (rho*A*L/2 per node and translation, no rotary inertia, as OpenSees'
     /// elasticBeamColumn default) [default: consistent].
@@ -361,6 +365,10 @@ pub struct TrainBridgeCmd {
     /// Pier height in m [default: 10].
     #[arg(long, value_name = "H")]
     pub pier_height: Option<OsString>,
+    /// Station of the front carriage's centre at t = 0 from the bridge's first abutment, in
+    /// m [default: -15: the train starts on the approach and enters the viaduct].
+    #[arg(long, value_name = "X", allow_hyphen_values = true)]
+    pub train_start: Option<OsString>,
     /// Spans whose midspan is recorded (1-based, comma-separated) [default: a few].
     #[arg(long, value_name = "1,2,..")]
     pub midspans: Option<OsString>,

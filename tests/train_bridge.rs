@@ -389,3 +389,56 @@ fn wheel_forces_balance_the_trains_inertia_under_ground_motion() {
     assert!(worst_y < 1e-3 * q_wheel, "lateral imbalance {worst_y} N");
     assert!(worst_z < 1e-3 * q_wheel, "vertical imbalance {worst_z} N");
 }
+
+/// `train_start` places the train: every wheel's station (the moving element's own `station`
+/// output, metres along the rail) moves by exactly the change of the start, before any step
+/// and after the same steps; and a start that would put a carriage off the track is refused
+/// with the range that fits.
+#[test]
+fn train_start_moves_every_wheel_by_the_same_distance() {
+    let stations = |train_start: f64| -> Vec<f64> {
+        let case = TrainBridgeCase {
+            cars: 2,
+            spans: 3,
+            dt: 0.005,
+            train_start,
+            ..Default::default()
+        };
+        let mut m = build(&case).expect("model");
+        let d = &mut m.driver;
+        let names = d.model.elements[m.wheel_index[0]].element.output_names();
+        let k = names.iter().position(|n| n == "station").expect("station");
+        d.static_solve(0.0, 4).expect("preload");
+        d.initialize().expect("initial accelerations");
+        d.step(0.005).expect("step");
+        let mut buf = Vec::new();
+        m.wheel_index
+            .iter()
+            .map(|&ei| {
+                buf.clear();
+                d.model.elements[ei].element.outputs(&mut buf);
+                buf[k]
+            })
+            .collect()
+    };
+    let a = stations(-15.0);
+    let b = stations(40.0);
+    assert_eq!(a.len(), 16);
+    for (x, y) in a.iter().zip(&b) {
+        assert!((y - x - 55.0).abs() < 1e-9, "{x} → {y}");
+    }
+    let bad = TrainBridgeCase {
+        cars: 2,
+        spans: 3,
+        train_start: 200.0,
+        ..Default::default()
+    };
+    let e = match build(&bad) {
+        Ok(_) => panic!("a train off the track was accepted"),
+        Err(e) => e.to_string(),
+    };
+    assert!(
+        e.contains("--train-start 200") && e.contains("give a station from"),
+        "{e}"
+    );
+}
