@@ -168,6 +168,17 @@ pub enum ElementError {
 /// ([`Element::output_units`]' default): the recorder header reads `5_force [?]`.
 pub const UNIT_UNDECLARED: &str = "?";
 
+/// The active set a contact element evaluates with ([`Element::hold_active_set`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ActiveSet {
+    /// Each evaluation finds every point's status from its gap and slip.
+    Found,
+    /// Held at the statuses of the last converged step.
+    Committed,
+    /// Held at the statuses the last evaluation found.
+    LastFound,
+}
+
 /// The element contract. See the module documentation for axes and ordering.
 pub trait Element: Send + Sync {
     /// The registered type name (`"beam3d"`, `"moving_axle"`, …).
@@ -208,8 +219,24 @@ pub trait Element: Send + Sync {
     /// Accepts the trial state as the new committed state (a step converged).
     fn commit(&mut self) {}
 
-    /// Returns to the last committed state (a step is being retried).
+    /// Returns to the last committed state (a step is being retried). An active set held by
+    /// [`Element::hold_active_set`] stays held.
     fn revert(&mut self) {}
+
+    /// How a contact element sets its points' statuses (open, stick, slide and its
+    /// direction) in the evaluations that follow: found at each evaluation (the default,
+    /// and again after every commit) or held fixed. Returns whether the element has an
+    /// active set (elements without contact ignore the call and return `false`).
+    fn hold_active_set(&mut self, _set: ActiveSet) -> bool {
+        false
+    }
+
+    /// How many of the element's points the last evaluation found in a status other than
+    /// the held one (0 when nothing is held): 0 means the held evaluation was the element's
+    /// own law.
+    fn active_set_changes(&self) -> usize {
+        0
+    }
 
     /// Names of the scalar results the element reports (for element recorders).
     fn output_names(&self) -> Vec<String> {

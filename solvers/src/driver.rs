@@ -208,6 +208,9 @@ pub struct RunSummary {
     pub iterations: usize,
     /// Step halvings.
     pub cuts: usize,
+    /// Sub-steps solved with the contact's active set held ([`crate::held_active_set`]),
+    /// after the halvings gave up.
+    pub held: usize,
     /// Numeric factorizations performed.
     pub factorizations: usize,
     /// Symbolic analyses performed.
@@ -1055,7 +1058,33 @@ impl Driver {
         max_cuts: usize,
         rep: &mut StepReport,
     ) -> Result<(), FemError> {
-        match self.attempt_any(dt) {
+        let mut outcome = self.attempt_any(dt);
+        // The smallest sub-step failed: solve it again with the contact's active set held
+        // (crate::held_active_set); when that fails too, the first attempt's failure stands.
+        let mut held_note = String::new();
+        if let (true, Err(Attempt::NotConverged { iterations, .. })) = (depth >= max_cuts, &outcome)
+        {
+            let spent = *iterations;
+            self.asm.revert(&mut self.model);
+            self.factored = None;
+            match self.attempt_held(dt) {
+                None => {}
+                Some(Ok((s, it, res))) => {
+                    self.summary.held += 1;
+                    outcome = Ok((s, spent + it, res));
+                }
+                Some(Err(f)) => {
+                    held_note = format!("; {}", f.why);
+                    match f.attempt {
+                        Attempt::NotConverged { iterations, .. } => {
+                            rep.iterations += iterations;
+                        }
+                        fatal => outcome = Err(fatal),
+                    }
+                }
+            }
+        }
+        match outcome {
             Ok((s, it, res)) => {
                 self.asm.commit(&mut self.model);
                 if let Some(e) = self.energy.as_mut() {
@@ -1092,7 +1121,7 @@ impl Driver {
                 rep.iterations += iterations;
                 if depth >= max_cuts {
                     return Err(FemError::Convergence(format!(
-                        "{}: step at t = {:.6} s did not converge after {depth} halvings (dt down to {dt:.3e} s); largest residual {residual:.3e} at {dof}; the last converged state is t = {:.6} s",
+                        "{}: step at t = {:.6} s did not converge after {depth} halvings (dt down to {dt:.3e} s); largest residual {residual:.3e} at {dof}; the last converged state is t = {:.6} s{held_note}",
                         self.model.origin,
                         self.state.t + dt,
                         self.state.t

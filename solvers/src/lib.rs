@@ -17,6 +17,7 @@ pub mod dense;
 pub mod driver;
 pub mod energy;
 pub mod exchange;
+pub mod held_active_set;
 pub mod integrator;
 pub mod linear;
 pub mod lowrank;

@@ -81,6 +81,34 @@ impl Mode {
     }
 }
 
+/// The status of a point in the contact's active set: open, sticking, or sliding along
+/// `+u` or `−u`. Two points with the same status obey the same branch of the law, which
+/// is smooth in `Δ` within a branch; Newton iterates that change statuses cross its kinks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// Gap open.
+    Open,
+    /// Sticking: `|k·s_u| ≤ μ·f_n`.
+    Stick,
+    /// Sliding with `f_u = +μ·f_n`.
+    SlidePlus,
+    /// Sliding with `f_u = −μ·f_n`.
+    SlideMinus,
+}
+
+impl Status {
+    /// The status of a closed point with trial friction force `k·s_u` and limit `μ·f_n`.
+    fn of_slip(trial: f64, limit: f64) -> Status {
+        if trial.abs() <= limit {
+            Status::Stick
+        } else if trial.signum() < 0.0 {
+            Status::SlideMinus
+        } else {
+            Status::SlidePlus
+        }
+    }
+}
+
 /// The committed stick anchor of a point and the tangential frame it was taken in.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Anchor {
@@ -117,7 +145,14 @@ pub struct PointState {
 impl PenaltyLaw {
     /// Evaluates a point with gap `g` (m), unit outward wheel normal `w` (wheel frame),
     /// curvature term `hess = ∇²g` mapped to 3-D (1/m), relative displacement `delta` and
-    /// its anchor.
+    /// its anchor. Returns the state and the status the point is in (from `g` and `s_u`).
+    ///
+    /// `held`: `None` evaluates the point in the status it is in. `Some` evaluates it in the
+    /// status given (an active set held fixed, solvers/src/held_active_set.rs): that branch's
+    /// formulas apply beyond their range — a held contact with `g ≥ 0` pulls
+    /// (`f_n = −k·g < 0`), a held stick exceeds `μ·f_n`, a held slide keeps its direction
+    /// when `s_u` turns — so the law is smooth in `Δ` while the set is held. Where the held
+    /// status is the one found, the state is the one `None` gives, bit for bit.
     pub fn evaluate(
         &self,
         g: f64,
@@ -125,9 +160,12 @@ impl PenaltyLaw {
         hess: &Matrix3<f64>,
         delta: &Vector3<f64>,
         anchor: &Anchor,
-    ) -> PointState {
-        if g >= 0.0 {
-            return PointState {
+        held: Option<Status>,
+    ) -> (PointState, Status) {
+        let v = anchor.v;
+        let u = v.cross(w);
+        if held == Some(Status::Open) || (held.is_none() && g >= 0.0) {
+            let open = PointState {
                 mode: Mode::Open,
                 phi: Vector3::zeros(),
                 d: Matrix3::zeros(),
@@ -135,8 +173,17 @@ impl PenaltyLaw {
                 f_u: 0.0,
                 f_v: 0.0,
                 s_u: 0.0,
-                u: anchor.v.cross(w),
+                u,
             };
+            let found = if g >= 0.0 {
+                Status::Open
+            } else {
+                Status::of_slip(
+                    self.k * u.dot(&(delta - anchor.delta)),
+                    -self.mu * self.k * g,
+                )
+            };
+            return (open, found);
         }
         let k = self.k;
         let f_n = -k * g;
@@ -148,8 +195,6 @@ impl PenaltyLaw {
         // force is tangent to the wheel at the current contact point and Coulomb holds
         // exactly against the current normal (`f_u = μ·f_n`, both resolved on the current
         // frame). Its derivative is ∂u/∂Δ = [v]ₓ·∂w/∂Δ = [v]ₓ·∇²g.
-        let v = anchor.v;
-        let u = v.cross(w);
         let du = skew(&v) * hess;
         let s_u = u.dot(&s);
         let s_v = v.dot(&s);
@@ -158,7 +203,16 @@ impl PenaltyLaw {
         d += v * v.transpose() * self.k_v;
         let trial = k * s_u;
         let limit = self.mu * f_n;
-        if trial.abs() <= limit {
+        let found = if g >= 0.0 {
+            Status::Open
+        } else {
+            Status::of_slip(trial, limit)
+        };
+        let branch = match held {
+            Some(h) => h,
+            None => found,
+        };
+        if branch == Status::Stick {
             phi += u * trial;
             // ∂(f_u·u)/∂Δ = k·u·(uᵀ + sᵀ·∂u/∂Δ) + f_u·∂u/∂Δ; the curvature terms are
             // symmetrized for the symmetric variant (an O(f·κ) approximation).
@@ -168,7 +222,7 @@ impl PenaltyLaw {
                 SlidingTangent::Consistent => extra,
                 SlidingTangent::Symmetric => (extra + extra.transpose()) * 0.5,
             };
-            PointState {
+            let st = PointState {
                 mode: Mode::Stick,
                 phi,
                 d,
@@ -177,9 +231,14 @@ impl PenaltyLaw {
                 f_v,
                 s_u,
                 u,
-            }
+            };
+            (st, found)
         } else {
-            let sgn = trial.signum();
+            let sgn = if branch == Status::SlideMinus {
+                -1.0
+            } else {
+                1.0
+            };
             let f_u = limit * sgn;
             phi += u * f_u;
             let extra = du * f_u;
@@ -194,7 +253,7 @@ impl PenaltyLaw {
                         + (extra + extra.transpose()) * 0.5;
                 }
             }
-            PointState {
+            let st = PointState {
                 mode: Mode::Slide,
                 phi,
                 d,
@@ -203,7 +262,8 @@ impl PenaltyLaw {
                 f_v,
                 s_u,
                 u,
-            }
+            };
+            (st, found)
         }
     }
 
@@ -271,23 +331,29 @@ mod tests {
     fn open_and_stick() {
         let l = law(SlidingTangent::Symmetric);
         let w = -Vector3::y();
-        let st = l.evaluate(
-            1e-6,
-            &w,
-            &Matrix3::zeros(),
-            &Vector3::new(1e-5, 0.0, 0.0),
-            &anchor(),
-        );
+        let st = l
+            .evaluate(
+                1e-6,
+                &w,
+                &Matrix3::zeros(),
+                &Vector3::new(1e-5, 0.0, 0.0),
+                &anchor(),
+                None,
+            )
+            .0;
         assert_eq!(st.mode, Mode::Open);
         assert_eq!(st.phi, Vector3::zeros());
         let g = -1e-5;
-        let st = l.evaluate(
-            g,
-            &w,
-            &Matrix3::zeros(),
-            &Vector3::new(1e-6, 0.0, 2e-6),
-            &anchor(),
-        );
+        let st = l
+            .evaluate(
+                g,
+                &w,
+                &Matrix3::zeros(),
+                &Vector3::new(1e-6, 0.0, 2e-6),
+                &anchor(),
+                None,
+            )
+            .0;
         assert_eq!(st.mode, Mode::Stick);
         assert!((st.f_n - 1e4).abs() < 1e-9);
         assert!((st.f_u - 1e3).abs() < 1e-9);
@@ -305,7 +371,9 @@ mod tests {
         let delta = Vector3::new(1e-4, 0.0, 0.0);
         let g = -1e-5;
         let lc = law(SlidingTangent::Consistent);
-        let st = lc.evaluate(g, &w, &Matrix3::zeros(), &delta, &anchor());
+        let st = lc
+            .evaluate(g, &w, &Matrix3::zeros(), &delta, &anchor(), None)
+            .0;
         assert_eq!(st.mode, Mode::Slide);
         assert!((st.f_u - 0.3 * 1e4).abs() < 1e-9);
         // Finite differences of φ with g following Δ along w (g = g0 + w·(Δ − Δ0)).
@@ -317,16 +385,20 @@ mod tests {
             let gp = g + w.dot(&e);
             let gm = g - w.dot(&e);
             let p = lc
-                .evaluate(gp, &w, &Matrix3::zeros(), &(delta + e), &anchor())
+                .evaluate(gp, &w, &Matrix3::zeros(), &(delta + e), &anchor(), None)
+                .0
                 .phi;
             let m = lc
-                .evaluate(gm, &w, &Matrix3::zeros(), &(delta - e), &anchor())
+                .evaluate(gm, &w, &Matrix3::zeros(), &(delta - e), &anchor(), None)
+                .0
                 .phi;
             fd.set_column(j, &((p - m) / (2.0 * h)));
         }
         assert!((fd - st.d).norm() / st.d.norm() < 1e-6, "{fd} vs {}", st.d);
         let ls = law(SlidingTangent::Symmetric);
-        let ss = ls.evaluate(g, &w, &Matrix3::zeros(), &delta, &anchor());
+        let ss = ls
+            .evaluate(g, &w, &Matrix3::zeros(), &delta, &anchor(), None)
+            .0;
         assert!((ss.d - ss.d.transpose()).norm() < 1e-6);
         let diff = ss.d - st.d;
         let u = Vector3::x();
@@ -336,8 +408,43 @@ mod tests {
         assert!(eig.iter().all(|e| *e > -1e-3));
         // Commit moves the anchor so that the committed slip satisfies Coulomb exactly.
         let (a, work) = ls.commit_anchor(&ss, &delta, &anchor(), (u, Vector3::z()));
-        let again = ls.evaluate(g, &w, &Matrix3::zeros(), &delta, &a);
+        let again = ls.evaluate(g, &w, &Matrix3::zeros(), &delta, &a, None).0;
         assert!((again.f_u - 0.3 * 1e4).abs() < 1e-6);
         assert!(work > 0.0);
+    }
+
+    /// A held status: where it is the status found, the state is `None`'s to the bit; held
+    /// past its range it keeps its branch (a slide held along +u after the slip turned
+    /// pushes +μ·f_n, a contact held open after the gap opened pulls `−k·g`) and reports the
+    /// status found.
+    #[test]
+    fn held_status_keeps_its_branch() {
+        let l = law(SlidingTangent::Symmetric);
+        let w = -Vector3::y();
+        let h = Matrix3::zeros();
+        let g = -1e-5;
+        for (delta, status) in [
+            (Vector3::new(1e-4, 0.0, 0.0), Status::SlidePlus),
+            (Vector3::new(-1e-4, 0.0, 0.0), Status::SlideMinus),
+            (Vector3::new(1e-6, 0.0, 0.0), Status::Stick),
+        ] {
+            let (free, found) = l.evaluate(g, &w, &h, &delta, &anchor(), None);
+            assert_eq!(found, status);
+            let (held, again) = l.evaluate(g, &w, &h, &delta, &anchor(), Some(status));
+            assert_eq!((held, again), (free, found));
+        }
+        // Slip turned to −u, slide held along +u: f_u = +μ·f_n = +3e3 N.
+        let back = Vector3::new(-1e-4, 0.0, 0.0);
+        let (st, found) = l.evaluate(g, &w, &h, &back, &anchor(), Some(Status::SlidePlus));
+        assert_eq!(found, Status::SlideMinus);
+        assert!((st.f_u - 0.3 * 1e4).abs() < 1e-9);
+        // Gap opened to +1e-6 m, held in stick: f_n = −k·g = −1e3 N (a pull).
+        let (st, found) = l.evaluate(1e-6, &w, &h, &back, &anchor(), Some(Status::Stick));
+        assert_eq!(found, Status::Open);
+        assert!((st.f_n + 1e3).abs() < 1e-9);
+        // Held open while pressed: no force, found sliding.
+        let (st, found) = l.evaluate(g, &w, &h, &back, &anchor(), Some(Status::Open));
+        assert_eq!((st.mode, found), (Mode::Open, Status::SlideMinus));
+        assert_eq!(st.phi, Vector3::zeros());
     }
 }

@@ -31,6 +31,12 @@
 //!   crosses into the next element (connectivity change). On a rigid track the rail nodes
 //!   have no DOFs and the element never asks for a new pattern.
 //!
+//! - **Held active set** ([`Element::hold_active_set`], Coulomb law only): the driver can
+//!   hold every rail node's status (open, stick, slide along ±u) at the last commit's or
+//!   the last evaluation's; a node held in contact is then evaluated wherever it is, and
+//!   [`Element::active_set_changes`] counts the nodes whose own status differs from the
+//!   held one (solvers/src/held_active_set.rs).
+//!
 //! Only rail nodes inside the wheel's lateral reach are searched (a binary-search window),
 //! and nodes below the wheel's lowest point are skipped without a closest-point search, so
 //! a wheel lifted clear costs almost nothing.
@@ -43,7 +49,7 @@
 //! that its smallest gap to the rail is −1 nm: the wheel starts just touching.
 
 use super::contact_geometry::{candidate_window, rail_node_gap};
-use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent};
+use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent, Status};
 use super::creep::hertz::{hertz_ellipse, Curvatures};
 use super::creep::kalker::kalker_coefficients;
 use super::creep::law::{EllipseShape, Material, TangentialLaw};
@@ -165,6 +171,9 @@ struct History {
     /// Normal force of every rail node at the last commit (N, 0 when open): places the
     /// ellipse of a contact patch for the next step.
     loads: Vec<f64>,
+    /// Status of every rail node at the last commit (Coulomb contact; all open when
+    /// rolling): the active set a held retry of the next step starts from.
+    statuses: Vec<Status>,
 }
 
 /// The moving wheel-axle element (one wheel).
@@ -234,6 +243,10 @@ pub struct MovingAxle {
     rolling: Option<Rolling>,
     /// Element DOFs of the last evaluation.
     last_q: Vec<f64>,
+    /// The active set held fixed ([`ActiveSet`]; `None`: found at each evaluation).
+    held: Option<Vec<Status>>,
+    /// Status of every rail node at the last evaluation (Coulomb contact).
+    found: Vec<Status>,
 }
 
 pub use super::profiles::MAX_PROFILE_POINTS;
@@ -622,6 +635,7 @@ impl MovingAxle {
             rail_ids: None,
             deltas: vec![Vector3::zeros(); n],
             loads: vec![0.0; n],
+            statuses: vec![Status::Open; n],
         };
         MovingAxle {
             setup,
@@ -665,6 +679,8 @@ impl MovingAxle {
             attack: 0.0,
             rolling: None,
             last_q: vec![0.0; 21],
+            held: None,
+            found: vec![Status::Open; n],
         }
     }
 
@@ -951,16 +967,24 @@ impl MovingAxle {
                 Vector3::from_fn(|i, _| (0..21).map(|j| t[(i, j)] * qv[j]).sum())
                     + self.rail_offset;
             self.deltas[kx] = delta;
-            if !window.contains(&kx) {
+            self.found[kx] = Status::Open;
+            // A held status (Coulomb contact only): a node held in contact is evaluated
+            // wherever it is, past the shortcuts that skip open nodes.
+            let hold = match (&self.held, &creep) {
+                (Some(h), None) => Some(h[kx]),
+                _ => None,
+            };
+            let pinned = hold.is_some_and(|h| h != Status::Open);
+            if !window.contains(&kx) && !pinned {
                 continue;
             }
             let p = ys[kx] + Vector2::new(delta.x, delta.y);
             // Below the wheel's lowest point: cannot touch.
-            if p.y < set.wheel_z_min - margin {
+            if p.y < set.wheel_z_min - margin && !pinned {
                 continue;
             }
             if let Some((p0, g0)) = self.last_gap[kx] {
-                if g0 - (p - p0).norm() > 0.0 {
+                if g0 - (p - p0).norm() > 0.0 && !pinned {
                     continue;
                 }
             }
@@ -972,7 +996,7 @@ impl MovingAxle {
             let w3 = Vector3::new(cp.normal.x, cp.normal.y, 0.0);
             let u3 = Vector3::new(cp.tangent.x, cp.tangent.y, 0.0);
             self.frames[kx] = (u3, Vector3::z());
-            if cp.gap >= 0.0 {
+            if cp.gap >= 0.0 && !pinned {
                 continue;
             }
             // Curvature term of the signed distance: ∇²g = −κ/(1 − κg)·ττᵀ, κ = c''·n/|c'|².
@@ -997,7 +1021,12 @@ impl MovingAxle {
             }
             let st = {
                 let anchor = self.committed.anchors[kx];
-                let st = set.law.evaluate(cp.gap, &w3, &hess, &delta, &anchor);
+                let (st, found) = set.law.evaluate(cp.gap, &w3, &hess, &delta, &anchor, hold);
+                self.found[kx] = found;
+                if st.mode == Mode::Open {
+                    // Held open while it touches.
+                    continue;
+                }
                 let f21 = t.transpose() * st.phi;
                 for i in 0..21 {
                     self.force[i] += f21[i];
@@ -1249,6 +1278,8 @@ impl Element for MovingAxle {
         for (kx, st, _, _) in &self.points {
             next.loads[*kx] = st.f_n;
         }
+        next.statuses.copy_from_slice(&self.found);
+        self.held = None;
         self.shapes.iter_mut().for_each(|x| *x = None);
         if let Some(roll) = self.rolling {
             // Rolling contact: no stick anchors (each anchor restarts at the current Δ, as
@@ -1304,6 +1335,22 @@ impl Element for MovingAxle {
     fn revert(&mut self) {
         self.dirty = false;
         self.trial = self.committed.clone();
+    }
+
+    fn hold_active_set(&mut self, set: ActiveSet) -> bool {
+        self.held = match set {
+            ActiveSet::Found => None,
+            ActiveSet::Committed => Some(self.committed.statuses.clone()),
+            ActiveSet::LastFound => Some(self.found.clone()),
+        };
+        // Rolling contact (a creep law) has no active set: its force is smooth in the slip.
+        self.setup.creep.is_none()
+    }
+
+    fn active_set_changes(&self) -> usize {
+        self.held.as_ref().map_or(0, |h| {
+            h.iter().zip(&self.found).filter(|(a, b)| a != b).count()
+        })
     }
 
     fn output_names(&self) -> Vec<String> {

@@ -1,0 +1,127 @@
+//! The last resort of step cutting when contact cycles: the step solved again with the
+//! contact's active set held fixed, then checked against the contact law.
+//!
+//! Newton on frictional penalty contact can cycle: each point's force is smooth within a
+//! status (open, stick, slide along `+u` or `−u`) and kinked where its status changes, and
+//! iterates that cross kinks can come back to where they were (issue 15: a wheel alternating
+//! between sliding points whose lateral force has turned and points pressed in deep). When
+//! the smallest sub-step still does not converge, [`Driver::attempt_held`] solves it as an
+//! active-set method does:
+//!
+//! 1. hold every contact element's statuses at those of the last converged step
+//!    ([`ActiveSet::Committed`]); each status's branch of the law then holds beyond its
+//!    range, so the equations are smooth and Newton converges as on a fixed set of springs;
+//! 2. at convergence, ask each element how many points its own law puts in another status
+//!    ([`railfem_framework::element::Element::active_set_changes`]);
+//! 3. none: every held branch is the one the law takes there, so the held state is a
+//!    converged state of the contact law itself (its forces are the law's, bit for bit:
+//!    Coulomb's `|f_u| ≤ μ·f_n`, sliding force along the slip, no pull), and it is accepted;
+//!    some: hold the statuses found at that state ([`ActiveSet::LastFound`]) and solve the
+//!    step again from its start, up to [`HELD_ROUNDS`] times.
+//!
+//! A step that converges today never gets here (it is tried only after the halvings gave
+//! up), so every answer that converged before is unchanged.
+
+use crate::driver::{Attempt, Driver, State};
+use railfem_framework::element::ActiveSet;
+
+/// Rounds of holding and checking before the retry gives up.
+pub const HELD_ROUNDS: usize = 8;
+
+/// How a held retry ended when it did not give a state: why, for the error message.
+pub(crate) struct HeldFailure {
+    pub attempt: Attempt,
+    pub why: String,
+}
+
+impl Driver {
+    /// Holds (or, with [`ActiveSet::Found`], releases) the active set of every variable
+    /// element; whether any has one.
+    fn hold_active_sets(&mut self, set: ActiveSet) -> bool {
+        let mut any = false;
+        for &ei in self.asm.variable_elements() {
+            any |= self.model.elements[ei].element.hold_active_set(set);
+        }
+        any
+    }
+
+    /// Points, over all elements, in another status than the held one at the last
+    /// evaluation.
+    fn active_set_changes(&self) -> usize {
+        self.asm
+            .variable_elements()
+            .iter()
+            .map(|&ei| self.model.elements[ei].element.active_set_changes())
+            .sum()
+    }
+
+    /// The step of length `dt` solved with the active set held (module documentation).
+    /// `None` when no element has an active set to hold. The active sets are released
+    /// whatever the outcome; on failure the elements are reverted.
+    pub(crate) fn attempt_held(
+        &mut self,
+        dt: f64,
+    ) -> Option<Result<(State, usize, f64), HeldFailure>> {
+        if !self.hold_active_sets(ActiveSet::Committed) {
+            return None;
+        }
+        let mut iterations = 0;
+        let mut changes = 0;
+        for round in 1..=HELD_ROUNDS {
+            match self.attempt_any(dt) {
+                Ok((s, it, res)) => {
+                    iterations += it;
+                    changes = self.active_set_changes();
+                    if self.trace {
+                        eprintln!(
+                            "t = {:.6} s, held active set, round {round}: converged in {it} iterations, {changes} points in another status",
+                            s.t
+                        );
+                    }
+                    if changes == 0 {
+                        self.hold_active_sets(ActiveSet::Found);
+                        return Some(Ok((s, iterations, res)));
+                    }
+                    // Converged with some points held outside their law's range: hold the
+                    // statuses found there and solve the step again from its start.
+                    self.hold_active_sets(ActiveSet::LastFound);
+                    self.asm.revert(&mut self.model);
+                    self.factored = None;
+                }
+                Err(attempt) => {
+                    self.asm.revert(&mut self.model);
+                    self.factored = None;
+                    self.hold_active_sets(ActiveSet::Found);
+                    let attempt = match attempt {
+                        Attempt::NotConverged {
+                            residual,
+                            dof,
+                            iterations: more,
+                        } => Attempt::NotConverged {
+                            residual,
+                            dof,
+                            iterations: iterations + more,
+                        },
+                        fatal => fatal,
+                    };
+                    return Some(Err(HeldFailure {
+                        attempt,
+                        why: "Newton did not converge with the contact's active set held either"
+                            .into(),
+                    }));
+                }
+            }
+        }
+        self.hold_active_sets(ActiveSet::Found);
+        Some(Err(HeldFailure {
+            attempt: Attempt::NotConverged {
+                residual: f64::NAN,
+                dof: String::new(),
+                iterations,
+            },
+            why: format!(
+                "with the contact's active set held, {changes} contact points were still in another status after {HELD_ROUNDS} rounds"
+            ),
+        }))
+    }
+}
