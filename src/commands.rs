@@ -458,8 +458,8 @@ pub struct ParetoCmd {
     /// pareto-force.svg and compared at equal error in pareto-peers.md.
     #[arg(long, value_name = "FILE")]
     pub peer: Option<PathBuf>,
-    /// train-bridge only: after the grid, time the cheapest runs within 5 % and 1 % and
-    /// their neighbours again, back to back, ROUNDS times in turn
+    /// train-bridge only: after the grid, time the cheapest generalized-α runs within 5 %
+    /// and 1 % and their neighbours again, back to back, ROUNDS times in turn
     /// (pareto-train-bridge-retime.md) [default: 0, none].
     #[arg(long, value_name = "ROUNDS")]
     pub retime: Option<OsString>,

@@ -687,7 +687,7 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
     );
     let panel = |by: &str, groups: Vec<(String, Style, &str, Vec<&TbRun>)>| {
         let mut p = Panel::new(
-            &format!("train–bridge, 1 carriage × 3 spans at 80 m/s: {title} error, by {by}"),
+            &format!("train–bridge, 1 car × 3 spans: {title} error by {by}"),
             "wall time (s)",
             ylabel,
         )
@@ -748,8 +748,8 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
         }
     }
     Figure::new()
-        .with(panel("mesh (all integrators and solvers)", by_mesh))
-        .with(panel("integrator and solver (all meshes)", by_scheme))
+        .with(panel("mesh", by_mesh))
+        .with(panel("integrator and solver", by_scheme))
 }
 
 /// Runs the reference runs ([`reference_runs`], files `train-bridge-*.csv` in `out`) and
