@@ -894,6 +894,18 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
         ));
     }
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/pareto"));
+    if let Some(at) = a.opt("retime-at") {
+        if grid.cases != ["train-bridge"] {
+            return Err(FemError::input(
+                "command line",
+                "--retime-at times train-bridge runs only; give --cases train-bridge",
+            ));
+        }
+        let at = crate::pareto_retime::parse_at(at)?;
+        crate::pareto_retime::run_at(&at, retime.max(1), &out)?;
+        println!("pareto: results in {}", out.display());
+        return Ok(0);
+    }
     // The train–bridge case has its own grid, files and figures (`crate::pareto_train`).
     let train = grid.cases.iter().any(|c| c == "train-bridge");
     grid.cases.retain(|c| c != "train-bridge");

@@ -463,6 +463,10 @@ pub struct ParetoCmd {
     /// (pareto-train-bridge-retime.md) [default: 0, none].
     #[arg(long, value_name = "ROUNDS")]
     pub retime: Option<OsString>,
+    /// train-bridge only: re-time these runs (element length : time step, generalized-α,
+    /// partitioned) in turn, --retime rounds (default 1), without running the grid.
+    #[arg(long, value_name = "H:DT,H:DT,..")]
+    pub retime_at: Option<OsString>,
 }
 
 /// `railfem irregularity`.

@@ -135,6 +135,61 @@ pub fn run(grid: &TbGrid, runs: &[TbRun], rounds: usize, out: &Path) -> Result<(
             add(format!("neighbour of the {tag} pick"), &n);
         }
     }
+    retime(list, rounds, out)
+}
+
+/// Parses `--retime-at H:DT,H:DT,…` (element length and time step in m and s; each run
+/// generalized-α ρ∞ = 0.8 with the partitioned solver, like the picks).
+pub fn parse_at(list: &str) -> Result<Vec<Settings>, FemError> {
+    let bad = |item: &str| {
+        FemError::input(
+            "command line",
+            format!("--retime-at: `{item}` is not H:DT (e.g. 0.3125:1e-3, both > 0)"),
+        )
+    };
+    list.split(',')
+        .map(|item| {
+            let (h, dt) = item.trim().split_once(':').ok_or_else(|| bad(item))?;
+            let num = |x: &str| {
+                x.trim()
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|v| *v > 0.0 && v.is_finite())
+            };
+            Ok(Settings {
+                h: num(h).ok_or_else(|| bad(item))?,
+                dt: num(dt).ok_or_else(|| bad(item))?,
+                scheme: Scheme::GenAlpha,
+                solver: SolverChoice::Partitioned,
+            })
+        })
+        .collect()
+}
+
+/// Re-times the runs `at` in turn, `rounds` times, without the grid (their errors are
+/// the grid's, not repeated here); writes `pareto-train-bridge-retime.md` into `out`.
+pub fn run_at(at: &[Settings], rounds: usize, out: &Path) -> Result<(), FemError> {
+    let list = at
+        .iter()
+        .map(|s| Retimed {
+            role: "given".to_string(),
+            run: TbRun {
+                settings: *s,
+                dofs: 0,
+                steps: 0,
+                wall: f64::NAN,
+                errors: [f64::NAN; 3],
+                pareto: [false; 3],
+            },
+            walls: Vec::new(),
+        })
+        .collect();
+    std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
+    retime(list, rounds, out)
+}
+
+/// Simulates every run of `list` in turn, `rounds` times; writes the table.
+fn retime(mut list: Vec<Retimed>, rounds: usize, out: &Path) -> Result<(), FemError> {
     let mut loads = Vec::new();
     for round in 0..rounds {
         let at_start = loadavg();
@@ -163,6 +218,15 @@ pub fn run(grid: &TbGrid, runs: &[TbRun], rounds: usize, out: &Path) -> Result<(
 /// The re-timing as a markdown table, with the load average (1, 5, 15 min) at the start
 /// and end of every round.
 fn markdown(list: &[Retimed], loads: &[(String, String)]) -> String {
+    let cell = |x: f64, digits: usize| {
+        if !x.is_finite() {
+            "—".to_string()
+        } else if digits == 1 {
+            format!("{x:.1}")
+        } else {
+            format!("{x:.2e}")
+        }
+    };
     let mut s = String::from(
         "\nRe-timed back to back, in turn (wall times in s; the grid's own in the first \
          time column):\n\n| role | integrator | solver | h (m) | dt (s) | err Q | err w | \
@@ -180,15 +244,15 @@ fn markdown(list: &[Retimed], loads: &[(String, String)]) -> String {
     for r in list {
         let st = &r.run.settings;
         s.push_str(&format!(
-            "| {} | {} | {} | {:.4} | {:e} | {:.2e} | {:.2e} | {:.1} |",
+            "| {} | {} | {} | {:.4} | {:e} | {} | {} | {} |",
             r.role,
             st.scheme.name(),
             st.solver.name(),
             st.h,
             st.dt,
-            r.run.errors[0],
-            r.run.errors[2],
-            r.run.wall
+            cell(r.run.errors[0], 2),
+            cell(r.run.errors[2], 2),
+            cell(r.run.wall, 1)
         ));
         for w in &r.walls {
             s.push_str(&format!(" {w:.1} |"));
@@ -275,5 +339,20 @@ mod tests {
         let s = run(SPACING, 4e-3, 0.0, 0.0).settings;
         let n: Vec<(f64, f64)> = neighbours(&g, &s).iter().map(|r| (r.h, r.dt)).collect();
         assert_eq!(n, vec![(SPACING / 2.0, 4e-3)]);
+    }
+
+    /// `--retime-at` takes element length and step pairs; anything else is refused with
+    /// the option's name and the form it wants.
+    #[test]
+    fn retime_at_list() {
+        let at = parse_at("0.3125:1e-3, 0.625:4e-3").unwrap();
+        assert_eq!(at.len(), 2);
+        assert_eq!((at[0].h, at[0].dt), (0.3125, 1e-3));
+        assert_eq!((at[1].h, at[1].dt), (0.625, 4e-3));
+        assert!(at.iter().all(|s| s.scheme == Scheme::GenAlpha));
+        for bad in ["0.3125", "0.3125:", "x:1e-3", "0.3125:-1e-3", "0.3:1e-3,"] {
+            let e = parse_at(bad).unwrap_err().to_string();
+            assert!(e.contains("--retime-at"), "{bad}: {e}");
+        }
     }
 }
