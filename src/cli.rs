@@ -916,7 +916,10 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
         }
     }
     if train {
-        let tb = crate::pareto_train::TbGrid::default();
+        let tb = crate::pareto_train::TbGrid {
+            existing_only: a.flag("existing"),
+            ..Default::default()
+        };
         let runs = crate::pareto_train::run(&tb, &out)?;
         if retime > 0 {
             crate::pareto_retime::run(&tb, &runs, retime, &out)?;

@@ -467,6 +467,9 @@ pub struct ParetoCmd {
     /// partitioned) in turn, --retime rounds (default 1), without running the grid.
     #[arg(long, value_name = "H:DT,H:DT,..")]
     pub retime_at: Option<OsString>,
+    /// train-bridge only: compute nothing, evaluate the runs already in --out.
+    #[arg(long)]
+    pub existing: bool,
 }
 
 /// `railfem irregularity`.

@@ -286,14 +286,17 @@ pub const QUANTITIES: [(&str, &str, &str); 3] = [
 pub struct TbGrid {
     /// The runs.
     pub runs: Vec<Settings>,
+    /// Compute nothing: evaluate only the runs whose files are already in the output
+    /// directory (`--existing`: a look at a grid still running, or cut short).
+    pub existing_only: bool,
 }
 
 impl Default for TbGrid {
     /// Meshes `h = 0.625/k`, `k` = 1, 2, 5, 9 ([`MESH_K`]); on every mesh:
     /// - every integrator (Newmark, HHT α = −0.05, generalized-α ρ∞ = 0.8) with the
     ///   partitioned solver at Δt = 4, 2 and 1 ms — the steps of the 1 % and 5 % picks
-    ///   and their neighbours — and with the direct sparse solver on the meshes of up to
-    ///   [`DIRECT_MAX_K`] elements per bay;
+    ///   and their neighbours — and with the direct sparse solver at 1 ms on the meshes
+    ///   of up to [`DIRECT_MAX_K`] elements per bay;
     /// - generalized-α with the partitioned solver also at 0.5 and 0.25 ms, the low-error
     ///   end of the front.
     ///
@@ -301,8 +304,8 @@ impl Default for TbGrid {
     /// cost again): there every mesh's Q error sits at its mesh floor or below 0.3 %,
     /// within a factor 2 of the reference's own error. The direct solver gives the
     /// partitioned solver's errors (both solve Newton's same equations to round-off) and
-    /// on the finer meshes runs 7–14 times slower (measured, see `docs/performance.md`),
-    /// so its points there would lie far off the front.
+    /// runs 3.5 (0.3125 m) to 14 (0.0694 m) times slower (measured, see
+    /// `docs/performance.md`), so its points lie far off the front; one step shows that.
     fn default() -> Self {
         let mut runs = Vec::new();
         for k in MESH_K {
@@ -315,6 +318,8 @@ impl Default for TbGrid {
                     let fine = scheme == Scheme::GenAlpha && solver == SolverChoice::Partitioned;
                     let dts: &[f64] = if fine {
                         &[4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]
+                    } else if solver == SolverChoice::Direct {
+                        &[1e-3]
                     } else {
                         &[4e-3, 2e-3, 1e-3]
                     };
@@ -329,7 +334,10 @@ impl Default for TbGrid {
                 }
             }
         }
-        TbGrid { runs }
+        TbGrid {
+            runs,
+            existing_only: false,
+        }
     }
 }
 
@@ -583,7 +591,13 @@ pub fn run_all(grid: &TbGrid, out: &Path) -> (Vec<Option<History>>, Vec<(Setting
     // costs ≈ 1.7 times one on 0.625 m (k = 1), measured by the first study.
     let cost = |s: &Settings| (1.0 + 0.1 * SPACING / s.h) / s.dt;
     jobs.sort_by(|a, b| cost(&b.1).total_cmp(&cost(&a.1)));
-    let done = run_jobs(out, &jobs);
+    let done = if grid.existing_only {
+        jobs.iter()
+            .map(|j| read_history(&out.join(&j.0), &j.1, j.2))
+            .collect()
+    } else {
+        run_jobs(out, &jobs)
+    };
     let find = |file: &str| {
         jobs.iter()
             .position(|j| j.0 == file)
@@ -780,7 +794,11 @@ pub fn run(grid: &TbGrid, out: &Path) -> Result<Vec<TbRun>, FemError> {
             h.ok_or_else(|| {
                 FemError::input(
                     "pareto train-bridge",
-                    format!("the reference run {} failed", r.0),
+                    format!(
+                        "the reference run {} failed or (with --existing) is not in {} yet",
+                        r.0,
+                        out.display()
+                    ),
                 )
             })
         })
