@@ -896,7 +896,35 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
         }
         None => None,
     };
+    let retime = match a.num("retime")? {
+        None => 0,
+        Some(r) if r >= 0.0 && r.fract() == 0.0 && r <= 100.0 => r as usize,
+        Some(r) => {
+            return Err(FemError::input(
+                "command line",
+                format!("--retime {r}: give a whole number of rounds, 0 to 100"),
+            ))
+        }
+    };
+    if retime > 0 && !grid.cases.iter().any(|c| c == "train-bridge") {
+        return Err(FemError::input(
+            "command line",
+            "--retime times train-bridge runs; add train-bridge to --cases",
+        ));
+    }
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/pareto"));
+    if let Some(at) = a.opt("retime-at") {
+        if grid.cases != ["train-bridge"] {
+            return Err(FemError::input(
+                "command line",
+                "--retime-at times train-bridge runs only; give --cases train-bridge",
+            ));
+        }
+        let at = crate::pareto_retime::parse_at(at)?;
+        crate::pareto_retime::run_at(&at, retime.max(1), &out)?;
+        println!("pareto: results in {}", out.display());
+        return Ok(0);
+    }
     // The train–bridge case has its own grid, files and figures (`crate::pareto_train`).
     let train = grid.cases.iter().any(|c| c == "train-bridge");
     grid.cases.retain(|c| c != "train-bridge");
@@ -907,7 +935,14 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
         }
     }
     if train {
-        crate::pareto_train::run(&crate::pareto_train::TbGrid::default(), &out)?;
+        let tb = crate::pareto_train::TbGrid {
+            existing_only: a.flag("existing"),
+            ..Default::default()
+        };
+        let runs = crate::pareto_train::run(&tb, &out)?;
+        if retime > 0 {
+            crate::pareto_retime::run(&tb, &runs, retime, &out)?;
+        }
     }
     println!("pareto: results in {}", out.display());
     Ok(0)

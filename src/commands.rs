@@ -466,6 +466,18 @@ pub struct ParetoCmd {
     /// pareto-force.svg and compared at equal error in pareto-peers.md.
     #[arg(long, value_name = "FILE")]
     pub peer: Option<PathBuf>,
+    /// train-bridge only: after the grid, time the cheapest generalized-α runs within 5 %
+    /// and 1 % and their neighbours again, back to back, ROUNDS times in turn
+    /// (pareto-train-bridge-retime.md) [default: 0, none].
+    #[arg(long, value_name = "ROUNDS")]
+    pub retime: Option<OsString>,
+    /// train-bridge only: re-time these runs (element length : time step, generalized-α,
+    /// partitioned) in turn, --retime rounds (default 1), without running the grid.
+    #[arg(long, value_name = "H:DT,H:DT,..")]
+    pub retime_at: Option<OsString>,
+    /// train-bridge only: compute nothing, evaluate the runs already in --out.
+    #[arg(long)]
+    pub existing: bool,
 }
 
 /// `railfem irregularity`.

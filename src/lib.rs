@@ -25,6 +25,7 @@ pub mod matrices;
 pub mod oscillators;
 pub mod pareto;
 pub mod pareto_peer;
+pub mod pareto_retime;
 pub mod pareto_train;
 pub mod progress;
 pub mod ranks;
