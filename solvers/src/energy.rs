@@ -140,7 +140,9 @@ impl EnergyLedger {
     /// Adds the step from the committed state `prev` to the committed state `next`. The
     /// first call also takes `prev` as the start of the balance. `next_mv` is `M·v` of
     /// `next` when the caller has it (the kinetic energy is then `½·vᵀ·(M·v)` from it, the
-    /// same value), else it is formed here. Without damping
+    /// same value), else it is formed here; likewise `next_cv`, `C·v` of `next` (constant
+    /// and variable damping), whose vector the ledger takes in exchange for storage of its
+    /// own (contents unspecified). Without damping
     /// ([`Assembler::has_damping`]) `C·v` is the zero vector at both ends and the step adds
     /// nothing to `D_c`: no product is formed. The vectors are the ledger's own, kept
     /// between steps.
@@ -151,6 +153,7 @@ impl EnergyLedger {
         prev: &State,
         next: &State,
         next_mv: Option<&[f64]>,
+        next_cv: Option<&mut Vec<f64>>,
     ) {
         let mut buf = std::mem::take(&mut self.buf);
         if !self.started || self.cv_prev.len() != prev.v.len() {
@@ -177,7 +180,11 @@ impl EnergyLedger {
         let damped = asm.has_damping() || self.cv_prev.iter().any(|&c| c != 0.0);
         let mut cv = std::mem::take(&mut self.cv);
         if damped {
-            damping_force(asm, &next.v, &mut cv);
+            match next_cv {
+                // The caller's vector is taken (it receives the ledger's spare storage).
+                Some(c) if c.len() == next.v.len() => std::mem::swap(&mut cv, c),
+                _ => damping_force(asm, &next.v, &mut cv),
+            }
         }
         // The three trapezoidal works `½·Σ (f_n + f_{n+1})ᵢ·Δqᵢ` in one pass, each sum
         // accumulated in index order from −0 (as `Iterator::sum`).
