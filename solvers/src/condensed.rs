@@ -69,6 +69,7 @@
 //! non-finite residual, an error — the counters say how often. Only full Newton with a
 //! partitioned solver, variable elements and a constant `A` uses this path.
 
+use crate::chunks::{par_chunks, Shared};
 use crate::driver::{Attempt, Driver, State, StepWork};
 use railfem_framework::model::NewtonKind;
 use railfem_framework::parallel::threads;
@@ -273,50 +274,6 @@ impl Full {
 enum Evaluation {
     Predictor,
     Verification,
-}
-
-/// Chunk length of the parallel loops: fixed, so sums do not depend on the thread count.
-const CHUNK: usize = 1 << 15;
-
-/// Runs `f(offset, chunks...)` over fixed chunks of the index range, on `nt` threads, and
-/// returns the per-chunk results in order.
-fn par_chunks<R: Send>(n: usize, nt: usize, f: impl Fn(usize, usize) -> R + Sync) -> Vec<R> {
-    let nch = n.div_ceil(CHUNK).max(1);
-    let run = |c: usize| f(c * CHUNK, ((c + 1) * CHUNK).min(n));
-    if nt <= 1 || nch == 1 {
-        return (0..nch).map(run).collect();
-    }
-    let per = nch.div_ceil(nt);
-    std::thread::scope(|s| {
-        let handles: Vec<_> = (0..nt)
-            .map(|t| {
-                let run = &run;
-                s.spawn(move || {
-                    (t * per..((t + 1) * per).min(nch))
-                        .map(run)
-                        .collect::<Vec<R>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().expect("parallel worker panicked"))
-            .collect()
-    })
-}
-
-/// A raw view of a vector that parallel chunks write disjoint ranges of.
-#[derive(Clone, Copy)]
-struct Shared(*mut f64);
-// SAFETY: every use writes only indices of its own chunk (disjoint ranges).
-unsafe impl Send for Shared {}
-unsafe impl Sync for Shared {}
-impl Shared {
-    /// # Safety
-    /// `lo..hi` must be in bounds and written by no other thread at the same time.
-    unsafe fn range(self, lo: usize, hi: usize) -> &'static mut [f64] {
-        std::slice::from_raw_parts_mut(self.0.add(lo), hi - lo)
-    }
 }
 
 /// `dst = src` over fixed chunks on `nt` threads (`dst` takes `src`'s length).

@@ -35,7 +35,9 @@
 //! the reference motion, so `T` is the kinetic energy of that relative motion and the
 //! rigid-body pseudo-loads of Eq. 5 count as external work.
 
+use crate::chunks::par_chunks;
 use crate::driver::State;
+use railfem_framework::parallel::threads;
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::model::Model;
@@ -186,17 +188,30 @@ impl EnergyLedger {
                 _ => damping_force(asm, &next.v, &mut cv),
             }
         }
-        // The three trapezoidal works `½·Σ (f_n + f_{n+1})ᵢ·Δqᵢ` in one pass, each sum
-        // accumulated in index order from −0 (as `Iterator::sum`).
-        let (mut ext, mut int, mut damp) = (-0.0f64, -0.0f64, -0.0f64);
-        for i in 0..next.q.len() {
-            let d = if finite { dq[i] } else { next.q[i] - prev.q[i] };
-            ext += (prev.f_ext[i] + next.f_ext[i]) * d;
-            int += (prev.f_int[i] + next.f_int[i]) * d;
-            if damped {
-                damp += (self.cv_prev[i] + cv[i]) * d;
+        // The three trapezoidal works `½·Σ (f_n + f_{n+1})ᵢ·Δqᵢ` in one pass over fixed
+        // chunks of the equations on the available threads, each chunk's sums accumulated in
+        // index order from −0 and the chunks' added in order (the same on any thread count).
+        let cv_prev = &self.cv_prev;
+        let (dq_r, cv_r) = (&dq, &cv);
+        let parts = par_chunks(next.q.len(), threads(0), |lo, hi| {
+            let (mut ext, mut int, mut damp) = (-0.0f64, -0.0f64, -0.0f64);
+            for i in lo..hi {
+                let d = if finite {
+                    dq_r[i]
+                } else {
+                    next.q[i] - prev.q[i]
+                };
+                ext += (prev.f_ext[i] + next.f_ext[i]) * d;
+                int += (prev.f_int[i] + next.f_int[i]) * d;
+                if damped {
+                    damp += (cv_prev[i] + cv_r[i]) * d;
+                }
             }
-        }
+            (ext, int, damp)
+        });
+        let (ext, int, damp) = parts
+            .iter()
+            .fold((-0.0f64, -0.0f64, -0.0f64), |a, p| (a.0 + p.0, a.1 + p.1, a.2 + p.2));
         let r = &mut self.now;
         r.t = next.t;
         r.external_work += 0.5 * ext;
