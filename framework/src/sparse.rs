@@ -175,7 +175,47 @@ pub fn symmetric_products(
             rest = b;
         }
     }
-    let kernel = |lo: usize, out: &mut Vec<&mut [f64]>| match mats.len() {
+    // Runs of the same matrix (a transient evaluation's K·q, M·(a_w, …), C·(v_w, …)):
+    // each stored value is then loaded once for its run.
+    let same = |a: usize, b: usize| std::ptr::eq(mats[a], mats[b]);
+    let runs = |r: &[usize]| {
+        r.len() == 3
+            && r.iter().sum::<usize>() == mats.len()
+            && (1..r[1]).all(|k| same(r[0], r[0] + k))
+            && (1..r[2]).all(|k| same(r[0] + r[1], r[0] + r[1] + k))
+    };
+    let grouped: Option<(usize, usize)> = [(2, 2), (3, 3)]
+        .into_iter()
+        .find(|&(a, b)| runs(&[1, a, b]));
+    let kernel = |lo: usize, out: &mut Vec<&mut [f64]>| match (grouped, mats.len()) {
+        (Some((2, 2)), _) => gather_runs::<2, 2>(mats, xs, lo, out),
+        (Some((3, 3)), _) => gather_runs::<3, 3>(mats, xs, lo, out),
+        (_, n) => gather_any(n, mats, xs, lo, out, first),
+    };
+    if nt == 1 {
+        kernel(0, &mut parts[0]);
+        return;
+    }
+    std::thread::scope(|s| {
+        for (t, mut out) in parts.into_iter().enumerate() {
+            let lo = bounds[t];
+            let kernel = &kernel;
+            s.spawn(move || kernel(lo, &mut out));
+        }
+    });
+}
+
+/// [`symmetric_products`]' columns `lo..` for any number of products: `N` up to 8 with
+/// the sums advancing together ([`gather_columns`]), more one after the other.
+fn gather_any(
+    n: usize,
+    mats: &[&CscMatrix],
+    xs: &[&[f64]],
+    lo: usize,
+    out: &mut [&mut [f64]],
+    first: &CscMatrix,
+) {
+    match n {
         1 => gather_columns::<1>(mats, xs, lo, out),
         2 => gather_columns::<2>(mats, xs, lo, out),
         3 => gather_columns::<3>(mats, xs, lo, out),
@@ -198,18 +238,50 @@ pub fn symmetric_products(
                 }
             }
         }
-    };
-    if nt == 1 {
-        kernel(0, &mut parts[0]);
-        return;
     }
-    std::thread::scope(|s| {
-        for (t, mut out) in parts.into_iter().enumerate() {
-            let lo = bounds[t];
-            let kernel = &kernel;
-            s.spawn(move || kernel(lo, &mut out));
+}
+
+/// [`gather_columns`] for the products `K·x₀`, `M·x₁…x_A`, `C·x_{A+1}…x_{A+B}` (three
+/// matrices on one pattern, `mats` holding `K` once, `M` `A` times and `C` `B` times in
+/// that order): each stored entry's row index and each matrix's value are loaded once for
+/// their run. Each sum keeps its order (storage order from `0.0`): the values are those
+/// of the products formed alone, to the bit.
+fn gather_runs<const A: usize, const B: usize>(
+    mats: &[&CscMatrix],
+    xs: &[&[f64]],
+    lo: usize,
+    out: &mut [&mut [f64]],
+) {
+    let (cp, ri) = (&mats[0].col_ptr, &mats[0].row_idx);
+    let (kv, mv, cv) = (&mats[0].values, &mats[1].values, &mats[1 + A].values);
+    let xk = xs[0];
+    let xm: [&[f64]; A] = std::array::from_fn(|k| xs[1 + k]);
+    let xc: [&[f64]; B] = std::array::from_fn(|k| xs[1 + A + k]);
+    for j in lo..lo + out[0].len() {
+        let (a, b) = (cp[j], cp[j + 1]);
+        let rows = &ri[a..b];
+        let (kv, mv, cv) = (&kv[a..b], &mv[a..b], &cv[a..b]);
+        let mut acc_k = 0.0f64;
+        let mut acc_m = [0.0f64; A];
+        let mut acc_c = [0.0f64; B];
+        for (p, &i) in rows.iter().enumerate() {
+            acc_k += kv[p] * xk[i];
+            let (m, c) = (mv[p], cv[p]);
+            for k in 0..A {
+                acc_m[k] += m * xm[k][i];
+            }
+            for k in 0..B {
+                acc_c[k] += c * xc[k][i];
+            }
         }
-    });
+        out[0][j - lo] = acc_k;
+        for k in 0..A {
+            out[1 + k][j - lo] = acc_m[k];
+        }
+        for k in 0..B {
+            out[1 + A + k][j - lo] = acc_c[k];
+        }
+    }
 }
 
 /// The columns `lo..lo + out[0].len()` of [`symmetric_products`] for `N` products: each
@@ -322,6 +394,28 @@ mod tests {
                         .all(|(p, q)| p.to_bits() == q.to_bits()),
                     "product {k} of a group of {group}"
                 );
+            }
+        }
+        // Runs of one matrix (K once, M and C two or three times each: the kernel that
+        // loads each value once for its run), against the same sums written out.
+        for r in [2, 3] {
+            let m: Vec<&CscMatrix> = std::iter::once(&mats[0])
+                .chain(std::iter::repeat_n(&mats[1], r))
+                .chain(std::iter::repeat_n(&mats[2], r))
+                .collect();
+            let x: Vec<&[f64]> = xs[..m.len()].iter().map(|x| &x[..]).collect();
+            let mut ys: Vec<Vec<f64>> = vec![vec![f64::NAN; n]; m.len()];
+            let mut y: Vec<&mut [f64]> = ys.iter_mut().map(|y| &mut y[..]).collect();
+            symmetric_products(&m, &x, &mut y, 2);
+            for (k, yk) in ys.iter().enumerate() {
+                let mk = m[k];
+                for j in 0..n {
+                    let mut acc = 0.0;
+                    for p in mk.col_ptr[j]..mk.col_ptr[j + 1] {
+                        acc += mk.values[p] * x[k][mk.row_idx[p]];
+                    }
+                    assert_eq!(yk[j].to_bits(), acc.to_bits(), "run of {r}: product {k}");
+                }
             }
         }
     }

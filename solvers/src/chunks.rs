@@ -8,7 +8,11 @@ const CHUNK: usize = 1 << 15;
 
 /// Runs `f(offset, chunks...)` over fixed chunks of the index range, on `nt` threads, and
 /// returns the per-chunk results in order.
-pub(crate) fn par_chunks<R: Send>(n: usize, nt: usize, f: impl Fn(usize, usize) -> R + Sync) -> Vec<R> {
+pub(crate) fn par_chunks<R: Send>(
+    n: usize,
+    nt: usize,
+    f: impl Fn(usize, usize) -> R + Sync,
+) -> Vec<R> {
     let nch = n.div_ceil(CHUNK).max(1);
     let run = |c: usize| f(c * CHUNK, ((c + 1) * CHUNK).min(n));
     if nt <= 1 || nch == 1 {

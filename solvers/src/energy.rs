@@ -37,10 +37,10 @@
 
 use crate::chunks::par_chunks;
 use crate::driver::State;
-use railfem_framework::parallel::threads;
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::model::Model;
+use railfem_framework::parallel::threads;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -209,9 +209,9 @@ impl EnergyLedger {
             }
             (ext, int, damp)
         });
-        let (ext, int, damp) = parts
-            .iter()
-            .fold((-0.0f64, -0.0f64, -0.0f64), |a, p| (a.0 + p.0, a.1 + p.1, a.2 + p.2));
+        let (ext, int, damp) = parts.iter().fold((-0.0f64, -0.0f64, -0.0f64), |a, p| {
+            (a.0 + p.0, a.1 + p.1, a.2 + p.2)
+        });
         let r = &mut self.now;
         r.t = next.t;
         r.external_work += 0.5 * ext;

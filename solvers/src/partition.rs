@@ -594,7 +594,9 @@ impl Partitioned {
                     return Ok(None);
                 }
                 let Block {
-                    base, promotion: last, ..
+                    base,
+                    promotion: last,
+                    ..
                 } = &mut **blk;
                 let base = base.as_mut().expect("base factored above");
                 promotion(base, std::mem::take(want), last.as_ref()).map(Some)
