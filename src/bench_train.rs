@@ -191,8 +191,8 @@ pub fn measure(
     }
     if crate::ranks::writes_outputs() {
         println!(
-            "          condensed Newton (whole run): {} steps, {} top-system iterations, {} full evaluations, {} rejected verifications, {} steps handed back",
-            c.steps, c.top_iterations, c.full_evaluations, c.rejected, c.fallbacks
+            "          condensed Newton (whole run): {} steps, {} top-system iterations, {} full evaluations ({} predictors from the last verification's pass), {} rejected verifications, {} steps handed back",
+            c.steps, c.top_iterations, c.full_evaluations, c.predictors_reused, c.rejected, c.fallbacks
         );
     }
     let per = |x: f64| x / iters as f64;

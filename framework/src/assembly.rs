@@ -785,6 +785,66 @@ impl Assembler {
         self.update_variable(model, q, v, a, t, dt, f_int, form_tangent)
     }
 
+    /// The constant products of [`Assembler::update_transient`] — `f_int = K·q`,
+    /// `inertia = M·a_w`, `damping = C·v_w`, the variable masses' and dashpots' parts
+    /// added — without updating any element, and in the same pass over the constant
+    /// matrices further products with the constant mass and damping alone:
+    /// `y = M_const·x` for each `(x, y)` of `mass_more`, `y = C_const·x` for each of
+    /// `damping_more` (zeroed without constant damping). Every product is summed as it is
+    /// alone, so each value is the one a separate pass forms, to the bit. The caller adds
+    /// the variable elements' forces ([`Assembler::update_variable`]).
+    pub fn transient_products_with(
+        &mut self,
+        (q, f_int): (&[f64], &mut [f64]),
+        (a_w, v_w): (&[f64], &[f64]),
+        (inertia, damping): (&mut [f64], &mut [f64]),
+        mass_more: &mut [(&[f64], &mut [f64])],
+        damping_more: &mut [(&[f64], &mut [f64])],
+    ) {
+        let t0 = std::time::Instant::now();
+        let mut mats: Vec<&CscMatrix> = vec![&self.k_const];
+        let mut xs: Vec<&[f64]> = vec![q];
+        let mut ys: Vec<&mut [f64]> = vec![&mut *f_int];
+        match &self.m_diag {
+            Some(d) => {
+                diagonal_times(d, a_w, inertia);
+                for (x, y) in mass_more.iter_mut() {
+                    diagonal_times(d, x, y);
+                }
+            }
+            None => {
+                mats.push(&self.m_const);
+                xs.push(a_w);
+                ys.push(&mut *inertia);
+                for (x, y) in mass_more.iter_mut() {
+                    mats.push(&self.m_const);
+                    xs.push(x);
+                    ys.push(&mut **y);
+                }
+            }
+        }
+        if self.c_const_zero {
+            damping.iter_mut().for_each(|d| *d = 0.0);
+            for (_, y) in damping_more.iter_mut() {
+                y.iter_mut().for_each(|d| *d = 0.0);
+            }
+        } else {
+            mats.push(&self.c_const);
+            xs.push(v_w);
+            ys.push(&mut *damping);
+            for (x, y) in damping_more.iter_mut() {
+                mats.push(&self.c_const);
+                xs.push(x);
+                ys.push(&mut **y);
+            }
+        }
+        self.products(&mats, &xs, &mut ys);
+        drop(ys);
+        self.add_variable_mass(a_w, inertia);
+        self.add_variable_damping(v_w, damping);
+        self.times.products += t0.elapsed().as_secs_f64();
+    }
+
     /// The inertia and damping forces `inertia = M·a_w`, `damping = C·v_w` alone, for a
     /// model without variable elements whose internal force at the iterate is already
     /// known (a linear model's first iteration starts at the last step's displacement, so

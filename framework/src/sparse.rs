@@ -175,19 +175,22 @@ pub fn symmetric_products(
             rest = b;
         }
     }
-    let kernel = |lo: usize, out: &mut Vec<&mut [f64]>| {
-        let (cp, ri) = (&first.col_ptr, &first.row_idx);
-        for j in lo..lo + out[0].len() {
-            let (a, b) = (cp[j], cp[j + 1]);
-            let rows = &ri[a..b];
-            for (k, (m, x)) in mats.iter().zip(xs).enumerate() {
-                let mut acc = 0.0;
-                for (v, &i) in m.values[a..b].iter().zip(rows) {
-                    acc += v * x[i];
-                }
-                out[k][j - lo] = acc;
-            }
-        }
+    // Runs of the same matrix (a transient evaluation's K·q, M·(a_w, …), C·(v_w, …)):
+    // each stored value is then loaded once for its run.
+    let same = |a: usize, b: usize| std::ptr::eq(mats[a], mats[b]);
+    let runs = |r: &[usize]| {
+        r.len() == 3
+            && r.iter().sum::<usize>() == mats.len()
+            && (1..r[1]).all(|k| same(r[0], r[0] + k))
+            && (1..r[2]).all(|k| same(r[0] + r[1], r[0] + r[1] + k))
+    };
+    let grouped: Option<(usize, usize)> = [(2, 2), (3, 3)]
+        .into_iter()
+        .find(|&(a, b)| runs(&[1, a, b]));
+    let kernel = |lo: usize, out: &mut Vec<&mut [f64]>| match (grouped, mats.len()) {
+        (Some((2, 2)), _) => gather_runs::<2, 2>(mats, xs, lo, out),
+        (Some((3, 3)), _) => gather_runs::<3, 3>(mats, xs, lo, out),
+        (_, n) => gather_any(n, mats, xs, lo, out, first),
     };
     if nt == 1 {
         kernel(0, &mut parts[0]);
@@ -200,6 +203,115 @@ pub fn symmetric_products(
             s.spawn(move || kernel(lo, &mut out));
         }
     });
+}
+
+/// [`symmetric_products`]' columns `lo..` for any number of products: `N` up to 8 with
+/// the sums advancing together ([`gather_columns`]), more one after the other.
+fn gather_any(
+    n: usize,
+    mats: &[&CscMatrix],
+    xs: &[&[f64]],
+    lo: usize,
+    out: &mut [&mut [f64]],
+    first: &CscMatrix,
+) {
+    match n {
+        1 => gather_columns::<1>(mats, xs, lo, out),
+        2 => gather_columns::<2>(mats, xs, lo, out),
+        3 => gather_columns::<3>(mats, xs, lo, out),
+        4 => gather_columns::<4>(mats, xs, lo, out),
+        5 => gather_columns::<5>(mats, xs, lo, out),
+        6 => gather_columns::<6>(mats, xs, lo, out),
+        7 => gather_columns::<7>(mats, xs, lo, out),
+        8 => gather_columns::<8>(mats, xs, lo, out),
+        _ => {
+            let (cp, ri) = (&first.col_ptr, &first.row_idx);
+            for j in lo..lo + out[0].len() {
+                let (a, b) = (cp[j], cp[j + 1]);
+                let rows = &ri[a..b];
+                for (k, (m, x)) in mats.iter().zip(xs).enumerate() {
+                    let mut acc = 0.0;
+                    for (v, &i) in m.values[a..b].iter().zip(rows) {
+                        acc += v * x[i];
+                    }
+                    out[k][j - lo] = acc;
+                }
+            }
+        }
+    }
+}
+
+/// [`gather_columns`] for the products `K·x₀`, `M·x₁…x_A`, `C·x_{A+1}…x_{A+B}` (three
+/// matrices on one pattern, `mats` holding `K` once, `M` `A` times and `C` `B` times in
+/// that order): each stored entry's row index and each matrix's value are loaded once for
+/// their run. Each sum keeps its order (storage order from `0.0`): the values are those
+/// of the products formed alone, to the bit.
+fn gather_runs<const A: usize, const B: usize>(
+    mats: &[&CscMatrix],
+    xs: &[&[f64]],
+    lo: usize,
+    out: &mut [&mut [f64]],
+) {
+    let (cp, ri) = (&mats[0].col_ptr, &mats[0].row_idx);
+    let (kv, mv, cv) = (&mats[0].values, &mats[1].values, &mats[1 + A].values);
+    let xk = xs[0];
+    let xm: [&[f64]; A] = std::array::from_fn(|k| xs[1 + k]);
+    let xc: [&[f64]; B] = std::array::from_fn(|k| xs[1 + A + k]);
+    for j in lo..lo + out[0].len() {
+        let (a, b) = (cp[j], cp[j + 1]);
+        let rows = &ri[a..b];
+        let (kv, mv, cv) = (&kv[a..b], &mv[a..b], &cv[a..b]);
+        let mut acc_k = 0.0f64;
+        let mut acc_m = [0.0f64; A];
+        let mut acc_c = [0.0f64; B];
+        for (p, &i) in rows.iter().enumerate() {
+            acc_k += kv[p] * xk[i];
+            let (m, c) = (mv[p], cv[p]);
+            for k in 0..A {
+                acc_m[k] += m * xm[k][i];
+            }
+            for k in 0..B {
+                acc_c[k] += c * xc[k][i];
+            }
+        }
+        out[0][j - lo] = acc_k;
+        for k in 0..A {
+            out[1 + k][j - lo] = acc_m[k];
+        }
+        for k in 0..B {
+            out[1 + A + k][j - lo] = acc_c[k];
+        }
+    }
+}
+
+/// The columns `lo..lo + out[0].len()` of [`symmetric_products`] for `N` products: each
+/// stored entry's row index is read once and the `N` sums advance together. Each sum still
+/// runs over its column's entries in storage order from `0.0` (the same value, to the bit,
+/// as one product alone); what changes is that the `N` chains of additions are independent
+/// and overlap in the processor, instead of one chain waiting on each addition.
+fn gather_columns<const N: usize>(
+    mats: &[&CscMatrix],
+    xs: &[&[f64]],
+    lo: usize,
+    out: &mut [&mut [f64]],
+) {
+    let (cp, ri) = (&mats[0].col_ptr, &mats[0].row_idx);
+    let vals: [&[f64]; N] = std::array::from_fn(|k| &mats[k].values[..]);
+    let xs: [&[f64]; N] = std::array::from_fn(|k| xs[k]);
+    for j in lo..lo + out[0].len() {
+        let (a, b) = (cp[j], cp[j + 1]);
+        let rows = &ri[a..b];
+        let v: [&[f64]; N] = std::array::from_fn(|k| &vals[k][a..b]);
+        let mut acc = [0.0f64; N];
+        for (p, &i) in rows.iter().enumerate() {
+            for k in 0..N {
+                acc[k] += v[k][p] * xs[k][i];
+            }
+        }
+        for k in 0..N {
+            out[k][j - lo] = acc[k];
+        }
+    }
 }
 
 #[cfg(test)]
@@ -216,6 +328,96 @@ mod tests {
         a.mul_vec(&[1.0, 2.0, 3.0], &mut y);
         assert_eq!(y, vec![3.0, 12.0, 8.0]);
         assert_eq!(a.asymmetry(), 0.0);
+    }
+
+    #[test]
+    fn products_in_one_pass_are_each_the_product_alone_to_the_bit() {
+        // Non-integer values, so that the order of the additions shows in the last bits:
+        // each product formed within a group of 1 to 9 (9 takes the general loop) must be
+        // the product formed alone.
+        let n = 3_000;
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push((i, i, 3.0 + (i as f64 * 0.37).sin()));
+            for d in [1, 7, 40] {
+                if i + d < n {
+                    let v = 0.1 + (i as f64 * 0.11 + d as f64).cos() / 3.0;
+                    t.push((i, i + d, v));
+                    t.push((i + d, i, v));
+                }
+            }
+        }
+        let a = CscMatrix::from_triplets(n, &t);
+        let mats: Vec<CscMatrix> = (0..9)
+            .map(|k| {
+                let mut m = a.clone();
+                m.values
+                    .iter_mut()
+                    .enumerate()
+                    .for_each(|(p, v)| *v *= 1.0 + ((p + k) as f64 * 0.013).sin() / 7.0);
+                m
+            })
+            .collect();
+        let xs: Vec<Vec<f64>> = (0..9)
+            .map(|k| {
+                (0..n)
+                    .map(|i| ((i * (k + 2)) as f64 * 0.029).cos() / 3.0)
+                    .collect()
+            })
+            .collect();
+        // Alone: each column's entries summed in storage order from 0.0, written out here.
+        let alone: Vec<Vec<f64>> = (0..9)
+            .map(|k| {
+                let m = &mats[k];
+                (0..n)
+                    .map(|j| {
+                        let mut acc = 0.0;
+                        for p in m.col_ptr[j]..m.col_ptr[j + 1] {
+                            acc += m.values[p] * xs[k][m.row_idx[p]];
+                        }
+                        acc
+                    })
+                    .collect()
+            })
+            .collect();
+        for group in 1..=9 {
+            let mut ys: Vec<Vec<f64>> = vec![vec![f64::NAN; n]; group];
+            let m: Vec<&CscMatrix> = mats[..group].iter().collect();
+            let x: Vec<&[f64]> = xs[..group].iter().map(|x| &x[..]).collect();
+            let mut y: Vec<&mut [f64]> = ys.iter_mut().map(|y| &mut y[..]).collect();
+            symmetric_products(&m, &x, &mut y, 2);
+            for k in 0..group {
+                assert!(
+                    ys[k]
+                        .iter()
+                        .zip(&alone[k])
+                        .all(|(p, q)| p.to_bits() == q.to_bits()),
+                    "product {k} of a group of {group}"
+                );
+            }
+        }
+        // Runs of one matrix (K once, M and C two or three times each: the kernel that
+        // loads each value once for its run), against the same sums written out.
+        for r in [2, 3] {
+            let m: Vec<&CscMatrix> = std::iter::once(&mats[0])
+                .chain(std::iter::repeat_n(&mats[1], r))
+                .chain(std::iter::repeat_n(&mats[2], r))
+                .collect();
+            let x: Vec<&[f64]> = xs[..m.len()].iter().map(|x| &x[..]).collect();
+            let mut ys: Vec<Vec<f64>> = vec![vec![f64::NAN; n]; m.len()];
+            let mut y: Vec<&mut [f64]> = ys.iter_mut().map(|y| &mut y[..]).collect();
+            symmetric_products(&m, &x, &mut y, 2);
+            for (k, yk) in ys.iter().enumerate() {
+                let mk = m[k];
+                for j in 0..n {
+                    let mut acc = 0.0;
+                    for p in mk.col_ptr[j]..mk.col_ptr[j + 1] {
+                        acc += mk.values[p] * x[k][mk.row_idx[p]];
+                    }
+                    assert_eq!(yk[j].to_bits(), acc.to_bits(), "run of {r}: product {k}");
+                }
+            }
+        }
     }
 
     #[test]

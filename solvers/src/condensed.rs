@@ -69,7 +69,8 @@
 //! non-finite residual, an error — the counters say how often. Only full Newton with a
 //! partitioned solver, variable elements and a constant `A` uses this path.
 
-use crate::driver::{Attempt, Driver, State};
+use crate::chunks::{par_chunks, Shared};
+use crate::driver::{Attempt, Driver, State, StepWork};
 use railfem_framework::model::NewtonKind;
 use railfem_framework::parallel::threads;
 use std::time::Instant;
@@ -90,6 +91,9 @@ pub struct CondensedStats {
     pub margin_exceeded: usize,
     /// Steps handed back to the full-residual Newton.
     pub fallbacks: usize,
+    /// Predictor evaluations whose products the previous step's verification had formed
+    /// (no pass over the constant matrices).
+    pub predictors_reused: usize,
 }
 
 /// Caches kept between steps.
@@ -103,6 +107,47 @@ pub struct CondensedCache {
     /// `|f_int|`, `|M·a_w|` at the last converged step.
     last_norms: Option<(f64, f64)>,
     stats: CondensedStats,
+    /// What the last accepted verification formed for the next step's predictor.
+    ahead: Ahead,
+    /// `false`: the verification forms no products for the next step or the energy
+    /// balance ([`Driver::set_products_ahead`]; a comparison switch).
+    no_products_ahead: bool,
+    /// Scratch for the variable elements' forces, resisting, inertia and damping: zero
+    /// between uses (only the variable elements' equations are ever written, and they are
+    /// zeroed again after each read).
+    var_scratch: [Vec<f64>; 3],
+}
+
+/// The next step's predictor products, formed in the verification's pass over the constant
+/// matrices (module documentation, *Per step*).
+#[derive(Debug, Default)]
+struct Ahead {
+    /// `Δt` the products were formed for; `None`: nothing valid.
+    dt: Option<f64>,
+    /// The displacement `q` of the accepted state and `K_const·q`.
+    q: Vec<f64>,
+    kq: Vec<f64>,
+    /// The next predictor's weighted kinematics `a_w`, `v_w` (at `Δu = 0` from the accepted
+    /// state) and `M_const·a_w`, `C_const·v_w`.
+    a_w: Vec<f64>,
+    v_w: Vec<f64>,
+    inertia: Vec<f64>,
+    damp: Vec<f64>,
+}
+
+impl Ahead {
+    fn resize(&mut self, n: usize) {
+        for x in [
+            &mut self.q,
+            &mut self.kq,
+            &mut self.a_w,
+            &mut self.v_w,
+            &mut self.inertia,
+            &mut self.damp,
+        ] {
+            x.resize(n, 0.0);
+        }
+    }
 }
 
 /// `K`, `M`, `C` restricted to the top equations (top numbering, column-compressed).
@@ -122,7 +167,8 @@ enum Exit {
     Fallback,
 }
 
-/// Work vectors of one full-size state.
+/// Work vectors of one full-size state: the driver's [`StepWork`] vectors, taken for the
+/// attempt (nothing of size `n` is allocated per step once they exist).
 struct Full {
     q: Vec<f64>,
     v: Vec<f64>,
@@ -130,53 +176,145 @@ struct Full {
     a_w: Vec<f64>,
     v_w: Vec<f64>,
     f_int: Vec<f64>,
+    f_ext: Vec<f64>,
+    f_ref_ext: Vec<f64>,
     inertia: Vec<f64>,
     damp: Vec<f64>,
     r: Vec<f64>,
+    du: Vec<f64>,
+    /// The full last correction of a verification.
+    dq: Vec<f64>,
+    /// The energy balance's `M·v` and `C·v` of the verified state.
+    mv: Vec<f64>,
+    cv: Vec<f64>,
 }
 
-/// Chunk length of the parallel loops: fixed, so sums do not depend on the thread count.
-const CHUNK: usize = 1 << 15;
-
-/// Runs `f(offset, chunks...)` over fixed chunks of the index range, on `nt` threads, and
-/// returns the per-chunk results in order.
-fn par_chunks<R: Send>(n: usize, nt: usize, f: impl Fn(usize, usize) -> R + Sync) -> Vec<R> {
-    let nch = n.div_ceil(CHUNK).max(1);
-    let run = |c: usize| f(c * CHUNK, ((c + 1) * CHUNK).min(n));
-    if nt <= 1 || nch == 1 {
-        return (0..nch).map(run).collect();
+impl Full {
+    /// Takes the work vectors out of `sw` (the next state's storage included), at length `n`.
+    fn take(sw: &mut StepWork, n: usize, finite: bool, energy: bool) -> Full {
+        let next = std::mem::take(&mut sw.next);
+        let mut w = Full {
+            q: next.q,
+            v: next.v,
+            a: next.a,
+            a_w: std::mem::take(&mut sw.a_w),
+            v_w: std::mem::take(&mut sw.v_w),
+            f_int: next.f_int,
+            f_ext: next.f_ext,
+            f_ref_ext: std::mem::take(&mut sw.f_ref_ext),
+            inertia: std::mem::take(&mut sw.inertia),
+            damp: std::mem::take(&mut sw.damp),
+            r: std::mem::take(&mut sw.r),
+            du: std::mem::take(&mut sw.du),
+            dq: std::mem::take(&mut sw.dq),
+            mv: std::mem::take(&mut sw.mv),
+            cv: std::mem::take(&mut sw.cv),
+        };
+        for x in [
+            &mut w.q,
+            &mut w.v,
+            &mut w.a,
+            &mut w.a_w,
+            &mut w.v_w,
+            &mut w.f_int,
+            &mut w.f_ext,
+            &mut w.f_ref_ext,
+            &mut w.inertia,
+            &mut w.damp,
+            &mut w.r,
+            &mut w.dq,
+        ] {
+            x.resize(n, 0.0);
+        }
+        if finite {
+            w.du.resize(n, 0.0);
+        }
+        if energy {
+            w.mv.resize(n, 0.0);
+            w.cv.resize(n, 0.0);
+        }
+        w
     }
-    let per = nch.div_ceil(nt);
-    std::thread::scope(|s| {
-        let handles: Vec<_> = (0..nt)
-            .map(|t| {
-                let run = &run;
-                s.spawn(move || {
-                    (t * per..((t + 1) * per).min(nch))
-                        .map(run)
-                        .collect::<Vec<R>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().expect("parallel worker panicked"))
-            .collect()
-    })
+
+    /// Gives the vectors back to `sw`; with `state`, the state's five go into the returned
+    /// [`State`] instead (the driver gives that storage back after the commit).
+    fn give_back(self, sw: &mut StepWork, state: Option<f64>) -> Option<State> {
+        sw.a_w = self.a_w;
+        sw.v_w = self.v_w;
+        sw.f_ref_ext = self.f_ref_ext;
+        sw.inertia = self.inertia;
+        sw.damp = self.damp;
+        sw.r = self.r;
+        sw.du = self.du;
+        sw.dq = self.dq;
+        sw.mv = self.mv;
+        sw.cv = self.cv;
+        let s = State {
+            t: state.unwrap_or(0.0),
+            q: self.q,
+            v: self.v,
+            a: self.a,
+            f_int: self.f_int,
+            f_ext: self.f_ext,
+        };
+        match state {
+            Some(_) => Some(s),
+            None => {
+                sw.next = s;
+                None
+            }
+        }
+    }
 }
 
-/// A raw view of a vector that parallel chunks write disjoint ranges of.
-#[derive(Clone, Copy)]
-struct Shared(*mut f64);
-// SAFETY: every use writes only indices of its own chunk (disjoint ranges).
-unsafe impl Send for Shared {}
-unsafe impl Sync for Shared {}
-impl Shared {
-    /// # Safety
-    /// `lo..hi` must be in bounds and written by no other thread at the same time.
-    unsafe fn range(self, lo: usize, hi: usize) -> &'static mut [f64] {
-        std::slice::from_raw_parts_mut(self.0.add(lo), hi - lo)
-    }
+/// Which full evaluation: the step's first (the predictor `q = q_n`, whose products the
+/// last verification may have formed) or a verification (which forms, in its pass, the
+/// energy balance's products and the next predictor's).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Evaluation {
+    Predictor,
+    Verification,
+}
+
+/// `dst = src` over fixed chunks on `nt` threads (`dst` takes `src`'s length).
+fn par_copy(src: &[f64], dst: &mut Vec<f64>, nt: usize) {
+    dst.resize(src.len(), 0.0);
+    let pd = Shared(dst.as_mut_ptr());
+    par_chunks(src.len(), nt, |lo, hi| {
+        // SAFETY: chunks are disjoint.
+        unsafe { pd.range(lo, hi) }.copy_from_slice(&src[lo..hi]);
+    });
+}
+
+/// `x = value` over fixed chunks on `nt` threads.
+fn par_fill(x: &mut [f64], value: f64, nt: usize) {
+    let px = Shared(x.as_mut_ptr());
+    par_chunks(x.len(), nt, |lo, hi| {
+        // SAFETY: chunks are disjoint.
+        unsafe { px.range(lo, hi) }.fill(value);
+    });
+}
+
+/// After a verification's back-substitution: `q += dq` when `dq` holds the interiors' `δ_I`
+/// from the base (`from_base`), then `(|dq|², |q|²)` over every equation, in one pass
+/// (fixed chunks, so the sums do not depend on the thread count).
+fn recover_and_norms(q: &mut [f64], dq: &[f64], from_base: bool, nt: usize) -> (f64, f64) {
+    let pq = Shared(q.as_mut_ptr());
+    let parts = par_chunks(q.len(), nt, |lo, hi| {
+        // SAFETY: chunks are disjoint.
+        let q = unsafe { pq.range(lo, hi) };
+        let d = &dq[lo..hi];
+        let (mut dn2, mut qn2) = (0.0, 0.0);
+        for k in 0..hi - lo {
+            if from_base {
+                q[k] += d[k];
+            }
+            dn2 += d[k] * d[k];
+            qn2 += q[k] * q[k];
+        }
+        (dn2, qn2)
+    });
+    parts.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0, a.1 + p.1))
 }
 
 impl Driver {
@@ -185,20 +323,45 @@ impl Driver {
         self.condensed.stats
     }
 
+    /// Whether a verification of the condensed Newton forms, in its pass over the constant
+    /// matrices, the energy balance's `M·v`, `C·v` and the next predictor's `K·q`, `M·a_w`,
+    /// `C·v_w` (default `true`); `false` forms each in its own pass, as before (the same
+    /// values: a comparison switch, no model key).
+    pub fn set_products_ahead(&mut self, on: bool) {
+        self.condensed.no_products_ahead = !on;
+        self.condensed.ahead.dt = None;
+    }
+
     /// A step attempt: the condensed Newton when it applies, the full-residual one
     /// otherwise or when the condensed one hands the step back.
     pub(crate) fn attempt_any(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
         if self.condense_residual && self.condensed_applicable() {
             let s0 = std::mem::take(&mut self.state);
-            let r = self.attempt_condensed(dt, &s0);
+            let mut sw = std::mem::take(&mut self.work);
+            let n = self.neq();
+            let finite = self.asm.dofmap.has_finite_rotations();
+            let energy = self.energy.is_some() && !self.condensed.no_products_ahead;
+            let mut w = Full::take(&mut sw, n, finite, energy);
+            // Whatever happens, the next predictor's products are valid only when this
+            // attempt's accepted verification forms them again.
+            let ahead_dt = self.condensed.ahead.dt.take();
+            let t1 = s0.t + dt;
+            let r = self.attempt_condensed(dt, &s0, &mut w, ahead_dt);
             self.state = s0;
             self.condensed.promote_always.clear();
             match r {
-                Ok(x) => {
+                Ok((iters, rn)) => {
+                    self.condensed.ahead.dt = (!self.condensed.no_products_ahead).then_some(dt);
+                    let s = w.give_back(&mut sw, Some(t1));
+                    sw.mv_ready = energy;
+                    sw.cv_ready = energy;
+                    self.work = sw;
                     self.condensed.stats.steps += 1;
-                    return Ok(x);
+                    return Ok((s.expect("state asked for"), iters, rn));
                 }
                 Err(Exit::Fallback) => {
+                    w.give_back(&mut sw, None);
+                    self.work = sw;
                     self.asm.revert(&mut self.model);
                     self.factored = None;
                     self.condensed.stats.fallbacks += 1;
@@ -229,14 +392,18 @@ impl Driver {
     }
 
     /// Kinematics of every equation, the full residual and its norms `(|r|, reference)`.
+    /// The predictor (`q = q_n`) also forms `f̄_ext` and its norm, and takes its products
+    /// from the last verification when they were formed for this state and `Δt` (compared
+    /// bit for bit: `q`, `a_w`, `v_w`); a verification forms in its pass the energy
+    /// balance's `M·v`, `C·v` and the next predictor's products (module documentation).
     #[allow(clippy::too_many_arguments)]
     fn full_evaluation(
         &mut self,
         s0: &State,
-        f_ref_ext: &[f64],
-        ext_norm: f64,
         w: &mut Full,
-        du: &mut [f64],
+        kind: Evaluation,
+        ahead_dt: Option<f64>,
+        (ext_norm, q2): (&mut f64, &mut f64),
         t1: f64,
         dt: f64,
     ) -> Result<(f64, f64, f64, f64), Exit> {
@@ -245,48 +412,144 @@ impl Driver {
         let n = w.q.len();
         let nt = threads(0);
         let finite = self.asm.dofmap.has_finite_rotations();
+        let predictor = kind == Evaluation::Predictor;
         if finite {
-            self.asm.dofmap.increment(&s0.q, &w.q, du);
+            if predictor {
+                w.q.copy_from_slice(&s0.q);
+            }
+            self.asm.dofmap.increment(&s0.q, &w.q, &mut w.du);
         }
-        {
-            let (pv, pa, paw, pvw) = (
+        let reuse = predictor && ahead_dt == Some(dt) && self.condensed.ahead.q.len() == n;
+        let verification = !predictor && !self.condensed.no_products_ahead;
+        if verification {
+            self.condensed.ahead.resize(n);
+        }
+        let same = {
+            let ahead = &mut self.condensed.ahead;
+            let (pq, pv, pa, paw, pvw, pfr) = (
+                Shared(w.q.as_mut_ptr()),
                 Shared(w.v.as_mut_ptr()),
                 Shared(w.a.as_mut_ptr()),
                 Shared(w.a_w.as_mut_ptr()),
                 Shared(w.v_w.as_mut_ptr()),
+                Shared(w.f_ref_ext.as_mut_ptr()),
             );
-            let (q, du) = (&w.q, &*du);
-            par_chunks(n, nt, |lo, hi| {
+            let (nawp, nvwp) = (
+                Shared(ahead.a_w.as_mut_ptr()),
+                Shared(ahead.v_w.as_mut_ptr()),
+            );
+            let (du, f_ext) = (&w.du, &w.f_ext);
+            let (aq, aaw, avw) = (&ahead.q, &ahead.a_w, &ahead.v_w);
+            let parts = par_chunks(n, nt, |lo, hi| {
                 // SAFETY: chunks are disjoint.
-                let (v, a, a_w, v_w) = unsafe {
+                let (q, v, a, a_w, v_w, f_ref) = unsafe {
                     (
+                        pq.range(lo, hi),
                         pv.range(lo, hi),
                         pa.range(lo, hi),
                         paw.range(lo, hi),
                         pvw.range(lo, hi),
+                        pfr.range(lo, hi),
                     )
                 };
+                let mut same = reuse;
+                let (mut ext2, mut qq) = (0.0, 0.0);
                 for k in 0..hi - lo {
                     let i = lo + k;
-                    let dui = if finite { du[i] } else { q[i] - s0.q[i] };
+                    if predictor {
+                        if !finite {
+                            q[k] = s0.q[i];
+                        }
+                        let fr = (1.0 - af) * f_ext[i] + af * s0.f_ext[i];
+                        f_ref[k] = fr;
+                        ext2 += fr * fr;
+                        qq += q[k] * q[k];
+                    }
+                    let dui = if finite { du[i] } else { q[k] - s0.q[i] };
                     (v[k], a[k], a_w[k], v_w[k]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
+                    if same {
+                        same = q[k].to_bits() == aq[i].to_bits()
+                            && a_w[k].to_bits() == aaw[i].to_bits()
+                            && v_w[k].to_bits() == avw[i].to_bits();
+                    }
                 }
+                if verification {
+                    // The next predictor's kinematics, `Δu = 0` from this state.
+                    // SAFETY: chunks are disjoint.
+                    let (naw, nvw) = unsafe { (nawp.range(lo, hi), nvwp.range(lo, hi)) };
+                    for k in 0..hi - lo {
+                        (_, _, naw[k], nvw[k]) = ig.trial(dt, 0.0, v[k], a[k]);
+                    }
+                }
+                (same, ext2, qq)
             });
-        }
+            if predictor {
+                *ext_norm = parts.iter().map(|p| p.1).sum::<f64>().sqrt();
+                *q2 = parts.iter().map(|p| p.2).sum::<f64>();
+            }
+            reuse && parts.iter().all(|p| p.0)
+        };
         let ta = Instant::now();
-        self.asm
-            .update_transient(
-                &mut self.model,
-                (&w.q, &w.v, &w.a),
+        let energy = self.energy.is_some() && verification;
+        if same {
+            // K·q_n, M·a_w and C·v_w as the last verification formed them (the same values,
+            // bit for bit, a pass over the matrices would give); the variable parts added as
+            // `update_transient` adds them.
+            let ahead = &mut self.condensed.ahead;
+            std::mem::swap(&mut w.f_int, &mut ahead.kq);
+            std::mem::swap(&mut w.inertia, &mut ahead.inertia);
+            std::mem::swap(&mut w.damp, &mut ahead.damp);
+            self.asm
+                .add_variable_inertia_damping(&w.a_w, &w.v_w, &mut w.inertia, &mut w.damp);
+            self.condensed.stats.predictors_reused += 1;
+        } else if !verification {
+            self.asm.transient_products_with(
+                (&w.q, &mut w.f_int),
                 (&w.a_w, &w.v_w),
+                (&mut w.inertia, &mut w.damp),
+                &mut [],
+                &mut [],
+            );
+        } else {
+            let ahead = &mut self.condensed.ahead;
+            let mut mass_more: Vec<(&[f64], &mut [f64])> = vec![(&ahead.a_w, &mut ahead.inertia)];
+            let mut damping_more: Vec<(&[f64], &mut [f64])> = vec![(&ahead.v_w, &mut ahead.damp)];
+            if energy {
+                mass_more.push((&w.v, &mut w.mv));
+                damping_more.push((&w.v, &mut w.cv));
+            }
+            self.asm.transient_products_with(
+                (&w.q, &mut w.f_int),
+                (&w.a_w, &w.v_w),
+                (&mut w.inertia, &mut w.damp),
+                &mut mass_more,
+                &mut damping_more,
+            );
+            drop((mass_more, damping_more));
+            if energy {
+                // The energy balance's variable masses and dashpots (formed in `advance`,
+                // the same after the commit).
+                self.asm
+                    .add_variable_inertia_damping(&w.v, &w.v, &mut w.mv, &mut w.cv);
+            }
+            // K·q before the variable elements add their forces: the next predictor's.
+            par_copy(&w.f_int, &mut ahead.kq, nt);
+            par_copy(&w.q, &mut ahead.q, nt);
+        }
+        self.asm
+            .update_variable(
+                &mut self.model,
+                &w.q,
+                &w.v,
+                &w.a,
                 t1,
                 dt,
-                (&mut w.f_int, &mut w.inertia, &mut w.damp),
+                &mut w.f_int,
                 true,
             )
             .map_err(|_| Exit::Fallback)?;
         let pr = Shared(w.r.as_mut_ptr());
-        let (f_int, inertia, damp) = (&w.f_int, &w.inertia, &w.damp);
+        let (f_int, inertia, damp, f_ref_ext) = (&w.f_int, &w.inertia, &w.damp, &w.f_ref_ext);
         let sums = par_chunks(n, nt, |lo, hi| {
             // SAFETY: chunks are disjoint.
             let r = unsafe { pr.range(lo, hi) };
@@ -352,45 +615,62 @@ impl Driver {
         self.condensed.products = Some(tp);
     }
 
-    /// One step by the condensed Newton (module documentation) from the committed `s0`.
-    fn attempt_condensed(&mut self, dt: f64, s0: &State) -> Result<(State, usize, f64), Exit> {
+    /// One step by the condensed Newton (module documentation) from the committed `s0`,
+    /// in the work vectors `w`; on success `w` holds the new state and the result is
+    /// `(iterations, |r|)`.
+    fn attempt_condensed(
+        &mut self,
+        dt: f64,
+        s0: &State,
+        w: &mut Full,
+        ahead_dt: Option<f64>,
+    ) -> Result<(usize, f64), Exit> {
         let n = self.neq();
-        let ig = self.integrator;
         let t1 = s0.t + dt;
         let tl = Instant::now();
         self.asm
             .advance(&mut self.model, t1, dt)
             .map_err(|_| Exit::Fallback)?;
-        let mut f_ext = vec![0.0; n];
         self.asm
-            .external_force(&self.model, t1, 1.0, &mut f_ext)
+            .external_force(&self.model, t1, 1.0, &mut w.f_ext)
             .map_err(|_| Exit::Fallback)?;
         self.summary.timings.loads += tl.elapsed().as_secs_f64();
+        self.condensed.promote_always = self.asm.variable_equations();
+        // Scratch for the variable elements' forces: zero between uses.
+        let mut scratch = std::mem::take(&mut self.condensed.var_scratch);
+        for x in &mut scratch {
+            if x.len() != n {
+                *x = vec![0.0; n];
+            }
+        }
+        let r = self.condensed_iterations(dt, s0, w, ahead_dt, &mut scratch);
+        // Every path that writes the scratch zeroes it again before it can return `Ok`; a
+        // fallback may leave values in it, and it is then dropped (formed afresh next time).
+        if r.is_ok() {
+            self.condensed.var_scratch = scratch;
+        }
+        r
+    }
+
+    /// The iterations of [`Driver::attempt_condensed`], after the model was advanced to
+    /// `t1` and `f_ext(t1)` formed into `w.f_ext`.
+    fn condensed_iterations(
+        &mut self,
+        dt: f64,
+        s0: &State,
+        w: &mut Full,
+        ahead_dt: Option<f64>,
+        [f_var, in_var, damp_var]: &mut [Vec<f64>; 3],
+    ) -> Result<(usize, f64), Exit> {
+        let ig = self.integrator;
+        let t1 = s0.t + dt;
+        let nt = threads(0);
         let af = ig.alpha_f;
         let settings = self.model.analysis.newton;
         let (ck, cc, cm) = ig.effective(dt);
         let finite = self.asm.dofmap.has_finite_rotations();
-        self.condensed.promote_always = self.asm.variable_equations();
-        let f_ref_ext: Vec<f64> = (0..n)
-            .map(|i| (1.0 - af) * f_ext[i] + af * s0.f_ext[i])
-            .collect();
-        let ext_norm = f_ref_ext.iter().map(|x| x * x).sum::<f64>().sqrt();
-        let mut w = Full {
-            q: s0.q.clone(),
-            v: vec![0.0; n],
-            a: vec![0.0; n],
-            a_w: vec![0.0; n],
-            v_w: vec![0.0; n],
-            f_int: vec![0.0; n],
-            inertia: vec![0.0; n],
-            damp: vec![0.0; n],
-            r: vec![0.0; n],
-        };
-        let mut du = if finite { vec![0.0; n] } else { Vec::new() };
-        // Scratch for the variable elements' forces (only top entries are ever non-zero).
-        let mut f_var = vec![0.0; n];
-        let mut in_var = vec![0.0; n];
-        let mut damp_var = vec![0.0; n];
+        // `f̄_ext` and its norm: formed by the predictor's evaluation.
+        let mut ext_norm: f64 = 0.0;
         let mut iters = 0;
         let mut rn_prev = f64::INFINITY;
         // The base of the top iterations and the last correction.
@@ -399,6 +679,8 @@ impl Driver {
         let mut g: Vec<f64> = Vec::new();
         let (mut qb, mut awb, mut vwb, mut varb) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
         let mut qbi_norm2 = 0.0;
+        // |q|² of the base (formed in the passes that produce the base's q).
+        let mut base_q2 = 0.0;
         let mut last_dq: Vec<f64> = Vec::new();
         let mut last_from_base = true;
         let mut full_now = true;
@@ -410,17 +692,17 @@ impl Driver {
                 // --- An iteration on the top system alone.
                 let ta = Instant::now();
                 if finite {
-                    self.asm.dofmap.increment(&s0.q, &w.q, &mut du);
+                    self.asm.dofmap.increment(&s0.q, &w.q, &mut w.du);
                 }
                 for &i in &top {
-                    let dui = if finite { du[i] } else { w.q[i] - s0.q[i] };
+                    let dui = if finite { w.du[i] } else { w.q[i] - s0.q[i] };
                     (w.v[i], w.a[i], w.a_w[i], w.v_w[i]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
                 }
                 self.asm
-                    .update_variable(&mut self.model, &w.q, &w.v, &w.a, t1, dt, &mut f_var, true)
+                    .update_variable(&mut self.model, &w.q, &w.v, &w.a, t1, dt, f_var, true)
                     .map_err(|_| Exit::Fallback)?;
                 self.asm
-                    .add_variable_inertia_damping(&w.a_w, &w.v_w, &mut in_var, &mut damp_var);
+                    .add_variable_inertia_damping(&w.a_w, &w.v_w, in_var, damp_var);
                 let nt_top = top.len();
                 let delta: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
                 let p = self.partition.as_mut().expect("partitioned");
@@ -471,35 +753,38 @@ impl Driver {
                     // Verify with the full residual: recover the interiors (and the last
                     // correction's interior part) first.
                     let tr = Instant::now();
-                    let mut dq_full = vec![0.0; n];
                     let delta_now: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
+                    par_fill(&mut w.dq, 0.0, nt);
                     let p = self.partition.as_mut().expect("partitioned");
                     let res = if last_from_base {
-                        p.back_substitute(&[(Some(&w.r), &delta_now)], &mut [&mut dq_full], true)
+                        p.back_substitute(&[(Some(&w.r), &delta_now)], &mut [&mut w.dq], true)
                     } else {
                         p.back_substitute(
                             &[(Some(&w.r), &delta_now), (None, &last_dq)],
-                            &mut [&mut w.q, &mut dq_full],
+                            &mut [&mut w.q, &mut w.dq],
                             true,
                         )
                     };
                     res.map_err(|_| Exit::Fallback)?;
-                    if last_from_base {
-                        // Interiors of dq_full hold δ_I: add them to the base's interiors.
-                        for (qi, di) in w.q.iter_mut().zip(&dq_full) {
-                            *qi += di;
-                        }
-                    }
-                    for (k, &i) in top.iter().enumerate() {
-                        dq_full[i] = last_dq[k];
-                    }
+                    // Interiors of `dq` hold δ_I when the last correction came from the base
+                    // (add them to the base's interiors), else the last correction's interior
+                    // part; its top entries are zero (the top part is `last_dq`).
+                    let (dn2, qn2) = recover_and_norms(&mut w.q, &w.dq, last_from_base, nt);
+                    let dn2 = dn2 + last_dq.iter().map(|x| x * x).sum::<f64>();
                     self.summary.timings.solve += tr.elapsed().as_secs_f64();
-                    let dn: f64 = dq_full.iter().map(|x| x * x).sum::<f64>().sqrt();
-                    let qn: f64 = w.q.iter().map(|x| x * x).sum::<f64>().sqrt();
-                    drop(dq_full);
+                    let (dn, qn) = (dn2.sqrt(), qn2.sqrt());
+                    // A rejected verification's state is the next base.
+                    base_q2 = qn2;
                     let disp_ok = dn <= settings.tol * qn + settings.disp_tol;
-                    let (rn_full, reference_full, fn_, inn) =
-                        self.full_evaluation(s0, &f_ref_ext, ext_norm, &mut w, &mut du, t1, dt)?;
+                    let (rn_full, reference_full, fn_, inn) = self.full_evaluation(
+                        s0,
+                        w,
+                        Evaluation::Verification,
+                        None,
+                        (&mut ext_norm, &mut 0.0),
+                        t1,
+                        dt,
+                    )?;
                     let force_ok = rn_full <= settings.tol * reference_full + settings.abs_tol;
                     if settings.tol * reference_full > 2.0 * settings.tol * reference
                         || settings.tol * qn > 2.0 * settings.tol * q_est
@@ -514,19 +799,7 @@ impl Driver {
                     }
                     if force_ok && disp_ok {
                         self.condensed.last_norms = Some((fn_, inn));
-                        let Full { q, v, a, f_int, .. } = w;
-                        return Ok((
-                            State {
-                                t: t1,
-                                q,
-                                v,
-                                a,
-                                f_int,
-                                f_ext,
-                            },
-                            iters,
-                            rn_full,
-                        ));
+                        return Ok((iters, rn_full));
                     }
                     self.condensed.stats.rejected += 1;
                     f_norm_est = fn_;
@@ -560,8 +833,15 @@ impl Driver {
                 }
             } else {
                 // --- A full evaluation (the predictor).
-                let (rn, _reference, fn_, _inn) =
-                    self.full_evaluation(s0, &f_ref_ext, ext_norm, &mut w, &mut du, t1, dt)?;
+                let (rn, _reference, fn_, _inn) = self.full_evaluation(
+                    s0,
+                    w,
+                    Evaluation::Predictor,
+                    ahead_dt,
+                    (&mut ext_norm, &mut base_q2),
+                    t1,
+                    dt,
+                )?;
                 if !rn.is_finite() || it == settings.max_iter {
                     return Err(Exit::Fallback);
                 }
@@ -599,9 +879,9 @@ impl Driver {
             qb = top.iter().map(|&i| w.q[i]).collect();
             awb = top.iter().map(|&i| w.a_w[i]).collect();
             vwb = top.iter().map(|&i| w.v_w[i]).collect();
-            self.asm.add_variable_resisting(&self.model, &mut f_var);
+            self.asm.add_variable_resisting(&self.model, f_var);
             self.asm
-                .add_variable_inertia_damping(&w.a_w, &w.v_w, &mut in_var, &mut damp_var);
+                .add_variable_inertia_damping(&w.a_w, &w.v_w, in_var, damp_var);
             varb = top
                 .iter()
                 .map(|&i| {
@@ -612,7 +892,7 @@ impl Driver {
                     x
                 })
                 .collect();
-            let qall2: f64 = w.q.iter().map(|x| x * x).sum();
+            let qall2 = base_q2;
             let qt2: f64 = qb.iter().map(|x| x * x).sum();
             qbi_norm2 = (qall2 - qt2).max(0.0);
             iters += 1;

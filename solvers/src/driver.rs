@@ -105,13 +105,13 @@ pub(crate) struct StepWork {
     /// Residual.
     pub(crate) r: Vec<f64>,
     /// Acceleration at `n+1−α_m`.
-    a_w: Vec<f64>,
+    pub(crate) a_w: Vec<f64>,
     /// Velocity at `n+1−α_f`.
-    v_w: Vec<f64>,
+    pub(crate) v_w: Vec<f64>,
     /// Inertia force `M·a_w`.
-    inertia: Vec<f64>,
+    pub(crate) inertia: Vec<f64>,
     /// Damping force `C·v_w`.
-    damp: Vec<f64>,
+    pub(crate) damp: Vec<f64>,
     /// The iterate before the last correction (backtracking).
     q_prev: Vec<f64>,
     /// The correction of this iteration.
@@ -119,13 +119,17 @@ pub(crate) struct StepWork {
     /// The correction of the last iteration (backtracking).
     dq_prev: Vec<f64>,
     /// `(1−α_f)·f_ext(n+1) + α_f·f_ext(n)`.
-    f_ref_ext: Vec<f64>,
+    pub(crate) f_ref_ext: Vec<f64>,
     /// The step's increment on finite-rotation models.
-    du: Vec<f64>,
+    pub(crate) du: Vec<f64>,
     /// After a linear step: `M·v` of its state (the energy balance's kinetic energy), when
     /// `mv_ready`.
     pub(crate) mv: Vec<f64>,
     pub(crate) mv_ready: bool,
+    /// After a condensed step ([`crate::condensed`]): `C·v` of its state, formed in the
+    /// verification's pass over the matrices, when `cv_ready` (the energy balance takes it).
+    pub(crate) cv: Vec<f64>,
+    pub(crate) cv_ready: bool,
     /// After a linear step: the weighted acceleration the next step of the same `Δt`
     /// starts with, `a_w = (1−α_m)·a(Δu = 0) + α_m·a_n` from the step's state, and its
     /// inertia force `M·a_w`, formed in the same pass over the matrices as `K·q`. The next
@@ -783,6 +787,7 @@ impl Driver {
         let mut next = std::mem::take(&mut w.next);
         w.resize(n);
         w.mv_ready = false;
+        w.cv_ready = false;
         for x in [
             &mut next.q,
             &mut next.v,
@@ -1090,7 +1095,8 @@ impl Driver {
                 if let Some(e) = self.energy.as_mut() {
                     // A linear step formed its state's M·v with its K·q.
                     let mv = self.work.mv_ready.then_some(&self.work.mv[..]);
-                    e.record(&self.asm, &self.model, &self.state, &s, mv);
+                    let cv = self.work.cv_ready.then_some(&mut self.work.cv);
+                    e.record(&self.asm, &self.model, &self.state, &s, mv, cv);
                 }
                 // The increment for the next step's predictor, in last step's vector.
                 let kept = self.last_increment.take();
@@ -1101,6 +1107,7 @@ impl Driver {
                     self.last_increment = Some((dt, inc));
                 }
                 self.work.mv_ready = false;
+                self.work.cv_ready = false;
                 // The replaced state's vectors hold the next attempt's state.
                 self.work.next = std::mem::replace(&mut self.state, s);
                 rep.iterations += it;

@@ -35,10 +35,12 @@
 //! the reference motion, so `T` is the kinetic energy of that relative motion and the
 //! rigid-body pseudo-loads of Eq. 5 count as external work.
 
+use crate::chunks::par_chunks;
 use crate::driver::State;
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::model::Model;
+use railfem_framework::parallel::threads;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -140,7 +142,9 @@ impl EnergyLedger {
     /// Adds the step from the committed state `prev` to the committed state `next`. The
     /// first call also takes `prev` as the start of the balance. `next_mv` is `M·v` of
     /// `next` when the caller has it (the kinetic energy is then `½·vᵀ·(M·v)` from it, the
-    /// same value), else it is formed here. Without damping
+    /// same value), else it is formed here; likewise `next_cv`, `C·v` of `next` (constant
+    /// and variable damping), whose vector the ledger takes in exchange for storage of its
+    /// own (contents unspecified). Without damping
     /// ([`Assembler::has_damping`]) `C·v` is the zero vector at both ends and the step adds
     /// nothing to `D_c`: no product is formed. The vectors are the ledger's own, kept
     /// between steps.
@@ -151,6 +155,7 @@ impl EnergyLedger {
         prev: &State,
         next: &State,
         next_mv: Option<&[f64]>,
+        next_cv: Option<&mut Vec<f64>>,
     ) {
         let mut buf = std::mem::take(&mut self.buf);
         if !self.started || self.cv_prev.len() != prev.v.len() {
@@ -177,19 +182,36 @@ impl EnergyLedger {
         let damped = asm.has_damping() || self.cv_prev.iter().any(|&c| c != 0.0);
         let mut cv = std::mem::take(&mut self.cv);
         if damped {
-            damping_force(asm, &next.v, &mut cv);
-        }
-        // The three trapezoidal works `½·Σ (f_n + f_{n+1})ᵢ·Δqᵢ` in one pass, each sum
-        // accumulated in index order from −0 (as `Iterator::sum`).
-        let (mut ext, mut int, mut damp) = (-0.0f64, -0.0f64, -0.0f64);
-        for i in 0..next.q.len() {
-            let d = if finite { dq[i] } else { next.q[i] - prev.q[i] };
-            ext += (prev.f_ext[i] + next.f_ext[i]) * d;
-            int += (prev.f_int[i] + next.f_int[i]) * d;
-            if damped {
-                damp += (self.cv_prev[i] + cv[i]) * d;
+            match next_cv {
+                // The caller's vector is taken (it receives the ledger's spare storage).
+                Some(c) if c.len() == next.v.len() => std::mem::swap(&mut cv, c),
+                _ => damping_force(asm, &next.v, &mut cv),
             }
         }
+        // The three trapezoidal works `½·Σ (f_n + f_{n+1})ᵢ·Δqᵢ` in one pass over fixed
+        // chunks of the equations on the available threads, each chunk's sums accumulated in
+        // index order from −0 and the chunks' added in order (the same on any thread count).
+        let cv_prev = &self.cv_prev;
+        let (dq_r, cv_r) = (&dq, &cv);
+        let parts = par_chunks(next.q.len(), threads(0), |lo, hi| {
+            let (mut ext, mut int, mut damp) = (-0.0f64, -0.0f64, -0.0f64);
+            for i in lo..hi {
+                let d = if finite {
+                    dq_r[i]
+                } else {
+                    next.q[i] - prev.q[i]
+                };
+                ext += (prev.f_ext[i] + next.f_ext[i]) * d;
+                int += (prev.f_int[i] + next.f_int[i]) * d;
+                if damped {
+                    damp += (cv_prev[i] + cv_r[i]) * d;
+                }
+            }
+            (ext, int, damp)
+        });
+        let (ext, int, damp) = parts.iter().fold((-0.0f64, -0.0f64, -0.0f64), |a, p| {
+            (a.0 + p.0, a.1 + p.1, a.2 + p.2)
+        });
         let r = &mut self.now;
         r.t = next.t;
         r.external_work += 0.5 * ext;

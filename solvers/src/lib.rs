@@ -12,6 +12,7 @@
 // Index loops mirror the formulas of the dense kernels and the driver (rustc 1.95 clippy).
 #![allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
 
+mod chunks;
 pub mod condensed;
 pub mod dense;
 pub mod driver;

@@ -593,8 +593,13 @@ impl Partitioned {
                 if want.is_empty() {
                     return Ok(None);
                 }
-                let base = blk.base.as_mut().expect("base factored above");
-                promotion(base, std::mem::take(want)).map(Some)
+                let Block {
+                    base,
+                    promotion: last,
+                    ..
+                } = &mut **blk;
+                let base = base.as_mut().expect("base factored above");
+                promotion(base, std::mem::take(want), last.as_ref()).map(Some)
             });
             for ((blk, _), r) in jobs.iter_mut().zip(results) {
                 blk.promotion_unsent = true;
@@ -1324,8 +1329,15 @@ fn block_state(
 }
 
 /// The condensation of block `st` onto its equations `promoted` (module documentation):
-/// `|P|` solves with the base factor.
-fn promotion(st: &mut BlockState, promoted: Vec<usize>) -> Result<Promotion, SolverError> {
+/// one solve with the base factor for each promoted equation that `last` (the block's
+/// previous promotion, on the same base factor) did not have; the columns `Z·e_p` of the
+/// equations promoted in both are `A_II⁻¹·e_p` either way and are copied. `G⁻¹` and `W_P`
+/// are formed anew from the columns.
+fn promotion(
+    st: &mut BlockState,
+    promoted: Vec<usize>,
+    last: Option<&Promotion>,
+) -> Result<Promotion, SolverError> {
     let ni = st.interior.len();
     let np = promoted.len();
     let local: Vec<usize> = promoted
@@ -1337,10 +1349,32 @@ fn promotion(st: &mut BlockState, promoted: Vec<usize>) -> Result<Promotion, Sol
         })
         .collect::<Result<_, _>>()?;
     let mut z = vec![0.0; ni * np];
+    let mut fresh: Vec<usize> = Vec::with_capacity(np);
     for (k, &l) in local.iter().enumerate() {
-        z[k * ni + l] = 1.0;
+        let kept = last.and_then(|p| p.local.iter().position(|&m| m == l));
+        match kept {
+            Some(m) => {
+                let last = last.expect("kept from it");
+                z[k * ni..(k + 1) * ni].copy_from_slice(&last.z[m * ni..(m + 1) * ni]);
+            }
+            None => fresh.push(k),
+        }
     }
-    st.factor.solve_columns_in_place(&mut z, np)?;
+    if fresh.len() == np {
+        for (k, &l) in local.iter().enumerate() {
+            z[k * ni + l] = 1.0;
+        }
+        st.factor.solve_columns_in_place(&mut z, np)?;
+    } else if !fresh.is_empty() {
+        let mut zf = vec![0.0; ni * fresh.len()];
+        for (c, &k) in fresh.iter().enumerate() {
+            zf[c * ni + local[k]] = 1.0;
+        }
+        st.factor.solve_columns_in_place(&mut zf, fresh.len())?;
+        for (c, &k) in fresh.iter().enumerate() {
+            z[k * ni..(k + 1) * ni].copy_from_slice(&zf[c * ni..(c + 1) * ni]);
+        }
+    }
     let g = nalgebra::DMatrix::from_fn(np, np, |i, j| z[j * ni + local[i]]);
     // G is a principal block of the inverse of a positive definite matrix.
     let g_inv = g
