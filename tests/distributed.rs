@@ -5,7 +5,8 @@
 //! of the model and driver, as MPI processes would have. The ranks share the blocks of the
 //! partitioned solver: each factors, promotes and condenses only its own, rank 0 forms and
 //! solves the top system, and the interiors are exchanged so that every rank ends each step
-//! with the whole state. The blocks are small and the train fast, so the wheels move onto
+//! with the whole state. Each rank keeps only the columns of the effective matrix its share
+//! reads, so the ranks' matrices add up to the one-process one. The blocks are small and the train fast, so the wheels move onto
 //! new rail nodes every step and blocks of every rank gain and lose promoted equations.
 //!
 //! Reference: the one-process partitioned solver (itself checked against the direct solver in

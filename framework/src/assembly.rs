@@ -1248,8 +1248,12 @@ impl Assembler {
                 }
             });
         if !same {
+            let len = (0..a.n)
+                .filter(|&j| kept(j))
+                .map(|j| a.col_ptr[j + 1] - a.col_ptr[j])
+                .sum();
             let mut col_ptr = Vec::with_capacity(a.n + 1);
-            let mut row_idx = Vec::new();
+            let mut row_idx = Vec::with_capacity(len);
             col_ptr.push(0);
             for j in 0..a.n {
                 if kept(j) {

@@ -42,9 +42,11 @@
 //! over `b` above are independent per block, so the blocks can be shared among processes:
 //! rank `k` of `P` owns a contiguous range of blocks, those whose middle falls in the `k`-th
 //! `P`-th of the interior equations (a rule of the structure alone, so every rank finds the
-//! same split without talking). Every rank holds the same `A` and the same variable triplets
-//! (the model and its assembly are replicated), hence knows the split, the promoted sets
-//! and the top set. Per factorization each rank factors and promotes its own blocks and
+//! same split without talking). Every rank holds the same pattern of `A` and the same
+//! variable triplets (the model and its assembly are replicated), hence knows the split, the
+//! promoted sets and the top set; of `A`'s values a rank needs only the columns it reads
+//! ([`Partitioned::columns_read`]: its blocks' interiors, and on rank 0 the base top set),
+//! so the matrix it hands to [`Partitioned::factor`] may hold just those. Per factorization each rank factors and promotes its own blocks and
 //! sends rank 0 what changed of their condensation (`C` after a new `A`, `G⁻¹` and `W_P`
 //! after a new promotion); rank 0 forms `S` from them, in block order, as one process does,
 //! factors it and sends the outcome. Per solve each rank condenses its blocks' right-hand
