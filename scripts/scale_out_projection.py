@@ -22,8 +22,11 @@ Comm  N_COLL collectives of latency ALPHA*ceil(log2 P) each, plus the bytes the 
       once per step, the block pieces and top vectors), fitted at P = 2.
 
 Memory per rank: M(P, N) = Mr(N) + Mf(N)/P, both affine in N, with Mr (replicated: model,
-matrices, state, top system) = 2*M2 - M1 and Mf (block factors, promotions) = 2*(M1 - M2)
-from the 1-rank peak M1 and the larger 2-rank peak M2.
+constant matrices K, M, C, state, top system) = 2*M2 - M1 and Mf (block factors,
+promotions, the columns of the effective matrix) = 2*(M1 - M2) from the 1-rank peak M1 and
+the larger 2-rank peak M2, measured after the effective matrix became rank-local and the
+set-up stopped holding two sets of factors (docs/scale-out.md, "Memory per rank"), at the
+sizes MEM_N (the mesh of that day).
 
 Every affine law goes through the two measured sizes exactly (two points, two parameters).
 """
@@ -40,8 +43,9 @@ NT = [2520, 8160]    # top equations
 # Two ranks: bytes received by the busiest rank per iteration; peak memory (MiB) of one rank
 # and of the larger of the two ranks.
 RECV2 = [604167, 3036013]
-MEM1 = [547, 4772]
-MEM2 = [451, 3903]
+MEM_N = [112542, 1043052]
+MEM1 = [525, 3798]
+MEM2 = [437, 3164]
 # Assumed network: latency of one step of a collective, bandwidth (a 100 Gb/s fabric).
 ALPHA = 2e-3  # ms
 BETA = 10e9   # B/s
@@ -66,8 +70,8 @@ def main():
     det = N[0] * NT[1] - NT[0] * N[1]
     c1 = (y[0] * NT[1] - NT[0] * y[1]) / det
     c2 = (N[0] * y[1] - N[1] * y[0]) / det
-    mr0, mr1 = affine(N, [2 * m2 - m1 for m1, m2 in zip(MEM1, MEM2)])
-    mf0, mf1 = affine(N, [2 * (m1 - m2) for m1, m2 in zip(MEM1, MEM2)])
+    mr0, mr1 = affine(MEM_N, [2 * m2 - m1 for m1, m2 in zip(MEM1, MEM2)])
+    mf0, mf1 = affine(MEM_N, [2 * (m1 - m2) for m1, m2 in zip(MEM1, MEM2)])
     print(f"R = {r0:.1f} ms + {r1 * 1e6:.1f} ms per 1e6 DOF; Bs = {b0:.1f} + {b1 * 1e6:.1f} per 1e6 DOF; "
           f"Prom = {prom:.1f} ms")
     print(f"n_T = {v:.0f} + {s:.1f} per block; Top = {t0:.1f} ms + {t1 * 1e3:.2f} ms per 1000 top equations")

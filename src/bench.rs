@@ -227,8 +227,18 @@ pub struct BenchRow {
 
 /// `VmHWM` from `/proc/self/status` (MiB), if readable.
 pub fn peak_memory_mib() -> Option<f64> {
+    status_mib("VmHWM:")
+}
+
+/// `VmRSS` (resident memory now) from `/proc/self/status` (MiB), if readable.
+pub fn resident_memory_mib() -> Option<f64> {
+    status_mib("VmRSS:")
+}
+
+/// A `kB` line of `/proc/self/status` in MiB.
+fn status_mib(key: &str) -> Option<f64> {
     let s = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let line = s.lines().find(|l| l.starts_with(key))?;
     let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kb / 1024.0)
 }

@@ -125,6 +125,10 @@ pub fn measure(
     // it belongs to the set-up, not to the steady per-step cost.
     d.step(case.dt)?;
     let setup = t1.elapsed().as_secs_f64();
+    let setup_memory = [
+        crate::bench::resident_memory_mib().unwrap_or(f64::NAN),
+        crate::bench::peak_memory_mib().unwrap_or(f64::NAN),
+    ];
     let (s0, a0, p0) = (
         d.summary,
         d.asm.times,
@@ -189,6 +193,7 @@ pub fn measure(
             1e3 * (p1.comm.time - p0.comm.time) / iters as f64,
         );
     }
+    print_memory(&m, setup_memory);
     if crate::ranks::writes_outputs() {
         println!(
             "          condensed Newton (whole run): {} steps, {} top-system iterations, {} full evaluations ({} predictors from the last verification's pass), {} rejected verifications, {} steps handed back",
@@ -231,6 +236,32 @@ pub fn measure(
         peak_mib: crate::bench::peak_memory_mib().unwrap_or(f64::NAN),
         timeline,
     })
+}
+
+/// One line per rank: where its memory goes. Resident memory after each build phase and
+/// the peaks after the build, after the set-up (static preload, initial accelerations,
+/// first step) and after the timed steps (with the resident memory after the set-up and
+/// after the steps), then the bytes of each part the driver holds
+/// ([`crate::solvers::driver::Driver::memory`]); what the parts do not cover is mostly the
+/// elements (in the model) and the top system's factor.
+fn print_memory(m: &crate::train_bridge::TrainBridgeModel, setup: [f64; 2]) {
+    let [gen, model, driver, build_peak] = m.build_memory_mib;
+    let [setup_rss, setup_peak] = setup;
+    let mib = |b: usize| b as f64 / (1024.0 * 1024.0);
+    let parts = m.driver.memory();
+    let counted: usize = parts.iter().map(|p| p.1).sum();
+    let list: Vec<String> = parts
+        .iter()
+        .map(|(name, b)| format!("{name} {:.0}", mib(*b)))
+        .collect();
+    println!(
+        "          memory of rank {} (MiB): resident after generation {gen:.0}, model {model:.0}, driver {driver:.0}, set-up {setup_rss:.0}, steps {:.0}; peak after build {build_peak:.0}, set-up {setup_peak:.0}, steps {:.0}; held by the driver {:.0}: {}",
+        crate::sidecar::launcher_rank().unwrap_or(0),
+        crate::bench::resident_memory_mib().unwrap_or(f64::NAN),
+        crate::bench::peak_memory_mib().unwrap_or(f64::NAN),
+        mib(counted),
+        list.join(", ")
+    );
 }
 
 /// Least-squares slope of `ln y` against `ln x`.

@@ -371,6 +371,10 @@ pub struct TrainBridgeModel {
     pub element_length: f64,
     /// Wall time to generate and build (s): (generation, framework build, driver set-up).
     pub build_seconds: [f64; 3],
+    /// Resident memory (MiB, `VmRSS`) after generating the track and train, after building
+    /// the model and after numbering and assembly (the driver), then the peak (`VmHWM`)
+    /// after all of it: where the build's memory goes (`railfem bench`'s memory report).
+    pub build_memory_mib: [f64; 4],
     /// Duration of the run (s).
     pub duration: f64,
     /// The ground motion used, if any.
@@ -623,8 +627,11 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         }
     }
     let t_gen = t0.elapsed().as_secs_f64();
+    let rss = || crate::bench::resident_memory_mib().unwrap_or(f64::NAN);
+    let rss_gen = rss();
     let t1 = Instant::now();
     let model = b.build()?;
+    let rss_model = rss();
     let t_build = t1.elapsed().as_secs_f64();
     let t2 = Instant::now();
     let mut index = std::collections::HashMap::with_capacity(model.elements.len());
@@ -635,6 +642,12 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
     let (elements, nodes) = (model.elements.len(), model.nodes.len());
     let driver = Driver::new(model)?;
     let t_driver = t2.elapsed().as_secs_f64();
+    let build_memory_mib = [
+        rss_gen,
+        rss_model,
+        rss(),
+        crate::bench::peak_memory_mib().unwrap_or(f64::NAN),
+    ];
     Ok(TrainBridgeModel {
         dofs: driver.neq(),
         driver,
@@ -645,6 +658,7 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
         nodes,
         element_length: longest,
         build_seconds: [t_gen, t_build, t_driver],
+        build_memory_mib,
         duration,
         quake,
     })

@@ -5,7 +5,8 @@
 //! of the model and driver, as MPI processes would have. The ranks share the blocks of the
 //! partitioned solver: each factors, promotes and condenses only its own, rank 0 forms and
 //! solves the top system, and the interiors are exchanged so that every rank ends each step
-//! with the whole state. The blocks are small and the train fast, so the wheels move onto
+//! with the whole state. Each rank keeps only the columns of the effective matrix its share
+//! reads, so the ranks' matrices add up to the one-process one. The blocks are small and the train fast, so the wheels move onto
 //! new rail nodes every step and blocks of every rank gain and lose promoted equations.
 //!
 //! Reference: the one-process partitioned solver (itself checked against the direct solver in
@@ -38,13 +39,12 @@ fn case(solver: SolverChoice) -> TrainBridgeCase {
 
 type History = Vec<[Vec<f64>; 3]>;
 
-/// `steps` steps on one rank of `exchange` (`None`: one process): the state after each step,
-/// the Newton iterations and the solver's counters.
-fn history(
-    exchange: Option<Arc<dyn Exchange>>,
-    condensed: bool,
-    steps: usize,
-) -> (History, usize, PartitionStats) {
+/// What one rank ran: the state after each step, the Newton iterations, the solver's
+/// counters and the stored entries of the effective matrix it kept.
+type Run = (History, usize, PartitionStats, usize);
+
+/// `steps` steps on one rank of `exchange` (`None`: one process).
+fn history(exchange: Option<Arc<dyn Exchange>>, condensed: bool, steps: usize) -> Run {
     let mut m = build(&case(SolverChoice::Partitioned)).expect("model");
     let d = &mut m.driver;
     d.condense_residual = condensed;
@@ -63,23 +63,29 @@ fn history(
         iterations += d.step(0.004).expect("step").iterations;
         out.push([d.state.q.clone(), d.state.v.clone(), d.state.a.clone()]);
     }
-    (out, iterations, d.partition_stats().expect("partitioned"))
+    let entries = d.effective_matrix_entries();
+    (
+        out,
+        iterations,
+        d.partition_stats().expect("partitioned"),
+        entries,
+    )
 }
 
 fn compare(condensed: bool, steps: usize) {
-    let (serial, it_serial, s1) = history(None, condensed, steps);
+    let (serial, it_serial, s1, entries_serial) = history(None, condensed, steps);
     // The wheels enter new rail nodes every step (0.4 m per step over 0.4 m elements).
     assert!(s1.promotions >= steps, "{s1:?}");
     assert!(s1.blocks >= 6, "{s1:?}");
     for ranks in [2, 3] {
-        let runs: Vec<(History, usize, PartitionStats)> = std::thread::scope(|s| {
+        let runs: Vec<Run> = std::thread::scope(|s| {
             let hs: Vec<_> = thread_ranks(ranks)
                 .into_iter()
                 .map(|ex| s.spawn(move || history(Some(ex), condensed, steps)))
                 .collect();
             hs.into_iter().map(|h| h.join().expect("rank")).collect()
         });
-        for (r, (h, it, st)) in runs.iter().enumerate() {
+        for (r, (h, it, st, _)) in runs.iter().enumerate() {
             let e = common::worst_relative(h, &serial);
             println!(
                 "condensed {condensed}, {ranks} ranks, rank {r}: relative differences q {:.1e}, v {:.1e}, a {:.1e}; {} of {} blocks; {} bytes sent, {} received",
@@ -106,6 +112,14 @@ fn compare(condensed: bool, steps: usize) {
         assert_eq!(sum(|s| s.block_factorizations), s1.block_factorizations);
         assert_eq!(sum(|s| s.promotions), s1.promotions);
         assert!(runs.iter().all(|r| r.2.owned_blocks > 0));
+        assert_eq!(sum(|s| s.owned_interior_equations), s1.interior_equations);
+        // The effective matrix is not replicated: each rank keeps the columns of its own
+        // blocks' interiors, rank 0 those of the base top set as well, and these split the
+        // equations, so the ranks' entries add up to the one-process matrix's.
+        let entries: Vec<usize> = runs.iter().map(|r| r.3).collect();
+        println!("effective matrix entries, one process {entries_serial}, ranks {entries:?}");
+        assert_eq!(entries.iter().sum::<usize>(), entries_serial);
+        assert!(entries.iter().all(|&e| e < entries_serial));
     }
 }
 

@@ -299,6 +299,55 @@ impl Assembler {
         (var, mass)
     }
 
+    /// Bytes the assembler holds, by part (capacities, as allocated; for the memory report
+    /// of `railfem bench`): the constant matrices, the variable ones, the element maps,
+    /// the constant load vectors and the node kinematics. Elements themselves live in the
+    /// model and are not counted here.
+    pub fn memory(&self) -> Vec<(&'static str, usize)> {
+        let vec_bytes = |v: &Vec<f64>| 8 * v.capacity();
+        let maps: usize = self
+            .maps
+            .iter()
+            .map(|m| {
+                std::mem::size_of::<ElementMap>()
+                    + 16 * m.dofs.capacity()
+                    + 16 * m.scatter.capacity()
+            })
+            .sum();
+        let off: usize = self
+            .off
+            .iter()
+            .map(|o| {
+                std::mem::size_of::<OffPattern>()
+                    + 16 * o.terms.capacity()
+                    + 8 * (o.k.len()
+                        + o.m.as_ref().map_or(0, |m| m.len())
+                        + o.c.as_ref().map_or(0, |m| m.len()))
+            })
+            .sum();
+        vec![
+            ("K constant", self.k_const.heap_bytes()),
+            ("M constant", self.m_const.heap_bytes()),
+            ("C constant", self.c_const.heap_bytes()),
+            (
+                "variable matrices",
+                self.k_var.heap_bytes() + self.m_var.heap_bytes() + self.c_var.heap_bytes() + off,
+            ),
+            ("element maps", maps + 8 * self.var_slot.capacity()),
+            (
+                "constant loads",
+                vec_bytes(&self.gravity_fixed)
+                    + self.ground_unit.iter().map(vec_bytes).sum::<usize>()
+                    + self.m_diag.as_ref().map_or(0, vec_bytes),
+            ),
+            (
+                "node kinematics",
+                std::mem::size_of::<NodeKinematics>() * self.kin.capacity()
+                    + 4 * self.slot_of.capacity(),
+            ),
+        ]
+    }
+
     /// Whether every element declares a symmetric tangent.
     pub fn symmetric(&self) -> bool {
         self.symmetric
@@ -1199,7 +1248,12 @@ impl Assembler {
         if out.pattern_id != self.k_const.pattern_id {
             *out = self.k_const.zeros_like();
         }
-        let terms: Vec<(f64, &CscMatrix)> = [
+        out.set_combination(&self.effective_terms(ck, cm, cc));
+    }
+
+    /// The matrices of [`Assembler::effective`] with their coefficients.
+    fn effective_terms(&self, ck: f64, cm: f64, cc: f64) -> Vec<(f64, &CscMatrix)> {
+        [
             (ck, &self.k_const),
             (ck, &self.k_var),
             (cm, &self.m_const),
@@ -1209,8 +1263,85 @@ impl Assembler {
         ]
         .into_iter()
         .filter(|(_, m)| m.n == self.k_const.n) // unused variable matrices are kept empty
-        .collect();
-        out.set_combination(&terms);
+        .collect()
+    }
+
+    /// Equations whose column of `M` (constant and variable mass on the pattern, as
+    /// [`Assembler::effective`] with `cM = 1` forms it) holds no non-zero value; the
+    /// off-pattern elements' masses are not looked at.
+    pub fn massless_on_pattern(&self) -> Vec<bool> {
+        let a = &self.k_const;
+        let terms = self.effective_terms(0.0, 1.0, 0.0);
+        (0..a.n)
+            .map(|j| {
+                (a.col_ptr[j]..a.col_ptr[j + 1]).all(|p| {
+                    let mut v = 0.0;
+                    for (c, m) in &terms {
+                        if *c != 0.0 {
+                            v += c * m.values[p];
+                        }
+                    }
+                    v == 0.0
+                })
+            })
+            .collect()
+    }
+
+    /// [`Assembler::effective`] on the columns `j` with `keep[j]` only: `out` gets the
+    /// pattern's id and size, the pattern and the values of those columns (the same values
+    /// to the bit: each entry is summed over the same terms in the same order) and no entry
+    /// in the other columns. A rank of a model shared by several ones keeps this way only
+    /// the columns its share of the partitioned solver reads
+    /// (`railfem_solvers::partition::Partitioned::columns_read`), not a copy of the whole
+    /// matrix.
+    pub fn effective_columns(&self, ck: f64, cm: f64, cc: f64, keep: &[bool], out: &mut CscMatrix) {
+        let a = &self.k_const;
+        let kept = |j: usize| keep.get(j).copied().unwrap_or(false);
+        let same = out.pattern_id == a.pattern_id
+            && out.n == a.n
+            && (0..a.n).all(|j| {
+                let len = out.col_ptr[j + 1] - out.col_ptr[j];
+                len == if kept(j) {
+                    a.col_ptr[j + 1] - a.col_ptr[j]
+                } else {
+                    0
+                }
+            });
+        if !same {
+            let len = (0..a.n)
+                .filter(|&j| kept(j))
+                .map(|j| a.col_ptr[j + 1] - a.col_ptr[j])
+                .sum();
+            let mut col_ptr = Vec::with_capacity(a.n + 1);
+            let mut row_idx = Vec::with_capacity(len);
+            col_ptr.push(0);
+            for j in 0..a.n {
+                if kept(j) {
+                    row_idx.extend_from_slice(&a.row_idx[a.col_ptr[j]..a.col_ptr[j + 1]]);
+                }
+                col_ptr.push(row_idx.len());
+            }
+            *out = CscMatrix {
+                n: a.n,
+                values: vec![0.0; row_idx.len()],
+                col_ptr,
+                row_idx,
+                pattern_id: a.pattern_id,
+            };
+        }
+        let terms = self.effective_terms(ck, cm, cc);
+        for j in (0..a.n).filter(|&j| kept(j)) {
+            let (from, to) = (a.col_ptr[j], out.col_ptr[j]);
+            for k in 0..a.col_ptr[j + 1] - from {
+                let mut v = 0.0;
+                for (c, m) in &terms {
+                    if *c != 0.0 {
+                        v += c * m.values[from + k];
+                    }
+                }
+                out.values[to + k] = v;
+            }
+        }
     }
 
     /// External force at time `t` (N, N·m) into `out`: nodal loads, gravity, Eq. 5

@@ -84,6 +84,12 @@ impl CscMatrix {
         self.position(i, j).map_or(0.0, |p| self.values[p])
     }
 
+    /// Bytes of its three arrays (capacity, as allocated): `8·(n + 1)` column pointers,
+    /// `8·nnz` row indices and `8·nnz` values.
+    pub fn heap_bytes(&self) -> usize {
+        8 * (self.col_ptr.capacity() + self.row_idx.capacity() + self.values.capacity())
+    }
+
     /// Same pattern, values set to zero, same pattern id.
     pub fn zeros_like(&self) -> CscMatrix {
         CscMatrix {

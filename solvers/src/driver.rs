@@ -350,7 +350,13 @@ impl Driver {
         }
         let solver = direct_solver(n, asm.symmetric());
         let integrator = Integrator::from_spec(&model.analysis);
-        let k_eff = asm.k_const.zeros_like();
+        // Off the pattern the effective matrix is formed at the first factorization (across
+        // ranks, only the columns the rank reads): no copy of the pattern before it.
+        let k_eff = if asm.off_pattern() {
+            CscMatrix::from_columns(Vec::new())
+        } else {
+            asm.k_const.zeros_like()
+        };
         let lowrank = (asm.solver() == SolverChoice::LowRank).then(LowRank::new);
         let options = PartitionOptions {
             block_size: model
@@ -492,6 +498,61 @@ impl Driver {
         self.lowrank.as_ref().map(LowRank::stats)
     }
 
+    /// Bytes the driver holds, by part (capacities, as allocated; `railfem bench`'s memory
+    /// report): the assembler's ([`Assembler::memory`]), the effective matrix handed to the
+    /// linear solver, the state and the step's work vectors, and the partitioned solver's
+    /// ([`Partitioned::memory`]). The elements (in the model) and the direct, low-rank and
+    /// top factors are not counted.
+    pub fn memory(&self) -> Vec<(&'static str, usize)> {
+        let vecs = |s: &State| {
+            8 * (s.q.capacity()
+                + s.v.capacity()
+                + s.a.capacity()
+                + s.f_int.capacity()
+                + s.f_ext.capacity())
+        };
+        let w = &self.work;
+        let work = [
+            &w.r,
+            &w.a_w,
+            &w.v_w,
+            &w.inertia,
+            &w.damp,
+            &w.q_prev,
+            &w.dq,
+            &w.dq_prev,
+            &w.f_ref_ext,
+            &w.du,
+            &w.mv,
+            &w.a_w_next,
+            &w.inertia_next,
+        ]
+        .iter()
+        .map(|v| 8 * v.capacity())
+        .sum::<usize>()
+            + vecs(&w.next)
+            + 8 * self.f_int_at.capacity()
+            + self
+                .last_increment
+                .as_ref()
+                .map_or(0, |(_, v)| 8 * v.capacity());
+        let mut parts = self.asm.memory();
+        parts.push(("effective matrix", self.k_eff.heap_bytes()));
+        parts.push(("state vectors", vecs(&self.state)));
+        parts.push(("step work vectors", work));
+        parts.push(("variable triplets", 24 * self.triplets.capacity()));
+        if let Some(p) = &self.partition {
+            parts.extend(p.memory());
+        }
+        parts
+    }
+
+    /// Stored entries of the effective matrix the driver last handed to its linear solver
+    /// (across ranks, only the columns this rank's share reads).
+    pub fn effective_matrix_entries(&self) -> usize {
+        self.k_eff.nnz()
+    }
+
     /// Work counters and times of the partitioned solver, if the driver uses it.
     pub fn partition_stats(&self) -> Option<PartitionStats> {
         self.partition.as_ref().map(Partitioned::stats)
@@ -524,7 +585,13 @@ impl Driver {
             [f64::NAN; 3]
         };
         if self.a_key != Some(key) || self.k_eff.pattern_id != self.asm.k_const.pattern_id {
-            self.asm.effective(ck, cm, cc, &mut self.k_eff);
+            // Across ranks, only the columns this rank's blocks (and rank 0's top) read.
+            match self.columns_read() {
+                Some(keep) => self
+                    .asm
+                    .effective_columns(ck, cm, cc, &keep, &mut self.k_eff),
+                None => self.asm.effective(ck, cm, cc, &mut self.k_eff),
+            }
             self.a_key = Some(key);
         }
         self.triplets.clear();
@@ -543,6 +610,16 @@ impl Driver {
         r.map_err(|e| self.singular(e))?;
         self.factored = Some((dt, self.k_eff.pattern_id));
         Ok(())
+    }
+
+    /// When the partitioned solver's blocks are shared among ranks: the columns of the
+    /// constant part this rank's share reads ([`Partitioned::columns_read`]), the split
+    /// made first from the constant pattern if needed. `None` (every column) otherwise.
+    fn columns_read(&mut self) -> Option<Vec<bool>> {
+        self.exchange.as_ref()?;
+        let p = self.partition.as_mut()?;
+        p.prepare(&self.asm.k_const);
+        p.columns_read()
     }
 
     fn solve(&mut self, b: &mut [f64]) -> Result<(), FemError> {
@@ -709,20 +786,38 @@ impl Driver {
         for i in 0..n {
             rhs[i] -= cv[i];
         }
-        // Mass matrix with unit diagonal on massless equations.
-        let mut m = self.asm.m_const.zeros_like();
-        self.asm.effective(0.0, 1.0, 0.0, &mut m);
+        // The partitioned solver's factors (of the static tangent) are not needed again:
+        // the next factorization has other coefficients and factors every block anew. Drop
+        // them, and the matrix they were made from, before the mass is factored, so that two
+        // sets of factors are never held at once.
+        if let Some(p) = self.partition.as_mut() {
+            p.release_factors();
+            self.k_eff = CscMatrix::from_columns(Vec::new());
+            self.a_key = None;
+            self.factored = None;
+        }
+        // Mass matrix with unit diagonal on massless equations; across ranks only the
+        // columns this rank's share of the mass solve reads.
         let mut variable_mass = Vec::new();
         self.asm
             .variable_triplets(0.0, 1.0, 0.0, &mut variable_mass);
-        let mut massless = vec![true; n];
-        for j in 0..n {
-            for p in m.col_ptr[j]..m.col_ptr[j + 1] {
-                if m.values[p] != 0.0 {
-                    massless[j] = false;
-                }
+        let mut mass_solver = self
+            .asm
+            .off_pattern()
+            .then(|| self.new_partitioned(true, PartitionOptions::default()));
+        let keep = match (&self.exchange, mass_solver.as_mut()) {
+            (Some(_), Some(p)) => {
+                p.prepare(&self.asm.m_const);
+                p.columns_read()
             }
+            _ => None,
+        };
+        let mut m = CscMatrix::from_columns(Vec::new());
+        match &keep {
+            Some(keep) => self.asm.effective_columns(0.0, 1.0, 0.0, keep, &mut m),
+            None => self.asm.effective(0.0, 1.0, 0.0, &mut m),
         }
+        let mut massless = self.asm.massless_on_pattern();
         for &(_, j, v) in &variable_mass {
             if v != 0.0 {
                 massless[j] = false;
@@ -736,8 +831,7 @@ impl Driver {
                 rhs[j] = 0.0;
             }
         }
-        if self.asm.off_pattern() {
-            let mut p = self.new_partitioned(true, PartitionOptions::default());
+        if let Some(mut p) = mass_solver {
             p.factor(&m, [0.0, 1.0, 0.0], &variable_mass)
                 .map_err(|e| self.singular(e))?;
             p.solve_in_place(&mut rhs).map_err(|e| self.singular(e))?;

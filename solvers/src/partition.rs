@@ -42,9 +42,11 @@
 //! over `b` above are independent per block, so the blocks can be shared among processes:
 //! rank `k` of `P` owns a contiguous range of blocks, those whose middle falls in the `k`-th
 //! `P`-th of the interior equations (a rule of the structure alone, so every rank finds the
-//! same split without talking). Every rank holds the same `A` and the same variable triplets
-//! (the model and its assembly are replicated), hence knows the split, the promoted sets
-//! and the top set. Per factorization each rank factors and promotes its own blocks and
+//! same split without talking). Every rank holds the same pattern of `A` and the same
+//! variable triplets (the model and its assembly are replicated), hence knows the split, the
+//! promoted sets and the top set; of `A`'s values a rank needs only the columns it reads
+//! ([`Partitioned::columns_read`]: its blocks' interiors, and on rank 0 the base top set),
+//! so the matrix it hands to [`Partitioned::factor`] may hold just those. Per factorization each rank factors and promotes its own blocks and
 //! sends rank 0 what changed of their condensation (`C` after a new `A`, `G⁻¹` and `W_P`
 //! after a new promotion); rank 0 forms `S` from them, in block order, as one process does,
 //! factors it and sends the outcome. Per solve each rank condenses its blocks' right-hand
@@ -341,6 +343,110 @@ impl Partitioned {
         }
     }
 
+    /// Bytes this rank holds, by part (capacities, as allocated; for the memory report of
+    /// `railfem bench`): the owned blocks' factors, their couplings `A_IB` and corrections
+    /// `C`, their promotions (`Z`, `G⁻¹`, `W_P`), what rank 0 received of the other ranks'
+    /// blocks, and the top system with its factor and the structure (block of each
+    /// equation, block lists, top numbering).
+    pub fn memory(&self) -> Vec<(&'static str, usize)> {
+        let mut factors = 0;
+        let mut coupling = 0;
+        let mut promotions = 0;
+        let mut structure = 4 * (self.block_of.capacity() + self.top_index.capacity())
+            + 8 * (self.base_top.capacity() + self.top.capacity());
+        for b in &self.blocks {
+            structure += 8 * (b.all.capacity() + b.boundary.capacity() + b.promoted.capacity());
+            if let Some(st) = &b.base {
+                factors += st.factor.heap_bytes();
+                coupling += 8
+                    * (st.interior.capacity() + st.boundary.capacity() + st.correction.capacity())
+                    + st.coupling
+                        .iter()
+                        .map(|c| 16 * c.capacity() + 24)
+                        .sum::<usize>();
+            }
+            if let Some(p) = &b.promotion {
+                promotions += 8
+                    * (p.promoted.capacity()
+                        + p.local.capacity()
+                        + p.z.capacity()
+                        + p.g_inv.capacity()
+                        + p.w_p.capacity());
+            }
+        }
+        let received: usize = self
+            .received
+            .iter()
+            .map(|r| 8 * (r.correction.capacity() + r.g_inv.capacity() + r.w_p.capacity()))
+            .sum();
+        let top = self.top_cache.as_ref().map_or(0, |c| {
+            c.matrix.heap_bytes()
+                + 8 * (c.layout.capacity() + c.positions.capacity() + c.constant.capacity())
+        });
+        vec![
+            ("block factors", factors),
+            ("block couplings A_IB and corrections C", coupling),
+            ("promotions Z, G^-1, W_P", promotions),
+            ("received from other ranks", received),
+            ("top system (matrix)", top),
+            ("partition structure", structure),
+        ]
+    }
+
+    /// Splits the equations into blocks and the top set from the pattern of `a` (values
+    /// unread), unless the split is already that of `a`'s pattern: what the first
+    /// factorization would do, done ahead so that [`Partitioned::columns_read`] is known
+    /// before the matrix to factor is formed.
+    pub fn prepare(&mut self, a: &CscMatrix) {
+        if a.pattern_id != self.pattern_id || a.n != self.n {
+            self.build_structure(a);
+            self.constant_stale = true;
+        }
+    }
+
+    /// Drops every block factor, correction and promotion (and rank 0's copies of the
+    /// other ranks'), as a new key would at the next factorization, which then factors every
+    /// block anew. For a caller about to factor another matrix with a second solver: the
+    /// two sets of factors are then never held at once.
+    pub fn release_factors(&mut self) {
+        self.key = None;
+        self.top_factored = false;
+        for b in &mut self.blocks {
+            b.base = None;
+            b.promotion = None;
+            b.promoted.clear();
+            b.base_unsent = false;
+            b.promotion_unsent = false;
+        }
+        self.received = vec![Received::default(); self.blocks.len()];
+    }
+
+    /// Across ranks, after [`Partitioned::prepare`]: the columns of `A` this rank's
+    /// factorizations read — the interiors of its own blocks (their factors and
+    /// couplings), and on rank 0 the base top equations (`A_TT` of the top system); a
+    /// promoted equation enters the top system through its block's condensation, never
+    /// through its column. The other columns may be left empty in the matrix given to
+    /// [`Partitioned::factor`] (with the pattern id of the whole). `None` in one process
+    /// or before the split: every column is read.
+    pub fn columns_read(&self) -> Option<Vec<bool>> {
+        self.comm.as_ref()?;
+        if self.n == 0 {
+            return None;
+        }
+        let mut keep = vec![false; self.n];
+        for b in &self.blocks[self.owned()] {
+            for &i in &b.all {
+                keep[i] = true;
+            }
+        }
+        if self.is_root() {
+            for &i in &self.base_top {
+                keep[i] = true;
+            }
+        }
+        Some(keep)
+    }
+
     /// Work counters and times (of this rank's share of the work).
     pub fn stats(&self) -> PartitionStats {
         let mut s = self.stats;
@@ -504,19 +610,10 @@ impl Partitioned {
         variable: &[(usize, usize, f64)],
     ) -> Result<(), SolverError> {
         self.top_factored = false;
-        if a.pattern_id != self.pattern_id || a.n != self.n {
-            self.build_structure(a);
-            self.constant_stale = true;
-        }
+        self.prepare(a);
         if self.key != Some(key) {
             self.constant_stale = true;
-            for b in &mut self.blocks {
-                b.base = None;
-                b.promotion = None;
-                b.promoted.clear();
-                b.promotion_unsent = false;
-            }
-            self.received = vec![Received::default(); self.blocks.len()];
+            self.release_factors();
             self.key = Some(key);
         }
         let n = self.n;
@@ -1516,10 +1613,35 @@ mod tests {
     /// Everything a rank computes over eight factorizations of the moving coupling (a new
     /// key at step 5, so every block is factored again): full solves, and the split solve
     /// of the condensed Newton with a two-column back-substitution.
+    /// `a` with only the columns `keep` (the same pattern id: the solver takes it for the
+    /// whole matrix's).
+    fn only_columns(a: &CscMatrix, keep: &[bool]) -> CscMatrix {
+        let mut b = CscMatrix {
+            n: a.n,
+            col_ptr: vec![0],
+            row_idx: Vec::new(),
+            values: Vec::new(),
+            pattern_id: a.pattern_id,
+        };
+        for j in 0..a.n {
+            if keep[j] {
+                let r = a.col_ptr[j]..a.col_ptr[j + 1];
+                b.row_idx.extend_from_slice(&a.row_idx[r.clone()]);
+                b.values.extend_from_slice(&a.values[r]);
+            }
+            b.col_ptr.push(b.row_idx.len());
+        }
+        b
+    }
+
+    /// Eight factorizations and solves on one rank of `exchange` (`None`: one process): the
+    /// answers, the counters and the columns of `A` the rank kept. With `restrict` (across
+    /// ranks) each rank hands the solver only [`Partitioned::columns_read`] of `A`.
     fn run_rank(
         exchange: Option<Arc<dyn Exchange>>,
         block_size: usize,
-    ) -> (Vec<f64>, PartitionStats) {
+        restrict: bool,
+    ) -> (Vec<f64>, PartitionStats, usize) {
         let a = chain(200, 6);
         let n = a.n;
         let mut p = Partitioned::new(
@@ -1532,6 +1654,12 @@ mod tests {
         if let Some(ex) = exchange {
             p.set_exchange(ex);
         }
+        p.prepare(&a);
+        let keep = p
+            .columns_read()
+            .filter(|_| restrict)
+            .unwrap_or_else(|| vec![true; n]);
+        let kept = keep.iter().filter(|&&k| k).count();
         let mut out = Vec::new();
         for step in 0..8 {
             let key = if step < 5 {
@@ -1539,7 +1667,7 @@ mod tests {
             } else {
                 [1.0, 0.5, 0.0]
             };
-            let mut a = a.clone();
+            let mut a = only_columns(&a, &keep);
             a.values.iter_mut().for_each(|v| *v *= 1.0 + key[1]);
             p.factor(&a, key, &moving(step)).unwrap();
             let mut x: Vec<f64> = rhs(n).iter().map(|v| v + step as f64).collect();
@@ -1559,22 +1687,28 @@ mod tests {
             .unwrap();
             out.extend(g.iter().chain(&sx).chain(&o1).chain(&o2));
         }
-        (out, p.stats())
+        (out, p.stats(), kept)
     }
 
     #[test]
     fn across_thread_ranks_the_answers_are_one_process_answers() {
-        for block_size in [50, 250] {
-            let (serial, s1) = run_rank(None, block_size);
+        for (block_size, restrict) in [(50, false), (250, false), (50, true), (250, true)] {
+            let (serial, s1, _) = run_rank(None, block_size, restrict);
             for ranks in [2, 3] {
-                let results: Vec<(Vec<f64>, PartitionStats)> = std::thread::scope(|sc| {
+                let results: Vec<(Vec<f64>, PartitionStats, usize)> = std::thread::scope(|sc| {
                     let hs: Vec<_> = crate::exchange::thread_ranks(ranks)
                         .into_iter()
-                        .map(|ex| sc.spawn(move || run_rank(Some(ex), block_size)))
+                        .map(|ex| sc.spawn(move || run_rank(Some(ex), block_size, restrict)))
                         .collect();
                     hs.into_iter().map(|h| h.join().unwrap()).collect()
                 });
-                for (r, (x, st)) in results.iter().enumerate() {
+                // With `restrict`, each rank holds only the columns it reads: its blocks'
+                // interiors and, on rank 0, the base top set; these split the equations.
+                let kept: usize = results.iter().map(|r| r.2).sum();
+                let n = chain(200, 6).n;
+                let expected = if restrict { n } else { ranks * n };
+                assert_eq!(kept, expected, "{ranks} ranks, blocks of {block_size}");
+                for (r, (x, st, _)) in results.iter().enumerate() {
                     // The same operations in the same order (rank 0 sums the pieces in block
                     // order): round-off alone could differ, and 1e-12 bounds it.
                     let e = max_rel(x, &serial);
