@@ -482,6 +482,7 @@ fn train_start_moves_every_wheel_by_the_same_distance() {
         e.contains("--train-start 200") && e.contains("give a station from"),
         "{e}"
     );
+}
 
 /// Every contact point of every wheel obeys Coulomb's law with the penalty `k`: pressed
 /// (`f_n > 0`), `|f_u| ≤ μ·f_n`; a sliding point at `|f_u| = μ·f_n` with its trial force
