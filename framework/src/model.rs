@@ -281,6 +281,41 @@ pub struct NewtonSettings {
     /// First iterate of a transient step: `"previous"` (default) or `"increment"`.
     #[serde(skip_serializing_if = "Predictor::is_previous")]
     pub predictor: Predictor,
+    /// Contact statuses of a transient step's first iteration: `"committed"` (default)
+    /// or `"found"`.
+    #[serde(skip_serializing_if = "FirstActiveSet::is_committed")]
+    pub first_active_set: FirstActiveSet,
+}
+
+/// The contact statuses a transient step's first Newton iteration evaluates with
+/// (`[analysis.newton] first_active_set`).
+///
+/// The first iterate `q⁰ = q_n` keeps a wheel's contact master where it was while the
+/// wheel has moved on to rail that sits higher or lower (a deflected bridge's slope, the
+/// rail's bending between fasteners): the gap changes by up to tens of micrometres, while
+/// the penalty contact (1e10 N/m) holds the wheel on the rail with penetrations of a few
+/// micrometres. Every point of the wheel can then
+/// open at `q⁰`; a tangent without contact stiffness drives the master deep into the rail
+/// and Newton walks back through the active sets, seven iterations a step where three
+/// would do (docs/performance.md, "Seven iterations a step"). Holding the last converged
+/// step's statuses for the first iteration linearizes about the contact that holds the
+/// wheel; every later iteration finds each point's own status, and only those are ever
+/// accepted, so the converged state satisfies the contact law as before.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum FirstActiveSet {
+    /// Held at the statuses of the last converged step for the first iteration.
+    #[default]
+    Committed,
+    /// Each evaluation finds every point's status, the first one too.
+    Found,
+}
+
+impl FirstActiveSet {
+    /// Whether this is the default (kept out of serialized settings).
+    pub fn is_committed(&self) -> bool {
+        *self == FirstActiveSet::Committed
+    }
 }
 
 impl Default for NewtonSettings {
@@ -293,6 +328,7 @@ impl Default for NewtonSettings {
             kind: NewtonKind::Full,
             max_cuts: 4,
             predictor: Predictor::Previous,
+            first_active_set: FirstActiveSet::Committed,
         }
     }
 }

@@ -347,6 +347,7 @@ impl Driver {
             let ahead_dt = self.condensed.ahead.dt.take();
             let t1 = s0.t + dt;
             let r = self.attempt_condensed(dt, &s0, &mut w, ahead_dt);
+            self.release_first_iteration();
             self.state = s0;
             self.condensed.promote_always.clear();
             match r {
@@ -368,7 +369,9 @@ impl Driver {
                 }
             }
         }
-        self.attempt(dt)
+        let r = self.attempt(dt);
+        self.release_first_iteration();
+        r
     }
 
     fn condensed_applicable(&self) -> bool {
@@ -687,6 +690,10 @@ impl Driver {
         // Reference norms for the screen: the previous step's and the last full evaluation
         // after a correction (the predictor's inertia is not representative).
         let (mut f_norm_est, mut in_norm_est) = self.condensed.last_norms.unwrap_or((0.0, 0.0));
+        // The predictor and the first base with the contact's statuses of the last
+        // converged step (`FirstActiveSet`); released once the base's variable forces are
+        // read, before any other evaluation.
+        self.hold_first_iteration(false);
         for it in 0..=settings.max_iter {
             if !full_now {
                 // --- An iteration on the top system alone.
@@ -895,6 +902,7 @@ impl Driver {
             let qall2 = base_q2;
             let qt2: f64 = qb.iter().map(|x| x * x).sum();
             qbi_norm2 = (qall2 - qt2).max(0.0);
+            self.release_first_iteration();
             iters += 1;
             self.top_correction(&top, &dq, &mut w.q);
             last_dq = dq;

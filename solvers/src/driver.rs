@@ -297,6 +297,11 @@ pub struct Driver {
     pub(crate) condensed: crate::condensed::CondensedCache,
     /// The step attempt's vectors, kept between steps.
     pub(crate) work: StepWork,
+    /// Whether the held retry holds the contact's active sets ([`crate::held_active_set`]).
+    pub(crate) holding: bool,
+    /// Whether this step's first iteration holds them
+    /// ([`railfem_framework::model::FirstActiveSet`]).
+    pub(crate) first_held: bool,
     /// The ranks the partitioned solver shares its blocks with ([`Driver::set_exchange`]).
     exchange: Option<std::sync::Arc<dyn crate::exchange::Exchange>>,
 }
@@ -399,6 +404,8 @@ impl Driver {
             lumped_step: true,
             condensed: Default::default(),
             work: StepWork::default(),
+            holding: false,
+            first_held: false,
             exchange: None,
         })
     }
@@ -972,9 +979,16 @@ impl Driver {
         // rotation vector log(R·R_nᵀ) (see the module documentation); without such triples
         // it is formed inline, as it always was.
         let finite = self.asm.dofmap.has_finite_rotations();
+        // The first iteration with the contact's statuses of the last converged step
+        // (`FirstActiveSet`); released before the second evaluation (and by
+        // `attempt_any` whatever the outcome).
+        self.hold_first_iteration(linear);
         for it in 0..=settings.max_iter {
             if finite {
                 self.asm.dofmap.increment(&s0.q, q, du);
+            }
+            if it == 1 {
+                self.release_first_iteration();
             }
             if linear && it > 0 {
                 // The solved state: its velocity and acceleration (no residual follows),

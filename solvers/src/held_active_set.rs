@@ -24,6 +24,7 @@
 
 use crate::driver::{Attempt, Driver, State};
 use railfem_framework::element::ActiveSet;
+use railfem_framework::model::FirstActiveSet;
 
 /// Rounds of holding and checking before the retry gives up.
 pub const HELD_ROUNDS: usize = 8;
@@ -38,11 +39,38 @@ impl Driver {
     /// Holds (or, with [`ActiveSet::Found`], releases) the active set of every variable
     /// element; whether any has one.
     fn hold_active_sets(&mut self, set: ActiveSet) -> bool {
+        self.holding = set != ActiveSet::Found;
+        self.set_active_sets(set)
+    }
+
+    fn set_active_sets(&mut self, set: ActiveSet) -> bool {
         let mut any = false;
         for &ei in self.asm.variable_elements() {
             any |= self.model.elements[ei].element.hold_active_set(set);
         }
         any
+    }
+
+    /// Holds every contact element's statuses at the last converged step's for a step's
+    /// first iteration ([`FirstActiveSet::Committed`]; released by
+    /// [`Driver::release_first_iteration`]). Not while the held retry holds them, nor for
+    /// a linear model. Whether any element holds.
+    pub(crate) fn hold_first_iteration(&mut self, linear: bool) -> bool {
+        if linear
+            || self.holding
+            || self.model.analysis.newton.first_active_set != FirstActiveSet::Committed
+        {
+            return false;
+        }
+        self.first_held = self.set_active_sets(ActiveSet::Committed);
+        self.first_held
+    }
+
+    /// Releases what [`Driver::hold_first_iteration`] held (nothing if it held nothing).
+    pub(crate) fn release_first_iteration(&mut self) {
+        if std::mem::take(&mut self.first_held) {
+            self.set_active_sets(ActiveSet::Found);
+        }
     }
 
     /// Points, over all elements, in another status than the held one at the last
