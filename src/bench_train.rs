@@ -199,6 +199,22 @@ pub fn measure(
             "          condensed Newton (whole run): {} steps, {} top-system iterations, {} full evaluations ({} predictors from the last verification's pass), {} rejected verifications, {} steps handed back",
             c.steps, c.top_iterations, c.full_evaluations, c.predictors_reused, c.rejected, c.fallbacks
         );
+        let its = iters as f64;
+        println!(
+            "          top system (timed steps): {} equations, {} factored ({} of {} chain groups condensed, {} condensations), {} stored entries, factor {} entries; per iteration {:.2} ms forming, {:.2} ms factoring; {:.2} constant parts formed, {:.2} variable layouts refitted and {:.2} symbolic analyses per step",
+            p1.top_equations,
+            p1.top_reduced_equations,
+            p1.top_groups_condensed,
+            p1.top_groups,
+            p1.top_group_condensations - p0.top_group_condensations,
+            p1.top_nnz,
+            p1.top_factor_nnz,
+            1e3 * (p1.time_top_form - p0.time_top_form) / its,
+            1e3 * (p1.time_top_factor - p0.time_top_factor) / its,
+            (p1.top_constant_forms - p0.top_constant_forms) as f64 / steps.max(1) as f64,
+            (p1.top_refits - p0.top_refits) as f64 / steps.max(1) as f64,
+            (p1.top_symbolic_analyses - p0.top_symbolic_analyses) as f64 / steps.max(1) as f64,
+        );
     }
     let per = |x: f64| x / iters as f64;
     let search = a1.search - a0.search;

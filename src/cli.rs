@@ -1228,6 +1228,7 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
             .set_partition_options(crate::solvers::partition::PartitionOptions {
                 block_size: b,
                 threads: 0,
+                ..Default::default()
             });
     }
     if let Some(ex) = ranks {

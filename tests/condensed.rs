@@ -33,6 +33,7 @@ fn history(
     d.set_partition_options(PartitionOptions {
         block_size: block,
         threads: 2,
+        ..Default::default()
     });
     d.static_solve(0.0, 4).expect("static preload");
     d.initialize().expect("initial accelerations");
@@ -142,6 +143,7 @@ fn products_formed_ahead_change_no_bit_of_the_history() {
         d.set_partition_options(PartitionOptions {
             block_size: 600,
             threads: 2,
+            ..Default::default()
         });
         d.static_solve(0.0, 4).expect("static preload");
         d.initialize().expect("initial accelerations");

@@ -51,6 +51,7 @@ fn history(exchange: Option<Arc<dyn Exchange>>, condensed: bool, steps: usize) -
     d.set_partition_options(PartitionOptions {
         block_size: 120,
         threads: 1,
+        ..Default::default()
     });
     if let Some(ex) = exchange {
         d.set_exchange(ex).expect("partitioned model");

@@ -780,6 +780,7 @@ fn partitioned_solver_reproduces_the_direct_solution() {
         ws.d.set_partition_options(PartitionOptions {
             block_size: 150,
             threads: 2,
+            ..Default::default()
         });
         ws.d.static_solve(0.0, 10).unwrap();
         ws.d.initialize().unwrap();

@@ -56,6 +56,7 @@ fn history(text: &str, name: &str, solver: SolverChoice) -> (Vec<Vec<f64>>, Driv
     d.set_partition_options(PartitionOptions {
         block_size: 150,
         threads: 2,
+        ..Default::default()
     });
     d.preflight(false)
         .unwrap_or_else(|e| panic!("{name} ({solver:?}): {e}"));

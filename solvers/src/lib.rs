@@ -27,5 +27,6 @@ pub mod modal;
 pub mod partition;
 pub mod preflight;
 pub mod static_lu;
+pub mod top_chain;
 
 pub use driver::{Driver, ReferenceSystem, RunSummary, State, StepReport};
