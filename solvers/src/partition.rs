@@ -65,6 +65,8 @@ use std::ops::Range;
 use std::sync::Arc;
 use std::time::Instant;
 
+mod rows;
+
 const NONE: u32 = u32::MAX;
 
 /// Settings of the partition.
