@@ -604,8 +604,8 @@ impl Driver {
             x.n == k.n && x.col_ptr == k.col_ptr && x.row_idx == k.row_idx
         };
         debug_assert!(same(m) && same(c));
-        // Column `j` between top equations: (top row, K, M, C) per entry, the top row
-        // found by `top_row`.
+        // Across ranks, column `j` between top equations as sent: (top row, K, M, C) per
+        // entry, the top row found by `top_row`.
         let column = |j: usize, top_row: &dyn Fn(usize) -> Option<usize>| {
             let mut col = Vec::new();
             for pos in k.col_ptr[j]..k.col_ptr[j + 1] {
@@ -620,29 +620,36 @@ impl Driver {
             }
             col
         };
-        let columns: Vec<Vec<f64>> = if self.asm.constant_columns_kept() {
+        if self.asm.constant_columns_kept() {
             // A promoted equation's column is kept by its block's owner alone, which sends
             // it (the top set is sorted: a top row is its position there).
             let p = self.partition.as_mut().expect("partitioned");
             let top = p.top_equations().to_vec();
             let top_row = |i: usize| top.binary_search(&i).ok();
-            p.share_top_columns(&mut |j| column(j, &top_row))
-                .expect("across ranks")
-        } else {
-            let top_row = |i: usize| p.top_position(i);
-            p.top_equations()
-                .iter()
-                .map(|&j| column(j, &top_row))
-                .collect()
-        };
-        for col in columns {
-            for e in col.chunks(4) {
-                tp.rows.push(e[0] as u32);
-                tp.k.push(e[1]);
-                tp.m.push(e[2]);
-                tp.c.push(e[3]);
+            let columns = p
+                .share_top_columns(&mut |j| column(j, &top_row))
+                .expect("across ranks");
+            for col in columns {
+                for e in col.chunks(4) {
+                    tp.rows.push(e[0] as u32);
+                    tp.k.push(e[1]);
+                    tp.m.push(e[2]);
+                    tp.c.push(e[3]);
+                }
+                tp.col_ptr.push(tp.rows.len());
             }
-            tp.col_ptr.push(tp.rows.len());
+        } else {
+            for &j in p.top_equations() {
+                for pos in k.col_ptr[j]..k.col_ptr[j + 1] {
+                    if let Some(ti) = p.top_position(k.row_idx[pos]) {
+                        tp.rows.push(ti as u32);
+                        tp.k.push(k.values[pos]);
+                        tp.m.push(m.values.get(pos).copied().unwrap_or(0.0));
+                        tp.c.push(c.values.get(pos).copied().unwrap_or(0.0));
+                    }
+                }
+                tp.col_ptr.push(tp.rows.len());
+            }
         }
         self.condensed.products = Some(tp);
     }
