@@ -56,9 +56,9 @@
 //! with the whole solution. The operations and their order are those of one process: the
 //! answers are the same to the last bit (tests/distributed.rs checks 1e-12).
 //!
-//! The residual's rows may be shared too (`partition/rows.rs`): each rank forms only the rows it owns
-//! (those this solver reads on it) and the norms of the convergence test are summed over
-//! the ranks in block order.
+//! The residual's rows may be shared too (`partition/rows.rs`): each rank forms only the
+//! rows it owns (those this solver reads on it) and the norms of the convergence test are
+//! summed over the ranks in block order.
 
 use crate::dense::DenseLu;
 use crate::exchange::{decode_status, encode_status, Comm, CommStats, Exchange};
