@@ -5,10 +5,12 @@ and projection"), fitted to the measured bench rows below and projected to 8-64 
 
 Per Newton iteration, milliseconds:
 
-    T(P, N) = R(N) + Prom + Bs(N)/P + Top(n_T(N)) + Comm(P, N)
+    T(P, N) = R(N) + Pr(N)/P + Prom + Bs(N)/P + Top(n_T(N)) + Comm(P, N)
 
-R     replicated work, the same on every rank (search, elements, assembly, loads, other):
-      r0 + r1*N (r0: the 96 wheels' contact, r1: the products with K, M, C over N);
+R     replicated work, the same on every rank (search, elements, loads, other): r0 + r1*N
+      (r0: the 96 wheels' contact, r1: the full-length vector passes);
+Pr    the products with K, M, C ("assembly" phase): p0 + p1*N, divided among the ranks since
+      each forms the residual of its own rows (Driver::keep_own_rows);
 Prom  the promotions of the blocks under the train ("blocks" phase): a function of the
       train, not of N (measured 18.0 and 17.6 ms); done by the owners of the few blocks under
       the train, so not divided among the ranks;
@@ -22,11 +24,10 @@ Comm  N_COLL collectives of latency ALPHA*ceil(log2 P) each, plus the bytes the 
       once per step, the block pieces and top vectors), fitted at P = 2.
 
 Memory per rank: M(P, N) = Mr(N) + Mf(N)/P, both affine in N, with Mr (replicated: model,
-constant matrices K, M, C, state, top system) = 2*M2 - M1 and Mf (block factors,
-promotions, the columns of the effective matrix) = 2*(M1 - M2) from the 1-rank peak M1 and
-the larger 2-rank peak M2, measured after the effective matrix became rank-local and the
-set-up stopped holding two sets of factors (docs/scale-out.md, "Memory per rank"), at the
-sizes MEM_N (the mesh of that day).
+elements, state, top system) = 2*M2 - M1 and Mf (block factors, promotions, the columns of
+the effective matrix and of K, M, C) = 2*(M1 - M2) from the 1-rank peak M1 and the larger
+2-rank peak M2, measured with the residual formed per rank over its own rows
+(docs/scale-out.md, "Memory per rank"), at the sizes MEM_N (the mesh of that day).
 
 Every affine law goes through the two measured sizes exactly (two points, two parameters).
 """
@@ -36,6 +37,7 @@ import math
 N = [101346, 1049766]
 BLOCKS = [33, 347]
 R = [17.7, 92.8]     # search + elements + assembly + loads + other
+PR = [5.9, 50.9]     # assembly (the products with K, M, C), part of R
 PROM = [18.0, 17.6]  # blocks
 BS = [6.0, 34.2]     # solve
 TOP = [14.0, 34.0]   # top
@@ -44,12 +46,12 @@ NT = [2520, 8160]    # top equations
 # and of the larger of the two ranks.
 RECV2 = [604167, 3036013]
 MEM_N = [112542, 1043052]
-MEM1 = [525, 3798]
-MEM2 = [437, 3164]
+MEM1 = [529, 3812]
+MEM2 = [385, 2769]
 # Assumed network: latency of one step of a collective, bandwidth (a 100 Gb/s fabric).
 ALPHA = 2e-3  # ms
 BETA = 10e9   # B/s
-N_COLL = 4    # collectives per iteration (measured)
+N_COLL = 5    # collectives per iteration (measured: 4, and the norms of the own-rows residual)
 
 
 def affine(x, y):
@@ -59,7 +61,8 @@ def affine(x, y):
 
 
 def main():
-    r0, r1 = affine(N, R)
+    r0, r1 = affine(N, [r - pr for r, pr in zip(R, PR)])
+    p0, p1 = affine(N, PR)
     b0, b1 = affine(N, BS)
     v, s = affine(BLOCKS, NT)
     t0, t1 = affine(NT, TOP)
@@ -72,32 +75,33 @@ def main():
     c2 = (N[0] * y[1] - N[1] * y[0]) / det
     mr0, mr1 = affine(MEM_N, [2 * m2 - m1 for m1, m2 in zip(MEM1, MEM2)])
     mf0, mf1 = affine(MEM_N, [2 * (m1 - m2) for m1, m2 in zip(MEM1, MEM2)])
-    print(f"R = {r0:.1f} ms + {r1 * 1e6:.1f} ms per 1e6 DOF; Bs = {b0:.1f} + {b1 * 1e6:.1f} per 1e6 DOF; "
+    print(f"R = {r0:.1f} ms + {r1 * 1e6:.1f} ms per 1e6 DOF; Pr = {p0:.1f} + {p1 * 1e6:.1f} per 1e6 DOF; Bs = {b0:.1f} + {b1 * 1e6:.1f} per 1e6 DOF; "
           f"Prom = {prom:.1f} ms")
     print(f"n_T = {v:.0f} + {s:.1f} per block; Top = {t0:.1f} ms + {t1 * 1e3:.2f} ms per 1000 top equations")
     print(f"busiest rank receives (P-1)/P * ({c1:.2f} B per DOF + {c2:.0f} B per top equation)")
     print(f"memory: replicated {mr0:.0f} MiB + {mr1 * 1e6:.0f} MiB per 1e6 DOF; "
           f"factors {mf0:.0f} MiB + {mf1 * 1e6:.0f} MiB per 1e6 DOF")
     print()
-    print("| DOF | ranks | top equations | ms/iteration | replicated | promotions | block solves / P | "
+    print("| DOF | ranks | top equations | ms/iteration | replicated | products / P | promotions | block solves / P | "
           "top (rank 0) | communication | received by the busiest rank | GiB per rank |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for n in [1e6, 1e7]:
         nt = v + s * n / per_block
         for p in [1, 2, 8, 16, 32, 64]:
             recv = (p - 1) / p * (c1 * n + c2 * nt)
             comm = N_COLL * ALPHA * math.ceil(math.log2(p)) + recv / BETA * 1e3 if p > 1 else 0.0
-            parts = [r0 + r1 * n, prom, (b0 + b1 * n) / p, t0 + t1 * nt, comm]
+            parts = [r0 + r1 * n, (p0 + p1 * n) / p, prom, (b0 + b1 * n) / p, t0 + t1 * nt, comm]
             mem = (mr0 + mr1 * n + (mf0 + mf1 * n) / p) / 1024
-            print(f"| {n:.0e} | {p} | {nt:.0f} | {sum(parts):.0f} | {parts[0]:.0f} | {parts[1]:.0f} | "
-                  f"{parts[2]:.1f} | {parts[3]:.0f} | {parts[4]:.1f} | {recv / 1e6:.1f} MB | {mem:.1f} |")
+            print(f"| {n:.0e} | {p} | {nt:.0f} | {sum(parts):.0f} | {parts[0]:.0f} | {parts[1]:.1f} | "
+                  f"{parts[2]:.0f} | {parts[3]:.1f} | {parts[4]:.0f} | {parts[5]:.1f} | {recv / 1e6:.1f} MB | "
+                  f"{mem:.1f} |")
     print()
     for n in [1e5, 1e6, 1e7]:
         nt = v + s * n / per_block
         top = t0 + t1 * nt
         bs = b0 + b1 * n
         print(f"N = {n:.0e}: top {top:.0f} ms, block solves {bs:.0f} ms: the top exceeds the divided "
-              f"block solves from P = {bs / top:.1f}; replicated {r0 + r1 * n:.0f} ms")
+              f"block solves from P = {bs / top:.1f}; replicated {r0 + r1 * n:.0f} ms, products {p0 + p1 * n:.0f} ms")
 
 
 if __name__ == "__main__":

@@ -117,6 +117,8 @@ pub fn measure(
     let d = &mut m.driver;
     if let Some(ex) = ranks {
         d.set_exchange(ex)?;
+        // Each rank forms the residual of its own rows, with its columns of K, M, C.
+        d.keep_own_rows();
     }
     let t1 = Instant::now();
     d.static_solve(0.0, 10)?;

@@ -1240,6 +1240,8 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
             ));
         }
         m.driver.set_exchange(ex)?;
+        // Each rank forms the residual of its own rows, with its columns of K, M, C.
+        m.driver.keep_own_rows();
     }
     // Under a launcher rank 0 alone prints and writes the outputs; the others compute.
     if !crate::ranks::writes_outputs() {

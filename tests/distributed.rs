@@ -40,11 +40,21 @@ fn case(solver: SolverChoice) -> TrainBridgeCase {
 type History = Vec<[Vec<f64>; 3]>;
 
 /// What one rank ran: the state after each step, the Newton iterations, the solver's
-/// counters and the stored entries of the effective matrix it kept.
-type Run = (History, usize, PartitionStats, usize);
+/// counters, the stored entries of the effective matrix it kept, and its rows: those it
+/// formed the residual of and the entries of `K` it kept.
+type Run = (History, usize, PartitionStats, usize, Rows);
 
-/// `steps` steps on one rank of `exchange` (`None`: one process).
-fn history(exchange: Option<Arc<dyn Exchange>>, condensed: bool, steps: usize) -> Run {
+/// Rows whose residual a rank formed, and the stored entries of the constant `K` it kept.
+type Rows = (usize, usize);
+
+/// `steps` steps on one rank of `exchange` (`None`: one process); with `own_rows` each rank
+/// forms the residual of its own rows only (`Driver::keep_own_rows`).
+fn history(
+    exchange: Option<Arc<dyn Exchange>>,
+    condensed: bool,
+    steps: usize,
+    own_rows: bool,
+) -> Run {
     let mut m = build(&case(SolverChoice::Partitioned)).expect("model");
     let d = &mut m.driver;
     d.condense_residual = condensed;
@@ -55,6 +65,16 @@ fn history(exchange: Option<Arc<dyn Exchange>>, condensed: bool, steps: usize) -
     });
     if let Some(ex) = exchange {
         d.set_exchange(ex).expect("partitioned model");
+        if own_rows {
+            assert!(
+                d.keep_own_rows(),
+                "the train-bridge model keeps its own rows"
+            );
+            assert!(
+                d.energy.is_none(),
+                "no energy balance over part of the rows"
+            );
+        }
     }
     d.static_solve(0.0, 4).expect("static preload");
     d.initialize().expect("initial accelerations");
@@ -70,11 +90,13 @@ fn history(exchange: Option<Arc<dyn Exchange>>, condensed: bool, steps: usize) -
         iterations,
         d.partition_stats().expect("partitioned"),
         entries,
+        (d.rows_owned(), d.constant_entries()),
     )
 }
 
-fn compare(condensed: bool, steps: usize) {
-    let (serial, it_serial, s1, entries_serial) = history(None, condensed, steps);
+fn compare(condensed: bool, steps: usize, own_rows: bool) {
+    let (serial, it_serial, s1, entries_serial, (n, k_serial)) =
+        history(None, condensed, steps, false);
     // The wheels enter new rail nodes every step (0.4 m per step over 0.4 m elements).
     assert!(s1.promotions >= steps, "{s1:?}");
     assert!(s1.blocks >= 6, "{s1:?}");
@@ -82,15 +104,15 @@ fn compare(condensed: bool, steps: usize) {
         let runs: Vec<Run> = std::thread::scope(|s| {
             let hs: Vec<_> = thread_ranks(ranks)
                 .into_iter()
-                .map(|ex| s.spawn(move || history(Some(ex), condensed, steps)))
+                .map(|ex| s.spawn(move || history(Some(ex), condensed, steps, own_rows)))
                 .collect();
             hs.into_iter().map(|h| h.join().expect("rank")).collect()
         });
-        for (r, (h, it, st, _)) in runs.iter().enumerate() {
+        for (r, (h, it, st, _, rows)) in runs.iter().enumerate() {
             let e = common::worst_relative(h, &serial);
             println!(
-                "condensed {condensed}, {ranks} ranks, rank {r}: relative differences q {:.1e}, v {:.1e}, a {:.1e}; {} of {} blocks; {} bytes sent, {} received",
-                e[0], e[1], e[2], st.owned_blocks, st.blocks, st.comm.bytes_sent, st.comm.bytes_received
+                "condensed {condensed}, own rows {own_rows}, {ranks} ranks, rank {r}: relative differences q {:.1e}, v {:.1e}, a {:.1e}; {} of {} blocks; {} bytes sent, {} received; rows {} of {n}, K entries {} of {k_serial}",
+                e[0], e[1], e[2], st.owned_blocks, st.blocks, st.comm.bytes_sent, st.comm.bytes_received, rows.0, rows.1
             );
             assert_eq!(
                 *it, it_serial,
@@ -121,17 +143,58 @@ fn compare(condensed: bool, steps: usize) {
         println!("effective matrix entries, one process {entries_serial}, ranks {entries:?}");
         assert_eq!(entries.iter().sum::<usize>(), entries_serial);
         assert!(entries.iter().all(|&e| e < entries_serial));
+        // With its own rows, each rank forms the residual of its blocks' interiors (rank 0
+        // also of the base top set): the rows split the equations. Each keeps the columns
+        // of K, M, C of those rows and of the base top set (the top iterations' constant
+        // part), so the ranks' entries exceed one process's by the base top set's columns
+        // on every rank but 0, and each rank keeps fewer than one process.
+        let rows: Vec<usize> = runs.iter().map(|r| r.4 .0).collect();
+        let kept: Vec<usize> = runs.iter().map(|r| r.4 .1).collect();
+        println!("rows {rows:?} of {n}; K entries {kept:?} of {k_serial}");
+        if own_rows {
+            assert_eq!(rows.iter().sum::<usize>(), n);
+            assert!(rows.iter().all(|&r| r < n));
+            assert!(kept.iter().sum::<usize>() >= k_serial);
+            assert!(kept.iter().all(|&e| e < k_serial));
+            // Rank 0 keeps the columns its share of the solver reads (its blocks' and the
+            // base top set's); every other rank those of its blocks and the base top set's,
+            // the same number of entries more on each.
+            assert_eq!(kept[0], entries[0]);
+            let base_top = kept[1] - entries[1];
+            assert!(base_top > 0);
+            assert!(
+                (1..ranks).all(|r| kept[r] - entries[r] == base_top),
+                "{kept:?}"
+            );
+        } else {
+            assert!(rows.iter().all(|&r| r == n));
+            assert!(kept.iter().all(|&e| e == k_serial));
+        }
     }
 }
 
 #[test]
 fn condensed_newton_across_ranks_equals_one_process() {
-    compare(true, 20);
+    compare(true, 20, false);
 }
 
 #[test]
 fn full_residual_newton_across_ranks_equals_one_process() {
-    compare(false, 6);
+    compare(false, 6, false);
+}
+
+/// Each rank forms the residual of its own rows, with its columns of `K`, `M`, `C`; the
+/// norms of the convergence test are summed over the ranks in block order. The answers
+/// equal one process's to 1e-12 with the same Newton iterations (the norms differ by
+/// round-off in their order of summation only, far below the test's tolerance margin).
+#[test]
+fn condensed_newton_on_own_rows_equals_one_process() {
+    compare(true, 20, true);
+}
+
+#[test]
+fn full_residual_newton_on_own_rows_equals_one_process() {
+    compare(false, 6, true);
 }
 
 #[test]

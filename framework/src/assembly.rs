@@ -29,6 +29,8 @@ use crate::model::Model;
 use crate::sparse::CscMatrix;
 use nalgebra::{DMatrix, Vector3};
 
+mod own_columns;
+
 /// Per-element scatter information.
 #[derive(Debug, Clone, Default)]
 struct ElementMap {
@@ -154,6 +156,8 @@ pub struct Assembler {
     /// so adding it changes nothing but, at most, the sign of a zero), at the cost of one
     /// pass over `n` values instead of over the pattern of K.
     m_diag: Option<Vec<f64>>,
+    /// `K`, `M`, `C` hold only some columns (`own_columns`).
+    columns_kept: bool,
 }
 
 fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Vector3<f64>) -> f64 {
@@ -218,6 +222,7 @@ impl Assembler {
             solver: crate::model::SolverChoice::Direct,
             c_const_zero: false,
             m_diag: None,
+            columns_kept: false,
         };
         let variable_dofs = model
             .elements
@@ -554,6 +559,7 @@ impl Assembler {
         self.k_const = k_const;
         self.m_const = m_const;
         self.c_const = c_const;
+        self.columns_kept = false;
         // Constant loads: gravity on non-carried masses, ground-motion influence.
         self.carried_mass.clear();
         self.gravity_variable.clear();
@@ -1197,7 +1203,7 @@ impl Assembler {
     pub fn damping_times_add(&self, x: &[f64], out: &mut [f64]) {
         if self.c_const_zero {
             // Nothing to add from the constant part.
-        } else if self.const_symmetric && self.c_const.n >= 20_000 {
+        } else if self.const_symmetric && (self.c_const.n >= 20_000 || self.columns_kept) {
             let mut cx = vec![0.0; self.c_const.n];
             crate::sparse::symmetric_products(&[&self.c_const], &[x], &mut [&mut cx], self.threads);
             for (o, c) in out.iter_mut().zip(&cx) {

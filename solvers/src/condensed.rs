@@ -573,9 +573,13 @@ impl Driver {
         let (sr, sf, si) = sums
             .iter()
             .fold((0.0, 0.0, 0.0), |a, s| (a.0 + s.0, a.1 + s.1, a.2 + s.2));
+        // Each rank's rows alone, when the ranks keep their own rows.
+        let (rn, fn_, inn) = match self.norms_over_ranks(&[&w.r, &w.f_int, &w.inertia]) {
+            Some(v) => (v[0], v[1], v[2]),
+            None => (sr.sqrt(), sf.sqrt(), si.sqrt()),
+        };
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         self.condensed.stats.full_evaluations += 1;
-        let (rn, fn_, inn) = (sr.sqrt(), sf.sqrt(), si.sqrt());
         Ok((rn, ext_norm.max(fn_).max(inn), fn_, inn))
     }
 
@@ -591,7 +595,6 @@ impl Driver {
             return;
         }
         let (k, m, c) = (&self.asm.k_const, &self.asm.m_const, &self.asm.c_const);
-        let top = p.top_equations();
         let mut tp = TopProducts {
             generation: gen,
             col_ptr: vec![0],
@@ -604,16 +607,52 @@ impl Driver {
             x.n == k.n && x.col_ptr == k.col_ptr && x.row_idx == k.row_idx
         };
         debug_assert!(same(m) && same(c));
-        for &j in top {
+        // Across ranks, column `j` between top equations as sent: (top row, K, M, C) per
+        // entry, the top row found by `top_row`.
+        let column = |j: usize, top_row: &dyn Fn(usize) -> Option<usize>| {
+            let mut col = Vec::new();
             for pos in k.col_ptr[j]..k.col_ptr[j + 1] {
-                if let Some(ti) = p.top_position(k.row_idx[pos]) {
-                    tp.rows.push(ti as u32);
-                    tp.k.push(k.values[pos]);
-                    tp.m.push(m.values.get(pos).copied().unwrap_or(0.0));
-                    tp.c.push(c.values.get(pos).copied().unwrap_or(0.0));
+                if let Some(ti) = top_row(k.row_idx[pos]) {
+                    col.extend([
+                        ti as f64,
+                        k.values[pos],
+                        m.values.get(pos).copied().unwrap_or(0.0),
+                        c.values.get(pos).copied().unwrap_or(0.0),
+                    ]);
                 }
             }
-            tp.col_ptr.push(tp.rows.len());
+            col
+        };
+        if self.asm.constant_columns_kept() {
+            // A promoted equation's column is kept by its block's owner alone, which sends
+            // it (the top set is sorted: a top row is its position there).
+            let p = self.partition.as_mut().expect("partitioned");
+            let top = p.top_equations().to_vec();
+            let top_row = |i: usize| top.binary_search(&i).ok();
+            let columns = p
+                .share_top_columns(&mut |j| column(j, &top_row))
+                .expect("across ranks");
+            for col in columns {
+                for e in col.chunks(4) {
+                    tp.rows.push(e[0] as u32);
+                    tp.k.push(e[1]);
+                    tp.m.push(e[2]);
+                    tp.c.push(e[3]);
+                }
+                tp.col_ptr.push(tp.rows.len());
+            }
+        } else {
+            for &j in p.top_equations() {
+                for pos in k.col_ptr[j]..k.col_ptr[j + 1] {
+                    if let Some(ti) = p.top_position(k.row_idx[pos]) {
+                        tp.rows.push(ti as u32);
+                        tp.k.push(k.values[pos]);
+                        tp.m.push(m.values.get(pos).copied().unwrap_or(0.0));
+                        tp.c.push(c.values.get(pos).copied().unwrap_or(0.0));
+                    }
+                }
+                tp.col_ptr.push(tp.rows.len());
+            }
         }
         self.condensed.products = Some(tp);
     }

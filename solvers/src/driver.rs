@@ -304,6 +304,13 @@ pub struct Driver {
     pub(crate) first_held: bool,
     /// The ranks the partitioned solver shares its blocks with ([`Driver::set_exchange`]).
     exchange: Option<std::sync::Arc<dyn crate::exchange::Exchange>>,
+    /// Each rank forms the residual of its own rows only ([`Driver::keep_own_rows`]).
+    rows_per_rank: bool,
+    /// With `rows_per_rank`, until [`Driver::initialize`] takes it: the initial mass
+    /// solve's partitioned solver, split while the whole pattern was at hand.
+    mass_split: Option<Partitioned>,
+    /// The columns to keep once the initial mass solve is done, when it reads more.
+    narrow_after_mass: Option<Vec<bool>>,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -407,6 +414,9 @@ impl Driver {
             holding: false,
             first_held: false,
             exchange: None,
+            rows_per_rank: false,
+            mass_split: None,
+            narrow_after_mass: None,
         })
     }
 
@@ -441,6 +451,12 @@ impl Driver {
     /// Replaces the partitioned solver's settings (block size, threads); no effect in the
     /// direct mode. Takes effect at the next factorization, which rebuilds every block.
     pub fn set_partition_options(&mut self, options: PartitionOptions) {
+        // A new split needs the whole pattern, which a rank keeping its own rows no longer
+        // holds.
+        assert!(
+            !self.rows_per_rank,
+            "set the partition options before `keep_own_rows`"
+        );
         if self.partition.is_some() {
             self.partition = Some(self.new_partitioned(self.asm.symmetric(), options));
             self.factored = None;
@@ -480,6 +496,79 @@ impl Driver {
         self.exchange = Some(exchange);
         self.factored = None;
         Ok(())
+    }
+
+    /// Across ranks ([`Driver::set_exchange`], called first): each rank keeps the constant
+    /// `K`, `M`, `C` only on the columns of the rows it owns and of the base top set, and
+    /// forms the residual of those rows alone; the norms of the convergence test are summed
+    /// over the ranks in block order ([`crate::partition`], *rows*). The answers are one
+    /// process's to round-off (the norms are summed in another order), and each rank holds
+    /// about `1/P` of the constant matrices. The energy balance needs every row and is not
+    /// formed (`energy` becomes `None`). Returns whether the rows are shared: not in one
+    /// process, without the partitioned solver, or where the assembler cannot keep columns
+    /// exactly ([`Assembler::keep_constant_columns`]). Set the partition options before.
+    pub fn keep_own_rows(&mut self) -> bool {
+        if self.exchange.is_none() || self.rows_per_rank {
+            return self.rows_per_rank;
+        }
+        let Some(p) = self.partition.as_mut() else {
+            return false;
+        };
+        p.prepare(&self.asm.k_const);
+        let Some(keep) = p.rows_kept() else {
+            return false;
+        };
+        // The initial mass solve is split as in one process (its own block size), from the
+        // whole pattern before it is dropped; until it is done the rank also keeps the rows
+        // that split reads.
+        let mut mass = None;
+        let mut until_mass = keep.clone();
+        if !self.initialized && self.asm.off_pattern() {
+            let mut p = self.new_partitioned(true, PartitionOptions::default());
+            p.prepare(&self.asm.m_const);
+            if let Some(more) = p.rows_kept() {
+                for (k, m) in until_mass.iter_mut().zip(more) {
+                    *k |= m;
+                }
+            }
+            mass = Some(p);
+        }
+        if !self.asm.keep_constant_columns(&until_mass) {
+            return false;
+        }
+        if until_mass != keep {
+            self.narrow_after_mass = Some(keep);
+        }
+        self.mass_split = mass;
+        self.energy = None;
+        self.rows_per_rank = true;
+        true
+    }
+
+    /// Rows whose residual this rank forms and counts in the norms: every equation, or
+    /// with [`Driver::keep_own_rows`] its owned ones (the ranks' add up to all of them).
+    pub fn rows_owned(&self) -> usize {
+        match (&self.partition, self.rows_per_rank) {
+            (Some(p), true) => p.rows_owned(),
+            _ => self.neq(),
+        }
+    }
+
+    /// Stored entries of the constant stiffness this rank keeps (`M` and `C` share its
+    /// pattern): all of them, or with [`Driver::keep_own_rows`] those of its columns.
+    pub fn constant_entries(&self) -> usize {
+        self.asm.constant_entries()
+    }
+
+    /// With [`Driver::keep_own_rows`]: `|x|` over every equation for each of `xs`, each rank
+    /// contributing its owned rows (one collective; the same on every rank). `None`
+    /// otherwise: the caller forms the norms itself, over every row.
+    pub(crate) fn norms_over_ranks(&mut self, xs: &[&[f64]]) -> Option<Vec<f64>> {
+        if !self.rows_per_rank {
+            return None;
+        }
+        let sums = self.partition.as_mut()?.sums_of_squares(xs)?;
+        Some(sums.into_iter().map(f64::sqrt).collect())
     }
 
     /// Whether a stop was asked for (SIGINT/SIGTERM) on this process or, when the blocks are
@@ -721,8 +810,11 @@ impl Driver {
                     r[i] = lam * f_full[i] - f_int[i];
                 }
                 self.summary.timings.assembly += ta.elapsed().as_secs_f64();
-                let rn = norm(&r);
-                let reference = (lam * norm(&f_full)).max(norm(&f_int));
+                let (rn, f_int_norm) = match self.norms_over_ranks(&[&r, &f_int]) {
+                    Some(v) => (v[0], v[1]),
+                    None => (norm(&r), norm(&f_int)),
+                };
+                let reference = (lam * norm(&f_full)).max(f_int_norm);
                 if it > 0 && rn <= settings.tol * reference + settings.abs_tol {
                     converged = true;
                     break;
@@ -808,10 +900,15 @@ impl Driver {
         let mut variable_mass = Vec::new();
         self.asm
             .variable_triplets(0.0, 1.0, 0.0, &mut variable_mass);
-        let mut mass_solver = self
-            .asm
-            .off_pattern()
-            .then(|| self.new_partitioned(true, PartitionOptions::default()));
+        // A rank keeping its own rows no longer holds the whole pattern to split: its mass
+        // solver was split before ([`Driver::keep_own_rows`]).
+        let mut mass_solver = match self.mass_split.take() {
+            Some(p) => Some(p),
+            None => self
+                .asm
+                .off_pattern()
+                .then(|| self.new_partitioned(true, PartitionOptions::default())),
+        };
         let keep = match (&self.exchange, mass_solver.as_mut()) {
             (Some(_), Some(p)) => {
                 p.prepare(&self.asm.m_const);
@@ -852,6 +949,9 @@ impl Driver {
         self.state.a = rhs;
         self.state.f_int = f_int;
         self.state.f_ext = f;
+        if let Some(keep) = self.narrow_after_mass.take() {
+            self.asm.keep_constant_columns(&keep);
+        }
         self.asm.commit(&mut self.model);
         self.initialized = true;
         Ok(())
@@ -1061,14 +1161,15 @@ impl Driver {
                     - ((1.0 - af) * f_int[i] + af * s0.f_int[i]);
             }
             self.summary.timings.assembly += ta.elapsed().as_secs_f64();
-            let rn = norm(r);
             // A linear model takes its one correction whatever the force check says: the
             // check's reference is formed only for a nonlinear model or the trace.
             let check = !linear || self.trace;
-            let reference = if check {
-                norm(f_ref_ext).max(norm(f_int)).max(norm(inertia))
-            } else {
-                0.0
+            let over_ranks = self.norms_over_ranks(&[r, f_int, inertia]);
+            let rn = over_ranks.as_ref().map_or_else(|| norm(r), |v| v[0]);
+            let reference = match &over_ranks {
+                _ if !check => 0.0,
+                Some(v) => norm(f_ref_ext).max(v[1]).max(v[2]),
+                None => norm(f_ref_ext).max(norm(f_int)).max(norm(inertia)),
             };
             let force_ok = rn <= settings.tol * reference + settings.abs_tol;
             if self.trace {

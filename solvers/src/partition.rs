@@ -55,6 +55,10 @@
 //! rank recovers its interiors and every rank receives all of them, so that all ranks end
 //! with the whole solution. The operations and their order are those of one process: the
 //! answers are the same to the last bit (tests/distributed.rs checks 1e-12).
+//!
+//! The residual's rows may be shared too (`partition/rows.rs`): each rank forms only the
+//! rows it owns (those this solver reads on it) and the norms of the convergence test are
+//! summed over the ranks in block order.
 
 use crate::dense::DenseLu;
 use crate::exchange::{decode_status, encode_status, Comm, CommStats, Exchange};
@@ -65,6 +69,8 @@ use railfem_framework::sparse::CscMatrix;
 use std::ops::Range;
 use std::sync::Arc;
 use std::time::Instant;
+
+mod rows;
 
 const NONE: u32 = u32::MAX;
 

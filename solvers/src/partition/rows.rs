@@ -1,0 +1,140 @@
+//! The residual's rows per rank: which equations a rank of a shared model forms the
+//! residual of, and the two collectives that make the rest of the Newton iteration
+//! independent of the rows the other ranks hold.
+//!
+//! **Owned rows.** Rank `k` owns the interior equations of its blocks and rank 0 also the
+//! base top set (separators and carriages): the rows of the right-hand side its share of
+//! the solver reads ([`Partitioned::columns_read`]), and the owned rows of all ranks split
+//! the equations. A rank keeps the constant matrices' columns of its owned rows and of the
+//! base top set ([`Partitioned::rows_kept`]; every rank keeps the base top set's, so that
+//! the constant part between top equations is at hand without a message). Interiors of
+//! different blocks are never coupled, so those columns are all a rank's rows touch.
+//!
+//! **Norms.** The convergence test needs `|r|`, `|f_int|` and `|M·a_w|` over every
+//! equation. Each rank sums the squares over each of its blocks' interiors (in equation
+//! order), rank 0 also over the base top set, and every rank receives every piece
+//! ([`Partitioned::sums_of_squares`]): the totals are added in block order, the base top
+//! set last, so they are the same on every rank and for any number of ranks (they differ
+//! from one process's sums over fixed chunks of the equations by round-off only).
+//!
+//! **Top columns.** The condensed Newton's top iterations need the constant matrices
+//! between top equations. A promoted equation's column belongs to the owner of its block;
+//! [`Partitioned::share_top_columns`] sends each to every rank, as the owner encoded it.
+
+use super::{Partitioned, NONE};
+
+impl Partitioned {
+    /// Rank of the owner of equation `i`'s row: its block's owner, rank 0 for the base top
+    /// set.
+    fn row_owner(&self, i: usize) -> usize {
+        match self.block_of.get(i) {
+            Some(&b) if b != NONE => self
+                .ranges
+                .iter()
+                .position(|r| r.contains(&(b as usize)))
+                .unwrap_or(0),
+            _ => 0,
+        }
+    }
+
+    /// Across ranks, after [`Partitioned::prepare`]: the equations whose columns of the
+    /// constant matrices this rank keeps — its blocks' interiors and the base top set
+    /// (module documentation). `None` in one process or before the split.
+    pub fn rows_kept(&self) -> Option<Vec<bool>> {
+        let mut keep = self.columns_read()?;
+        for &i in &self.base_top {
+            keep[i] = true;
+        }
+        Some(keep)
+    }
+
+    /// Rows this rank owns: its blocks' interior equations, and on rank 0 the base top set
+    /// (every equation in one process).
+    pub fn rows_owned(&self) -> usize {
+        if self.comm.is_none() {
+            return self.n;
+        }
+        let interiors: usize = self.blocks[self.owned()].iter().map(|b| b.all.len()).sum();
+        interiors
+            + if self.is_root() {
+                self.base_top.len()
+            } else {
+                0
+            }
+    }
+
+    /// Across ranks: `Σ_i x[i]²` over every equation, for each `x` of `xs`, each rank
+    /// contributing its owned rows and the pieces added in block order (module
+    /// documentation); the same on every rank. `None` in one process or before the split
+    /// (no collective).
+    pub fn sums_of_squares(&mut self, xs: &[&[f64]]) -> Option<Vec<f64>> {
+        if self.comm.is_none() || self.n == 0 {
+            return None;
+        }
+        let m = xs.len();
+        let sq = |rows: &[usize], x: &[f64]| rows.iter().fold(0.0, |s, &i| s + x[i] * x[i]);
+        let mut local = Vec::with_capacity((self.owned().len() + 1) * m);
+        for b in &self.blocks[self.owned()] {
+            local.extend(xs.iter().map(|x| sq(&b.all, x)));
+        }
+        if self.is_root() {
+            local.extend(xs.iter().map(|x| sq(&self.base_top, x)));
+        }
+        let comm = self.comm.as_mut().expect("across ranks");
+        let pieces = comm.all_gather(&local);
+        let mut total = vec![0.0; m];
+        // Rank order is block order; rank 0's base top set comes after every block.
+        let mut top_part = Vec::new();
+        for (r, piece) in pieces.iter().enumerate() {
+            let blocks = self.ranges[r].len() * m;
+            for chunk in piece[..blocks].chunks(m) {
+                for (t, v) in total.iter_mut().zip(chunk) {
+                    *t += v;
+                }
+            }
+            if r == 0 {
+                top_part = piece[blocks..].to_vec();
+            }
+        }
+        for (t, v) in total.iter_mut().zip(&top_part) {
+            *t += v;
+        }
+        Some(total)
+    }
+
+    /// Across ranks: for every top equation of the last factorization (in top order), its
+    /// column as `encode` writes it — on the rank that keeps it: the base top set's on
+    /// every rank, a promoted equation's by its block's owner, which sends it to every
+    /// other rank (one all-gather). `encode(j)` is called only for columns this rank
+    /// keeps. `None` in one process (no collective).
+    pub fn share_top_columns(
+        &mut self,
+        encode: &mut dyn FnMut(usize) -> Vec<f64>,
+    ) -> Option<Vec<Vec<f64>>> {
+        let me = self.comm.as_ref()?.rank();
+        let promoted = |p: &Partitioned, j: usize| p.block_of[j] != NONE;
+        let mut mine = Vec::new();
+        for &j in &self.top {
+            if promoted(self, j) && self.row_owner(j) == me {
+                let col = encode(j);
+                mine.push(col.len() as f64);
+                mine.extend(col);
+            }
+        }
+        let pieces = self.comm.as_mut().expect("across ranks").all_gather(&mine);
+        let mut at = vec![0usize; pieces.len()];
+        let mut out = Vec::with_capacity(self.top.len());
+        for k in 0..self.top.len() {
+            let j = self.top[k];
+            if promoted(self, j) {
+                let r = self.row_owner(j);
+                let len = pieces[r][at[r]] as usize;
+                out.push(pieces[r][at[r] + 1..at[r] + 1 + len].to_vec());
+                at[r] += 1 + len;
+            } else {
+                out.push(encode(j));
+            }
+        }
+        Some(out)
+    }
+}
