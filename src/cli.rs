@@ -937,6 +937,7 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
     if train {
         let tb = crate::pareto_train::TbGrid {
             existing_only: a.flag("existing"),
+            finer_checks: a.flag("finer"),
             ..Default::default()
         };
         let runs = crate::pareto_train::run(&tb, &out)?;

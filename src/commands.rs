@@ -478,6 +478,10 @@ pub struct ParetoCmd {
     /// train-bridge only: compute nothing, evaluate the runs already in --out.
     #[arg(long)]
     pub existing: bool,
+    /// train-bridge only: also check the reference against a finer mesh (18 elements per
+    /// fastener bay) and half its step over the whole crossing (about an hour each).
+    #[arg(long)]
+    pub finer: bool,
 }
 
 /// `railfem irregularity`.

@@ -58,6 +58,9 @@ pub const REF_DT: f64 = 1.25e-4;
 pub const REF_H: f64 = SPACING / 9.0;
 /// Elements per bay of the reference's coarser neighbour in the mesh check (0.125 m).
 pub const CHECK_COARSE_K: usize = 5;
+/// Elements per bay of the reference's finer neighbour in the mesh check (0.0347 m), run
+/// with `--finer` only.
+pub const CHECK_FINE_K: usize = 18;
 /// Simulated time of every run (s): the whole crossing, from the carriage's centre 15 m
 /// before the bridge until it is 23.75 m past its end (the rear axle, 10 m behind the
 /// centre, leaves the bridge at 1.43 s).
@@ -289,6 +292,8 @@ pub struct TbGrid {
     /// Compute nothing: evaluate only the runs whose files are already in the output
     /// directory (`--existing`: a look at a grid still running, or cut short).
     pub existing_only: bool,
+    /// Also the reference's finer checks ([`finer_runs`], `--finer`).
+    pub finer_checks: bool,
 }
 
 impl Default for TbGrid {
@@ -337,6 +342,7 @@ impl Default for TbGrid {
         TbGrid {
             runs,
             existing_only: false,
+            finer_checks: false,
         }
     }
 }
@@ -374,6 +380,39 @@ pub fn reference_runs() -> Vec<Job> {
         ),
         (grid_file(&double), double, DURATION),
     ]
+}
+
+/// The reference's finer neighbours over the whole crossing (`--finer`): the next finer
+/// mesh (`h = SPACING /` [`CHECK_FINE_K`], twice the equations) at its step, and its mesh
+/// at half its step. Their difference to the reference is, to leading order, the
+/// reference's own error in h and in Δt, measured, not extrapolated from the coarser
+/// neighbours: a quantity of order p in a parameter refined by r differs from the
+/// unrefined one by `d = e·(1 − r^−p)`, so with r = 2 the reference's error is
+/// `e = 1.33·d` for p = 2 and `2·d` for p = 1.
+pub fn finer_runs() -> Vec<Job> {
+    let r = reference_settings();
+    let fine_mesh = SPACING / CHECK_FINE_K as f64;
+    [
+        (
+            format!("train-bridge-mesh-k{CHECK_FINE_K}.csv"),
+            fine_mesh,
+            r.dt,
+        ),
+        ("train-bridge-half-step.csv".to_string(), r.h, 0.5 * r.dt),
+    ]
+    .into_iter()
+    .map(|(file, h, dt)| (file, Settings { h, dt, ..r }, DURATION))
+    .collect()
+}
+
+/// The reference runs a grid asks for: [`reference_runs`], then [`finer_runs`] with
+/// `finer_checks`.
+fn reference_jobs(grid: &TbGrid) -> Vec<Job> {
+    let mut refs = reference_runs();
+    if grid.finer_checks {
+        refs.extend(finer_runs());
+    }
+    refs
 }
 
 /// Writes a history as CSV: a first line naming the run, a second with its size and wall
@@ -572,14 +611,15 @@ pub fn run_jobs(out: &Path, jobs: &[Job]) -> Vec<Option<History>> {
     got.into_iter().map(Option::flatten).collect()
 }
 
-/// Runs the reference runs ([`reference_runs`]) and the grid (files `runs/*.csv` in
+/// Runs the reference runs ([`reference_runs`], with `finer_checks` also [`finer_runs`])
+/// and the grid (files `runs/*.csv` in
 /// `out`) as one list of jobs ([`run_jobs`]), the most expensive first, so that two
 /// processes on `out` share all of them; one line per run on stderr. Returns the
 /// reference runs' histories (`None` for a failed one) and the grid's, in the grid's
 /// order; a grid run that fails (Newton gives up at a coarse step) is reported and left
 /// out.
 pub fn run_all(grid: &TbGrid, out: &Path) -> (Vec<Option<History>>, Vec<(Settings, History)>) {
-    let refs = reference_runs();
+    let refs = reference_jobs(grid);
     let mut jobs: Vec<Job> = refs.clone();
     for s in &grid.runs {
         let job = (grid_file(s), *s, DURATION);
@@ -773,7 +813,8 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
         .with(panel("integrator and solver", by_scheme))
 }
 
-/// Runs the reference runs ([`reference_runs`], files `train-bridge-*.csv` in `out`) and
+/// Runs the reference runs ([`reference_runs`], [`finer_runs`] with `--finer`; files
+/// `train-bridge-*.csv` in `out`) and
 /// the grid (`runs/*.csv`), reading those already there and sharing the rest with any other
 /// process running the same command on `out` ([`run_all`]); then writes
 /// `pareto-train-bridge.csv`, `pareto-train-bridge.md` and
@@ -785,7 +826,7 @@ pub fn run(grid: &TbGrid, out: &Path) -> Result<Vec<TbRun>, FemError> {
         load.trim()
     );
     std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
-    let refs = reference_runs();
+    let refs = reference_jobs(grid);
     let (ref_histories, histories) = run_all(grid, out);
     let ref_histories: Vec<History> = ref_histories
         .into_iter()
@@ -841,12 +882,13 @@ pub fn run(grid: &TbGrid, out: &Path) -> Result<Vec<TbRun>, FemError> {
     Ok(runs)
 }
 
-/// The reference's checks over the whole crossing: each coarser neighbour of
-/// [`reference_runs`] (after the reference itself) against the reference, with its size
+/// The reference's checks over the whole crossing: each neighbour of
+/// [`reference_runs`] and [`finer_runs`] (after the reference itself) against the reference, with its size
 /// and wall time.
 fn convergence_markdown(refs: &[Job], histories: &[History]) -> String {
     let mut s = format!(
-        "\nThe reference against its coarser neighbours over the whole {DURATION} s:\n\n\
+        "\nThe reference against its neighbours over the whole {DURATION} s (coarser: its \
+         error estimate with an order; finer, with --finer: its error measured):\n\n\
          | run | h (m) | dt (s) | equations | wall (s) | err Q | err ΔQ/Q | err w |\n\
          |---|---:|---:|---:|---:|---:|---:|---:|\n"
     );
@@ -924,6 +966,28 @@ mod tests {
 
     /// A history written and read back is the same run, to the digits written (`{:e}`
     /// prints the shortest exact representation), with one w column per span.
+    /// The finer checks are the reference refined once in h and once in Δt, each by 2
+    /// and nothing else, so that each difference is the reference's own error in one
+    /// parameter.
+    #[test]
+    fn finer_checks_halve_one_parameter_each() {
+        let r = reference_settings();
+        let f = finer_runs();
+        assert_eq!(f.len(), 2);
+        assert!((f[0].1.h - r.h / 2.0).abs() < 1e-15 && f[0].1.dt == r.dt);
+        assert!(f[1].1.h == r.h && (f[1].1.dt - r.dt / 2.0).abs() < 1e-18);
+        for (file, s, d) in &f {
+            assert_eq!((s.scheme, s.solver, *d), (r.scheme, r.solver, DURATION));
+            assert!(!reference_runs().iter().any(|j| &j.0 == file), "{file}");
+        }
+        let grid = TbGrid {
+            finer_checks: true,
+            ..TbGrid::default()
+        };
+        assert_eq!(reference_jobs(&grid).len(), 5);
+        assert_eq!(reference_jobs(&TbGrid::default()).len(), 3);
+    }
+
     #[test]
     fn history_round_trip() {
         let h = history(1e-3, 10, |t: f64| (1e5 + 3.3 * t, 1e-3 * t.sin()));

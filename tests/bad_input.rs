@@ -285,6 +285,26 @@ fn negative_time_step_is_refused() {
 }
 
 #[test]
+fn non_integer_block_size_is_refused() {
+    // Serde alone said "invalid value: integer `-1`, expected usize", without the key.
+    for (value, shown) in [("-1", "-1"), ("2.5", "2.5"), ("\"big\"", "\"big\"")] {
+        let text = edit(
+            "kind = \"static\"",
+            &format!("kind = \"static\"\nsolver = \"partitioned\"\nblock_size = {value}"),
+        );
+        check(
+            "blocksize.toml",
+            &text,
+            &[
+                "[analysis]",
+                &format!("`block_size` = {shown}"),
+                "give a positive integer",
+            ],
+        );
+    }
+}
+
+#[test]
 fn unknown_newton_predictor_is_refused() {
     let text = edit(
         "kind = \"static\"",

@@ -136,7 +136,10 @@ fn block_size_is_checked_in_the_model_file() {
     let dir = common::temp_dir("block-size-keys");
     for (extra, expect) in [
         ("block_size = 0", "`block_size` must be at least 1"),
-        ("block_size = -3", "[analysis]: invalid value: integer `-3`"),
+        (
+            "block_size = -3",
+            "[analysis]: `block_size` = -3: give a positive integer",
+        ),
     ] {
         let p = write_model(&dir, extra);
         let e = match railfem::load_model(&p) {

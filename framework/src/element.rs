@@ -177,6 +177,11 @@ pub enum ActiveSet {
     Committed,
     /// Held at the statuses the last evaluation found.
     LastFound,
+    /// Held at the statuses the last evaluation found, except that a point held sliding
+    /// one way and found sliding the other way is held sticking: the status between the
+    /// two (solvers/src/held_active_set.rs, when the [`ActiveSet::LastFound`] rounds did
+    /// not settle).
+    LastFoundStickingReversals,
 }
 
 /// The element contract. See the module documentation for axes and ordering.

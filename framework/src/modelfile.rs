@@ -186,6 +186,21 @@ fn de<T: serde::de::DeserializeOwned>(v: &Value, origin: &str) -> Result<T, FemE
     T::deserialize(v).map_err(|e| FemError::input(origin, e.to_string()))
 }
 
+/// `[analysis] block_size` must be a whole number: serde alone would say "invalid value:
+/// integer `-1`, expected usize" without naming the key. Zero is a whole number and is
+/// refused with the other analysis values (`AnalysisSpec::validate`).
+fn check_block_size(analysis: &Value, origin: &str) -> Result<(), FemError> {
+    match analysis.get("block_size") {
+        Some(v) if v.as_u64().is_none() => Err(FemError::input(
+            origin,
+            format!(
+                "`block_size` = {v}: give a positive integer (interior equations per block of the partitioned solver; leave it out for 3000)"
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Builds from an already-parsed value (`base` resolves relative file paths, e.g. plugins).
 pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder, FemError> {
     let Value::Object(root) = value else {
@@ -232,7 +247,7 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
     }
     if let Some(a) = root.get("analysis") {
         let o = format!("{name}: [analysis]");
-        match de::<AnalysisSpec>(a, &o) {
+        match check_block_size(a, &o).and_then(|()| de::<AnalysisSpec>(a, &o)) {
             Ok(spec) => {
                 for e in ignored_analysis_keys(a, &spec, &o) {
                     b.error(e);

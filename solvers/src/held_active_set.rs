@@ -17,7 +17,22 @@
 //!    converged state of the contact law itself (its forces are the law's, bit for bit:
 //!    Coulomb's `|f_u| ≤ μ·f_n`, sliding force along the slip, no pull), and it is accepted;
 //!    some: hold the statuses found at that state ([`ActiveSet::LastFound`]) and solve the
-//!    step again from its start, up to [`HELD_ROUNDS`] times.
+//!    step again from its start, up to [`HELD_ROUNDS`] times;
+//! 4. when those rounds have not settled, up to [`HELD_ROUNDS`] more rounds in which a point
+//!    found sliding against the direction it was held sliding in is held sticking
+//!    ([`ActiveSet::LastFoundStickingReversals`]) instead of sliding the other way.
+//!
+//! Why step 4: the rounds of step 3 can cycle. In the one case seen (issue 15, seed 9 at
+//! 0.6 g and 60 m/s, t = 0.3978 s) two neighbouring rail nodes under one wheel alternate
+//! between two sets: node 20 held sliding at `+μ·f_n` (4.1 kN) comes out with its trial
+//! friction `k·s_u` = −4.2 kN, held at `−μ·f_n` with +11.5 kN, so each round sends it to the
+//! other slide, forever. Written as a function of the point's own friction force `f` (the
+//! rest held), `g(f) = k·s_u(f) − f` is continuous, negative at `f = +μ·f_n` and positive at
+//! `f = −μ·f_n`, so it has a root between: a sticking state (`f = k·s_u`, `|f| < μ·f_n`)
+//! exists there, and sticking is the status to hold. The accepted state is still one whose
+//! every point the law itself puts in its held status (step 3), so the answer is the
+//! law's; only the guess of the next set changes, and only after step 3 gave up, so a step
+//! that converged before does so in the same rounds with the same numbers.
 //!
 //! A step that converges today never gets here (it is tried only after the halvings gave
 //! up), so every answer that converged before is unchanged.
@@ -26,7 +41,8 @@ use crate::driver::{Attempt, Driver, State};
 use railfem_framework::element::ActiveSet;
 use railfem_framework::model::FirstActiveSet;
 
-/// Rounds of holding and checking before the retry gives up.
+/// Rounds of holding and checking with [`ActiveSet::LastFound`], and then as many with
+/// [`ActiveSet::LastFoundStickingReversals`], before the retry gives up.
 pub const HELD_ROUNDS: usize = 8;
 
 /// How a held retry ended when it did not give a state: why, for the error message.
@@ -95,7 +111,7 @@ impl Driver {
         }
         let mut iterations = 0;
         let mut changes = 0;
-        for round in 1..=HELD_ROUNDS {
+        for round in 1..=2 * HELD_ROUNDS {
             match self.attempt_any(dt) {
                 Ok((s, it, res)) => {
                     iterations += it;
@@ -111,8 +127,13 @@ impl Driver {
                         return Some(Ok((s, iterations, res)));
                     }
                     // Converged with some points held outside their law's range: hold the
-                    // statuses found there and solve the step again from its start.
-                    self.hold_active_sets(ActiveSet::LastFound);
+                    // statuses found there (after HELD_ROUNDS rounds, reversed slides as
+                    // sticking) and solve the step again from its start.
+                    self.hold_active_sets(if round < HELD_ROUNDS {
+                        ActiveSet::LastFound
+                    } else {
+                        ActiveSet::LastFoundStickingReversals
+                    });
                     self.asm.revert(&mut self.model);
                     self.factored = None;
                 }
@@ -148,7 +169,8 @@ impl Driver {
                 iterations,
             },
             why: format!(
-                "with the contact's active set held, {changes} contact points were still in another status after {HELD_ROUNDS} rounds"
+                "with the contact's active set held, {changes} contact points were still in another status after {} rounds",
+                2 * HELD_ROUNDS
             ),
         }))
     }

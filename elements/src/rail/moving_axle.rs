@@ -35,7 +35,9 @@
 //!   hold every rail node's status (open, stick, slide along ±u) at the last commit's or
 //!   the last evaluation's; a node held in contact is then evaluated wherever it is, and
 //!   [`Element::active_set_changes`] counts the nodes whose own status differs from the
-//!   held one (solvers/src/held_active_set.rs).
+//!   held one (solvers/src/held_active_set.rs). Held at the last evaluation's statuses with
+//!   [`ActiveSet::LastFoundStickingReversals`], a node held sliding one way and found
+//!   sliding the other is held sticking.
 //!
 //! Only rail nodes inside the wheel's lateral reach are searched (a binary-search window),
 //! and nodes below the wheel's lowest point are skipped without a closest-point search, so
@@ -1342,6 +1344,22 @@ impl Element for MovingAxle {
             ActiveSet::Found => None,
             ActiveSet::Committed => Some(self.committed.statuses.clone()),
             ActiveSet::LastFound => Some(self.found.clone()),
+            ActiveSet::LastFoundStickingReversals => Some(
+                self.found
+                    .iter()
+                    .zip(
+                        self.held
+                            .iter()
+                            .flatten()
+                            .chain(std::iter::repeat(&Status::Open)),
+                    )
+                    .map(|(&found, &held)| match (held, found) {
+                        (Status::SlidePlus, Status::SlideMinus)
+                        | (Status::SlideMinus, Status::SlidePlus) => Status::Stick,
+                        _ => found,
+                    })
+                    .collect(),
+            ),
         };
         // Rolling contact (a creep law) has no active set: its force is smooth in the slip.
         self.setup.creep.is_none()
