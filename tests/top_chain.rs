@@ -7,7 +7,10 @@
 //! `tol = 1e-8`, so the same iterations and an agreement to 1e-10 of the largest
 //! displacement at every step show that every step ended at the same iterate (one Newton
 //! iteration more or less would move it by ~1e-8). Velocities and accelerations carry the
-//! displacement's round-off amplified by `Δt⁻¹` and `Δt⁻²`: 1e-9, as in tests/condensed.rs.
+//! displacement's round-off amplified by `Δt⁻¹` and `Δt⁻²` (largest at the near-massless
+//! DOFs): bounded at 1e-8. Measured 8.5e-10 and 1.0e-9 with the default first iteration
+//! (two iterations a step: the accepted iterate follows a larger last correction, whose
+//! round-off is larger), 7.1e-10 and 5.2e-10 with every status found afresh (seven).
 
 mod common;
 
@@ -84,11 +87,11 @@ fn the_condensed_top_chain_reproduces_the_whole_top_system() {
         "displacements differ by {q:e} of their largest value"
     );
     assert!(
-        v <= 1e-9,
+        v <= 1e-8,
         "velocities differ by {v:e} of their largest value"
     );
     assert!(
-        a <= 1e-9,
+        a <= 1e-8,
         "accelerations differ by {a:e} of their largest value"
     );
 }
