@@ -1,5 +1,7 @@
-//! The last resort of step cutting when contact cycles: the step solved again with the
-//! contact's active set held fixed, then checked against the contact law.
+//! Holding the contact's active set: the last resort of step cutting when contact cycles
+//! (the step solved again with the active set held fixed, then checked against the contact
+//! law), and the first iteration of every transient step ([`FirstActiveSet`], the end of
+//! this documentation).
 //!
 //! Newton on frictional penalty contact can cycle: each point's force is smooth within a
 //! status (open, stick, slide along `+u` or `−u`) and kinked where its status changes, and
@@ -36,6 +38,16 @@
 //!
 //! A step that converges today never gets here (it is tried only after the halvings gave
 //! up), so every answer that converged before is unchanged.
+//!
+//! **The first iteration** (`Driver::hold_first_iteration`): with
+//! `first_active_set = "committed"` (the default) a step's first evaluation holds every
+//! point at its last converged status, and the next one releases them. The first tangent
+//! then carries the contact that held each wheel, where `q⁰ = q_n` would find a wheel on a
+//! moving rail lifted clear (framework::model::FirstActiveSet has the why). Only released
+//! evaluations are accepted, so this changes Newton's path, not what it accepts: answers
+//! move within the Newton tolerance where a step has one converged state, and, where the
+//! time-discrete frictional contact has several (strong shaking at Δt = 5 ms), by up to
+//! that Δt's own error (docs/scale-out.md, the study's rerun).
 
 use crate::driver::{Attempt, Driver, State};
 use railfem_framework::element::ActiveSet;
