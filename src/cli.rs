@@ -625,6 +625,7 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     }
     case.polach_spin = polach_spin(a, &case.tangential)?;
     case.geometry = geometry(a)?;
+    case.first_active_set = first_active_set(a, case.first_active_set)?;
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/curve"));
     let steps = case.steps_estimate();
     let mut bar = crate::progress::Progress::new("curve", steps, "steps");
@@ -951,6 +952,22 @@ fn pareto(a: &Args) -> Result<i32, FemError> {
 
 /// `railfem critical-radius`: one point of the paper's Figure 7 or 9.
 /// `--geometry linear|nonlinear` of the built-in vehicle cases (default linear).
+/// `--first-active-set committed|found`, or `default` when it is not given.
+fn first_active_set(
+    a: &Args,
+    default: crate::framework::model::FirstActiveSet,
+) -> Result<crate::framework::model::FirstActiveSet, FemError> {
+    match a.opt("first-active-set") {
+        None => Ok(default),
+        Some(w) => crate::framework::model::FirstActiveSet::parse(w).ok_or_else(|| {
+            FemError::input(
+                "command line",
+                format!("--first-active-set {w}: use committed or found"),
+            )
+        }),
+    }
+}
+
 fn geometry(a: &Args) -> Result<crate::framework::model::Geometry, FemError> {
     match a.opt("geometry") {
         None => Ok(Default::default()),
@@ -1178,6 +1195,7 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
         c.dt = v;
     }
     c.geometry = geometry(a)?;
+    c.first_active_set = first_active_set(a, c.first_active_set)?;
     if let Some(v) = count("record-every")? {
         c.record_every = v;
     }

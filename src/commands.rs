@@ -199,6 +199,10 @@ pub struct CurveCmd {
     /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
     #[arg(long, value_name = "linear|nonlinear")]
     pub geometry: Option<OsString>,
+    /// Contact statuses of each step's first Newton iteration: found (the rails are rigid,
+    /// nothing to hold) or committed (those of the last converged step) [default: found].
+    #[arg(long, value_name = "found|committed")]
+    pub first_active_set: Option<OsString>,
     /// Anti-roll bar stiffness in N·m/rad [default: 0].
     #[arg(long, value_name = "K")]
     pub anti_roll: Option<OsString>,
@@ -396,6 +400,11 @@ pub struct TrainBridgeCmd {
     /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
     #[arg(long, value_name = "linear|nonlinear")]
     pub geometry: Option<OsString>,
+    /// Contact statuses of each step's first Newton iteration: committed (those of the
+    /// last converged step; keeps a wheel on a deflecting bridge in contact for the first
+    /// tangent) or found [default: committed].
+    #[arg(long, value_name = "committed|found")]
+    pub first_active_set: Option<OsString>,
     /// Linear solver of the Newton iterations: auto (partitioned from 50 000 equations),
     /// direct, partitioned or low_rank [default: auto]. Under `mpirun -n P` (P > 1, build
     /// with `--features mpi`) the partitioned solver's blocks are shared among the ranks.

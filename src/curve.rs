@@ -66,6 +66,13 @@ pub struct CurveCase {
     /// Geometry of the carriage: "linear" (the paper's model) or "nonlinear" (bodies lean
     /// on suspensions that balance in the displaced configuration).
     pub geometry: Geometry,
+    /// Contact statuses of each step's first Newton iteration (`[analysis.newton]
+    /// first_active_set`). `Found` by default: the curve's rails are rigid, so the rail
+    /// under a wheel never moves and the first iteration has no lifted wheel to hold down,
+    /// while at lift-off (`critical-radius --criterion separation`) holding the committed
+    /// contact costs iterations (1 462 against 1 341) and moves the onset by 3.5 %
+    /// (docs/performance.md, "The first iteration's active set").
+    pub first_active_set: crate::framework::model::FirstActiveSet,
     /// Roll stiffness of an anti-roll bar per bogie (N·m/rad) added to the `sks700`
     /// carriage; 0 = none (the stand-in data have none).
     pub anti_roll: f64,
@@ -119,6 +126,7 @@ impl Default for CurveCase {
             settle: 400.0,
             vtk_every: 0,
             geometry: Geometry::Linear,
+            first_active_set: crate::framework::model::FirstActiveSet::Found,
             anti_roll: 0.0,
             tangential: "coulomb".into(),
             polach_spin: None,
@@ -323,12 +331,7 @@ impl CurveCase {
                 } else {
                     Predictor::Increment
                 },
-                // The curve's rails are rigid: the rail under a wheel never moves, so the
-                // first iteration has no lifted wheel to hold down, and at lift-off
-                // (`critical-radius --criterion separation`) holding the committed contact
-                // costs iterations (1 462 against 1 341) and moves the onset by 3.5 %
-                // (docs/performance.md, "The first iteration's active set").
-                first_active_set: crate::framework::model::FirstActiveSet::Found,
+                first_active_set: self.first_active_set,
                 ..Default::default()
             },
             ..Default::default()

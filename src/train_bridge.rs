@@ -110,6 +110,12 @@ pub struct TrainBridgeCase {
     /// viaduct; a station on the bridge starts it there (the middle of a crossing, for
     /// timing a segment that the entry does not dominate).
     pub train_start: f64,
+    /// Contact statuses of each step's first Newton iteration (`[analysis.newton]
+    /// first_active_set`): `Committed` (the default) holds the last converged step's,
+    /// which keeps a wheel on a deflecting bridge in contact for the first tangent; `Found`
+    /// lets the first evaluation find them (docs/performance.md, "The first iteration's
+    /// active set").
+    pub first_active_set: crate::framework::model::FirstActiveSet,
 }
 
 impl Default for TrainBridgeCase {
@@ -139,6 +145,7 @@ impl Default for TrainBridgeCase {
             solver: Default::default(),
             geometry: Default::default(),
             train_start: -15.0,
+            first_active_set: Default::default(),
         }
     }
 }
@@ -605,6 +612,7 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
             tol: 1e-6,
             abs_tol: residual_floor(&tm, &case.bridge().girder).max(1e-2),
             disp_tol: 1e-10,
+            first_active_set: case.first_active_set,
             ..Default::default()
         },
         ..Default::default()

@@ -442,6 +442,14 @@ fn usage_errors_are_one_line_with_the_fix_and_exit_2() {
             &["--dt abc", "not a finite number"],
         ),
         (&["curve", "--max-steps", "1e12"], &["1e12", "at most"]),
+        (
+            &["train-bridge", "--first-active-set", "held", "--steps", "1"],
+            &["--first-active-set held", "committed or found"],
+        ),
+        (
+            &["curve", "--first-active-set", "Found"],
+            &["--first-active-set Found", "committed or found"],
+        ),
     ];
     for (argv, expect) in cases {
         let err = refused_with(&format!("{argv:?}"), &railfem(argv), expect);

@@ -55,6 +55,43 @@ fn study(plan: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
     railfem(&args)
 }
 
+/// `railfem train-bridge` on the plans' small case (one carriage on one 10 m span for
+/// 0.2 s, seed 2 at 0.3 g, 100 m/s) with `extra` options, writing into `out`.
+fn small_train_bridge(out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "train-bridge",
+        "--cars",
+        "1",
+        "--spans",
+        "1",
+        "--span",
+        "10",
+        "--element-length",
+        "2.5",
+        "--dt",
+        "0.01",
+        "--duration",
+        "0.2",
+        "--pier-height",
+        "5",
+        "--speed",
+        "100",
+        "--quake",
+        "synthetic",
+        "--seed",
+        "2",
+        "--pga",
+        "0.3",
+        "--quake-duration",
+        "0.5",
+        "-q",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ];
+    args.extend_from_slice(extra);
+    railfem(&args)
+}
+
 fn ok(o: &std::process::Output) {
     assert_eq!(
         o.status.code(),
@@ -200,36 +237,7 @@ fn threads_stops_and_resumes_give_the_same_bytes_and_the_numbers_obey_statics() 
         .find(|r| r[c_seed] == "2" && r[c_scale] == "1" && r[c_speed] == "100")
         .unwrap();
     let tb = dir.join("tb");
-    let o = railfem(&[
-        "train-bridge",
-        "--cars",
-        "1",
-        "--spans",
-        "1",
-        "--span",
-        "10",
-        "--element-length",
-        "2.5",
-        "--dt",
-        "0.01",
-        "--duration",
-        "0.2",
-        "--pier-height",
-        "5",
-        "--speed",
-        "100",
-        "--quake",
-        "synthetic",
-        "--seed",
-        "2",
-        "--pga",
-        "0.3",
-        "--quake-duration",
-        "0.5",
-        "-q",
-        "--out",
-        tb.to_str().unwrap(),
-    ]);
+    let o = small_train_bridge(&tb, &[]);
     ok(&o);
     let summary = std::fs::read_to_string(tb.join("summary.csv")).unwrap();
     for line in summary.lines().skip(1).take(8) {
@@ -538,5 +546,68 @@ fn a_model_file_base_reports_its_wheels_extremes_as_its_recorders_see_them() {
         let yq: f64 = get("max_YQ [-]").parse().unwrap();
         assert!((0.0..1e-3).contains(&yq), "{r:?}: Y/Q {yq}");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `first_active_set` as a study axis and as `railfem train-bridge --first-active-set`: each
+/// study case writes the history of the command-line run with the same setting, byte for
+/// byte (one case, same code path), and the two settings converge to the same wheel forces
+/// within Newton's tolerance (relative 1e-6 of the residual, `train_bridge::build`): the
+/// setting changes only the first iterate's tangent, not the equations solved.
+#[test]
+fn first_active_set_reaches_the_case_from_a_plan_and_from_the_command_line() {
+    let dir = temp_dir("study-first-active-set");
+    // SMALL's options with one seed at full intensity and one speed, and the axis.
+    let options = SMALL.split("[[axis]]").next().expect("options");
+    let plan = write_plan(
+        &dir,
+        &format!(
+            "{}speed = 100\nseed = 2\n[[axis]]\nname = \"first_active_set\"\nvalues = [\"committed\", \"found\"]\n",
+            options.replace("case = \"train-bridge\"\n", "case = \"train-bridge\"\nhistories = true\n")
+        ),
+    );
+    let out = dir.join("out");
+    ok(&study(&plan, &out, &["--threads", "1"]));
+    let (h, rows) = cells(&table(&out));
+    let c_set = col(&h, "first_active_set [-]");
+    let c_id = col(&h, "case");
+    let mut wheels = Vec::new();
+    for setting in ["committed", "found"] {
+        let row = rows
+            .iter()
+            .find(|r| r[c_set] == setting)
+            .unwrap_or_else(|| panic!("no {setting} row"));
+        let from_study =
+            std::fs::read_to_string(out.join("cases").join(&row[c_id]).join("wheels.csv"))
+                .expect("the case's wheels.csv");
+        let tb = dir.join(setting);
+        ok(&small_train_bridge(&tb, &["--first-active-set", setting]));
+        let from_cli = std::fs::read_to_string(tb.join("wheels.csv")).unwrap();
+        assert_eq!(
+            from_study, from_cli,
+            "{setting}: study and command line differ"
+        );
+        wheels.push(from_cli);
+    }
+    // The settings differ in the first iterate only: the histories are not the same bytes
+    // (so the comparison above tells them apart) but the same forces within tolerance.
+    assert_ne!(wheels[0], wheels[1], "the setting changed nothing");
+    let (hq, committed) = cells(&wheels[0]);
+    let (_, found) = cells(&wheels[1]);
+    let mut q_max = 0.0f64;
+    let mut worst = 0.0f64;
+    for (a, b) in committed.iter().zip(&found) {
+        for (k, name) in hq.iter().enumerate() {
+            if name.ends_with("_Q [N]") {
+                let (x, y): (f64, f64) = (a[k].parse().unwrap(), b[k].parse().unwrap());
+                q_max = q_max.max(x.abs());
+                worst = worst.max((x - y).abs());
+            }
+        }
+    }
+    assert!(
+        worst <= 1e-5 * q_max,
+        "Q differs by {worst} N of {q_max} N between the settings"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -316,6 +316,15 @@ impl FirstActiveSet {
     pub fn is_committed(&self) -> bool {
         *self == FirstActiveSet::Committed
     }
+
+    /// The setting a command-line word or a study value names (`committed`, `found`).
+    pub fn parse(word: &str) -> Option<Self> {
+        match word {
+            "committed" => Some(FirstActiveSet::Committed),
+            "found" => Some(FirstActiveSet::Found),
+            _ => None,
+        }
+    }
 }
 
 impl Default for NewtonSettings {

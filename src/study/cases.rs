@@ -127,6 +127,7 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
                         )
                     })?;
             }
+            "first_active_set" => c.first_active_set = first_active_set(v)?,
             _ => unreachable!("plan.rs admits only train-bridge keys"),
         }
     }
@@ -177,6 +178,17 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
     Ok(c)
 }
 
+/// The `first_active_set` value of a case: `committed` or `found`.
+fn first_active_set(v: &AxisValue) -> Result<crate::framework::model::FirstActiveSet, FemError> {
+    let t = v.label();
+    crate::framework::model::FirstActiveSet::parse(&t).ok_or_else(|| {
+        FemError::input(
+            "study case",
+            format!("`first_active_set` = {t}: use committed or found"),
+        )
+    })
+}
+
 /// A curve case.
 pub fn curve(plan: &Plan, case: &Case) -> Result<CurveCase, FemError> {
     let mut c = CurveCase::default();
@@ -223,6 +235,7 @@ pub fn curve(plan: &Plan, case: &Case) -> Result<CurveCase, FemError> {
                     )
                 })?;
             }
+            "first_active_set" => c.first_active_set = first_active_set(v)?,
             _ => unreachable!("plan.rs admits only curve keys"),
         }
     }

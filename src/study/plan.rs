@@ -22,7 +22,7 @@ const TOP_KEYS: [&str; 5] = ["case", "base", "options", "histories", "axis"];
 /// Keys of one `[[axis]]` table.
 const AXIS_KEYS: [&str; 6] = ["name", "values", "start", "stop", "step", "count"];
 /// Keys of the train–bridge case, as options and as axes.
-pub const TRAIN_BRIDGE_KEYS: [&str; 18] = [
+pub const TRAIN_BRIDGE_KEYS: [&str; 19] = [
     "cars",
     "spans",
     "span",
@@ -41,9 +41,10 @@ pub const TRAIN_BRIDGE_KEYS: [&str; 18] = [
     "pga",
     "quake_duration",
     "midspans",
+    "first_active_set",
 ];
 /// Keys of the curve case, as options and as axes.
-pub const CURVE_KEYS: [&str; 11] = [
+pub const CURVE_KEYS: [&str; 12] = [
     "radius",
     "ct",
     "speed",
@@ -55,6 +56,7 @@ pub const CURVE_KEYS: [&str; 11] = [
     "anti_roll",
     "tangential",
     "geometry",
+    "first_active_set",
 ];
 
 /// Which case the plan varies.

@@ -29,6 +29,7 @@ pub fn unit(key: &str) -> &'static str {
         "lengths" => "[m]",
         "quake" => "[file]",
         "cars" | "spans" | "seed" | "midspans" | "tangential" | "geometry" => "[-]",
+        "first_active_set" => "[-]",
         "mu" | "quake_scale" => "[-]",
         _ => "[model units]",
     }
