@@ -197,6 +197,12 @@ pub fn measure(
     }
     print_memory(&m, setup_memory);
     if crate::ranks::writes_outputs() {
+        let (stored, [k, mm, cc]) = m.driver.asm.constant_nonzeros();
+        println!(
+            "          constant matrices: {stored} stored entries (one pattern), non-zero values K {k}, M {mm}, C {cc}"
+        );
+    }
+    if crate::ranks::writes_outputs() {
         println!(
             "          condensed Newton (whole run): {} steps, {} top-system iterations, {} full evaluations ({} predictors from the last verification's pass), {} rejected verifications, {} steps handed back",
             c.steps, c.top_iterations, c.full_evaluations, c.predictors_reused, c.rejected, c.fallbacks

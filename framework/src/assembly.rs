@@ -29,7 +29,10 @@ use crate::model::Model;
 use crate::sparse::CscMatrix;
 use nalgebra::{DMatrix, Vector3};
 
+mod nonzero_products;
 mod own_columns;
+
+pub use nonzero_products::NonzeroColumns;
 
 /// Per-element scatter information.
 #[derive(Debug, Clone, Default)]
@@ -158,6 +161,10 @@ pub struct Assembler {
     m_diag: Option<Vec<f64>>,
     /// `K`, `M`, `C` hold only some columns (`own_columns`).
     columns_kept: bool,
+    /// `K`, `M`, `C` on the patterns of their own non-zero values, which the products read
+    /// ([`nonzero_products`]); `None` where the products read the shared pattern (a
+    /// matrix not symmetric, Rayleigh damping: `C` then fills the pattern of `K` and `M`).
+    nonzero: Option<[NonzeroColumns; 3]>,
 }
 
 fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Vector3<f64>) -> f64 {
@@ -223,6 +230,7 @@ impl Assembler {
             c_const_zero: false,
             m_diag: None,
             columns_kept: false,
+            nonzero: None,
         };
         let variable_dofs = model
             .elements
@@ -334,6 +342,12 @@ impl Assembler {
             ("K constant", self.k_const.heap_bytes()),
             ("M constant", self.m_const.heap_bytes()),
             ("C constant", self.c_const.heap_bytes()),
+            (
+                "K, M, C non-zeros for the products",
+                self.nonzero
+                    .as_ref()
+                    .map_or(0, |nz| nz.iter().map(NonzeroColumns::heap_bytes).sum()),
+            ),
             (
                 "variable matrices",
                 self.k_var.heap_bytes() + self.m_var.heap_bytes() + self.c_var.heap_bytes() + off,
@@ -560,6 +574,11 @@ impl Assembler {
         self.m_const = m_const;
         self.c_const = c_const;
         self.columns_kept = false;
+        self.nonzero = if model.analysis.rayleigh.is_none() {
+            self.nonzero_matrices()
+        } else {
+            None
+        };
         // Constant loads: gravity on non-carried masses, ground-motion influence.
         self.carried_mass.clear();
         self.gravity_variable.clear();
@@ -812,7 +831,7 @@ impl Assembler {
     pub fn constant_internal_force(&mut self, q: &[f64], f_int: &mut [f64]) {
         let t0 = std::time::Instant::now();
         if self.const_symmetric {
-            crate::sparse::symmetric_products(&[&self.k_const], &[q], &mut [f_int], self.threads);
+            self.products(&[&self.k_const], &[q], &mut [f_int]);
         } else {
             self.k_const.mul_vec(q, f_int);
         }
@@ -965,10 +984,22 @@ impl Assembler {
         self.times.products += t0.elapsed().as_secs_f64();
     }
 
-    /// `ys[k] = mats[k]·xs[k]` for constant matrices: in one pass over their shared pattern
-    /// when every constant element is symmetric ([`crate::sparse::symmetric_products`]),
-    /// else one scatter product each.
+    /// `ys[k] = mats[k]·xs[k]` for constant matrices: in one pass over the non-zero
+    /// entries of each when they are kept ([`nonzero_products`]: the same values to the
+    /// bit), else over their shared pattern when every constant element is symmetric
+    /// ([`crate::sparse::symmetric_products`]), else one scatter product each.
     fn products(&self, mats: &[&CscMatrix], xs: &[&[f64]], ys: &mut [&mut [f64]]) {
+        if let Some(nz) = &self.nonzero {
+            let own = [&self.k_const, &self.m_const, &self.c_const];
+            let picked: Option<Vec<&NonzeroColumns>> = mats
+                .iter()
+                .map(|&m| own.iter().position(|&o| std::ptr::eq(o, m)).map(|k| &nz[k]))
+                .collect();
+            if let Some(picked) = picked {
+                nonzero_products::nonzero_products(&picked, xs, ys, self.threads);
+                return;
+            }
+        }
         if self.const_symmetric {
             crate::sparse::symmetric_products(mats, xs, ys, self.threads);
         } else {
@@ -1149,7 +1180,7 @@ impl Assembler {
         if let Some(d) = &self.m_diag {
             diagonal_times(d, x, out);
         } else if self.const_symmetric {
-            crate::sparse::symmetric_products(&[&self.m_const], &[x], &mut [out], self.threads);
+            self.products(&[&self.m_const], &[x], &mut [out]);
         } else {
             self.m_const.mul_vec(x, out);
         }
@@ -1205,7 +1236,7 @@ impl Assembler {
             // Nothing to add from the constant part.
         } else if self.const_symmetric && (self.c_const.n >= 20_000 || self.columns_kept) {
             let mut cx = vec![0.0; self.c_const.n];
-            crate::sparse::symmetric_products(&[&self.c_const], &[x], &mut [&mut cx], self.threads);
+            self.products(&[&self.c_const], &[x], &mut [&mut cx]);
             for (o, c) in out.iter_mut().zip(&cx) {
                 *o += c;
             }
@@ -1270,6 +1301,34 @@ impl Assembler {
         .into_iter()
         .filter(|(_, m)| m.n == self.k_const.n) // unused variable matrices are kept empty
         .collect()
+    }
+
+    /// `K`, `M`, `C` on the patterns of their own non-zero values, for the products, when
+    /// every constant element is symmetric (the gather form) and the equations fit 32-bit
+    /// rows; else `None`.
+    fn nonzero_matrices(&self) -> Option<[NonzeroColumns; 3]> {
+        if !self.const_symmetric {
+            return None;
+        }
+        Some([
+            NonzeroColumns::of(&self.k_const)?,
+            NonzeroColumns::of(&self.m_const)?,
+            NonzeroColumns::of(&self.c_const)?,
+        ])
+    }
+
+    /// Stored entries of the shared pattern and the non-zero values of `K`, `M` and `C`
+    /// in it (the entries the products read when kept apart; for the benchmark's report).
+    pub fn constant_nonzeros(&self) -> (usize, [usize; 3]) {
+        let count = |m: &CscMatrix| m.values.iter().filter(|&&v| v != 0.0).count();
+        (
+            self.k_const.nnz(),
+            [
+                count(&self.k_const),
+                count(&self.m_const),
+                count(&self.c_const),
+            ],
+        )
     }
 
     /// Equations whose column of `M` (constant and variable mass on the pattern, as

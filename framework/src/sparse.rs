@@ -169,18 +169,6 @@ pub fn symmetric_products(
     };
     let n = first.n;
     debug_assert!(mats.iter().all(|m| m.pattern_id == first.pattern_id));
-    // Below ~20 000 columns a thread costs more than it saves.
-    let nt = threads.clamp(1, 16).min(n / 20_000 + 1);
-    let bounds: Vec<usize> = (0..=nt).map(|t| t * n / nt).collect();
-    let mut parts: Vec<Vec<&mut [f64]>> = (0..nt).map(|_| Vec::new()).collect();
-    for y in ys.iter_mut() {
-        let mut rest: &mut [f64] = &mut y[..n];
-        for t in 0..nt {
-            let (a, b) = rest.split_at_mut(bounds[t + 1] - bounds[t]);
-            parts[t].push(a);
-            rest = b;
-        }
-    }
     // Runs of the same matrix (a transient evaluation's K·q, M·(a_w, …), C·(v_w, …)):
     // each stored value is then loaded once for its run.
     let same = |a: usize, b: usize| std::ptr::eq(mats[a], mats[b]);
@@ -198,6 +186,32 @@ pub fn symmetric_products(
         (Some((3, 3)), _) => gather_runs::<3, 3>(mats, xs, lo, out),
         (_, n) => gather_any(n, mats, xs, lo, out, first),
     };
+    by_column_ranges(n, ys, threads, kernel);
+}
+
+/// Runs `kernel(lo, out)` on contiguous column ranges `lo..lo + out[k].len()` of `n`
+/// columns, `out[k]` being those rows of `ys[k]`, one range per thread (up to `threads`,
+/// and one per ~20 000 columns: below that a thread costs more than it saves). The ranges
+/// are disjoint, so a kernel that forms each row alone gives the same values on any
+/// thread count.
+pub fn by_column_ranges(
+    n: usize,
+    ys: &mut [&mut [f64]],
+    threads: usize,
+    kernel: impl Fn(usize, &mut Vec<&mut [f64]>) + Sync,
+) {
+    // Below ~20 000 columns a thread costs more than it saves.
+    let nt = threads.clamp(1, 16).min(n / 20_000 + 1);
+    let bounds: Vec<usize> = (0..=nt).map(|t| t * n / nt).collect();
+    let mut parts: Vec<Vec<&mut [f64]>> = (0..nt).map(|_| Vec::new()).collect();
+    for y in ys.iter_mut() {
+        let mut rest: &mut [f64] = &mut y[..n];
+        for t in 0..nt {
+            let (a, b) = rest.split_at_mut(bounds[t + 1] - bounds[t]);
+            parts[t].push(a);
+            rest = b;
+        }
+    }
     if nt == 1 {
         kernel(0, &mut parts[0]);
         return;
@@ -320,6 +334,24 @@ fn gather_columns<const N: usize>(
     }
 }
 
+/// A symmetric banded matrix of `n` columns (bands 1, 7 and 40 off the diagonal) with
+/// non-integer values, so that the order of a product's additions shows in its last bits.
+#[cfg(test)]
+pub(crate) fn banded(n: usize) -> CscMatrix {
+    let mut t = Vec::new();
+    for i in 0..n {
+        t.push((i, i, 3.0 + (i as f64 * 0.37).sin()));
+        for d in [1, 7, 40] {
+            if i + d < n {
+                let v = 0.1 + (i as f64 * 0.11 + d as f64).cos() / 3.0;
+                t.push((i, i + d, v));
+                t.push((i + d, i, v));
+            }
+        }
+    }
+    CscMatrix::from_triplets(n, &t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -342,18 +374,7 @@ mod tests {
         // each product formed within a group of 1 to 9 (9 takes the general loop) must be
         // the product formed alone.
         let n = 3_000;
-        let mut t = Vec::new();
-        for i in 0..n {
-            t.push((i, i, 3.0 + (i as f64 * 0.37).sin()));
-            for d in [1, 7, 40] {
-                if i + d < n {
-                    let v = 0.1 + (i as f64 * 0.11 + d as f64).cos() / 3.0;
-                    t.push((i, i + d, v));
-                    t.push((i + d, i, v));
-                }
-            }
-        }
-        let a = CscMatrix::from_triplets(n, &t);
+        let a = banded(n);
         let mats: Vec<CscMatrix> = (0..9)
             .map(|k| {
                 let mut m = a.clone();

@@ -68,6 +68,9 @@ impl Assembler {
         self.k_const = kept_columns(&self.k_const, keep);
         self.m_const = kept_columns(&self.m_const, keep);
         self.c_const = kept_columns(&self.c_const, keep);
+        if self.nonzero.is_some() {
+            self.nonzero = self.nonzero_matrices();
+        }
         self.columns_kept = true;
         true
     }
