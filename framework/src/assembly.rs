@@ -30,6 +30,7 @@ use crate::sparse::CscMatrix;
 use nalgebra::{DMatrix, Vector3};
 
 mod own_columns;
+mod own_elements;
 
 /// Per-element scatter information.
 #[derive(Debug, Clone, Default)]

@@ -503,8 +503,12 @@ impl Driver {
     /// forms the residual of those rows alone; the norms of the convergence test are summed
     /// over the ranks in block order ([`crate::partition`], *rows*). The answers are one
     /// process's to round-off (the norms are summed in another order), and each rank holds
-    /// about `1/P` of the constant matrices. The energy balance needs every row and is not
-    /// formed (`energy` becomes `None`). Returns whether the rows are shared: not in one
+    /// about `1/P` of the constant matrices. It also keeps only the elements it needs:
+    /// those touching the rows it keeps, every element evaluated after the build (the
+    /// wheels, anything nonlinear or with a changing mass, the vehicles' carried masses),
+    /// and on rank 0 those its recorders read; the others are released, their indices
+    /// kept ([`Assembler::release_elements`]; no number changes). The energy balance needs
+    /// every row and is not formed (`energy` becomes `None`). Returns whether the rows are shared: not in one
     /// process, without the partitioned solver, or where the assembler cannot keep columns
     /// exactly ([`Assembler::keep_constant_columns`]). Set the partition options before.
     pub fn keep_own_rows(&mut self) -> bool {
@@ -536,6 +540,20 @@ impl Driver {
         if !self.asm.keep_constant_columns(&until_mass) {
             return false;
         }
+        // The elements: those the rank's rows touch, every element evaluated after the
+        // build, and on rank 0 those its recorders read; the others are released.
+        let root = self.exchange.as_ref().is_some_and(|e| e.rank() == 0);
+        let recorded: std::collections::HashSet<u64> = if root {
+            self.model
+                .recorders
+                .iter()
+                .flat_map(|r| r.elements_read(&self.model))
+                .collect()
+        } else {
+            Default::default()
+        };
+        self.asm
+            .release_elements(&mut self.model, &keep, &|id| recorded.contains(&id));
         if until_mass != keep {
             self.narrow_after_mass = Some(keep);
         }
@@ -552,6 +570,13 @@ impl Driver {
             (Some(p), true) => p.rows_owned(),
             _ => self.neq(),
         }
+    }
+
+    /// Elements this rank holds whole: all of them, or with [`Driver::keep_own_rows`]
+    /// those its rows and recorders need and every element evaluated after the build
+    /// ([`Assembler::release_elements`]).
+    pub fn elements_held(&self) -> usize {
+        railfem_framework::released::elements_held(&self.model)
     }
 
     /// Stored entries of the constant stiffness this rank keeps (`M` and `C` share its
