@@ -14,11 +14,15 @@
 //! distributed solve performs the same floating-point operations in the same order (rank 0
 //! sums the blocks' pieces in block order), so the histories agree to round-off at most;
 //! 1e-12 of the largest value bounds that, far below the Newton tolerance (an iteration
-//! more or less would change the answer by ~1e-8 of its scale).
+//! more or less would change the answer by ~1e-8 of its scale). With the residual per rank
+//! each rank also holds fewer elements, and the energy balance is summed over the ranks'
+//! own rows in block order: its rows equal one process's to round-off and are the same
+//! for 2 and 3 ranks.
 
 mod common;
 
 use railfem::framework::model::SolverChoice;
+use railfem::solvers::energy::EnergyRow;
 use railfem::solvers::exchange::{thread_ranks, Exchange};
 use railfem::solvers::partition::{PartitionOptions, PartitionStats};
 use railfem::train_bridge::{build, TrainBridgeCase};
@@ -42,8 +46,12 @@ type History = Vec<[Vec<f64>; 3]>;
 /// What one rank ran: the state after each step, the Newton iterations, the solver's
 /// counters, the stored entries of the effective matrix it kept, its rows (those it formed
 /// the residual of, the entries of `K` it kept and the elements it held whole) and the
-/// wheels' outputs after each step (what rank 0 records in `wheels.csv`).
-type Run = (History, usize, PartitionStats, usize, Rows, Vec<Vec<f64>>);
+/// wheels' outputs and the energy balance's rows after each step.
+type Run = (History, usize, PartitionStats, usize, Rows, Recorded);
+
+/// The wheels' outputs after each step (what rank 0 records in `wheels.csv`) and the
+/// energy balance's rows (`energy.csv`).
+type Recorded = (Vec<Vec<f64>>, Vec<EnergyRow>);
 
 /// Rows whose residual a rank formed, the stored entries of the constant `K` it kept, and
 /// the elements it held whole (the model's count in one process).
@@ -73,8 +81,8 @@ fn history(
                 "the train-bridge model keeps its own rows"
             );
             assert!(
-                d.energy.is_none(),
-                "no energy balance over part of the rows"
+                d.energy.is_some(),
+                "the energy balance summed over the ranks' own rows"
             );
         }
     }
@@ -101,16 +109,25 @@ fn history(
         d.partition_stats().expect("partitioned"),
         entries,
         (d.rows_owned(), d.constant_entries(), d.elements_held()),
-        wheels,
+        (
+            wheels,
+            d.energy.as_ref().expect("energy balance").history.clone(),
+        ),
     )
 }
 
 fn compare(condensed: bool, steps: usize, own_rows: bool) {
-    let (serial, it_serial, s1, entries_serial, (n, k_serial, elements), wheels_serial) =
+    let (serial, it_serial, s1, entries_serial, (n, k_serial, elements), recorded) =
         history(None, condensed, steps, false);
+    let (wheels_serial, energy_serial) = recorded;
+    let energy_scale = energy_serial.iter().fold(0.0f64, |m, r| m.max(r.scale()));
+    assert_eq!(energy_serial.len(), steps);
     // The wheels enter new rail nodes every step (0.4 m per step over 0.4 m elements).
     assert!(s1.promotions >= steps, "{s1:?}");
     assert!(s1.blocks >= 6, "{s1:?}");
+    // The balance's rows of the first run across ranks: those of every other run and rank
+    // are the same to the bit (summed in block order whatever the number of ranks).
+    let mut energy_ranks: Option<Vec<EnergyRow>> = None;
     for ranks in [2, 3] {
         let runs: Vec<Run> = std::thread::scope(|s| {
             let hs: Vec<_> = thread_ranks(ranks)
@@ -119,7 +136,7 @@ fn compare(condensed: bool, steps: usize, own_rows: bool) {
                 .collect();
             hs.into_iter().map(|h| h.join().expect("rank")).collect()
         });
-        for (r, (h, it, st, _, rows, wheels)) in runs.iter().enumerate() {
+        for (r, (h, it, st, _, rows, (wheels, energy))) in runs.iter().enumerate() {
             let e = common::worst_relative(h, &serial);
             println!(
                 "condensed {condensed}, own rows {own_rows}, {ranks} ranks, rank {r}: relative differences q {:.1e}, v {:.1e}, a {:.1e}; {} of {} blocks; {} bytes sent, {} received; rows {} of {n}, K entries {} of {k_serial}",
@@ -150,6 +167,32 @@ fn compare(condensed: bool, steps: usize, own_rows: bool) {
                 .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
             let w = [diff / scale];
             println!("  wheel outputs differ by {:.1e}", w[0]);
+            // The energy balance: every row of every rank, each energy to 1e-12 of the
+            // largest energy of the run. Summed over the own rows of each block and the
+            // blocks added in block order, the works and `vᵀ·M·v` are one process's sums
+            // (over fixed chunks of the equations) in another order: a sum of n terms
+            // reordered moves by at most (n − 1)·u·Σ|terms| (u = 1.1e-16, the unit
+            // round-off; n = 8 784 equations here, (n − 1)·u ≈ 1e-12), and in practice by
+            // about √n·u ≈ 1e-14 of it. Without
+            // own rows every rank forms one process's sums, to the bit.
+            assert_eq!(energy.len(), steps);
+            let de = common::energy_difference(energy, &energy_serial);
+            println!(
+                "  energy rows differ by {de:.1e} of the largest energy ({energy_scale:.3e} J)"
+            );
+            let first = energy_ranks.get_or_insert_with(|| energy.clone());
+            assert_eq!(
+                first, energy,
+                "{ranks} ranks, rank {r}: the balance does not depend on the ranks"
+            );
+            if own_rows {
+                assert!(
+                    de <= 1e-12,
+                    "{ranks} ranks, rank {r}: energy rows differ by {de:e}"
+                );
+            } else {
+                assert_eq!(de, 0.0, "{ranks} ranks, rank {r}: energy rows differ");
+            }
             assert!(
                 w[0] <= 1e-12,
                 "{ranks} ranks, rank {r}: wheel outputs differ by {w:?}"

@@ -506,9 +506,10 @@ impl Driver {
     /// about `1/P` of the constant matrices. It also keeps only the elements it needs:
     /// those touching the rows it keeps, every element evaluated after the build (the
     /// wheels, anything nonlinear or with a changing mass, the vehicles' carried masses),
-    /// and on rank 0 those its recorders read; the others are released, their indices
-    /// kept ([`Assembler::release_elements`]; no number changes). The energy balance needs
-    /// every row and is not formed (`energy` becomes `None`). Returns whether the rows are shared: not in one
+    /// and those the model's recorders read; the others are released, their indices
+    /// kept ([`Assembler::release_elements`]; no number changes). The energy balance is
+    /// summed over the ranks' own rows in block order
+    /// ([`crate::energy::EnergyLedger::record`]). Returns whether the rows are shared: not in one
     /// process, without the partitioned solver, or where the assembler cannot keep columns
     /// exactly ([`Assembler::keep_constant_columns`]). Set the partition options before.
     pub fn keep_own_rows(&mut self) -> bool {
@@ -541,24 +542,20 @@ impl Driver {
             return false;
         }
         // The elements: those the rank's rows touch, every element evaluated after the
-        // build, and on rank 0 those its recorders read; the others are released.
-        let root = self.exchange.as_ref().is_some_and(|e| e.rank() == 0);
-        let recorded: std::collections::HashSet<u64> = if root {
-            self.model
-                .recorders
-                .iter()
-                .flat_map(|r| r.elements_read(&self.model))
-                .collect()
-        } else {
-            Default::default()
-        };
+        // build, and those the model's recorders read (rank 0 writes them; any rank may
+        // keep their rows in memory); the others are released.
+        let recorded: std::collections::HashSet<u64> = self
+            .model
+            .recorders
+            .iter()
+            .flat_map(|r| r.elements_read(&self.model))
+            .collect();
         self.asm
             .release_elements(&mut self.model, &keep, &|id| recorded.contains(&id));
         if until_mass != keep {
             self.narrow_after_mass = Some(keep);
         }
         self.mass_split = mass;
-        self.energy = None;
         self.rows_per_rank = true;
         true
     }
@@ -1330,7 +1327,10 @@ impl Driver {
                     // A linear step formed its state's M·v with its K·q.
                     let mv = self.work.mv_ready.then_some(&self.work.mv[..]);
                     let cv = self.work.cv_ready.then_some(&mut self.work.cv);
-                    e.record(&self.asm, &self.model, &self.state, &s, mv, cv);
+                    // A rank forming its own rows sums the balance over them, in block
+                    // order across the ranks.
+                    let ranks = self.partition.as_mut().filter(|_| self.rows_per_rank);
+                    e.record(&self.asm, &self.model, &self.state, &s, mv, cv, ranks);
                 }
                 // The increment for the next step's predictor, in last step's vector.
                 let kept = self.last_increment.take();

@@ -1,5 +1,5 @@
 //! The elements one rank of a shared model keeps: those the rank's rows need, every element
-//! the assembler evaluates at every step, and those a caller names (rank 0's recorders);
+//! the assembler evaluates at every step, and those a caller names (the recorders');
 //! the others are dropped after the build, their slots left as
 //! [`crate::released::Released`] so that no element index shifts
 //! ([`Assembler::release_elements`]).
