@@ -173,6 +173,21 @@ for f in midspan.csv sprung_mass.csv; do
     d2=$(same_numbers "$work/mf-serial/$f" "$work/mf-mpi2/$f") || fail "model file, 2 ranks: $f"
     echo "mpi.sh: model file $f: 2 ranks differ from serial by $d2 (relative, limit 1e-12)"
 done
+# The energy balance, summed over the ranks' own rows in block order: every energy within
+# 1e-12 of the largest energy of the run (another order of the same sums), the times equal.
+de=$(python3 - "$work/mf-serial/energy.csv" "$work/mf-mpi2/energy.csv" <<'PY'
+import sys
+a, b = ([[float(x) for x in l.split(",")] for l in list(open(f))[1:] if l.strip()] for f in sys.argv[1:3])
+if len(a) != len(b) or len(a) < 2 or any(x[0] != y[0] for x, y in zip(a, b)):
+    sys.exit(f"{sys.argv[2]}: rows or times differ from {sys.argv[1]}")
+scale = max(abs(v) for r in a for v in r[1:6])
+worst = max(abs(u - v) for x, y in zip(a, b) for u, v in zip(x[1:], y[1:])) / scale
+if worst > 1e-12:
+    sys.exit(f"{sys.argv[2]}: differs from {sys.argv[1]} by {worst:.3e} of the largest energy")
+print(f"{worst:.1e}")
+PY
+) || fail "model file, 2 ranks: energy.csv"
+echo "mpi.sh: model file energy.csv: 2 ranks differ from serial by $de of the largest energy (limit 1e-12)"
 status=0
 mpirun_n 2 "$mpi_bin" run examples/models/moving_sprung_mass.toml -q --out "$work/mf-lowrank" >/dev/null 2>"$work/mf-lowrank.err" || status=$?
 [ "$status" -ne 0 ] && grep -q 'set `solver = "partitioned"`' "$work/mf-lowrank.err" \

@@ -23,11 +23,15 @@ Comm  N_COLL collectives of latency ALPHA*ceil(log2 P) each, plus the bytes the 
       receives at bandwidth BETA: (P-1)/P * (c1*N + c2*n_T) (the interiors of the other ranks
       once per step, the block pieces and top vectors), fitted at P = 2.
 
-Memory per rank: M(P, N) = Mr(N) + Mf(N)/P, both affine in N, with Mr (replicated: model,
-elements, state, top system) = 2*M2 - M1 and Mf (block factors, promotions, the columns of
-the effective matrix and of K, M, C) = 2*(M1 - M2) from the 1-rank peak M1 and the larger
-2-rank peak M2, measured with the residual formed per rank over its own rows
-(docs/scale-out.md, "Memory per rank"), at the sizes MEM_N (the mesh of that day).
+Memory per rank: the larger of the build's peak B(N), the same on every rank (every rank
+still generates the track and builds the whole model and its K, M, C before the split),
+and the steady state of the steps M(P, N) = Mr(N) + Mf(N)/P. All three are affine in N:
+B from the larger 2-rank peak after the build; Mr (replicated after the build: the
+track, the elements every rank keeps, state vectors, maps, top system) = 2*M2 - M1 and Mf
+(divided: block factors, promotions, the columns of the effective matrix and of K, M, C,
+the elements of the rank's rows) = 2*(M1 - M2) from the 1-rank resident memory after the
+steps M1 and the larger 2-rank one M2, measured with the residual and the elements per
+rank (docs/scale-out.md, "Memory per rank"), at the sizes MEM_N.
 
 Every affine law goes through the two measured sizes exactly (two points, two parameters).
 """
@@ -42,16 +46,19 @@ PROM = [18.0, 17.6]  # blocks
 BS = [6.0, 34.2]     # solve
 TOP = [14.0, 34.0]   # top
 NT = [2520, 8160]    # top equations
-# Two ranks: bytes received by the busiest rank per iteration; peak memory (MiB) of one rank
-# and of the larger of the two ranks.
+# Two ranks: bytes received by the busiest rank per iteration. Memory (MiB, 2026-11-27
+# 17:19-17:34, this branch's MPI build): resident after the steps of one rank and of the
+# larger of two ranks, and the larger 2-rank peak after the build.
 RECV2 = [604167, 3036013]
 MEM_N = [112542, 1043052]
-MEM1 = [529, 3812]
-MEM2 = [385, 2769]
+MEM1 = [530, 3769]
+MEM2 = [352, 2404]
+BUILD = [327, 2593]
 # Assumed network: latency of one step of a collective, bandwidth (a 100 Gb/s fabric).
 ALPHA = 2e-3  # ms
 BETA = 10e9   # B/s
-N_COLL = 5    # collectives per iteration (measured: 4, and the norms of the own-rows residual)
+N_COLL = 6    # collectives per iteration (measured: 4, the norms of the own-rows residual,
+              # and the energy balance's sums once per step)
 
 
 def affine(x, y):
@@ -75,16 +82,19 @@ def main():
     c2 = (N[0] * y[1] - N[1] * y[0]) / det
     mr0, mr1 = affine(MEM_N, [2 * m2 - m1 for m1, m2 in zip(MEM1, MEM2)])
     mf0, mf1 = affine(MEM_N, [2 * (m1 - m2) for m1, m2 in zip(MEM1, MEM2)])
+    bp0, bp1 = affine(MEM_N, BUILD)
     print(f"R = {r0:.1f} ms + {r1 * 1e6:.1f} ms per 1e6 DOF; Pr = {p0:.1f} + {p1 * 1e6:.1f} per 1e6 DOF; Bs = {b0:.1f} + {b1 * 1e6:.1f} per 1e6 DOF; "
           f"Prom = {prom:.1f} ms")
     print(f"n_T = {v:.0f} + {s:.1f} per block; Top = {t0:.1f} ms + {t1 * 1e3:.2f} ms per 1000 top equations")
     print(f"busiest rank receives (P-1)/P * ({c1:.2f} B per DOF + {c2:.0f} B per top equation)")
     print(f"memory: replicated {mr0:.0f} MiB + {mr1 * 1e6:.0f} MiB per 1e6 DOF; "
-          f"factors {mf0:.0f} MiB + {mf1 * 1e6:.0f} MiB per 1e6 DOF")
+          f"divided {mf0:.0f} MiB + {mf1 * 1e6:.0f} MiB per 1e6 DOF; "
+          f"build peak {bp0:.0f} MiB + {bp1 * 1e6:.0f} MiB per 1e6 DOF")
     print()
     print("| DOF | ranks | top equations | ms/iteration | replicated | products / P | promotions | block solves / P | "
-          "top (rank 0) | communication | received by the busiest rank | GiB per rank |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "top (rank 0) | communication | received by the busiest rank | GiB per rank, steps | "
+          "GiB per rank, peak (build) |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for n in [1e6, 1e7]:
         nt = v + s * n / per_block
         for p in [1, 2, 8, 16, 32, 64]:
@@ -92,9 +102,10 @@ def main():
             comm = N_COLL * ALPHA * math.ceil(math.log2(p)) + recv / BETA * 1e3 if p > 1 else 0.0
             parts = [r0 + r1 * n, (p0 + p1 * n) / p, prom, (b0 + b1 * n) / p, t0 + t1 * nt, comm]
             mem = (mr0 + mr1 * n + (mf0 + mf1 * n) / p) / 1024
+            peak = max(mem, (bp0 + bp1 * n) / 1024)
             print(f"| {n:.0e} | {p} | {nt:.0f} | {sum(parts):.0f} | {parts[0]:.0f} | {parts[1]:.1f} | "
                   f"{parts[2]:.0f} | {parts[3]:.1f} | {parts[4]:.0f} | {parts[5]:.1f} | {recv / 1e6:.1f} MB | "
-                  f"{mem:.1f} |")
+                  f"{mem:.1f} | {peak:.1f} |")
     print()
     for n in [1e5, 1e6, 1e7]:
         nt = v + s * n / per_block

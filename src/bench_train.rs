@@ -182,12 +182,14 @@ pub fn measure(
     if p1.ranks > 1 {
         let per_it = |x: u64, y: u64| (x - y) as f64 / iters as f64;
         println!(
-            "          rank {} of {}: {} of {} blocks ({} interior equations), peak {:.0} MiB, per iteration {:.0} B sent, {:.0} B received, {:.0} collectives, {:.1} ms in them",
+            "          rank {} of {}: {} of {} blocks ({} interior equations), {} of {} elements held, peak {:.0} MiB, per iteration {:.0} B sent, {:.0} B received, {:.0} collectives, {:.1} ms in them",
             crate::sidecar::launcher_rank().unwrap_or(0),
             p1.ranks,
             p1.owned_blocks,
             p1.blocks,
             p1.owned_interior_equations,
+            d.elements_held(),
+            d.model.elements.len(),
             crate::bench::peak_memory_mib().unwrap_or(f64::NAN),
             per_it(p1.comm.bytes_sent, p0.comm.bytes_sent),
             per_it(p1.comm.bytes_received, p0.comm.bytes_received),

@@ -1356,7 +1356,8 @@ fn polach_spin(a: &Args, tangential: &str) -> Result<Option<String>, FemError> {
 }
 
 /// A model file's partitioned solver shared among the ranks of `mpirun -n P` (P > 1): each
-/// rank factors and condenses its own blocks ([`crate::ranks`]). A model on another solver is
+/// rank factors and condenses its own blocks ([`crate::ranks`]) and forms the residual of
+/// its own rows (`Driver::keep_own_rows`). A model on another solver is
 /// refused with the fix.
 fn share_among_ranks(
     driver: &mut crate::solvers::Driver,
@@ -1370,5 +1371,9 @@ fn share_among_ranks(
             format!("[analysis]: under `mpirun -n {size}` the ranks share the partitioned solver's blocks, but `solver = \"{}\"` does not run it for this model's {} equations; set `solver = \"partitioned\"` (and `block_size`, interior equations per block, so that there are at least {size} blocks)", driver.model.analysis.solver.name(), driver.state.q.len()),
         ));
     }
-    driver.set_exchange(ex)
+    driver.set_exchange(ex)?;
+    // Each rank forms the residual of its own rows, with its columns of K, M, C and its
+    // elements; the energy balance is summed over the ranks' rows.
+    driver.keep_own_rows();
+    Ok(())
 }

@@ -14,11 +14,15 @@
 //! distributed solve performs the same floating-point operations in the same order (rank 0
 //! sums the blocks' pieces in block order), so the histories agree to round-off at most;
 //! 1e-12 of the largest value bounds that, far below the Newton tolerance (an iteration
-//! more or less would change the answer by ~1e-8 of its scale).
+//! more or less would change the answer by ~1e-8 of its scale). With the residual per rank
+//! each rank also holds fewer elements, and the energy balance is summed over the ranks'
+//! own rows in block order: its rows equal one process's to round-off and are the same
+//! for 2 and 3 ranks.
 
 mod common;
 
 use railfem::framework::model::SolverChoice;
+use railfem::solvers::energy::EnergyRow;
 use railfem::solvers::exchange::{thread_ranks, Exchange};
 use railfem::solvers::partition::{PartitionOptions, PartitionStats};
 use railfem::train_bridge::{build, TrainBridgeCase};
@@ -40,12 +44,18 @@ fn case(solver: SolverChoice) -> TrainBridgeCase {
 type History = Vec<[Vec<f64>; 3]>;
 
 /// What one rank ran: the state after each step, the Newton iterations, the solver's
-/// counters, the stored entries of the effective matrix it kept, and its rows: those it
-/// formed the residual of and the entries of `K` it kept.
-type Run = (History, usize, PartitionStats, usize, Rows);
+/// counters, the stored entries of the effective matrix it kept, its rows (those it formed
+/// the residual of, the entries of `K` it kept and the elements it held whole) and the
+/// wheels' outputs and the energy balance's rows after each step.
+type Run = (History, usize, PartitionStats, usize, Rows, Recorded);
 
-/// Rows whose residual a rank formed, and the stored entries of the constant `K` it kept.
-type Rows = (usize, usize);
+/// The wheels' outputs after each step (what rank 0 records in `wheels.csv`) and the
+/// energy balance's rows (`energy.csv`).
+type Recorded = (Vec<Vec<f64>>, Vec<EnergyRow>);
+
+/// Rows whose residual a rank formed, the stored entries of the constant `K` it kept, and
+/// the elements it held whole (the model's count in one process).
+type Rows = (usize, usize, usize);
 
 /// `steps` steps on one rank of `exchange` (`None`: one process); with `own_rows` each rank
 /// forms the residual of its own rows only (`Driver::keep_own_rows`).
@@ -71,18 +81,26 @@ fn history(
                 "the train-bridge model keeps its own rows"
             );
             assert!(
-                d.energy.is_none(),
-                "no energy balance over part of the rows"
+                d.energy.is_some(),
+                "the energy balance summed over the ranks' own rows"
             );
         }
     }
     d.static_solve(0.0, 4).expect("static preload");
     d.initialize().expect("initial accelerations");
     let mut out = Vec::new();
+    let mut wheels = Vec::new();
     let mut iterations = 0;
     for _ in 0..steps {
         iterations += d.step(0.004).expect("step").iterations;
         out.push([d.state.q.clone(), d.state.v.clone(), d.state.a.clone()]);
+        let mut row = Vec::new();
+        for &ei in &m.wheel_index {
+            let mut o = Vec::new();
+            d.model.elements[ei].element.outputs(&mut o);
+            row.extend(o);
+        }
+        wheels.push(row);
     }
     let entries = d.effective_matrix_entries();
     (
@@ -90,16 +108,26 @@ fn history(
         iterations,
         d.partition_stats().expect("partitioned"),
         entries,
-        (d.rows_owned(), d.constant_entries()),
+        (d.rows_owned(), d.constant_entries(), d.elements_held()),
+        (
+            wheels,
+            d.energy.as_ref().expect("energy balance").history.clone(),
+        ),
     )
 }
 
 fn compare(condensed: bool, steps: usize, own_rows: bool) {
-    let (serial, it_serial, s1, entries_serial, (n, k_serial)) =
+    let (serial, it_serial, s1, entries_serial, (n, k_serial, elements), recorded) =
         history(None, condensed, steps, false);
+    let (wheels_serial, energy_serial) = recorded;
+    let energy_scale = energy_serial.iter().fold(0.0f64, |m, r| m.max(r.scale()));
+    assert_eq!(energy_serial.len(), steps);
     // The wheels enter new rail nodes every step (0.4 m per step over 0.4 m elements).
     assert!(s1.promotions >= steps, "{s1:?}");
     assert!(s1.blocks >= 6, "{s1:?}");
+    // The balance's rows of the first run across ranks: those of every other run and rank
+    // are the same to the bit (summed in block order whatever the number of ranks).
+    let mut energy_ranks: Option<Vec<EnergyRow>> = None;
     for ranks in [2, 3] {
         let runs: Vec<Run> = std::thread::scope(|s| {
             let hs: Vec<_> = thread_ranks(ranks)
@@ -108,7 +136,7 @@ fn compare(condensed: bool, steps: usize, own_rows: bool) {
                 .collect();
             hs.into_iter().map(|h| h.join().expect("rank")).collect()
         });
-        for (r, (h, it, st, _, rows)) in runs.iter().enumerate() {
+        for (r, (h, it, st, _, rows, (wheels, energy))) in runs.iter().enumerate() {
             let e = common::worst_relative(h, &serial);
             println!(
                 "condensed {condensed}, own rows {own_rows}, {ranks} ranks, rank {r}: relative differences q {:.1e}, v {:.1e}, a {:.1e}; {} of {} blocks; {} bytes sent, {} received; rows {} of {n}, K entries {} of {k_serial}",
@@ -127,6 +155,48 @@ fn compare(condensed: bool, steps: usize, own_rows: bool) {
                     "{ranks} ranks, rank {r}: {what} differ by {x:e}"
                 );
             }
+            // The wheels (every rank holds them) report what one process's report: each
+            // output to 1e-12 of the largest magnitude of all (the same bound as the state).
+            let flat = |h: &[Vec<f64>]| h.concat();
+            let (a, b) = (flat(wheels), flat(&wheels_serial));
+            assert_eq!(a.len(), b.len());
+            let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let diff = a
+                .iter()
+                .zip(&b)
+                .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+            let w = [diff / scale];
+            println!("  wheel outputs differ by {:.1e}", w[0]);
+            // The energy balance: every row of every rank, each energy to 1e-12 of the
+            // largest energy of the run. Summed over the own rows of each block and the
+            // blocks added in block order, the works and `vᵀ·M·v` are one process's sums
+            // (over fixed chunks of the equations) in another order: a sum of n terms
+            // reordered moves by at most (n − 1)·u·Σ|terms| (u = 1.1e-16, the unit
+            // round-off; n = 8 784 equations here, (n − 1)·u ≈ 1e-12), and in practice by
+            // about √n·u ≈ 1e-14 of it. Without
+            // own rows every rank forms one process's sums, to the bit.
+            assert_eq!(energy.len(), steps);
+            let de = common::energy_difference(energy, &energy_serial);
+            println!(
+                "  energy rows differ by {de:.1e} of the largest energy ({energy_scale:.3e} J)"
+            );
+            let first = energy_ranks.get_or_insert_with(|| energy.clone());
+            assert_eq!(
+                first, energy,
+                "{ranks} ranks, rank {r}: the balance does not depend on the ranks"
+            );
+            if own_rows {
+                assert!(
+                    de <= 1e-12,
+                    "{ranks} ranks, rank {r}: energy rows differ by {de:e}"
+                );
+            } else {
+                assert_eq!(de, 0.0, "{ranks} ranks, rank {r}: energy rows differ");
+            }
+            assert!(
+                w[0] <= 1e-12,
+                "{ranks} ranks, rank {r}: wheel outputs differ by {w:?}"
+            );
         }
         // The blocks are shared, not repeated: each is owned, factored and promoted on one
         // rank only, and every rank owns some.
@@ -150,7 +220,10 @@ fn compare(condensed: bool, steps: usize, own_rows: bool) {
         // on every rank but 0, and each rank keeps fewer than one process.
         let rows: Vec<usize> = runs.iter().map(|r| r.4 .0).collect();
         let kept: Vec<usize> = runs.iter().map(|r| r.4 .1).collect();
-        println!("rows {rows:?} of {n}; K entries {kept:?} of {k_serial}");
+        let held: Vec<usize> = runs.iter().map(|r| r.4 .2).collect();
+        println!(
+            "rows {rows:?} of {n}; K entries {kept:?} of {k_serial}; elements held {held:?} of {elements}"
+        );
         if own_rows {
             assert_eq!(rows.iter().sum::<usize>(), n);
             assert!(rows.iter().all(|&r| r < n));
@@ -166,9 +239,16 @@ fn compare(condensed: bool, steps: usize, own_rows: bool) {
                 (1..ranks).all(|r| kept[r] - entries[r] == base_top),
                 "{kept:?}"
             );
+            // Each rank holds only the elements its kept rows touch and those evaluated
+            // every step (the train): fewer than the model's, at most about a share of the
+            // bridge's plus what every rank holds, and together every element at least
+            // once (each touches some equation, owned by some rank).
+            assert!(held.iter().all(|&h| h < elements), "{held:?} of {elements}");
+            assert!(held.iter().sum::<usize>() >= elements, "{held:?}");
         } else {
             assert!(rows.iter().all(|&r| r == n));
             assert!(kept.iter().all(|&e| e == k_serial));
+            assert!(held.iter().all(|&h| h == elements));
         }
     }
 }

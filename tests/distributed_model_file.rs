@@ -15,6 +15,7 @@
 
 mod common;
 
+use railfem::solvers::energy::EnergyRow;
 use railfem::solvers::exchange::{thread_ranks, Exchange};
 use railfem::solvers::partition::PartitionStats;
 use std::path::Path;
@@ -69,17 +70,26 @@ fn write_model(dir: &Path, analysis_extra: &str) -> std::path::PathBuf {
     p
 }
 
+/// What one rank recorded: its recorders' rows and the energy balance's.
+type Recorded = (Vec<Vec<f64>>, PartitionStats, Vec<EnergyRow>);
+
 /// Runs the file on one rank of `exchange` (`None`: one process) and keeps its recorders'
-/// rows.
-fn run(path: &Path, exchange: Option<Arc<dyn Exchange>>) -> (Vec<Vec<f64>>, PartitionStats) {
+/// rows; with `own_rows` the rank forms the residual of its own rows (as `railfem run`
+/// under mpirun does).
+fn run(path: &Path, exchange: Option<Arc<dyn Exchange>>, own_rows: bool) -> Recorded {
     let mut d =
         railfem::solvers::Driver::new(railfem::load_model(path).expect("model")).expect("driver");
     if let Some(ex) = exchange {
         d.set_exchange(ex).expect("partitioned model");
+        if own_rows {
+            assert!(d.keep_own_rows(), "the beam keeps its own rows");
+            assert!(d.elements_held() < ELEMENTS, "{} held", d.elements_held());
+        }
     }
     let (_, kept) = d.run_keeping(None, true, &mut |_| {}).expect("run");
     let stats = d.partition_stats().expect("partitioned");
-    (kept.into_iter().map(|h| h.values).collect(), stats)
+    let energy = d.energy.as_ref().expect("energy balance").history.clone();
+    (kept.into_iter().map(|h| h.values).collect(), stats, energy)
 }
 
 /// Largest difference per recorder file, relative to the file's largest value.
@@ -101,29 +111,42 @@ fn worst(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
 fn a_model_file_across_ranks_equals_one_process() {
     let dir = common::temp_dir("distributed-model-file");
     let path = write_model(&dir, "block_size = 150");
-    let (serial, s1) = run(&path, None);
+    let (serial, s1, energy_serial) = run(&path, None, false);
+    assert!(energy_serial.len() > 100);
     // The block size reached the solver: ~1800 equations in blocks of 150.
     assert!(s1.blocks >= 6, "{s1:?}");
     assert!(s1.promotions > 0, "{s1:?}");
     assert!(serial[0].len() > 100, "rows recorded");
-    for ranks in [2, 3] {
-        let runs: Vec<(Vec<Vec<f64>>, PartitionStats)> = std::thread::scope(|s| {
+    for (ranks, own_rows) in [(2, false), (3, false), (2, true), (3, true)] {
+        let runs: Vec<Recorded> = std::thread::scope(|s| {
             let hs: Vec<_> = thread_ranks(ranks)
                 .into_iter()
                 .map(|ex| {
                     let p = path.clone();
-                    s.spawn(move || run(&p, Some(ex)))
+                    s.spawn(move || run(&p, Some(ex), own_rows))
                 })
                 .collect();
             hs.into_iter().map(|h| h.join().expect("rank")).collect()
         });
-        for (r, (h, st)) in runs.iter().enumerate() {
+        for (r, (h, st, energy)) in runs.iter().enumerate() {
             let e = worst(h, &serial);
+            // The energy balance: each energy of every row to 1e-12 of the largest energy.
+            // With own rows the sums are one process's in another order (block by block),
+            // which moves a sum of n ≈ 1 800 terms by at most (n − 1)·u ≈ 2e-13 of the sum
+            // of their magnitudes (u = 1.1e-16, the unit round-off), typically √n·u ≈ 5e-15;
+            // 1e-12 leaves room for the accumulation over the steps. The whole matrices
+            // give one process's sums to the bit.
+            let de = common::energy_difference(energy, &energy_serial);
             println!(
-                "{ranks} ranks, rank {r}: recorders differ by {e:.1e} of their largest value; {} of {} blocks",
+                "{ranks} ranks, own rows {own_rows}, rank {r}: recorders differ by {e:.1e} of their largest value, energy rows by {de:.1e} of the largest energy; {} of {} blocks",
                 st.owned_blocks, st.blocks
             );
             assert!(e <= 1e-12, "{ranks} ranks, rank {r}: {e:e}");
+            if own_rows {
+                assert!(de <= 1e-12, "{ranks} ranks, rank {r}: energy {de:e}");
+            } else {
+                assert_eq!(de, 0.0, "{ranks} ranks, rank {r}: energy");
+            }
         }
         let owned: usize = runs.iter().map(|r| r.1.owned_blocks).sum();
         assert_eq!(owned, s1.blocks, "every block owned by exactly one rank");

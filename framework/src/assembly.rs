@@ -31,6 +31,7 @@ use nalgebra::{DMatrix, Vector3};
 
 mod nonzero_products;
 mod own_columns;
+mod own_elements;
 
 pub use nonzero_products::NonzeroColumns;
 

@@ -41,6 +41,7 @@ pub mod plot;
 pub mod plugin;
 pub mod recorder;
 pub mod registry;
+pub mod released;
 pub mod rotation;
 pub mod sparse;
 pub mod speed;

@@ -156,6 +156,15 @@ impl RecorderSpec {
         }
     }
 
+    /// The user ids of the elements the recorder reads: an element recorder's (by id and
+    /// by type), none for the others.
+    pub fn elements_read(&self, model: &Model) -> Vec<u64> {
+        match self {
+            RecorderSpec::Element { .. } => self.node_ids(model),
+            _ => Vec::new(),
+        }
+    }
+
     /// Output file name.
     pub fn file(&self) -> &str {
         match self {

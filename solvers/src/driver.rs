@@ -503,8 +503,13 @@ impl Driver {
     /// forms the residual of those rows alone; the norms of the convergence test are summed
     /// over the ranks in block order ([`crate::partition`], *rows*). The answers are one
     /// process's to round-off (the norms are summed in another order), and each rank holds
-    /// about `1/P` of the constant matrices. The energy balance needs every row and is not
-    /// formed (`energy` becomes `None`). Returns whether the rows are shared: not in one
+    /// about `1/P` of the constant matrices. It also keeps only the elements it needs:
+    /// those touching the rows it keeps, every element evaluated after the build (the
+    /// wheels, anything nonlinear or with a changing mass, the vehicles' carried masses),
+    /// and those the model's recorders read; the others are released, their indices
+    /// kept ([`Assembler::release_elements`]; no number changes). The energy balance is
+    /// summed over the ranks' own rows in block order
+    /// ([`crate::energy::EnergyLedger::record`]). Returns whether the rows are shared: not in one
     /// process, without the partitioned solver, or where the assembler cannot keep columns
     /// exactly ([`Assembler::keep_constant_columns`]). Set the partition options before.
     pub fn keep_own_rows(&mut self) -> bool {
@@ -536,11 +541,21 @@ impl Driver {
         if !self.asm.keep_constant_columns(&until_mass) {
             return false;
         }
+        // The elements: those the rank's rows touch, every element evaluated after the
+        // build, and those the model's recorders read (rank 0 writes them; any rank may
+        // keep their rows in memory); the others are released.
+        let recorded: std::collections::HashSet<u64> = self
+            .model
+            .recorders
+            .iter()
+            .flat_map(|r| r.elements_read(&self.model))
+            .collect();
+        self.asm
+            .release_elements(&mut self.model, &keep, &|id| recorded.contains(&id));
         if until_mass != keep {
             self.narrow_after_mass = Some(keep);
         }
         self.mass_split = mass;
-        self.energy = None;
         self.rows_per_rank = true;
         true
     }
@@ -552,6 +567,13 @@ impl Driver {
             (Some(p), true) => p.rows_owned(),
             _ => self.neq(),
         }
+    }
+
+    /// Elements this rank holds whole: all of them, or with [`Driver::keep_own_rows`]
+    /// those its rows and recorders need and every element evaluated after the build
+    /// ([`Assembler::release_elements`]).
+    pub fn elements_held(&self) -> usize {
+        railfem_framework::released::elements_held(&self.model)
     }
 
     /// Stored entries of the constant stiffness this rank keeps (`M` and `C` share its
@@ -1305,7 +1327,10 @@ impl Driver {
                     // A linear step formed its state's M·v with its K·q.
                     let mv = self.work.mv_ready.then_some(&self.work.mv[..]);
                     let cv = self.work.cv_ready.then_some(&mut self.work.cv);
-                    e.record(&self.asm, &self.model, &self.state, &s, mv, cv);
+                    // A rank forming its own rows sums the balance over them, in block
+                    // order across the ranks.
+                    let ranks = self.partition.as_mut().filter(|_| self.rows_per_rank);
+                    e.record(&self.asm, &self.model, &self.state, &s, mv, cv, ranks);
                 }
                 // The increment for the next step's predictor, in last step's vector.
                 let kept = self.last_increment.take();

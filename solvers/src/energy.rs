@@ -37,6 +37,7 @@
 
 use crate::chunks::par_chunks;
 use crate::driver::State;
+use crate::partition::Partitioned;
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::model::Model;
@@ -111,11 +112,22 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-fn kinetic(asm: &Assembler, v: &[f64], buf: &mut Vec<f64>) -> f64 {
+/// `½·vᵀ·M·v`, `M·v` formed into `buf`: over every equation, or across ranks (`ranks`,
+/// each rank's own rows, [`Partitioned::sums_over_rows`]).
+fn kinetic(asm: &Assembler, v: &[f64], buf: &mut Vec<f64>, ranks: Option<&mut Partitioned>) -> f64 {
     buf.clear();
     buf.resize(v.len(), 0.0);
     asm.mass_times(v, buf);
-    0.5 * dot(buf, v)
+    let mv = &buf[..];
+    match ranks.and_then(|p| p.sums_over_rows(1, &|rows, out| out[0] = dot_rows(rows, mv, v))) {
+        Some(s) => 0.5 * s[0],
+        None => 0.5 * dot(mv, v),
+    }
+}
+
+/// `Σ a_i·b_i` over `rows`, in their order.
+fn dot_rows(rows: &[usize], a: &[f64], b: &[f64]) -> f64 {
+    rows.iter().fold(-0.0, |s, &i| s + a[i] * b[i])
 }
 
 /// `out = C·v` (zero without damping: then nothing but the fill).
@@ -148,6 +160,16 @@ impl EnergyLedger {
     /// ([`Assembler::has_damping`]) `C·v` is the zero vector at both ends and the step adds
     /// nothing to `D_c`: no product is formed. The vectors are the ledger's own, kept
     /// between steps.
+    ///
+    /// **Across ranks** (`ranks`: the partitioned solver of a rank that forms the residual
+    /// of its own rows, [`crate::driver::Driver::keep_own_rows`]): `f_int`, `M·v` and `C·v`
+    /// are exact on the rank's own rows only, so each rank sums the works and `vᵀ·M·v`
+    /// over its own rows, block by block, and the pieces are added in block order
+    /// ([`Partitioned::sums_over_rows`], one all-gather per step): the same totals on
+    /// every rank and for any number of ranks, equal to one process's sums over fixed
+    /// chunks to round-off (another order of the same terms). Every rank calls it at the
+    /// same step.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &mut self,
         asm: &Assembler,
@@ -156,6 +178,7 @@ impl EnergyLedger {
         next: &State,
         next_mv: Option<&[f64]>,
         next_cv: Option<&mut Vec<f64>>,
+        mut ranks: Option<&mut Partitioned>,
     ) {
         let mut buf = std::mem::take(&mut self.buf);
         if !self.started || self.cv_prev.len() != prev.v.len() {
@@ -163,7 +186,7 @@ impl EnergyLedger {
             damping_force(asm, &prev.v, &mut cv_prev);
             *self = EnergyLedger {
                 started: true,
-                kinetic0: kinetic(asm, &prev.v, &mut buf),
+                kinetic0: kinetic(asm, &prev.v, &mut buf, ranks.as_deref_mut()),
                 friction0: asm.dissipated_energy(model),
                 cv_prev,
                 ..Default::default()
@@ -188,14 +211,22 @@ impl EnergyLedger {
                 _ => damping_force(asm, &next.v, &mut cv),
             }
         }
-        // The three trapezoidal works `½·Σ (f_n + f_{n+1})ᵢ·Δqᵢ` in one pass over fixed
-        // chunks of the equations on the available threads, each chunk's sums accumulated in
-        // index order from −0 and the chunks' added in order (the same on any thread count).
+        // `M·v` of `next`: the caller's, or formed here.
+        let mv = match next_mv {
+            Some(mv) => mv,
+            None => {
+                buf.clear();
+                buf.resize(next.v.len(), 0.0);
+                asm.mass_times(&next.v, &mut buf);
+                &buf[..]
+            }
+        };
+        // The three trapezoidal works `½·Σ (f_n + f_{n+1})ᵢ·Δqᵢ`, and `vᵀ·M·v`.
         let cv_prev = &self.cv_prev;
         let (dq_r, cv_r) = (&dq, &cv);
-        let parts = par_chunks(next.q.len(), threads(0), |lo, hi| {
+        let works = |lo: usize, hi: usize, rows: Option<&[usize]>| {
             let (mut ext, mut int, mut damp) = (-0.0f64, -0.0f64, -0.0f64);
-            for i in lo..hi {
+            let mut term = |i: usize| {
                 let d = if finite {
                     dq_r[i]
                 } else {
@@ -206,12 +237,32 @@ impl EnergyLedger {
                 if damped {
                     damp += (cv_prev[i] + cv_r[i]) * d;
                 }
+            };
+            match rows {
+                Some(rows) => rows.iter().for_each(|&i| term(i)),
+                None => (lo..hi).for_each(term),
             }
             (ext, int, damp)
+        };
+        let across = ranks.and_then(|p| {
+            p.sums_over_rows(4, &|rows, out| {
+                let (ext, int, damp) = works(0, 0, Some(rows));
+                out.copy_from_slice(&[ext, int, damp, dot_rows(rows, mv, &next.v)]);
+            })
         });
-        let (ext, int, damp) = parts.iter().fold((-0.0f64, -0.0f64, -0.0f64), |a, p| {
-            (a.0 + p.0, a.1 + p.1, a.2 + p.2)
-        });
+        let (ext, int, damp, vmv) = match across {
+            Some(s) => (s[0], s[1], s[2], s[3]),
+            // In one process: one pass over fixed chunks of the equations on the available
+            // threads, each chunk's sums accumulated in index order from −0 and the
+            // chunks' added in order (the same on any thread count).
+            None => {
+                let parts = par_chunks(next.q.len(), threads(0), |lo, hi| works(lo, hi, None));
+                let (ext, int, damp) = parts.iter().fold((-0.0f64, -0.0f64, -0.0f64), |a, p| {
+                    (a.0 + p.0, a.1 + p.1, a.2 + p.2)
+                });
+                (ext, int, damp, dot(mv, &next.v))
+            }
+        };
         let r = &mut self.now;
         r.t = next.t;
         r.external_work += 0.5 * ext;
@@ -221,10 +272,7 @@ impl EnergyLedger {
             std::mem::swap(&mut self.cv_prev, &mut cv);
         }
         self.cv = cv;
-        r.kinetic = match next_mv {
-            Some(mv) => 0.5 * dot(mv, &next.v),
-            None => kinetic(asm, &next.v, &mut buf),
-        };
+        r.kinetic = 0.5 * vmv;
         r.friction = asm.dissipated_energy(model) - self.friction0;
         r.strain = self.internal_work - r.friction;
         r.integrator =

@@ -215,6 +215,33 @@ pub fn worst_relative(a: &[[Vec<f64>; 3]], b: &[[Vec<f64>; 3]]) -> [f64; 3] {
     r
 }
 
+/// Largest difference of any energy (external work, kinetic, strain, damping, friction,
+/// integrator) between the energy-balance rows `a` and `b`, relative to the largest energy
+/// of `b` (`EnergyRow::scale`), which must be positive; the rows' times must agree.
+pub fn energy_difference(
+    a: &[railfem::solvers::energy::EnergyRow],
+    b: &[railfem::solvers::energy::EnergyRow],
+) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let scale = b.iter().fold(0.0f64, |m, r| m.max(r.scale()));
+    assert!(scale > 0.0);
+    let mut worst = 0.0f64;
+    for (x, y) in a.iter().zip(b) {
+        assert_eq!(x.t, y.t);
+        for (p, q) in [
+            (x.external_work, y.external_work),
+            (x.kinetic, y.kinetic),
+            (x.strain, y.strain),
+            (x.damping, y.damping),
+            (x.friction, y.friction),
+            (x.integrator, y.integrator),
+        ] {
+            worst = worst.max((p - q).abs());
+        }
+    }
+    worst / scale
+}
+
 /// Solves `b` statically, in one load step, under a point load `value` (N, positive up)
 /// along global Z at `node`: the driver holds the solution.
 pub fn solve_under_point_load(

@@ -17,6 +17,10 @@
 //! set last, so they are the same on every rank and for any number of ranks (they differ
 //! from one process's sums over fixed chunks of the equations by round-off only).
 //!
+//! The energy balance's products and works over a step
+//! ([`crate::energy::EnergyLedger::record`]) are summed the same way
+//! ([`Partitioned::sums_over_rows`]).
+//!
 //! **Top columns.** The condensed Newton's top iterations need the constant matrices
 //! between top equations. A promoted equation's column belongs to the owner of its block;
 //! [`Partitioned::share_top_columns`] sends each to every rank, as the owner encoded it.
@@ -68,18 +72,38 @@ impl Partitioned {
     /// documentation); the same on every rank. `None` in one process or before the split
     /// (no collective).
     pub fn sums_of_squares(&mut self, xs: &[&[f64]]) -> Option<Vec<f64>> {
+        self.sums_over_rows(xs.len(), &|rows, out| {
+            for (o, x) in out.iter_mut().zip(xs) {
+                *o = rows.iter().fold(0.0, |s, &i| s + x[i] * x[i]);
+            }
+        })
+    }
+
+    /// Across ranks: `m` sums over every equation, each rank forming with `part(rows,
+    /// out)` the `m` sums of each of its blocks' interiors (`rows` in equation order), rank
+    /// 0 also those of the base top set; every rank receives every piece (one all-gather)
+    /// and adds them in block order, the base top set last. The totals are therefore the
+    /// same on every rank and for any number of ranks. `None` in one process or before the
+    /// split (no collective).
+    pub fn sums_over_rows(
+        &mut self,
+        m: usize,
+        part: &dyn Fn(&[usize], &mut [f64]),
+    ) -> Option<Vec<f64>> {
         if self.comm.is_none() || self.n == 0 {
             return None;
         }
-        let m = xs.len();
-        let sq = |rows: &[usize], x: &[f64]| rows.iter().fold(0.0, |s, &i| s + x[i] * x[i]);
-        let mut local = Vec::with_capacity((self.owned().len() + 1) * m);
+        let mut local = vec![0.0; (self.owned().len() + 1) * m];
+        let mut k = 0;
         for b in &self.blocks[self.owned()] {
-            local.extend(xs.iter().map(|x| sq(&b.all, x)));
+            part(&b.all, &mut local[k..k + m]);
+            k += m;
         }
         if self.is_root() {
-            local.extend(xs.iter().map(|x| sq(&self.base_top, x)));
+            part(&self.base_top, &mut local[k..k + m]);
+            k += m;
         }
+        local.truncate(k);
         let comm = self.comm.as_mut().expect("across ranks");
         let pieces = comm.all_gather(&local);
         let mut total = vec![0.0; m];
