@@ -43,7 +43,7 @@
 //! rank `k` of `P` owns a contiguous range of blocks, those whose middle falls in the `k`-th
 //! `P`-th of the interior equations (a rule of the structure alone, so every rank finds the
 //! same split without talking). Every rank holds the same pattern of `A` and the same
-//! variable triplets (the model and its assembly are replicated), hence knows the split, the
+//! variable triplets (the build is replicated, and so are the variable elements), hence knows the split, the
 //! promoted sets and the top set; of `A`'s values a rank needs only the columns it reads
 //! ([`Partitioned::columns_read`]: its blocks' interiors, and on rank 0 the base top set),
 //! so the matrix it hands to [`Partitioned::factor`] may hold just those. Per factorization each rank factors and promotes its own blocks and
