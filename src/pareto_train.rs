@@ -56,15 +56,14 @@ pub const SPEED: f64 = 80.0;
 pub const SPACING: f64 = 0.625;
 /// Elements per fastener bay of the grid's meshes (`h = SPACING / k`).
 pub const MESH_K: [usize; 4] = [1, 2, 5, 9];
-/// Finest mesh (elements per bay) on which the grid runs the direct sparse solver at
-/// every step down to 1 ms.
-pub const DIRECT_MAX_K: usize = 2;
-/// Mesh (elements per bay) on which the grid runs the direct sparse solver at the long
-/// steps only (4 and 2 ms): at 1 ms a run takes about an hour.
-pub const DIRECT_COARSE_STEP_K: usize = 5;
-/// Finest mesh (elements per bay) on which the grid runs Newmark and HHT at 0.25 ms
-/// (generalized-α runs it on every mesh).
-pub const QUARTER_MS_MAX_K: usize = 2;
+/// Time steps of the grid (s), longest first.
+pub const STEPS: [f64; 5] = [4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4];
+/// The shortest step at which the grid runs the direct sparse solver on each mesh of
+/// [`MESH_K`] (elements per bay, s). Its step costs ≈ 2, 3, 7.5 and ≈ 14 times the
+/// partitioned solver's on 1, 2, 5 and 9 elements per bay (one thread), for the same
+/// errors; the shorter steps on the fine meshes would cost more than the rest of the
+/// grid together (`docs/performance.md`).
+pub const DIRECT_SHORTEST_DT: [(usize, f64); 4] = [(1, 2.5e-4), (2, 2.5e-4), (5, 1e-3), (9, 2e-3)];
 /// Time step of the reference (s): half the grid's smallest.
 pub const REF_DT: f64 = 1.25e-4;
 /// Element length of the reference (m): nine per bay, 0.0694 m (the paper's "0.069"), the
@@ -328,42 +327,23 @@ pub struct TbGrid {
 
 impl Default for TbGrid {
     /// Meshes `h = 0.625/k`, `k` = 1, 2, 5, 9 ([`MESH_K`]), integrators Newmark, HHT
-    /// α = −0.05 and generalized-α ρ∞ = 0.8; with the partitioned solver
-    /// - every mesh and integrator at Δt = 4, 2, 1 and 0.5 ms;
-    /// - 0.25 ms with generalized-α on every mesh, with Newmark and HHT on the meshes of
-    ///   up to [`QUARTER_MS_MAX_K`] elements per bay;
-    ///
-    /// and with the direct sparse solver, every integrator, at 4, 2 and 1 ms on the meshes
-    /// of up to [`DIRECT_MAX_K`] elements per bay and at 4 and 2 ms on
-    /// [`DIRECT_COARSE_STEP_K`].
-    ///
-    /// Not the full product: Newmark and HHT at 0.25 ms on the fine meshes, the direct
-    /// solver at 1 ms and below on the fine meshes (it gives the partitioned solver's
-    /// errors, both solve Newton's same equations to round-off, and is 7–14 times slower
-    /// there; `docs/performance.md`).
+    /// α = −0.05 and generalized-α ρ∞ = 0.8, time steps 4, 2, 1, 0.5 and 0.25 ms
+    /// ([`STEPS`]): every combination with the partitioned solver, and with the direct
+    /// sparse solver down to the step [`DIRECT_SHORTEST_DT`] gives for the mesh.
     fn default() -> Self {
         let mut runs = Vec::new();
         for k in MESH_K {
             let h = SPACING / k as f64;
+            let direct_to = DIRECT_SHORTEST_DT
+                .iter()
+                .find(|d| d.0 == k)
+                .map_or(f64::INFINITY, |d| d.1);
             for scheme in [Scheme::GenAlpha, Scheme::Newmark, Scheme::Hht] {
-                let quarter = scheme == Scheme::GenAlpha || k <= QUARTER_MS_MAX_K;
-                let partitioned: &[f64] = if quarter {
-                    &[4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]
-                } else {
-                    &[4e-3, 2e-3, 1e-3, 5e-4]
-                };
-                let direct: &[f64] = if k <= DIRECT_MAX_K {
-                    &[4e-3, 2e-3, 1e-3]
-                } else if k == DIRECT_COARSE_STEP_K {
-                    &[4e-3, 2e-3]
-                } else {
-                    &[]
-                };
-                for (solver, dts) in [
-                    (SolverChoice::Partitioned, partitioned),
-                    (SolverChoice::Direct, direct),
-                ] {
-                    for &dt in dts {
+                for solver in [SolverChoice::Partitioned, SolverChoice::Direct] {
+                    for dt in STEPS {
+                        if solver == SolverChoice::Direct && dt < direct_to * (1.0 - 1e-9) {
+                            continue;
+                        }
                         runs.push(Settings {
                             dt,
                             h,
@@ -672,13 +652,13 @@ pub fn run_all(grid: &TbGrid, out: &Path) -> (Vec<Option<History>>, Vec<(Setting
     }
     // Cost ∝ steps × cost per step; with the condensed Newton a step on 0.0694 m (k = 9)
     // costs ≈ 1.7 times one on 0.625 m (k = 1), measured by the first study; the direct
-    // solver's step ≈ 1 + k/2 times the partitioned one's (1.7–4.5 times measured on
-    // k = 1 and 2, 7–14 on k = 5 and 9), only an order to run in.
+    // solver's step ≈ 1 + 1.3·k times the partitioned one's (2.2, 3, 7.5 measured in CPU
+    // time on k = 1, 2, 5), only an order to run in.
     // Cheapest first: a grid cut short (a deadline, a stop) still has every cheap point,
     // and `--existing` evaluates what is there.
     let cost = |s: &Settings| {
         let direct = match s.solver {
-            SolverChoice::Direct => 0.5 * SPACING / s.h,
+            SolverChoice::Direct => 1.3 * SPACING / s.h,
             _ => 0.0,
         };
         (1.0 + 0.1 * SPACING / s.h) * (1.0 + direct) / s.dt
