@@ -308,7 +308,7 @@ pub const QUANTITIES: [(&str, &str, &str); 3] = [
     ("dQQ", "err_dQQ [-]", "ΔQ/Q"),
     (
         "w",
-        "err_w [-] (of max w, all spans)",
+        "err_w [-] (of max w over all spans)",
         "midspan deflection w",
     ),
 ];
@@ -608,11 +608,13 @@ fn make(path: &Path, job: &Job) -> Option<History> {
 /// lock disappears without a file: then this process makes the job).
 /// A job's history is read back when its file already holds that run (delete the files
 /// to recompute; delete a stale `.lock` left by a killed process). `None` for a run that
-/// failed (Newton gave up).
+/// failed (Newton gave up), and for every job not made when a stop is asked for
+/// (SIGINT/SIGTERM: the run in progress stops, no further job is claimed or waited for).
 pub fn run_jobs(out: &Path, jobs: &[Job]) -> Vec<Option<History>> {
     let mut got: Vec<Option<Option<History>>> = vec![None; jobs.len()];
     let mut first = true;
-    while got.iter().any(Option::is_none) {
+    let stopped = crate::framework::interrupt::requested;
+    while got.iter().any(Option::is_none) && !stopped() {
         if !first {
             std::thread::sleep(std::time::Duration::from_secs(10));
         }
@@ -625,7 +627,7 @@ pub fn run_jobs(out: &Path, jobs: &[Job]) -> Vec<Option<History>> {
                 got[i] = Some(Some(h));
             } else if !first && path.with_extension("failed").exists() {
                 got[i] = Some(None);
-            } else if claim(&path) {
+            } else if !stopped() && claim(&path) {
                 got[i] = Some(make(&path, job));
             }
         }
@@ -1083,6 +1085,35 @@ mod tests {
         std::fs::write(&p, text.replacen("cpu 1.5", "cpu x", 1)).unwrap();
         assert!(read_history(&p, &s, 0.01).is_none());
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Every CSV row has as many fields as the header (no comma inside a column name),
+    /// and the CPU time sits under its own column, beside the wall time.
+    #[test]
+    fn csv_rows_match_the_header() {
+        let r = TbRun {
+            settings: Settings {
+                dt: 1e-3,
+                h: SPACING,
+                scheme: Scheme::Hht,
+                solver: SolverChoice::Direct,
+            },
+            dofs: 5412,
+            steps: 1600,
+            wall: 30.0,
+            cpu: 7.25,
+            threads: 1,
+            errors: [3e-2, 3e-2, 1e-3],
+            pareto: [true, false, true],
+        };
+        let text = csv(&[r]);
+        let lines: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[0].len(), lines[1].len(), "{text}");
+        let col = |name: &str| lines[0].iter().position(|c| c.starts_with(name)).unwrap();
+        assert_eq!(lines[1][col("cpu [s]")].parse::<f64>().unwrap(), 7.25);
+        assert_eq!(lines[1][col("wall [s]")].parse::<f64>().unwrap(), 30.0);
+        assert_eq!(lines[1][col("threads")], "1");
     }
 
     /// The fronts are against CPU time: a run cheaper in CPU but longer in wall time
