@@ -59,10 +59,10 @@ pub const MESH_K: [usize; 4] = [1, 2, 5, 9];
 /// Time steps of the grid (s), longest first.
 pub const STEPS: [f64; 5] = [4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4];
 /// The shortest step at which the grid runs the direct sparse solver on each mesh of
-/// [`MESH_K`] (elements per bay, s). Its step costs ≈ 2, 3, 7.5 and ≈ 14 times the
-/// partitioned solver's on 1, 2, 5 and 9 elements per bay (one thread), for the same
-/// errors; the shorter steps on the fine meshes would cost more than the rest of the
-/// grid together (`docs/performance.md`).
+/// [`MESH_K`] (elements per bay, s). It costs 1.6–2.8, 2.1–4.6, 7.6–9.1 and 10–13 times
+/// the partitioned solver's CPU time on 1, 2, 5 and 9 elements per bay (one thread), for
+/// the same errors to three digits; the shorter steps on the fine meshes would cost about
+/// twice the rest of the grid together (`docs/performance.md`).
 pub const DIRECT_SHORTEST_DT: [(usize, f64); 4] = [(1, 2.5e-4), (2, 2.5e-4), (5, 1e-3), (9, 2e-3)];
 /// Time step of the reference (s): half the grid's smallest.
 pub const REF_DT: f64 = 1.25e-4;
