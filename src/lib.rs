@@ -17,6 +17,7 @@ pub mod bench;
 pub mod bench_train;
 pub mod cli;
 pub mod commands;
+pub mod cpu_time;
 pub mod critical;
 pub mod curve;
 pub mod floor;

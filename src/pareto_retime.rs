@@ -24,14 +24,14 @@ use std::path::Path;
 /// The accuracies a user is told which Δt and mesh to pick for.
 pub const TARGETS: [f64; 2] = [0.05, 0.01];
 
-/// The cheapest generalized-α, partitioned run (by its grid wall time) whose errors are
+/// The cheapest generalized-α, partitioned run (by its grid CPU time) whose errors are
 /// all within `target`.
 pub fn pick(runs: &[TbRun], target: f64) -> Option<&TbRun> {
     runs.iter()
         .filter(|r| r.settings.scheme == Scheme::GenAlpha)
         .filter(|r| r.settings.solver == SolverChoice::Partitioned)
         .filter(|r| r.errors.iter().all(|e| *e <= target))
-        .min_by(|a, b| a.wall.total_cmp(&b.wall))
+        .min_by(|a, b| a.cpu.total_cmp(&b.cpu))
 }
 
 /// The neighbours of `s` in `grid`: same integrator and solver; the adjacent meshes of
@@ -178,6 +178,8 @@ pub fn run_at(at: &[Settings], rounds: usize, out: &Path) -> Result<(), FemError
                 dofs: 0,
                 steps: 0,
                 wall: f64::NAN,
+                cpu: f64::NAN,
+                threads: 0,
                 errors: [f64::NAN; 3],
                 pareto: [false; 3],
             },
@@ -196,13 +198,16 @@ fn retime(mut list: Vec<Retimed>, rounds: usize, out: &Path) -> Result<(), FemEr
         for r in &mut list {
             let h = simulate(&r.run.settings, DURATION)?;
             eprintln!(
-                "pareto retime, round {}: h {:.4} dt {:e} {} {}: {:.2} s",
+                "pareto retime, round {}: h {:.4} dt {:e} {} {}: wall {:.2} s, cpu {:.2} s, {} thread(s), load {}",
                 round + 1,
                 r.run.settings.h,
                 r.run.settings.dt,
                 r.run.settings.scheme.name(),
                 r.run.settings.solver.name(),
-                h.wall
+                h.wall,
+                h.cpu,
+                h.threads,
+                loadavg()
             );
             r.walls.push(h.wall);
         }
@@ -281,6 +286,8 @@ mod tests {
             dofs: 0,
             steps: 0,
             wall,
+            cpu: wall,
+            threads: 1,
             errors: [e, e, e / 10.0],
             pareto: [false; 3],
         }

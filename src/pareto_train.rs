@@ -31,8 +31,15 @@
 //!   all spans, so a span the train has not reached yet in a short window, with a tiny
 //!   peak, does not blow up the error).
 //!
-//! Wall time covers building the model, the initial static solve and every step.
+//! Wall time covers building the model, the initial static solve and every step; so does
+//! the run's cost, its CPU time ([`crate::cpu_time`]: the process's, every thread's). Run
+//! on one core (`taskset -c N`: the solvers take their thread count from the cores the
+//! process may use, [`crate::framework::parallel::threads`]) the run computes on one
+//! thread, and its CPU time is its wall time on a quiet machine, and under load it is
+//! the wall time the run would have taken alone. The grid's fronts and figures are
+//! against CPU time; each run's wall time is kept beside it.
 
+use crate::cpu_time::process_seconds;
 use crate::framework::model::{IntegratorKind, SolverChoice};
 use crate::framework::plot::{Corner, Figure, Panel, Series, Style};
 use crate::framework::FemError;
@@ -49,8 +56,14 @@ pub const SPEED: f64 = 80.0;
 pub const SPACING: f64 = 0.625;
 /// Elements per fastener bay of the grid's meshes (`h = SPACING / k`).
 pub const MESH_K: [usize; 4] = [1, 2, 5, 9];
-/// Finest mesh (elements per bay) on which the grid runs the direct sparse solver.
-pub const DIRECT_MAX_K: usize = 2;
+/// Time steps of the grid (s), longest first.
+pub const STEPS: [f64; 5] = [4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4];
+/// The shortest step at which the grid runs the direct sparse solver on each mesh of
+/// [`MESH_K`] (elements per bay, s). It costs 1.6–2.8, 2.1–4.6, 7.6–9.1 and 10–13 times
+/// the partitioned solver's CPU time on 1, 2, 5 and 9 elements per bay (one thread), for
+/// the same errors to three digits; the shorter steps on the fine meshes would cost about
+/// twice the rest of the grid together (`docs/performance.md`).
+pub const DIRECT_SHORTEST_DT: [(usize, f64); 4] = [(1, 2.5e-4), (2, 2.5e-4), (5, 1e-3), (9, 2e-3)];
 /// Time step of the reference (s): half the grid's smallest.
 pub const REF_DT: f64 = 1.25e-4;
 /// Element length of the reference (m): nine per bay, 0.0694 m (the paper's "0.069"), the
@@ -130,6 +143,12 @@ pub struct History {
     pub w: Vec<Vec<f64>>,
     /// Wall time: build, static solve and every step (s).
     pub wall: f64,
+    /// CPU time of the process over the same (s; NaN in a file written before it was
+    /// recorded).
+    pub cpu: f64,
+    /// Computing threads the run could use ([`crate::framework::parallel::threads`]`(0)`;
+    /// 0 when not recorded).
+    pub threads: usize,
     /// Steps taken.
     pub steps: usize,
     /// Equations.
@@ -140,6 +159,7 @@ pub struct History {
 pub fn simulate(s: &Settings, duration: f64) -> Result<History, FemError> {
     let c = case(s, duration);
     let t0 = Instant::now();
+    let c0 = process_seconds();
     let mut m = build(&c)?;
     let dofs = m.dofs;
     let steps = (m.duration / s.dt).round() as usize;
@@ -179,7 +199,7 @@ pub fn simulate(s: &Settings, duration: f64) -> Result<History, FemError> {
             .collect();
         (q, mid)
     };
-    let mut inner = 0.0;
+    let (mut inner, mut inner_cpu) = (0.0, 0.0);
     let (q0, w0) = sample(d);
     let mut h = History {
         t: vec![0.0],
@@ -187,6 +207,8 @@ pub fn simulate(s: &Settings, duration: f64) -> Result<History, FemError> {
         q_static: q0,
         w: vec![vec![0.0; w0.len()]],
         wall: 0.0,
+        cpu: 0.0,
+        threads: crate::framework::parallel::threads(0),
         steps,
         dofs,
     };
@@ -194,15 +216,18 @@ pub fn simulate(s: &Settings, duration: f64) -> Result<History, FemError> {
     for k in 1..=steps {
         d.step(s.dt)?;
         let s0 = Instant::now();
+        let sc0 = process_seconds();
         let (q, w) = sample(d);
         h.t.push(d.state.t);
         h.q.push(q);
         h.w.push(w.iter().zip(&w0).map(|(a, b)| a - b).collect());
         bar.set(k as u64);
         inner += s0.elapsed().as_secs_f64();
+        inner_cpu += process_seconds() - sc0;
     }
     bar.finish();
     h.wall = t0.elapsed().as_secs_f64() - inner;
+    h.cpu = process_seconds() - c0 - inner_cpu;
     Ok(h)
 }
 
@@ -267,6 +292,10 @@ pub struct TbRun {
     pub steps: usize,
     /// Wall time (s).
     pub wall: f64,
+    /// CPU time (s): the cost the fronts are drawn against ([`History::cpu`]).
+    pub cpu: f64,
+    /// Computing threads of the run ([`History::threads`]).
+    pub threads: usize,
     /// Errors `[Q, ΔQ/Q, w]`.
     pub errors: [f64; 3],
     /// On the Pareto front of each quantity.
@@ -279,7 +308,7 @@ pub const QUANTITIES: [(&str, &str, &str); 3] = [
     ("dQQ", "err_dQQ [-]", "ΔQ/Q"),
     (
         "w",
-        "err_w [-] (of max w, all spans)",
+        "err_w [-] (of max w over all spans)",
         "midspan deflection w",
     ),
 ];
@@ -297,38 +326,24 @@ pub struct TbGrid {
 }
 
 impl Default for TbGrid {
-    /// Meshes `h = 0.625/k`, `k` = 1, 2, 5, 9 ([`MESH_K`]); on every mesh:
-    /// - every integrator (Newmark, HHT α = −0.05, generalized-α ρ∞ = 0.8) with the
-    ///   partitioned solver at Δt = 4, 2 and 1 ms — the steps of the 1 % and 5 % picks
-    ///   and their neighbours — and with the direct sparse solver at 1 ms on the meshes
-    ///   of up to [`DIRECT_MAX_K`] elements per bay;
-    /// - generalized-α with the partitioned solver also at 0.5 and 0.25 ms, the low-error
-    ///   end of the front.
-    ///
-    /// Not the full product at 0.5 and 0.25 ms (another 40 runs, more than this grid's
-    /// cost again): there every mesh's Q error sits at its mesh floor or below 0.3 %,
-    /// within a factor 2 of the reference's own error. The direct solver gives the
-    /// partitioned solver's errors (both solve Newton's same equations to round-off) and
-    /// runs 3.5 (0.3125 m) to 14 (0.0694 m) times slower (measured, see
-    /// `docs/performance.md`), so its points lie far off the front; one step shows that.
+    /// Meshes `h = 0.625/k`, `k` = 1, 2, 5, 9 ([`MESH_K`]), integrators Newmark, HHT
+    /// α = −0.05 and generalized-α ρ∞ = 0.8, time steps 4, 2, 1, 0.5 and 0.25 ms
+    /// ([`STEPS`]): every combination with the partitioned solver, and with the direct
+    /// sparse solver down to the step [`DIRECT_SHORTEST_DT`] gives for the mesh.
     fn default() -> Self {
         let mut runs = Vec::new();
         for k in MESH_K {
             let h = SPACING / k as f64;
+            let direct_to = DIRECT_SHORTEST_DT
+                .iter()
+                .find(|d| d.0 == k)
+                .map_or(f64::INFINITY, |d| d.1);
             for scheme in [Scheme::GenAlpha, Scheme::Newmark, Scheme::Hht] {
                 for solver in [SolverChoice::Partitioned, SolverChoice::Direct] {
-                    if solver == SolverChoice::Direct && k > DIRECT_MAX_K {
-                        continue;
-                    }
-                    let fine = scheme == Scheme::GenAlpha && solver == SolverChoice::Partitioned;
-                    let dts: &[f64] = if fine {
-                        &[4e-3, 2e-3, 1e-3, 5e-4, 2.5e-4]
-                    } else if solver == SolverChoice::Direct {
-                        &[1e-3]
-                    } else {
-                        &[4e-3, 2e-3, 1e-3]
-                    };
-                    for &dt in dts {
+                    for dt in STEPS {
+                        if solver == SolverChoice::Direct && dt < direct_to * (1.0 - 1e-9) {
+                            continue;
+                        }
                         runs.push(Settings {
                             dt,
                             h,
@@ -415,8 +430,8 @@ fn reference_jobs(grid: &TbGrid) -> Vec<Job> {
     refs
 }
 
-/// Writes a history as CSV: a first line naming the run, a second with its size and wall
-/// time, then `time [s], Q1..Q8 [N], w1..w3 [m]` (midspan deflection of each span), the
+/// Writes a history as CSV: a first line naming the run, a second with its size, wall
+/// time, CPU time and threads, then `time [s], Q1..Q8 [N], w1..w3 [m]` (midspan deflection of each span), the
 /// first row the static state.
 pub fn write_history(
     path: &Path,
@@ -426,8 +441,8 @@ pub fn write_history(
 ) -> Result<(), FemError> {
     let mut o = format!("{}\n", history_tag(s, duration));
     o.push_str(&format!(
-        "# steps {} dofs {} wall {}\n",
-        h.steps, h.dofs, h.wall
+        "# steps {} dofs {} wall {} cpu {} threads {}\n",
+        h.steps, h.dofs, h.wall, h.cpu, h.threads
     ));
     o.push_str("time [s]");
     for i in 0..h.q_static.len() {
@@ -473,6 +488,9 @@ pub fn read_history(path: &Path, s: &Settings, duration: f64) -> Option<History>
         q_static: Vec::new(),
         w: Vec::new(),
         wall: meta.get(6)?.parse().ok()?,
+        // Files written before the CPU time was recorded end after the wall time.
+        cpu: meta.get(8).map_or(Some(f64::NAN), |x| x.parse().ok())?,
+        threads: meta.get(10).map_or(Some(0), |x| x.parse().ok())?,
         steps: meta.get(2)?.parse().ok()?,
         dofs: meta.get(4)?.parse().ok()?,
     };
@@ -495,19 +513,20 @@ pub fn read_history(path: &Path, s: &Settings, duration: f64) -> Option<History>
     Some(h)
 }
 
-/// Marks, per quantity, the runs that no other run beats in both time and error.
+/// Marks, per quantity, the runs that no other run beats in both CPU time and error (a
+/// run without a CPU time is on no front).
 pub fn mark_pareto(runs: &mut [TbRun]) {
     for q in 0..3 {
         let n = runs.len();
         for i in 0..n {
-            let (wi, ei) = (runs[i].wall, runs[i].errors[q]);
+            let (ci, ei) = (runs[i].cpu, runs[i].errors[q]);
             let dominated = (0..n).any(|j| {
                 j != i
-                    && runs[j].wall <= wi
+                    && runs[j].cpu <= ci
                     && runs[j].errors[q] <= ei
-                    && (runs[j].wall < wi || runs[j].errors[q] < ei)
+                    && (runs[j].cpu < ci || runs[j].errors[q] < ei)
             });
-            runs[i].pareto[q] = !dominated && ei.is_finite();
+            runs[i].pareto[q] = !dominated && ei.is_finite() && ci.is_finite();
         }
     }
 }
@@ -552,29 +571,33 @@ fn make(path: &Path, job: &Job) -> Option<History> {
         write_history(path, s, *duration, &h)?;
         Ok(h)
     });
-    let out = match r {
-        Ok(h) => {
-            eprintln!(
-                "pareto train-bridge: {} ({} eq): {:.2} s",
+    let out =
+        match r {
+            Ok(h) => {
+                eprintln!(
+                "pareto train-bridge: {} ({} eq, {} thread(s)): wall {:.2} s, cpu {:.2} s, load {}",
                 history_tag(s, *duration),
                 h.dofs,
-                h.wall
+                h.threads,
+                h.wall,
+                h.cpu,
+                std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim()
             );
-            Some(h)
-        }
-        Err(e) => {
-            eprintln!(
-                "pareto train-bridge: {}: no result ({e})",
-                history_tag(s, *duration)
-            );
-            // A stop request is no property of the run: leave no marker, so a later
-            // command (or a waiting process) makes it again.
-            if !matches!(e, FemError::InterruptedAfter { .. }) {
-                let _ = std::fs::write(path.with_extension("failed"), e.to_string());
+                Some(h)
             }
-            None
-        }
-    };
+            Err(e) => {
+                eprintln!(
+                    "pareto train-bridge: {}: no result ({e})",
+                    history_tag(s, *duration)
+                );
+                // A stop request is no property of the run: leave no marker, so a later
+                // command (or a waiting process) makes it again.
+                if !matches!(e, FemError::InterruptedAfter { .. }) {
+                    let _ = std::fs::write(path.with_extension("failed"), e.to_string());
+                }
+                None
+            }
+        };
     let _ = std::fs::remove_file(path.with_extension("lock"));
     out
 }
@@ -585,11 +608,13 @@ fn make(path: &Path, job: &Job) -> Option<History> {
 /// lock disappears without a file: then this process makes the job).
 /// A job's history is read back when its file already holds that run (delete the files
 /// to recompute; delete a stale `.lock` left by a killed process). `None` for a run that
-/// failed (Newton gave up).
+/// failed (Newton gave up), and for every job not made when a stop is asked for
+/// (SIGINT/SIGTERM: the run in progress stops, no further job is claimed or waited for).
 pub fn run_jobs(out: &Path, jobs: &[Job]) -> Vec<Option<History>> {
     let mut got: Vec<Option<Option<History>>> = vec![None; jobs.len()];
     let mut first = true;
-    while got.iter().any(Option::is_none) {
+    let stopped = crate::framework::interrupt::requested;
+    while got.iter().any(Option::is_none) && !stopped() {
         if !first {
             std::thread::sleep(std::time::Duration::from_secs(10));
         }
@@ -602,7 +627,7 @@ pub fn run_jobs(out: &Path, jobs: &[Job]) -> Vec<Option<History>> {
                 got[i] = Some(Some(h));
             } else if !first && path.with_extension("failed").exists() {
                 got[i] = Some(None);
-            } else if claim(&path) {
+            } else if !stopped() && claim(&path) {
                 got[i] = Some(make(&path, job));
             }
         }
@@ -628,9 +653,19 @@ pub fn run_all(grid: &TbGrid, out: &Path) -> (Vec<Option<History>>, Vec<(Setting
         }
     }
     // Cost ∝ steps × cost per step; with the condensed Newton a step on 0.0694 m (k = 9)
-    // costs ≈ 1.7 times one on 0.625 m (k = 1), measured by the first study.
-    let cost = |s: &Settings| (1.0 + 0.1 * SPACING / s.h) / s.dt;
-    jobs.sort_by(|a, b| cost(&b.1).total_cmp(&cost(&a.1)));
+    // costs ≈ 1.7 times one on 0.625 m (k = 1), measured by the first study; the direct
+    // solver's step ≈ 1 + 1.3·k times the partitioned one's (2.2, 3, 7.5 measured in CPU
+    // time on k = 1, 2, 5), only an order to run in.
+    // Cheapest first: a grid cut short (a deadline, a stop) still has every cheap point,
+    // and `--existing` evaluates what is there.
+    let cost = |s: &Settings| {
+        let direct = match s.solver {
+            SolverChoice::Direct => 1.3 * SPACING / s.h,
+            _ => 0.0,
+        };
+        (1.0 + 0.1 * SPACING / s.h) * (1.0 + direct) / s.dt
+    };
+    jobs.sort_by(|a, b| cost(&a.1).total_cmp(&cost(&b.1)));
     let done = if grid.existing_only {
         jobs.iter()
             .map(|j| read_history(&out.join(&j.0), &j.1, j.2))
@@ -661,6 +696,8 @@ pub fn evaluate(histories: &[(Settings, History)], reference: &History) -> Vec<T
             dofs: h.dofs,
             steps: h.steps,
             wall: h.wall,
+            cpu: h.cpu,
+            threads: h.threads,
             errors: errors_from(h, reference, SETTLE),
             pareto: [false; 3],
         })
@@ -671,15 +708,16 @@ pub fn evaluate(histories: &[(Settings, History)], reference: &History) -> Vec<T
 
 /// The runs as CSV (units in the header).
 pub fn csv(runs: &[TbRun]) -> String {
-    let mut s =
-        String::from("case,integrator,solver,element_length [m],equations,dt [s],steps,wall [s]");
+    let mut s = String::from(
+        "case,integrator,solver,element_length [m],equations,dt [s],steps,wall [s],cpu [s] (process CPU time),threads",
+    );
     for q in QUANTITIES {
         s.push_str(&format!(",{}", q.1));
     }
     s.push_str(",pareto_Q,pareto_dQQ,pareto_w\n");
     for r in runs {
         s.push_str(&format!(
-            "train-bridge,{},{},{:.6},{},{:.6e},{},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{}\n",
+            "train-bridge,{},{},{:.6},{},{:.6e},{},{:.6e},{:.6e},{},{:.6e},{:.6e},{:.6e},{},{},{}\n",
             r.settings.scheme.name(),
             r.settings.solver.name(),
             r.settings.h,
@@ -687,6 +725,8 @@ pub fn csv(runs: &[TbRun]) -> String {
             r.settings.dt,
             r.steps,
             r.wall,
+            r.cpu,
+            r.threads,
             r.errors[0],
             r.errors[1],
             r.errors[2],
@@ -703,18 +743,19 @@ pub fn markdown(runs: &[TbRun]) -> String {
     let mut s = String::new();
     for (q, (_, _, title)) in QUANTITIES.iter().enumerate() {
         s.push_str(&format!(
-            "\nPareto front, {title}:\n\n| integrator | solver | h (m) | equations | dt (s) | wall (s) | err Q | err ΔQ/Q | err w |\n|---|---|---:|---:|---:|---:|---:|---:|---:|\n"
+            "\nPareto front, {title} (against CPU time):\n\n| integrator | solver | h (m) | equations | dt (s) | CPU (s) | wall (s) | err Q | err ΔQ/Q | err w |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
         ));
         let mut front: Vec<&TbRun> = runs.iter().filter(|r| r.pareto[q]).collect();
-        front.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+        front.sort_by(|a, b| a.cpu.total_cmp(&b.cpu));
         for r in front {
             s.push_str(&format!(
-                "| {} | {} | {:.4} | {} | {:.2e} | {:.2} | {:.3e} | {:.3e} | {:.3e} |\n",
+                "| {} | {} | {:.4} | {} | {:.2e} | {:.2} | {:.2} | {:.3e} | {:.3e} | {:.3e} |\n",
                 r.settings.scheme.name(),
                 r.settings.solver.name(),
                 r.settings.h,
                 r.dofs,
                 r.settings.dt,
+                r.cpu,
                 r.wall,
                 r.errors[0],
                 r.errors[1],
@@ -725,7 +766,8 @@ pub fn markdown(runs: &[TbRun]) -> String {
     s
 }
 
-/// The figure of quantity `q` (0 = Q, 1 = ΔQ/Q, 2 = w): error against wall time, log–log,
+/// The figure of quantity `q` (0 = Q, 1 = ΔQ/Q, 2 = w): error against CPU time, log–log
+/// (runs without one left out),
 /// every run in both of two stacked panels, the Pareto front as a line in each: on top
 /// one colour per mesh, below one colour per integrator with circles for the partitioned
 /// and squares for the direct solver (24 blocks are too many for one legend).
@@ -737,11 +779,12 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
         1 => "max |ΔQ/Q − ref| (-)",
         _ => "max |w − w_ref| / max |w_ref| (-)",
     };
-    let mut front: Vec<&TbRun> = runs.iter().filter(|r| r.pareto[q]).collect();
-    front.sort_by(|a, b| a.wall.total_cmp(&b.wall));
+    let runs: Vec<&TbRun> = runs.iter().filter(|r| r.cpu.is_finite()).collect();
+    let mut front: Vec<&TbRun> = runs.iter().copied().filter(|r| r.pareto[q]).collect();
+    front.sort_by(|a, b| a.cpu.total_cmp(&b.cpu));
     let front = Series::new(
         "Pareto front",
-        front.iter().map(|r| r.wall).collect(),
+        front.iter().map(|r| r.cpu).collect(),
         front.iter().map(|r| r.errors[q]).collect(),
         Style::Line,
         "black",
@@ -749,7 +792,7 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
     let panel = |by: &str, groups: Vec<(String, Style, &str, Vec<&TbRun>)>| {
         let mut p = Panel::new(
             &format!("train–bridge, 1 car × 3 spans: {title} error by {by}"),
-            "wall time (s)",
+            "CPU time of the run, one thread (s)",
             ylabel,
         )
         .log_log();
@@ -757,7 +800,7 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
         for (label, style, color, pts) in groups {
             p = p.with(Series::new(
                 &label,
-                pts.iter().map(|r| r.wall).collect(),
+                pts.iter().map(|r| r.cpu).collect(),
                 pts.iter().map(|r| r.errors[q]).collect(),
                 style,
                 color,
@@ -767,7 +810,7 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
     };
     let mut meshes: Vec<f64> = Vec::new();
     let mut schemes: Vec<Scheme> = Vec::new();
-    for r in runs {
+    for r in &runs {
         if !meshes.contains(&r.settings.h) {
             meshes.push(r.settings.h);
         }
@@ -779,7 +822,7 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
         .iter()
         .enumerate()
         .map(|(k, &h)| {
-            let pts = runs.iter().filter(|r| r.settings.h == h).collect();
+            let pts = runs.iter().copied().filter(|r| r.settings.h == h).collect();
             (
                 format!("h = {h:.4} m"),
                 Style::Markers,
@@ -796,6 +839,7 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
         ] {
             let pts: Vec<&TbRun> = runs
                 .iter()
+                .copied()
                 .filter(|r| r.settings.scheme == scheme && r.settings.solver == solver)
                 .collect();
             if !pts.is_empty() {
@@ -913,6 +957,7 @@ fn convergence_markdown(refs: &[Job], histories: &[History]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::PathBuf;
 
     fn history(dt: f64, n: usize, f: impl Fn(f64) -> (f64, f64)) -> History {
         let t: Vec<f64> = (0..=n).map(|k| k as f64 * dt).collect();
@@ -922,6 +967,8 @@ mod tests {
             w: t.iter().map(|&x| vec![f(x).1, 0.5 * f(x).1]).collect(),
             t,
             wall: 0.0,
+            cpu: 1.5,
+            threads: 1,
             steps: n,
             dofs: 0,
         }
@@ -964,8 +1011,6 @@ mod tests {
         assert!((e[2] - 1e-2).abs() < 1e-9, "{e:?}");
     }
 
-    /// A history written and read back is the same run, to the digits written (`{:e}`
-    /// prints the shortest exact representation), with one w column per span.
     /// The finer checks are the reference refined once in h and once in Δt, each by 2
     /// and nothing else, so that each difference is the reference's own error in one
     /// parameter.
@@ -988,19 +1033,28 @@ mod tests {
         assert_eq!(reference_jobs(&TbGrid::default()).len(), 3);
     }
 
-    #[test]
-    fn history_round_trip() {
-        let h = history(1e-3, 10, |t: f64| (1e5 + 3.3 * t, 1e-3 * t.sin()));
+    /// `h` written as a run of 1 ms on 0.625 m with `solver`, for 0.01 s, into a fresh
+    /// directory named by `tag`: the directory, the file and the settings.
+    fn written(tag: &str, h: &History, solver: SolverChoice) -> (PathBuf, PathBuf, Settings) {
         let s = Settings {
             dt: 1e-3,
             h: SPACING,
             scheme: Scheme::GenAlpha,
-            solver: SolverChoice::Direct,
+            solver,
         };
-        let dir = std::env::temp_dir().join(format!("railfem-tb-{}", std::process::id()));
+        let dir = std::env::temp_dir().join(format!("railfem-tb-{tag}-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join("h.csv");
-        write_history(&p, &s, 0.01, &h).unwrap();
+        write_history(&p, &s, 0.01, h).unwrap();
+        (dir, p, s)
+    }
+
+    /// A history written and read back is the same run, to the digits written (`{:e}`
+    /// prints the shortest exact representation), with one w column per span.
+    #[test]
+    fn history_round_trip() {
+        let h = history(1e-3, 10, |t: f64| (1e5 + 3.3 * t, 1e-3 * t.sin()));
+        let (dir, p, s) = written("new", &h, SolverChoice::Direct);
         let back = read_history(&p, &s, 0.01).expect("read back");
         assert_eq!(back, h);
         assert!(
@@ -1008,5 +1062,88 @@ mod tests {
             "another duration is another run"
         );
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A file written before the CPU time was recorded (the reference's, kept across the
+    /// change) reads back as the same run with its wall time and no CPU time, so it is
+    /// reused, not recomputed, and stays off the CPU-time fronts; a CPU time that does
+    /// not parse makes the file no run.
+    #[test]
+    fn history_without_cpu_time_reads_back() {
+        let h = history(1e-3, 10, |t: f64| (1e5 + 3.3 * t, 1e-3 * t));
+        let (dir, p, s) = written("old", &h, SolverChoice::Partitioned);
+        let text = std::fs::read_to_string(&p).unwrap();
+        let old = text.replacen(" cpu 1.5 threads 1\n", "\n", 1);
+        assert_ne!(old, text);
+        std::fs::write(&p, &old).unwrap();
+        let back = read_history(&p, &s, 0.01).expect("read back");
+        assert!(back.cpu.is_nan() && back.threads == 0, "{back:?}");
+        assert_eq!(
+            (back.wall, back.steps, &back.q, &back.w),
+            (h.wall, h.steps, &h.q, &h.w)
+        );
+        std::fs::write(&p, text.replacen("cpu 1.5", "cpu x", 1)).unwrap();
+        assert!(read_history(&p, &s, 0.01).is_none());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Every CSV row has as many fields as the header (no comma inside a column name),
+    /// and the CPU time sits under its own column, beside the wall time.
+    #[test]
+    fn csv_rows_match_the_header() {
+        let r = TbRun {
+            settings: Settings {
+                dt: 1e-3,
+                h: SPACING,
+                scheme: Scheme::Hht,
+                solver: SolverChoice::Direct,
+            },
+            dofs: 5412,
+            steps: 1600,
+            wall: 30.0,
+            cpu: 7.25,
+            threads: 1,
+            errors: [3e-2, 3e-2, 1e-3],
+            pareto: [true, false, true],
+        };
+        let text = csv(&[r]);
+        let lines: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[0].len(), lines[1].len(), "{text}");
+        let col = |name: &str| lines[0].iter().position(|c| c.starts_with(name)).unwrap();
+        assert_eq!(lines[1][col("cpu [s]")].parse::<f64>().unwrap(), 7.25);
+        assert_eq!(lines[1][col("wall [s]")].parse::<f64>().unwrap(), 30.0);
+        assert_eq!(lines[1][col("threads")], "1");
+    }
+
+    /// The fronts are against CPU time: a run cheaper in CPU but longer in wall time
+    /// (it met more load) dominates; a run without a CPU time is on no front.
+    #[test]
+    fn fronts_are_against_cpu_time() {
+        let run = |cpu: f64, wall: f64, e: f64| TbRun {
+            settings: Settings {
+                dt: 1e-3,
+                h: SPACING,
+                scheme: Scheme::GenAlpha,
+                solver: SolverChoice::Partitioned,
+            },
+            dofs: 0,
+            steps: 0,
+            wall,
+            cpu,
+            threads: 1,
+            errors: [e; 3],
+            pareto: [false; 3],
+        };
+        let mut runs = [
+            run(10.0, 50.0, 1e-2),
+            run(20.0, 20.0, 2e-2),
+            run(f64::NAN, 1.0, 1e-3),
+        ];
+        mark_pareto(&mut runs);
+        assert_eq!(
+            runs.iter().map(|r| r.pareto[0]).collect::<Vec<_>>(),
+            [true, false, false]
+        );
     }
 }
