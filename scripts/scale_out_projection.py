@@ -37,16 +37,20 @@ Every affine law goes through the two measured sizes exactly (two points, two pa
 """
 import math
 
-# Measured (docs/scale-out.md, Measurements), one rank: ms per iteration by phase.
-N = [101346, 1049766]
-BLOCKS = [33, 347]
-R = [17.7, 92.8]     # search + elements + assembly + loads + other
-PR = [5.9, 50.9]     # assembly (the products with K, M, C), part of R
-PROM = [18.0, 17.6]  # blocks
-BS = [6.0, 34.2]     # solve
-TOP = [14.0, 34.0]   # top
-NT = [2520, 8160]    # top equations
-# Two ranks: bytes received by the busiest rank per iteration. Memory (MiB, 2026-11-27
+# Measured, one rank, ms per Newton iteration by phase: `railfem bench --case train-bridge
+# --sizes 1e5` and `--sizes 1043430 --cars 12 --steps 20` of main 55e42be on a quiet machine
+# (docs/performance.md, "Quiet re-timing after the merge"; 2.00 iterations a step, the top
+# chain condensed on one rank).
+N = [112542, 1043052]
+BLOCKS = [37, 345]
+R = [7.3, 23.8]      # search + elements + assembly + loads + other
+PR = [1.9, 10.3]     # assembly (the products with K, M, C on their non-zeros), part of R
+PROM = [2.7, 6.5]    # blocks
+BS = [5.9, 22.4]     # solve
+TOP = [5.6, 9.1]     # top (the reduced system of the top chain: 2 214 and 3 228 factored)
+NT = [2592, 8166]    # top equations
+# Two ranks: bytes received by the busiest rank per iteration (measured at 3 iterations a
+# step before the first iteration's hold; not re-measured). Memory (MiB, 2026-11-27
 # 17:19-17:34, this branch's MPI build): resident after the steps of one rank and of the
 # larger of two ranks, and the larger 2-rank peak after the build.
 RECV2 = [604167, 3036013]
