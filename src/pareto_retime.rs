@@ -96,7 +96,8 @@ fn median(v: &[f64]) -> f64 {
     }
 }
 
-fn loadavg() -> String {
+/// The three load averages of `/proc/loadavg` (empty where there is none).
+pub(crate) fn loadavg() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .unwrap_or_default()
         .split_whitespace()

@@ -571,33 +571,32 @@ fn make(path: &Path, job: &Job) -> Option<History> {
         write_history(path, s, *duration, &h)?;
         Ok(h)
     });
-    let out =
-        match r {
-            Ok(h) => {
-                eprintln!(
+    let out = match r {
+        Ok(h) => {
+            eprintln!(
                 "pareto train-bridge: {} ({} eq, {} thread(s)): wall {:.2} s, cpu {:.2} s, load {}",
                 history_tag(s, *duration),
                 h.dofs,
                 h.threads,
                 h.wall,
                 h.cpu,
-                std::fs::read_to_string("/proc/loadavg").unwrap_or_default().trim()
+                crate::pareto_retime::loadavg()
             );
-                Some(h)
+            Some(h)
+        }
+        Err(e) => {
+            eprintln!(
+                "pareto train-bridge: {}: no result ({e})",
+                history_tag(s, *duration)
+            );
+            // A stop request is no property of the run: leave no marker, so a later
+            // command (or a waiting process) makes it again.
+            if !matches!(e, FemError::InterruptedAfter { .. }) {
+                let _ = std::fs::write(path.with_extension("failed"), e.to_string());
             }
-            Err(e) => {
-                eprintln!(
-                    "pareto train-bridge: {}: no result ({e})",
-                    history_tag(s, *duration)
-                );
-                // A stop request is no property of the run: leave no marker, so a later
-                // command (or a waiting process) makes it again.
-                if !matches!(e, FemError::InterruptedAfter { .. }) {
-                    let _ = std::fs::write(path.with_extension("failed"), e.to_string());
-                }
-                None
-            }
-        };
+            None
+        }
+    };
     let _ = std::fs::remove_file(path.with_extension("lock"));
     out
 }

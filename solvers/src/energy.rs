@@ -115,14 +115,19 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// `½·vᵀ·M·v`, `M·v` formed into `buf`: over every equation, or across ranks (`ranks`,
 /// each rank's own rows, [`Partitioned::sums_over_rows`]).
 fn kinetic(asm: &Assembler, v: &[f64], buf: &mut Vec<f64>, ranks: Option<&mut Partitioned>) -> f64 {
-    buf.clear();
-    buf.resize(v.len(), 0.0);
-    asm.mass_times(v, buf);
-    let mv = &buf[..];
+    let mv = mass_times_into(asm, v, buf);
     match ranks.and_then(|p| p.sums_over_rows(1, &|rows, out| out[0] = dot_rows(rows, mv, v))) {
         Some(s) => 0.5 * s[0],
         None => 0.5 * dot(mv, v),
     }
+}
+
+/// `M·v` formed into `buf` (resized to `v`'s length).
+fn mass_times_into<'a>(asm: &Assembler, v: &[f64], buf: &'a mut Vec<f64>) -> &'a [f64] {
+    buf.clear();
+    buf.resize(v.len(), 0.0);
+    asm.mass_times(v, buf);
+    buf
 }
 
 /// `Σ a_i·b_i` over `rows`, in their order.
@@ -214,12 +219,7 @@ impl EnergyLedger {
         // `M·v` of `next`: the caller's, or formed here.
         let mv = match next_mv {
             Some(mv) => mv,
-            None => {
-                buf.clear();
-                buf.resize(next.v.len(), 0.0);
-                asm.mass_times(&next.v, &mut buf);
-                &buf[..]
-            }
+            None => mass_times_into(asm, &next.v, &mut buf),
         };
         // The three trapezoidal works `½·Σ (f_n + f_{n+1})ᵢ·Δqᵢ`, and `vᵀ·M·v`.
         let cv_prev = &self.cv_prev;
