@@ -771,13 +771,23 @@ impl Driver {
         ))
     }
 
-    fn largest(&self, r: &[f64]) -> (f64, String) {
-        let (i, v) = r.iter().enumerate().fold((0, 0.0f64), |acc, (i, x)| {
-            if x.abs() > acc.1 {
-                (i, x.abs())
-            } else {
-                acc
-            }
+    /// The largest `|r_i|` and the DOF it belongs to: over every equation, or with
+    /// [`Driver::keep_own_rows`] over every rank's owned rows (one collective, so every
+    /// rank of the job calls it at the same point; every rank names the equation one
+    /// process would, [`Partitioned::largest_over_rows`]).
+    fn largest(&mut self, r: &[f64]) -> (f64, String) {
+        let across = match (self.rows_per_rank, self.partition.as_mut()) {
+            (true, Some(p)) => p.largest_over_rows(r),
+            _ => None,
+        };
+        let (i, v) = across.map(|(v, i)| (i, v)).unwrap_or_else(|| {
+            r.iter().enumerate().fold((0, 0.0f64), |acc, (i, x)| {
+                if x.abs() > acc.1 {
+                    (i, x.abs())
+                } else {
+                    acc
+                }
+            })
         });
         let (n, d) = self.asm.dofmap.dof_of(i.min(self.neq().saturating_sub(1)));
         (v, self.model.dof_name(n, d))

@@ -2266,4 +2266,94 @@ mod tests {
             other => panic!("expected a singular block, got {other:?}"),
         }
     }
+
+    /// One process's scan (the driver's): the first entry strictly larger in magnitude
+    /// than every earlier one, `(0.0, 0)` if none is above zero.
+    fn first_largest(x: &[f64]) -> (f64, usize) {
+        x.iter().enumerate().fold(
+            (0.0, 0),
+            |best, (i, v)| {
+                if v.abs() > best.0 {
+                    (v.abs(), i)
+                } else {
+                    best
+                }
+            },
+        )
+    }
+
+    #[test]
+    fn across_thread_ranks_the_largest_entry_is_one_process_first_largest() {
+        let a = chain(200, 6);
+        let n = a.n;
+        // Values in −5..5: |5| occurs at many equations, in every rank's rows, so the tie
+        // rule decides; then one clear maximum late in the equations; NaNs and zeros
+        // elsewhere; all zeros.
+        let ties = rhs(n);
+        let mut late = rhs(n);
+        late[n - 40] = -9.5;
+        let mut nan = vec![0.0; n];
+        nan[3] = f64::NAN;
+        nan[n / 2] = 1e-300;
+        // Equal maxima at a chain equation near the end and at the last free equation (a
+        // base top equation, rank 0's): the lower index wins wherever it is held.
+        let mut pair = vec![0.0; n];
+        pair[n - 1] = 8.0;
+        pair[597] = -8.0;
+        let cases = [ties, late, nan, vec![0.0; n], pair];
+        let expected: Vec<(f64, usize)> = cases.iter().map(|x| first_largest(x)).collect();
+        assert_eq!(expected[0], (5.0, first_largest(&cases[0]).1));
+        assert_eq!(expected[1], (9.5, n - 40));
+        assert_eq!(expected[2], (1e-300, n / 2));
+        assert_eq!(expected[3], (0.0, 0));
+        assert_eq!(expected[4], (8.0, 597));
+        for ranks in [2, 3] {
+            let found: Vec<Vec<(f64, usize)>> = std::thread::scope(|sc| {
+                let hs: Vec<_> = crate::exchange::thread_ranks(ranks)
+                    .into_iter()
+                    .map(|ex| {
+                        let (a, cases) = (&a, &cases);
+                        sc.spawn(move || {
+                            let mut p = Partitioned::new(
+                                false,
+                                PartitionOptions {
+                                    block_size: 50,
+                                    threads: 1,
+                                    ..Default::default()
+                                },
+                            );
+                            p.set_exchange(ex);
+                            p.prepare(a);
+                            // A rank holds only its owned rows; whatever the others hold
+                            // (here larger than any true entry) must not count.
+                            let mut owned = vec![false; n];
+                            for b in &p.blocks[p.owned()] {
+                                b.all.iter().for_each(|&i| owned[i] = true);
+                            }
+                            if p.is_root() {
+                                p.base_top.iter().for_each(|&i| owned[i] = true);
+                            }
+                            cases
+                                .iter()
+                                .map(|x| {
+                                    let mine: Vec<f64> = (0..n)
+                                        .map(|i| if owned[i] { x[i] } else { 1e9 + i as f64 })
+                                        .collect();
+                                    p.largest_over_rows(&mine).expect("across ranks")
+                                })
+                                .collect()
+                        })
+                    })
+                    .collect();
+                hs.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            for (r, got) in found.iter().enumerate() {
+                assert_eq!(got, &expected, "{ranks} ranks, rank {r}");
+            }
+        }
+        // One process: no collective, the caller scans.
+        let mut p = Partitioned::new(false, PartitionOptions::default());
+        p.prepare(&a);
+        assert_eq!(p.largest_over_rows(&cases[0]), None);
+    }
 }

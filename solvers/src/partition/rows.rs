@@ -21,6 +21,11 @@
 //! ([`crate::energy::EnergyLedger::record`]) are summed the same way
 //! ([`Partitioned::sums_over_rows`]).
 //!
+//! **Where the residual is largest.** A failed step's message and `--trace` name the
+//! equation with the largest residual; each rank knows only its owned rows, so the ranks
+//! exchange their candidates ([`Partitioned::largest_over_rows`]) and every rank names
+//! the equation one process would.
+//!
 //! **Top columns.** The condensed Newton's top iterations need the constant matrices
 //! between top equations. A promoted equation's column belongs to the owner of its block;
 //! [`Partitioned::share_top_columns`] sends each to every rank, as the owner encoded it.
@@ -124,6 +129,56 @@ impl Partitioned {
             *t += v;
         }
         Some(total)
+    }
+
+    /// Across ranks: the largest `|x[i]|` over every equation and its `i`, each rank
+    /// searching its owned rows (its blocks' interiors, rank 0 also the base top set) and
+    /// every rank receiving every rank's candidate (one all-gather). Ties go to the lowest
+    /// `i` and zeros never count, as in one process's scan in equation order that keeps the
+    /// first strictly larger entry, so the answer is that scan's on every rank, for any
+    /// number of ranks: `(0.0, 0)` if every entry is zero (or NaN). `None` in one process or
+    /// before the split (no collective).
+    pub fn largest_over_rows(&mut self, x: &[f64]) -> Option<(f64, usize)> {
+        if self.comm.is_none() || self.n == 0 {
+            return None;
+        }
+        let better =
+            |(v, i): (f64, usize), (bv, bi): (f64, usize)| v > bv || (v == bv && v > 0.0 && i < bi);
+        let mut best = (0.0, usize::MAX);
+        let mut scan = |rows: &[usize]| {
+            for &i in rows {
+                if better((x[i].abs(), i), best) {
+                    best = (x[i].abs(), i);
+                }
+            }
+        };
+        for b in &self.blocks[self.owned()] {
+            scan(&b.all);
+        }
+        if self.is_root() {
+            scan(&self.base_top);
+        }
+        // An index below 2^53 travels exactly as an f64; `usize::MAX` marks "none".
+        let mine = [
+            best.0,
+            if best.1 == usize::MAX {
+                -1.0
+            } else {
+                best.1 as f64
+            },
+        ];
+        let pieces = self.comm.as_mut().expect("across ranks").all_gather(&mine);
+        let mut found = (0.0, usize::MAX);
+        for piece in &pieces {
+            if piece[1] >= 0.0 && better((piece[0], piece[1] as usize), found) {
+                found = (piece[0], piece[1] as usize);
+            }
+        }
+        Some(if found.1 == usize::MAX {
+            (0.0, 0)
+        } else {
+            found
+        })
     }
 
     /// Across ranks: for every top equation of the last factorization (in top order), its
