@@ -13,6 +13,7 @@
 #![allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
 
 mod chunks;
+pub mod compact_factor;
 pub mod condensed;
 pub mod dense;
 pub mod driver;

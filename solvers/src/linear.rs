@@ -33,6 +33,7 @@
 //!   matrices); [`SparseLu`] therefore checks for empty rows/columns before factoring and
 //!   checks the solution for non-finite values after solving.
 
+use crate::compact_factor::CompactFactor;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
@@ -320,6 +321,11 @@ pub struct SparseCholesky {
     solve_mem_cap: StackReq,
     factored: bool,
     stats: SolverStats,
+    /// Solve from a copy of `L` without its exact zeros ([`CompactFactor`]) where the
+    /// factor is simplicial `L·Lᵀ`; the values of `L` are then released until the next
+    /// factorization.
+    compact_solve: bool,
+    compact: Option<CompactFactor>,
 }
 
 impl Default for SparseCholesky {
@@ -355,7 +361,30 @@ impl SparseCholesky {
             solve_mem_cap: StackReq::empty(),
             factored: false,
             stats: SolverStats::default(),
+            compact_solve: false,
+            compact: None,
         }
+    }
+
+    /// Solves from a copy of the factor without its exact zeros, with 32-bit indices
+    /// ([`crate::compact_factor`]): the same solutions to the bit (a zero may differ in
+    /// sign) from fewer bytes, for a factor that is made once and solved with many times
+    /// (the partitioned solver's blocks). Applies to the simplicial `L·Lᵀ` layout; the
+    /// others keep faer's solve. Once the copy is made, everything else is released — the
+    /// values of `L`, faer's symbolic factor (the row indices of `L`), the permuted pattern
+    /// and the factorization's scratch — so the solver holds the copy alone; a later
+    /// [`LinearSolver::factor`] analyses the pattern again.
+    pub fn with_compact_solve(mut self, on: bool) -> SparseCholesky {
+        self.compact_solve = on;
+        self.compact = None;
+        self
+    }
+
+    /// With [`SparseCholesky::with_compact_solve`] after a factorization it applied to: the
+    /// off-diagonal non-zeros kept and the values faer stores for `L`.
+    pub fn compact_counts(&self) -> Option<(usize, usize)> {
+        let c = self.compact.as_ref()?;
+        Some((c.nonzeros(), self.stats.factor_nnz))
     }
 
     /// Same solver computing `L·D·Lᵀ` (no pivoting) instead of `L·Lᵀ`.
@@ -398,6 +427,7 @@ impl SparseCholesky {
                 + p.values.capacity())
         });
         pattern
+            + self.compact.as_ref().map_or(0, CompactFactor::heap_bytes)
             + 8 * self.l_values.capacity()
             + self.factor_mem_cap.size_bytes()
             + self.solve_mem_cap.size_bytes()
@@ -415,6 +445,7 @@ impl SparseCholesky {
         self.pattern = None;
         self.symbolic = None;
         self.factored = false;
+        self.compact = None;
     }
 
     fn analyse(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
@@ -492,6 +523,7 @@ impl SparseCholesky {
 impl LinearSolver for SparseCholesky {
     fn factor(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
         self.factored = false;
+        self.compact = None;
         let reuse = matches!(&self.pattern, Some(p) if same_pattern(a, p.pattern_id, p.n, p.full_nnz))
             && a.values.len() == a.row_idx.len();
         if !reuse {
@@ -507,6 +539,8 @@ impl LinearSolver for SparseCholesky {
             return Err(non_finite_error(a, p));
         }
         permuted.gather(a);
+        // Released after the last compact copy was made: faer writes every value of L.
+        self.l_values.resize(symbolic.len_val(), 0.0);
         let mat = SparseColMatRef::new(permuted.symbolic(), &permuted.values);
         let stack = MemStack::new(&mut self.factor_mem);
         let l = &mut self.l_values[..];
@@ -568,6 +602,19 @@ impl LinearSolver for SparseCholesky {
         self.factored = true;
         self.stats.numeric_factorizations += 1;
         self.stats.factor_nnz = self.l_values.len();
+        if let (true, CholeskyKind::Llt, SymbolicCholeskyRaw::Simplicial(sym)) =
+            (self.compact_solve, self.kind, symbolic.raw())
+        {
+            let perm = symbolic.perm().map(|p| p.arrays());
+            self.compact = CompactFactor::new(sym.col_ptr(), sym.row_idx(), &self.l_values, perm);
+            if self.compact.is_some() {
+                self.l_values = Vec::new();
+                self.pattern = None;
+                self.symbolic = None;
+                self.factor_mem = MemBuffer::new(StackReq::empty());
+                self.factor_mem_cap = StackReq::empty();
+            }
+        }
         Ok(())
     }
 
@@ -576,6 +623,13 @@ impl LinearSolver for SparseCholesky {
     }
 
     fn solve_columns_in_place(&mut self, b: &mut [f64], ncols: usize) -> Result<(), SolverError> {
+        if let (true, Some(c)) = (self.factored, self.compact.as_mut()) {
+            if check_rhs(b.len(), c.n(), ncols)? {
+                c.solve_columns(b, ncols);
+                self.stats.solves += ncols;
+            }
+            return Ok(());
+        }
         let (true, Some(symbolic)) = (self.factored, self.symbolic.as_ref()) else {
             return Err(SolverError::Failed(
                 "solve called without a valid factorization".into(),

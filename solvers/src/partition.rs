@@ -1758,7 +1758,10 @@ fn block_state(
             }
         }
     }
-    let mut factor = SparseCholesky::new();
+    // A block's factor is made once per Δt and solved with twice a step (the condensed
+    // right-hand side, the back-substitution) and for every promotion: solve from its
+    // non-zeros (`crate::compact_factor`; the same bits as faer's solve).
+    let mut factor = SparseCholesky::new().with_compact_solve(true);
     factor.factor(&m).map_err(|e| match e {
         SolverError::Singular { equation } => SolverError::Singular {
             equation: interior.get(equation).copied().unwrap_or(equation),
