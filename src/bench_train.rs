@@ -225,6 +225,12 @@ pub fn measure(
             (p1.top_refits - p0.top_refits) as f64 / steps.max(1) as f64,
             (p1.top_symbolic_analyses - p0.top_symbolic_analyses) as f64 / steps.max(1) as f64,
         );
+        println!(
+            "          block factors: {} values of L stored by the factorization, {} off-diagonal non-zeros kept for the solves ({:.1} %)",
+            p1.factor_values,
+            p1.factor_nonzeros,
+            100.0 * p1.factor_nonzeros as f64 / p1.factor_values.max(1) as f64
+        );
     }
     let per = |x: f64| x / iters as f64;
     let search = a1.search - a0.search;

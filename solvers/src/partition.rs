@@ -155,6 +155,12 @@ pub struct PartitionStats {
     pub owned_blocks: usize,
     /// Interior equations of the owned blocks.
     pub owned_interior_equations: usize,
+    /// Of the owned blocks' current factors: the values faer stored for `L` (diagonal
+    /// included) and the off-diagonal non-zeros the solves read
+    /// ([`crate::compact_factor`]).
+    pub factor_values: usize,
+    /// See [`PartitionStats::factor_values`].
+    pub factor_nonzeros: usize,
     /// This rank's messages (zero in one process).
     pub comm: CommStats,
 }
@@ -527,7 +533,14 @@ impl Partitioned {
         s.ranks = self.comm.as_ref().map_or(1, Comm::size);
         let owned = self.owned();
         s.owned_blocks = owned.len();
-        s.owned_interior_equations = self.blocks[owned].iter().map(|b| b.all.len()).sum();
+        s.owned_interior_equations = self.blocks[owned.clone()].iter().map(|b| b.all.len()).sum();
+        for b in &self.blocks[owned] {
+            if let Some((kept, stored)) = b.base.as_ref().and_then(|st| st.factor.compact_counts())
+            {
+                s.factor_values += stored;
+                s.factor_nonzeros += kept;
+            }
+        }
         s.comm = self.comm.as_ref().map(|c| c.stats).unwrap_or_default();
         s
     }
