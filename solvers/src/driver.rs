@@ -341,7 +341,7 @@ impl Driver {
     /// caller refuses it ([`Driver::partition_stats`] is `None`; `set_exchange` says why).
     pub fn new_across_ranks(
         model: Model,
-        exchange: std::sync::Arc<dyn crate::exchange::Exchange>,
+        exchange: Arc<dyn crate::exchange::Exchange>,
         options: Option<PartitionOptions>,
     ) -> Result<Driver, FemError> {
         let mut d = Self::build(model, Some((exchange.clone(), options)))?;
@@ -360,10 +360,7 @@ impl Driver {
     /// rank's columns.
     fn build(
         mut model: Model,
-        shared: Option<(
-            std::sync::Arc<dyn crate::exchange::Exchange>,
-            Option<PartitionOptions>,
-        )>,
+        shared: Option<(Arc<dyn crate::exchange::Exchange>, Option<PartitionOptions>)>,
     ) -> Result<Driver, FemError> {
         let spec = &model.analysis;
         if spec.kind == AnalysisKind::Transient {
@@ -544,6 +541,7 @@ impl Driver {
     /// the blocks, rank 0 the top system. Every rank ends each step with the whole state, the
     /// same as one process's. An error if the driver does not use the partitioned solver
     /// (the direct and low-rank solvers are not shared); call it before the first step.
+    /// Nothing to do for a driver built across these ranks ([`Driver::new_across_ranks`]).
     pub fn set_exchange(
         &mut self,
         exchange: std::sync::Arc<dyn crate::exchange::Exchange>,
