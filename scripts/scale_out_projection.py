@@ -23,15 +23,19 @@ Comm  N_COLL collectives of latency ALPHA*ceil(log2 P) each, plus the bytes the 
       receives at bandwidth BETA: (P-1)/P * (c1*N + c2*n_T) (the interiors of the other ranks
       once per step, the block pieces and top vectors), fitted at P = 2.
 
-Memory per rank: the larger of the build's peak B(N), the same on every rank (every rank
-still generates the track and builds the whole model and its K, M, C before the split),
-and the steady state of the steps M(P, N) = Mr(N) + Mf(N)/P. All three are affine in N:
-B from the larger 2-rank peak after the build; Mr (replicated after the build: the
-track, the elements every rank keeps, state vectors, maps, top system) = 2*M2 - M1 and Mf
-(divided: block factors, promotions, the columns of the effective matrix and of K, M, C,
-the elements of the rank's rows) = 2*(M1 - M2) from the 1-rank resident memory after the
-steps M1 and the larger 2-rank one M2, measured with the residual and the elements per
-rank (docs/scale-out.md, "Memory per rank"), at the sizes MEM_N.
+Memory per rank: the larger of the build's peak B(P, N) = Br(N) + Bd(N)/P and the steady
+state of the steps M(P, N) = Mr(N) + Mf(N)/P. Each rank splits the blocks on the pattern
+and forms K, M, C on its own columns only (Driver::new_across_ranks), so part of the build
+is divided: Br (replicated: the generated track, every node and element of the model —
+today's elements, which issue 15's element work shrinks —, maps, the pattern's transient,
+the splits) = 2*B2 - B1 and Bd (divided: the columns of K, M, C) = 2*(B1 - B2), from the
+1-rank peak after the build B1 and the larger 2-rank one B2 at the sizes MEM_N. The steps:
+Mr (replicated after the build: the track, the elements every rank keeps, state vectors,
+maps, top system) = 2*M2 - M1 and Mf (divided: block factors, promotions, the columns of
+the effective matrix and of K, M, C, the elements of the rank's rows) = 2*(M1 - M2) from
+the 1-rank resident memory after the steps M1 and the larger 2-rank one M2, measured with
+the residual and the elements per rank (docs/scale-out.md, "Memory per rank"). All four
+are affine in N.
 
 Every affine law goes through the two measured sizes exactly (two points, two parameters).
 """
@@ -57,7 +61,12 @@ RECV2 = [604167, 3036013]
 MEM_N = [112542, 1043052]
 MEM1 = [530, 3769]
 MEM2 = [352, 2404]
-BUILD = [327, 2593]
+# The peak after the build (MiB, 2026-11-27 20:13-20:17, the MPI build of the build per
+# rank, `mpirun -n 1` and the larger of `-n 2`): the same as before on one rank (319,
+# 2583), 266/270 and 2290/2289 on two (327 and 2593 before, when every rank formed the
+# whole K, M, C).
+BUILD1 = [319, 2583]
+BUILD2 = [270, 2290]
 # Assumed network: latency of one step of a collective, bandwidth (a 100 Gb/s fabric).
 ALPHA = 2e-3  # ms
 BETA = 10e9   # B/s
@@ -86,19 +95,21 @@ def main():
     c2 = (N[0] * y[1] - N[1] * y[0]) / det
     mr0, mr1 = affine(MEM_N, [2 * m2 - m1 for m1, m2 in zip(MEM1, MEM2)])
     mf0, mf1 = affine(MEM_N, [2 * (m1 - m2) for m1, m2 in zip(MEM1, MEM2)])
-    bp0, bp1 = affine(MEM_N, BUILD)
+    br0, br1 = affine(MEM_N, [2 * b2 - b1 for b1, b2 in zip(BUILD1, BUILD2)])
+    bd0, bd1 = affine(MEM_N, [2 * (b1 - b2) for b1, b2 in zip(BUILD1, BUILD2)])
     print(f"R = {r0:.1f} ms + {r1 * 1e6:.1f} ms per 1e6 DOF; Pr = {p0:.1f} + {p1 * 1e6:.1f} per 1e6 DOF; Bs = {b0:.1f} + {b1 * 1e6:.1f} per 1e6 DOF; "
           f"Prom = {prom:.1f} ms")
     print(f"n_T = {v:.0f} + {s:.1f} per block; Top = {t0:.1f} ms + {t1 * 1e3:.2f} ms per 1000 top equations")
     print(f"busiest rank receives (P-1)/P * ({c1:.2f} B per DOF + {c2:.0f} B per top equation)")
     print(f"memory: replicated {mr0:.0f} MiB + {mr1 * 1e6:.0f} MiB per 1e6 DOF; "
           f"divided {mf0:.0f} MiB + {mf1 * 1e6:.0f} MiB per 1e6 DOF; "
-          f"build peak {bp0:.0f} MiB + {bp1 * 1e6:.0f} MiB per 1e6 DOF")
+          f"build peak: replicated {br0:.0f} MiB + {br1 * 1e6:.0f} MiB per 1e6 DOF, "
+          f"divided {bd0:.0f} MiB + {bd1 * 1e6:.0f} MiB per 1e6 DOF")
     print()
     print("| DOF | ranks | top equations | ms/iteration | replicated | products / P | promotions | block solves / P | "
           "top (rank 0) | communication | received by the busiest rank | GiB per rank, steps | "
-          "GiB per rank, peak (build) |")
-    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+          "GiB per rank, build | GiB per rank, peak |")
+    print("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for n in [1e6, 1e7]:
         nt = v + s * n / per_block
         for p in [1, 2, 8, 16, 32, 64]:
@@ -106,10 +117,11 @@ def main():
             comm = N_COLL * ALPHA * math.ceil(math.log2(p)) + recv / BETA * 1e3 if p > 1 else 0.0
             parts = [r0 + r1 * n, (p0 + p1 * n) / p, prom, (b0 + b1 * n) / p, t0 + t1 * nt, comm]
             mem = (mr0 + mr1 * n + (mf0 + mf1 * n) / p) / 1024
-            peak = max(mem, (bp0 + bp1 * n) / 1024)
+            build = (br0 + br1 * n + (bd0 + bd1 * n) / p) / 1024
+            peak = max(mem, build)
             print(f"| {n:.0e} | {p} | {nt:.0f} | {sum(parts):.0f} | {parts[0]:.0f} | {parts[1]:.1f} | "
                   f"{parts[2]:.0f} | {parts[3]:.1f} | {parts[4]:.0f} | {parts[5]:.1f} | {recv / 1e6:.1f} MB | "
-                  f"{mem:.1f} | {peak:.1f} |")
+                  f"{mem:.1f} | {build:.1f} | {peak:.1f} |")
     print()
     for n in [1e5, 1e6, 1e7]:
         nt = v + s * n / per_block

@@ -112,12 +112,17 @@ pub fn measure(
     ranks: Option<Arc<dyn Exchange>>,
 ) -> Result<PhaseRow, FemError> {
     let t0 = Instant::now();
-    let mut m = build(case)?;
+    // Across ranks each rank splits the blocks on the pattern and forms K, M, C on its own
+    // columns only; it forms the residual of its own rows.
+    let mut m = match &ranks {
+        None => build(case)?,
+        Some(ex) => crate::train_bridge::build_across_ranks(case, ex.clone(), None)?,
+    };
     let t_build = t0.elapsed().as_secs_f64();
     let d = &mut m.driver;
     if let Some(ex) = ranks {
+        // The refusal of a model on another solver (shared at the build otherwise).
         d.set_exchange(ex)?;
-        // Each rank forms the residual of its own rows, with its columns of K, M, C.
         d.keep_own_rows();
     }
     let t1 = Instant::now();

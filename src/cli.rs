@@ -283,8 +283,17 @@ fn prepare(
     path: &Path,
     estimate_factor: bool,
 ) -> Result<(crate::solvers::Driver, crate::solvers::preflight::Preflight), FemError> {
+    prepare_on(path, estimate_factor, None)
+}
+
+/// [`prepare`] on one rank of `ranks` (`crate::prepare_on`).
+fn prepare_on(
+    path: &Path,
+    estimate_factor: bool,
+    ranks: Option<std::sync::Arc<dyn crate::solvers::exchange::Exchange>>,
+) -> Result<(crate::solvers::Driver, crate::solvers::preflight::Preflight), FemError> {
     let file = path.display().to_string();
-    let (driver, pre) = crate::prepare(crate::load_model(path), &file, estimate_factor)?;
+    let (driver, pre) = crate::prepare_on(crate::load_model(path), &file, estimate_factor, ranks)?;
     for w in &pre.warnings {
         eprintln!("warning: {w}");
     }
@@ -488,7 +497,8 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
             let path = model_arg(a)?;
             let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out"));
             let ranks = crate::ranks::launcher_exchange("run")?;
-            let (mut driver, _) = prepare(path, false)?;
+            // Across ranks, K, M, C formed on each rank's columns only.
+            let (mut driver, _) = prepare_on(path, false, ranks.clone())?;
             if let Some(ex) = ranks {
                 share_among_ranks(&mut driver, ex, path)?;
                 // Rank 0 alone prints and writes the recorders; the others compute.
@@ -1241,14 +1251,19 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
         .unwrap_or_else(|| PathBuf::from("out/train_bridge"));
     let block_size = count("block-size")?;
     let ranks = crate::ranks::launcher_exchange("train-bridge")?;
-    let mut m = build(&c)?;
-    if let Some(b) = block_size {
-        m.driver
-            .set_partition_options(crate::solvers::partition::PartitionOptions {
-                block_size: b,
-                threads: 0,
-                ..Default::default()
-            });
+    let options = block_size.map(|b| crate::solvers::partition::PartitionOptions {
+        block_size: b,
+        threads: 0,
+        ..Default::default()
+    });
+    // Across ranks each rank splits the blocks on the pattern and forms K, M, C on its own
+    // columns only.
+    let mut m = match &ranks {
+        None => build(&c)?,
+        Some(ex) => crate::train_bridge::build_across_ranks(&c, ex.clone(), options)?,
+    };
+    if let (Some(o), None) = (options, &ranks) {
+        m.driver.set_partition_options(o);
     }
     if let Some(ex) = ranks {
         let size = ex.size();
@@ -1258,8 +1273,9 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
                 format!("`railfem train-bridge` across {size} ranks shares the partitioned solver's blocks, but this {}-DOF model uses another solver; give `--solver partitioned`", m.dofs),
             ));
         }
+        // Shared at the build already: each rank forms the residual of its own rows, with
+        // its columns of K, M, C.
         m.driver.set_exchange(ex)?;
-        // Each rank forms the residual of its own rows, with its columns of K, M, C.
         m.driver.keep_own_rows();
     }
     // Under a launcher rank 0 alone prints and writes the outputs; the others compute.

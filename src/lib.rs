@@ -64,8 +64,24 @@ pub fn prepare(
     file: &str,
     estimate_factor: bool,
 ) -> Result<(solvers::Driver, solvers::preflight::Preflight), framework::FemError> {
+    prepare_on(model, file, estimate_factor, None)
+}
+
+/// [`prepare`], and with `ranks` the driver of one rank of them
+/// (`Driver::new_across_ranks`: the partitioned solver's blocks shared, `K`, `M`, `C`
+/// formed on the rank's columns only; the preflight reads their whole diagonals).
+pub fn prepare_on(
+    model: Result<framework::Model, framework::FemError>,
+    file: &str,
+    estimate_factor: bool,
+    ranks: Option<std::sync::Arc<dyn solvers::exchange::Exchange>>,
+) -> Result<(solvers::Driver, solvers::preflight::Preflight), framework::FemError> {
     let model = model.map_err(|e| e.in_file(file))?;
-    let mut driver = solvers::Driver::new(model).map_err(|e| e.in_file(file))?;
+    let mut driver = match ranks {
+        None => solvers::Driver::new(model),
+        Some(ex) => solvers::Driver::new_across_ranks(model, ex, None),
+    }
+    .map_err(|e| e.in_file(file))?;
     let pre = driver
         .preflight(estimate_factor)
         .map_err(|e| e.in_file(file))?;

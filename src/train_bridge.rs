@@ -25,6 +25,8 @@ use crate::framework::limits::{self, fmt_num};
 use crate::framework::loads::{LoadSpec, TimeSeries};
 use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder, NewtonSettings};
 use crate::framework::FemError;
+use crate::solvers::exchange::Exchange;
+use crate::solvers::partition::PartitionOptions;
 use crate::solvers::Driver;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -521,6 +523,25 @@ impl TrainBridgeCase {
 
 /// Builds the model of a case.
 pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
+    build_with(case, None)
+}
+
+/// [`build`] on one rank of `exchange`: the driver shares the partitioned solver's blocks
+/// with the other ranks and forms `K`, `M`, `C` on the rank's columns only
+/// (`Driver::new_across_ranks`, with `options` or the defaults). A case that does not run
+/// the partitioned solver gets the one-process driver, for the caller to refuse.
+pub fn build_across_ranks(
+    case: &TrainBridgeCase,
+    exchange: Arc<dyn Exchange>,
+    options: Option<PartitionOptions>,
+) -> Result<TrainBridgeModel, FemError> {
+    build_with(case, Some((exchange, options)))
+}
+
+fn build_with(
+    case: &TrainBridgeCase,
+    shared: Option<(Arc<dyn Exchange>, Option<PartitionOptions>)>,
+) -> Result<TrainBridgeModel, FemError> {
     crate::elements::link();
     case.validate()?;
     // The train's size first: its length sets the track's.
@@ -648,7 +669,10 @@ pub fn build(case: &TrainBridgeCase) -> Result<TrainBridgeModel, FemError> {
     }
     let wheel_index = ids.wheels.iter().map(|id| index[id]).collect();
     let (elements, nodes) = (model.elements.len(), model.nodes.len());
-    let driver = Driver::new(model)?;
+    let driver = match shared {
+        None => Driver::new(model)?,
+        Some((ex, options)) => Driver::new_across_ranks(model, ex, options)?,
+    };
     let t_driver = t2.elapsed().as_secs_f64();
     let build_memory_mib = [
         rss_gen,

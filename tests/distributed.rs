@@ -25,7 +25,7 @@ use railfem::framework::model::SolverChoice;
 use railfem::solvers::energy::EnergyRow;
 use railfem::solvers::exchange::{thread_ranks, Exchange};
 use railfem::solvers::partition::{PartitionOptions, PartitionStats};
-use railfem::train_bridge::{build, TrainBridgeCase};
+use railfem::train_bridge::{build, build_across_ranks, TrainBridgeCase};
 use std::sync::Arc;
 
 fn case(solver: SolverChoice) -> TrainBridgeCase {
@@ -53,9 +53,10 @@ type Run = (History, usize, PartitionStats, usize, Rows, Recorded);
 /// energy balance's rows (`energy.csv`).
 type Recorded = (Vec<Vec<f64>>, Vec<EnergyRow>);
 
-/// Rows whose residual a rank formed, the stored entries of the constant `K` it kept, and
-/// the elements it held whole (the model's count in one process).
-type Rows = (usize, usize, usize);
+/// Rows whose residual a rank formed, the stored entries of the constant `K` it kept, the
+/// elements it held whole (the model's count in one process), and the most entries of `K`
+/// it ever held (at the build).
+type Rows = (usize, usize, usize, usize);
 
 /// `steps` steps on one rank of `exchange` (`None`: one process); with `own_rows` each rank
 /// forms the residual of its own rows only (`Driver::keep_own_rows`).
@@ -65,27 +66,41 @@ fn history(
     steps: usize,
     own_rows: bool,
 ) -> Run {
-    let mut m = build(&case(SolverChoice::Partitioned)).expect("model");
-    let d = &mut m.driver;
-    d.condense_residual = condensed;
-    d.set_partition_options(PartitionOptions {
+    let options = PartitionOptions {
         block_size: 120,
         threads: 1,
         ..Default::default()
-    });
+    };
+    // With its own rows a rank splits the blocks on the pattern and forms `K`, `M`, `C`
+    // on its columns only (`Driver::new_across_ranks`); without, it builds the whole
+    // matrices and shares the blocks afterwards.
+    let mut m = match (&exchange, own_rows) {
+        (Some(ex), true) => {
+            build_across_ranks(&case(SolverChoice::Partitioned), ex.clone(), Some(options))
+                .expect("model")
+        }
+        _ => build(&case(SolverChoice::Partitioned)).expect("model"),
+    };
+    let d = &mut m.driver;
+    d.condense_residual = condensed;
     if let Some(ex) = exchange {
-        d.set_exchange(ex).expect("partitioned model");
         if own_rows {
             assert!(
                 d.keep_own_rows(),
-                "the train-bridge model keeps its own rows"
+                "the train-bridge model keeps its own rows from the build"
             );
             assert!(
                 d.energy.is_some(),
                 "the energy balance summed over the ranks' own rows"
             );
+        } else {
+            d.set_partition_options(options);
+            d.set_exchange(ex).expect("partitioned model");
         }
+    } else {
+        d.set_partition_options(options);
     }
+    let built = d.constant_entries_built();
     d.static_solve(0.0, 4).expect("static preload");
     d.initialize().expect("initial accelerations");
     let mut out = Vec::new();
@@ -108,7 +123,12 @@ fn history(
         iterations,
         d.partition_stats().expect("partitioned"),
         entries,
-        (d.rows_owned(), d.constant_entries(), d.elements_held()),
+        (
+            d.rows_owned(),
+            d.constant_entries(),
+            d.elements_held(),
+            built.max(d.constant_entries_built()),
+        ),
         (
             wheels,
             d.energy.as_ref().expect("energy balance").history.clone(),
@@ -117,7 +137,7 @@ fn history(
 }
 
 fn compare(condensed: bool, steps: usize, own_rows: bool) {
-    let (serial, it_serial, s1, entries_serial, (n, k_serial, elements), recorded) =
+    let (serial, it_serial, s1, entries_serial, (n, k_serial, elements, _), recorded) =
         history(None, condensed, steps, false);
     let (wheels_serial, energy_serial) = recorded;
     let energy_scale = energy_serial.iter().fold(0.0f64, |m, r| m.max(r.scale()));
@@ -221,8 +241,9 @@ fn compare(condensed: bool, steps: usize, own_rows: bool) {
         let rows: Vec<usize> = runs.iter().map(|r| r.4 .0).collect();
         let kept: Vec<usize> = runs.iter().map(|r| r.4 .1).collect();
         let held: Vec<usize> = runs.iter().map(|r| r.4 .2).collect();
+        let built: Vec<usize> = runs.iter().map(|r| r.4 .3).collect();
         println!(
-            "rows {rows:?} of {n}; K entries {kept:?} of {k_serial}; elements held {held:?} of {elements}"
+            "rows {rows:?} of {n}; K entries {kept:?} of {k_serial}, at most {built:?}; elements held {held:?} of {elements}"
         );
         if own_rows {
             assert_eq!(rows.iter().sum::<usize>(), n);
@@ -245,9 +266,21 @@ fn compare(condensed: bool, steps: usize, own_rows: bool) {
             // once (each touches some equation, owned by some rank).
             assert!(held.iter().all(|&h| h < elements), "{held:?} of {elements}");
             assert!(held.iter().sum::<usize>() >= elements, "{held:?}");
+            // The whole `K`, `M`, `C` never existed on a rank: each formed only the columns
+            // it keeps until the initial mass solve (those of its rows, the base top set's
+            // and the ones that solve's own split reads) — at least what it keeps after,
+            // fewer entries than one process, and together every column at least once.
+            assert!(
+                built.iter().all(|&b| b < k_serial),
+                "{built:?} of {k_serial}"
+            );
+            assert!(built.iter().sum::<usize>() >= k_serial, "{built:?}");
+            assert!(built.iter().zip(&kept).all(|(b, k)| b >= k), "{built:?}");
         } else {
             assert!(rows.iter().all(|&r| r == n));
             assert!(kept.iter().all(|&e| e == k_serial));
+            // The whole matrices built on every rank (shared after the build).
+            assert!(built.iter().all(|&b| b == k_serial), "{built:?}");
             assert!(held.iter().all(|&h| h == elements));
         }
     }

@@ -73,15 +73,43 @@ fn write_model(dir: &Path, analysis_extra: &str) -> std::path::PathBuf {
 /// What one rank recorded: its recorders' rows and the energy balance's.
 type Recorded = (Vec<Vec<f64>>, PartitionStats, Vec<EnergyRow>);
 
+/// How a rank shares the model.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Share {
+    /// The whole matrices, the blocks shared after the build.
+    Whole,
+    /// Its own rows, narrowed after the whole build (`Driver::keep_own_rows`).
+    RowsAfter,
+    /// Its own rows, `K`, `M`, `C` formed on its columns only and the data check on their
+    /// diagonals (`railfem::prepare_on`, as `railfem run` under mpirun does).
+    RowsFromBuild,
+}
+
 /// Runs the file on one rank of `exchange` (`None`: one process) and keeps its recorders'
-/// rows; with `own_rows` the rank forms the residual of its own rows (as `railfem run`
-/// under mpirun does).
-fn run(path: &Path, exchange: Option<Arc<dyn Exchange>>, own_rows: bool) -> Recorded {
-    let mut d =
-        railfem::solvers::Driver::new(railfem::load_model(path).expect("model")).expect("driver");
+/// rows, the rank sharing the model as `share` says.
+fn run(path: &Path, exchange: Option<Arc<dyn Exchange>>, share: Share) -> Recorded {
+    let model = railfem::load_model(path);
+    let mut d = match (&exchange, share) {
+        (Some(ex), Share::RowsFromBuild) => {
+            let (d, _) =
+                railfem::prepare_on(model, "beam.toml", false, Some(ex.clone())).expect("driver");
+            // K, M, C formed on the rank's columns: its own rows', the base top set's and
+            // until the initial mass solve those that solve's split reads. That split
+            // (blocks of 3 000 interior equations, as in one process) puts all 1 791
+            // equations of this beam on top, which every rank keeps: here the rank forms
+            // every column, as `keep_own_rows` keeps them (tests/distributed.rs has a model
+            // where it forms fewer).
+            let whole = railfem::solvers::Driver::new(railfem::load_model(path).expect("model"))
+                .expect("driver")
+                .constant_entries_built();
+            assert_eq!(d.constant_entries_built(), whole);
+            d
+        }
+        _ => railfem::solvers::Driver::new(model.expect("model")).expect("driver"),
+    };
     if let Some(ex) = exchange {
         d.set_exchange(ex).expect("partitioned model");
-        if own_rows {
+        if share != Share::Whole {
             assert!(d.keep_own_rows(), "the beam keeps its own rows");
             assert!(d.elements_held() < ELEMENTS, "{} held", d.elements_held());
         }
@@ -111,19 +139,22 @@ fn worst(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
 fn a_model_file_across_ranks_equals_one_process() {
     let dir = common::temp_dir("distributed-model-file");
     let path = write_model(&dir, "block_size = 150");
-    let (serial, s1, energy_serial) = run(&path, None, false);
+    let (serial, s1, energy_serial) = run(&path, None, Share::Whole);
     assert!(energy_serial.len() > 100);
     // The block size reached the solver: ~1800 equations in blocks of 150.
     assert!(s1.blocks >= 6, "{s1:?}");
     assert!(s1.promotions > 0, "{s1:?}");
     assert!(serial[0].len() > 100, "rows recorded");
-    for (ranks, own_rows) in [(2, false), (3, false), (2, true), (3, true)] {
+    for (ranks, share) in [2, 3]
+        .into_iter()
+        .flat_map(|r| [Share::Whole, Share::RowsAfter, Share::RowsFromBuild].map(|s| (r, s)))
+    {
         let runs: Vec<Recorded> = std::thread::scope(|s| {
             let hs: Vec<_> = thread_ranks(ranks)
                 .into_iter()
                 .map(|ex| {
                     let p = path.clone();
-                    s.spawn(move || run(&p, Some(ex), own_rows))
+                    s.spawn(move || run(&p, Some(ex), share))
                 })
                 .collect();
             hs.into_iter().map(|h| h.join().expect("rank")).collect()
@@ -138,11 +169,11 @@ fn a_model_file_across_ranks_equals_one_process() {
             // give one process's sums to the bit.
             let de = common::energy_difference(energy, &energy_serial);
             println!(
-                "{ranks} ranks, own rows {own_rows}, rank {r}: recorders differ by {e:.1e} of their largest value, energy rows by {de:.1e} of the largest energy; {} of {} blocks",
+                "{ranks} ranks, {share:?}, rank {r}: recorders differ by {e:.1e} of their largest value, energy rows by {de:.1e} of the largest energy; {} of {} blocks",
                 st.owned_blocks, st.blocks
             );
             assert!(e <= 1e-12, "{ranks} ranks, rank {r}: {e:e}");
-            if own_rows {
+            if share != Share::Whole {
                 assert!(de <= 1e-12, "{ranks} ranks, rank {r}: energy {de:e}");
             } else {
                 assert_eq!(de, 0.0, "{ranks} ranks, rank {r}: energy");

@@ -34,6 +34,7 @@ mod own_columns;
 mod own_elements;
 
 pub use nonzero_products::NonzeroColumns;
+pub use own_columns::{ColumnChoice, ColumnChooser};
 
 /// Per-element scatter information.
 #[derive(Debug, Clone, Default)]
@@ -162,6 +163,12 @@ pub struct Assembler {
     m_diag: Option<Vec<f64>>,
     /// `K`, `M`, `C` hold only some columns (`own_columns`).
     columns_kept: bool,
+    /// The diagonals of the whole `K`, `M`, `C` when they were formed on some columns only
+    /// ([`Assembler::new_on_columns`]); `None` when the build formed every column.
+    diagonals: Option<[Vec<f64>; 3]>,
+    /// Stored entries of `K` at the largest build (`M` and `C` the same): what this
+    /// process ever held of each constant matrix.
+    entries_built: usize,
     /// `K`, `M`, `C` on the patterns of their own non-zero values, which the products read
     /// ([`nonzero_products`]); `None` where the products read the shared pattern (a
     /// matrix not symmetric, Rayleigh damping: `C` then fills the pattern of `K` and `M`).
@@ -180,6 +187,16 @@ fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Ve
 impl Assembler {
     /// Numbers equations, classifies elements, builds the pattern and the constant parts.
     pub fn new(model: &mut Model) -> Result<Assembler, FemError> {
+        Self::new_choosing(model, None)
+    }
+
+    /// [`Assembler::new`], and when `choose` is given and the constant part can be kept on
+    /// some columns exactly, `K`, `M`, `C` formed on the columns it picks from the pattern
+    /// only ([`Assembler::new_on_columns`]).
+    pub(crate) fn new_choosing(
+        model: &mut Model,
+        choose: Option<&mut ColumnChooser<'_>>,
+    ) -> Result<Assembler, FemError> {
         let kin = model.kinematics(0.0);
         // Let every element see its t = 0 state before anything is numbered.
         {
@@ -231,6 +248,8 @@ impl Assembler {
             c_const_zero: false,
             m_diag: None,
             columns_kept: false,
+            diagonals: None,
+            entries_built: 0,
             nonzero: None,
         };
         let variable_dofs = model
@@ -256,7 +275,7 @@ impl Assembler {
         }
         a.kin_time = f64::NAN;
         a.set_time(model, 0.0);
-        a.build(model, &kin)?;
+        a.build(model, &kin, choose)?;
         Ok(a)
     }
 
@@ -373,8 +392,14 @@ impl Assembler {
         self.symmetric
     }
 
-    /// (Re)builds maps, pattern, constant matrices and constant loads.
-    fn build(&mut self, model: &mut Model, kin: &[NodeKinematics]) -> Result<(), FemError> {
+    /// (Re)builds maps, pattern, constant matrices and constant loads; with `choose`, the
+    /// constant matrices on the columns it picks ([`Assembler::new_on_columns`]).
+    fn build(
+        &mut self,
+        model: &mut Model,
+        kin: &[NodeKinematics],
+        choose: Option<&mut ColumnChooser<'_>>,
+    ) -> Result<(), FemError> {
         let n = self.dofmap.neq;
         let ne = model.elements.len();
         let mut carried_node = vec![false; model.nodes.len()];
@@ -455,7 +480,7 @@ impl Assembler {
             c.sort_unstable();
             c.dedup();
         }
-        let pattern = CscMatrix::from_columns(cols);
+        let mut pattern = CscMatrix::from_columns(cols);
         // Scatter maps of variable elements (or their off-pattern terms).
         self.var_slot = vec![u32::MAX; ne];
         for (slot, &ei) in self.variable.iter().enumerate() {
@@ -490,16 +515,31 @@ impl Assembler {
             }
             self.maps[ei].scatter = sc;
         }
+        // Across ranks, the columns this rank keeps, chosen on the pattern before any value
+        // exists; the whole pattern is dropped once they are taken from it.
+        let keep = self.choose_columns(&mut pattern, const_symmetric, choose);
+        let pattern = match &keep {
+            Some(k) => own_columns::kept_columns(&pattern, k),
+            None => pattern,
+        };
+        let mut diagonals = keep
+            .as_ref()
+            .map(|_| [vec![0.0; n], vec![0.0; n], vec![0.0; n]]);
         // Constant matrices.
         let mut k_const = pattern.zeros_like();
         let mut m_const = pattern.zeros_like();
         let mut c_const = pattern.zeros_like();
         let mut kbuf = DMatrix::zeros(0, 0);
         let zeros: Vec<f64> = Vec::new();
+        let [mut dk, mut dm, mut dc] = match diagonals.as_mut() {
+            Some([k, m, c]) => [Some(&mut k[..]), Some(&mut m[..]), Some(&mut c[..])],
+            None => [None, None, None],
+        };
         for ei in 0..ne {
             if !self.maps[ei].active {
                 continue;
             }
+            let (map, dofs) = (&self.dofmap, &self.maps[ei].dofs);
             let entry = &mut model.elements[ei];
             let props = entry.element.properties();
             let nd = self.maps[ei].dofs.len();
@@ -525,19 +565,19 @@ impl Assembler {
                 kbuf = DMatrix::zeros(nd, nd);
                 entry.element.tangent_stiffness(&mut kbuf);
                 check_finite(&kbuf, &entry.origin, "tangent stiffness")?;
-                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &kbuf, &mut k_const);
+                scatter_dense(map, dofs, &kbuf, &mut k_const, dk.as_deref_mut());
             }
             if props.has_mass && props.constant_mass && !variable {
                 kbuf = DMatrix::zeros(nd, nd);
                 entry.element.mass(&mut kbuf);
                 check_finite(&kbuf, &entry.origin, "mass")?;
-                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &kbuf, &mut m_const);
+                scatter_dense(map, dofs, &kbuf, &mut m_const, dm.as_deref_mut());
             }
             if props.has_damping && props.constant_damping && !variable {
                 kbuf = DMatrix::zeros(nd, nd);
                 entry.element.damping(&mut kbuf);
                 check_finite(&kbuf, &entry.origin, "damping")?;
-                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &kbuf, &mut c_const);
+                scatter_dense(map, dofs, &kbuf, &mut c_const, dc.as_deref_mut());
             }
         }
         let _ = kbuf;
@@ -549,6 +589,11 @@ impl Assembler {
                 .zip(&k_const.values)
             {
                 *c += r.alpha * m + r.beta * k;
+            }
+            if let Some([k, m, c]) = diagonals.as_mut() {
+                for ((c, m), k) in c.iter_mut().zip(&*m).zip(&*k) {
+                    *c += r.alpha * m + r.beta * k;
+                }
             }
         }
         // Off the pattern, the variable matrices live with their elements: the global
@@ -574,7 +619,14 @@ impl Assembler {
         self.k_const = k_const;
         self.m_const = m_const;
         self.c_const = c_const;
-        self.columns_kept = false;
+        self.entries_built = self.entries_built.max(self.k_const.row_idx.len());
+        self.columns_kept = keep.is_some();
+        if diagonals.is_some() {
+            // Whether `M` is diagonal is a property of every column: until the ranks agree
+            // on it ([`Assembler::settle_across_ranks`]) the products read the columns.
+            self.m_diag = None;
+        }
+        self.diagonals = diagonals;
         self.nonzero = if model.analysis.rayleigh.is_none() {
             self.nonzero_matrices()
         } else {
@@ -765,7 +817,7 @@ impl Assembler {
                 }
                 self.off_pattern_terms();
             } else {
-                self.build(model, kin)?;
+                self.build(model, kin, None)?;
             }
         }
         // Variable masses and damping of this step.
@@ -781,7 +833,7 @@ impl Assembler {
             if self.off_pattern && slot != u32::MAX {
                 self.off[slot as usize].m = Some(m);
             } else {
-                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &m, &mut self.m_var);
+                scatter_dense(&self.dofmap, &self.maps[ei].dofs, &m, &mut self.m_var, None);
             }
         }
         for (slot, &ei) in self.variable.iter().enumerate() {
@@ -794,7 +846,7 @@ impl Assembler {
                 if self.off_pattern {
                     self.off[slot].c = Some(c);
                 } else {
-                    scatter_dense(&self.dofmap, &self.maps[ei].dofs, &c, &mut self.c_var);
+                    scatter_dense(&self.dofmap, &self.maps[ei].dofs, &c, &mut self.c_var, None);
                 }
             }
         }
@@ -1640,7 +1692,17 @@ fn col_major(ab: usize, n: usize) -> usize {
     b * n + a
 }
 
-fn scatter_dense(map: &DofMap, dofs: &[(usize, usize)], k: &DMatrix<f64>, out: &mut CscMatrix) {
+/// `out += Lᵀ·k·L` for an element matrix `k` over its DOFs' equation terms, into the
+/// entries `out`'s pattern holds; with `diagonal`, its diagonal terms also into that vector
+/// of every equation, added in the same order as into the matrix (so that each value is
+/// the whole matrix's diagonal to the bit, also for a column `out` does not hold).
+fn scatter_dense(
+    map: &DofMap,
+    dofs: &[(usize, usize)],
+    k: &DMatrix<f64>,
+    out: &mut CscMatrix,
+    mut diagonal: Option<&mut [f64]>,
+) {
     for (b, &(nb, db)) in dofs.iter().enumerate() {
         for (eb, cb) in map.terms(nb, db) {
             for (a, &(na, da)) in dofs.iter().enumerate() {
@@ -1651,6 +1713,9 @@ fn scatter_dense(map: &DofMap, dofs: &[(usize, usize)], k: &DMatrix<f64>, out: &
                 for (ea, ca) in map.terms(na, da) {
                     if let Some(p) = out.position(ea, eb) {
                         out.values[p] += ca * cb * v;
+                    }
+                    if let Some(d) = diagonal.as_deref_mut().filter(|_| ea == eb) {
+                        d[ea] += ca * cb * v;
                     }
                 }
             }

@@ -43,7 +43,11 @@ use railfem_framework::recorder::{History, Recorders};
 use railfem_framework::sparse::CscMatrix;
 use railfem_framework::DofSet;
 use std::path::Path;
+use std::sync::Arc;
 use std::time::Instant;
+
+mod rank_build;
+use rank_build::RankSplit;
 
 /// Top systems of the partitioned solver up to this many equations are factored densely
 /// (a Schur complement is much denser than the model's tangent).
@@ -319,7 +323,45 @@ fn norm(x: &[f64]) -> f64 {
 
 impl Driver {
     /// Numbers equations, assembles constant parts and picks a linear solver.
-    pub fn new(mut model: Model) -> Result<Driver, FemError> {
+    pub fn new(model: Model) -> Result<Driver, FemError> {
+        Self::build(model, None)
+    }
+
+    /// [`Driver::new`] for one rank of `exchange`, sharing the partitioned solver's blocks
+    /// with the other ranks as [`Driver::set_exchange`] and [`Driver::keep_own_rows`] do, but
+    /// with the split made before the constant matrices exist: the partitioned solver is
+    /// split on the pattern (with `options`, or the model's `block_size`), and `K`, `M`,
+    /// `C` are formed only on the columns this rank keeps (those of its own rows and the
+    /// base top set, and until the initial mass solve those that solve's split reads;
+    /// [`Assembler::new_on_columns`]). The whole matrices never exist on the rank, and
+    /// the answers are those of `set_exchange` and `keep_own_rows` after `new`, to the bit.
+    /// Where the constant part cannot be kept on columns exactly, the driver is built whole
+    /// and then shares the blocks (`set_exchange`, `keep_own_rows`). A model that does not
+    /// run the partitioned solver gets the one-process driver, without the ranks: the
+    /// caller refuses it ([`Driver::partition_stats`] is `None`; `set_exchange` says why).
+    pub fn new_across_ranks(
+        model: Model,
+        exchange: Arc<dyn crate::exchange::Exchange>,
+        options: Option<PartitionOptions>,
+    ) -> Result<Driver, FemError> {
+        let mut d = Self::build(model, Some((exchange.clone(), options)))?;
+        if d.partition.is_none() || d.rows_per_rank {
+            return Ok(d);
+        }
+        if let Some(o) = options {
+            d.set_partition_options(o);
+        }
+        d.set_exchange(exchange)?;
+        d.keep_own_rows();
+        Ok(d)
+    }
+
+    /// [`Driver::new`], and with `shared` [`Driver::new_across_ranks`]'s build on the
+    /// rank's columns.
+    fn build(
+        mut model: Model,
+        shared: Option<(Arc<dyn crate::exchange::Exchange>, Option<PartitionOptions>)>,
+    ) -> Result<Driver, FemError> {
         let spec = &model.analysis;
         if spec.kind == AnalysisKind::Transient {
             // Size guard: the energy ledger keeps one row per step.
@@ -352,7 +394,19 @@ impl Driver {
             "model a shorter stretch (a `window`) or coarser meshes",
         )
         .map_err(|m| FemError::input(&model.origin, m))?;
-        let asm = Assembler::new(&mut model)?;
+        let mut split = None;
+        let asm = match &shared {
+            None => Assembler::new(&mut model)?,
+            Some((ex, own)) => {
+                let options = own.unwrap_or_else(|| Self::model_partition_options(&model));
+                Assembler::new_on_columns(&mut model, &mut |c| {
+                    let s = RankSplit::on_pattern(c, ex, options)?;
+                    let columns = s.until_mass.clone();
+                    split = Some(s);
+                    Some(columns)
+                })?
+            }
+        };
         let n = asm.neq();
         if n == 0 {
             return Err(FemError::input(
@@ -370,16 +424,10 @@ impl Driver {
             asm.k_const.zeros_like()
         };
         let lowrank = (asm.solver() == SolverChoice::LowRank).then(LowRank::new);
-        let options = PartitionOptions {
-            block_size: model
-                .analysis
-                .block_size
-                .unwrap_or(PartitionOptions::default().block_size),
-            ..PartitionOptions::default()
-        };
-        let partition = (asm.off_pattern() && lowrank.is_none())
+        let options = Self::model_partition_options(&model);
+        let partition = (asm.off_pattern() && lowrank.is_none() && split.is_none())
             .then(|| Partitioned::new(asm.symmetric(), options));
-        Ok(Driver {
+        let mut d = Driver {
             state: State {
                 t: 0.0,
                 q: vec![0.0; n],
@@ -417,7 +465,22 @@ impl Driver {
             rows_per_rank: false,
             mass_split: None,
             narrow_after_mass: None,
-        })
+        };
+        if let (Some(split), Some((ex, _))) = (split, shared) {
+            d.take_rank_split(ex, split);
+        }
+        Ok(d)
+    }
+
+    /// The partitioned solver's settings of the model: its `block_size`, the rest default.
+    fn model_partition_options(model: &Model) -> PartitionOptions {
+        PartitionOptions {
+            block_size: model
+                .analysis
+                .block_size
+                .unwrap_or(PartitionOptions::default().block_size),
+            ..PartitionOptions::default()
+        }
     }
 
     /// Number of equations.
@@ -478,6 +541,7 @@ impl Driver {
     /// the blocks, rank 0 the top system. Every rank ends each step with the whole state, the
     /// same as one process's. An error if the driver does not use the partitioned solver
     /// (the direct and low-rank solvers are not shared); call it before the first step.
+    /// Nothing to do for a driver built across these ranks ([`Driver::new_across_ranks`]).
     pub fn set_exchange(
         &mut self,
         exchange: std::sync::Arc<dyn crate::exchange::Exchange>,
@@ -492,6 +556,14 @@ impl Driver {
                 ),
             ));
         };
+        // A driver built across these ranks ([`Driver::new_across_ranks`]) shares already.
+        if let Some(own) = &self.exchange {
+            assert!(
+                std::ptr::addr_eq(Arc::as_ptr(own), Arc::as_ptr(&exchange)),
+                "the driver shares its blocks with other ranks already"
+            );
+            return Ok(());
+        }
         p.set_exchange(exchange.clone());
         self.exchange = Some(exchange);
         self.factored = None;
@@ -541,9 +613,20 @@ impl Driver {
         if !self.asm.keep_constant_columns(&until_mass) {
             return false;
         }
-        // The elements: those the rank's rows touch, every element evaluated after the
-        // build, and those the model's recorders read (rank 0 writes them; any rank may
-        // keep their rows in memory); the others are released.
+        self.release_unneeded_elements(&keep);
+        if until_mass != keep {
+            self.narrow_after_mass = Some(keep);
+        }
+        self.mass_split = mass;
+        self.rows_per_rank = true;
+        true
+    }
+
+    /// The elements a rank keeping the rows `keep` holds: those its rows touch, every
+    /// element evaluated after the build, and those the model's recorders read (rank 0
+    /// writes them; any rank may keep their rows in memory); the others are released
+    /// ([`Assembler::release_elements`]).
+    fn release_unneeded_elements(&mut self, keep: &[bool]) {
         let recorded: std::collections::HashSet<u64> = self
             .model
             .recorders
@@ -551,13 +634,7 @@ impl Driver {
             .flat_map(|r| r.elements_read(&self.model))
             .collect();
         self.asm
-            .release_elements(&mut self.model, &keep, &|id| recorded.contains(&id));
-        if until_mass != keep {
-            self.narrow_after_mass = Some(keep);
-        }
-        self.mass_split = mass;
-        self.rows_per_rank = true;
-        true
+            .release_elements(&mut self.model, keep, &|id| recorded.contains(&id));
     }
 
     /// Rows whose residual this rank forms and counts in the norms: every equation, or
@@ -580,6 +657,13 @@ impl Driver {
     /// pattern): all of them, or with [`Driver::keep_own_rows`] those of its columns.
     pub fn constant_entries(&self) -> usize {
         self.asm.constant_entries()
+    }
+
+    /// The most entries of the constant stiffness (and of `M`, `C`) this rank ever held:
+    /// all of them after [`Driver::new`], its columns' after [`Driver::new_across_ranks`]
+    /// ([`Assembler::constant_entries_built`]).
+    pub fn constant_entries_built(&self) -> usize {
+        self.asm.constant_entries_built()
     }
 
     /// With [`Driver::keep_own_rows`]: `|x|` over every equation for each of `xs`, each rank

@@ -199,13 +199,14 @@ impl Driver {
                 }
             }
         };
-        // The constant matrices as they are (no copy: at a million equations one is
-        // hundreds of MB); the variable elements are accounted for by their connectivity.
+        // The diagonals of the constant matrices (no copy of them: at a million equations
+        // one is hundreds of MB; a rank of a shared model holds only some columns, and the
+        // whole diagonals); the variable elements are accounted for by their connectivity.
         let k = &self.asm.k_const;
-        let diag = |m: &CscMatrix| -> Vec<f64> { (0..m.n).map(|i| m.get(i, i).abs()).collect() };
-        let kd = diag(k);
-        let md = diag(&self.asm.m_const);
-        let cd = diag(&self.asm.c_const);
+        let [kd, md, cd] = self
+            .asm
+            .constant_diagonals()
+            .map(|d| d.into_iter().map(f64::abs).collect::<Vec<f64>>());
         let (var, var_mass) = self.asm.variable_cover();
         // Largest diagonal per DOF kind (translation, rotation) for the "zero" threshold.
         let kind = |i: usize| usize::from(self.asm.dofmap.dof_of(i).1 >= 3);
@@ -307,7 +308,12 @@ impl Driver {
                 "{head}: stable for every Δt since 2·beta ≥ gamma, but high frequencies are not damped monotonically; beta = 0.25, gamma = 0.5 is the default"
             );
         };
-        match highest_frequency(&self.asm.k_const, &self.asm.m_const) {
+        // A rank holding some columns of K and M cannot estimate it alone.
+        let whole = !self.asm.constant_columns_kept();
+        match whole
+            .then(|| highest_frequency(&self.asm.k_const, &self.asm.m_const))
+            .flatten()
+        {
             Some(w) => {
                 let limit = omega_crit / w;
                 let verdict = if dt > limit {
@@ -320,7 +326,12 @@ impl Driver {
                 )
             }
             None => format!(
-                "{head}: stable only for ω·Δt ≤ {omega_crit:.4} (ω the highest frequency; it could not be estimated: the mass matrix is not positive definite on its DOFs); use beta = 0.25, gamma = 0.5"
+                "{head}: stable only for ω·Δt ≤ {omega_crit:.4} (ω the highest frequency; it could not be estimated: {}); use beta = 0.25, gamma = 0.5",
+                if whole {
+                    "the mass matrix is not positive definite on its DOFs"
+                } else {
+                    "each rank holds only its columns of K and M"
+                }
             ),
         }
     }
