@@ -31,6 +31,9 @@ use railfem_framework::serde_json;
 #[derive(Debug, Clone)]
 pub struct Beam3dPDelta {
     linear: Beam3d,
+    /// The linear beam's `K` in global axes, kept: [`Self::evaluate`] adds to it at every
+    /// iteration and the linear beam forms it on demand.
+    k_linear: Mat12,
     ea: f64,
     u: SVector<f64, 12>,
     f: SVector<f64, 12>,
@@ -42,6 +45,7 @@ impl Beam3dPDelta {
     pub(super) fn new(linear: Beam3d) -> Self {
         let ea = linear.params.E * linear.params.A;
         let mut e = Beam3dPDelta {
+            k_linear: linear.stiffness_global(),
             linear,
             ea,
             u: SVector::zeros(),
@@ -86,8 +90,8 @@ impl Beam3dPDelta {
             t.fixed_view_mut::<3, 3>(3 * blk, 3 * blk)
                 .copy_from(self.linear.axes());
         }
-        self.f = self.linear.stiffness_global() * self.u + t.transpose() * g;
-        self.k = self.linear.stiffness_global() + to_global(&kg, self.linear.axes());
+        self.f = self.k_linear * self.u + t.transpose() * g;
+        self.k = self.k_linear + to_global(&kg, self.linear.axes());
     }
 }
 
