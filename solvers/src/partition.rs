@@ -60,6 +60,7 @@
 //! rows it owns (those this solver reads on it) and the norms of the convergence test are
 //! summed over the ranks in block order.
 
+use crate::chunks::Shared;
 use crate::dense::DenseLu;
 use crate::exchange::{decode_status, encode_status, Comm, CommStats, Exchange};
 use crate::linear::{solver_for, LinearSolver, SolverError, SparseCholesky};
@@ -1453,9 +1454,21 @@ impl Partitioned {
         let nc = columns.len();
         let top_index = &self.top_index;
         let owned = self.owned();
+        // In one process each block writes its own interiors into `outs` where it recovers
+        // them (the blocks' interiors are disjoint), instead of one thread writing them all
+        // afterwards; across ranks the pieces are gathered first.
+        let lens: Vec<usize> = outs.iter().map(|o| o.len()).collect();
+        let direct: Option<Vec<Shared>> = self
+            .comm
+            .is_none()
+            .then(|| outs.iter_mut().map(|o| Shared(o.as_mut_ptr())).collect());
         let parts = par_each(&mut self.blocks[owned.clone()], nt, |blk| {
             let Block {
-                base, promotion, ..
+                all,
+                base,
+                promotion,
+                promoted,
+                ..
             } = blk;
             let st = base.as_mut().expect("block factored");
             let ni = st.interior.len();
@@ -1500,6 +1513,16 @@ impl Partitioned {
                     }
                 }
             }
+            if let Some(direct) = &direct {
+                for (k, (out, &len)) in direct.iter().zip(&lens).enumerate() {
+                    // SAFETY: `out` is `outs[k]` (length `len`, in bounds for every
+                    // equation); no other block writes this block's interiors.
+                    let out = unsafe { out.range(0, len) };
+                    let kept = |i: usize| promoted.is_empty() || top_index[i] == NONE;
+                    interiors_into(all, &z[k * ni..(k + 1) * ni], out, add, kept);
+                }
+                return Ok(Vec::new());
+            }
             Ok::<_, SolverError>(z)
         });
         if let Some(comm) = &mut self.comm {
@@ -1523,9 +1546,7 @@ impl Partitioned {
                 }
             }
         } else {
-            for (bi, z) in owned.zip(parts) {
-                self.write_interiors(bi, &z?, outs, add);
-            }
+            first_error(&parts)?;
         }
         self.stats.time_solve += t0.elapsed().as_secs_f64();
         Ok(())
@@ -1538,18 +1559,29 @@ impl Partitioned {
         let interior = &blk.all;
         let ni = interior.len();
         let promoted = !blk.promoted.is_empty();
+        let kept = |i: usize| !promoted || self.top_index[i] == NONE;
         for (k, out) in outs.iter_mut().enumerate() {
-            let zk = &z[k * ni..(k + 1) * ni];
-            for (&i, v) in interior.iter().zip(zk) {
-                if promoted && self.top_index[i] != NONE {
-                    continue;
-                }
-                if add {
-                    out[i] += v;
-                } else {
-                    out[i] = *v;
-                }
-            }
+            interiors_into(interior, &z[k * ni..(k + 1) * ni], out, add, kept);
+        }
+    }
+}
+
+/// `out[interior[k]] = z[k]` (or `+=` when `add`) for the equations `kept` accepts.
+fn interiors_into(
+    interior: &[usize],
+    z: &[f64],
+    out: &mut [f64],
+    add: bool,
+    kept: impl Fn(usize) -> bool,
+) {
+    for (&i, v) in interior.iter().zip(z) {
+        if !kept(i) {
+            continue;
+        }
+        if add {
+            out[i] += v;
+        } else {
+            out[i] = *v;
         }
     }
 }
