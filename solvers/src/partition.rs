@@ -60,6 +60,7 @@
 //! rows it owns (those this solver reads on it) and the norms of the convergence test are
 //! summed over the ranks in block order.
 
+use crate::chunks::Shared;
 use crate::dense::DenseLu;
 use crate::exchange::{decode_status, encode_status, Comm, CommStats, Exchange};
 use crate::linear::{solver_for, LinearSolver, SolverError, SparseCholesky};
@@ -803,7 +804,8 @@ impl Partitioned {
                     ..
                 } = &mut **blk;
                 let base = base.as_mut().expect("base factored above");
-                promotion(base, std::mem::take(want), last.as_ref()).map(Some)
+                // The last promotion's storage is reused (replaced below in any case).
+                promotion(base, std::mem::take(want), last.take()).map(Some)
             });
             for ((blk, _), r) in jobs.iter_mut().zip(results) {
                 blk.promotion_unsent = true;
@@ -1466,9 +1468,21 @@ impl Partitioned {
         let nc = columns.len();
         let top_index = &self.top_index;
         let owned = self.owned();
+        // In one process each block writes its own interiors into `outs` where it recovers
+        // them (the blocks' interiors are disjoint), instead of one thread writing them all
+        // afterwards; across ranks the pieces are gathered first.
+        let lens: Vec<usize> = outs.iter().map(|o| o.len()).collect();
+        let direct: Option<Vec<Shared>> = self
+            .comm
+            .is_none()
+            .then(|| outs.iter_mut().map(|o| Shared(o.as_mut_ptr())).collect());
         let parts = par_each(&mut self.blocks[owned.clone()], nt, |blk| {
             let Block {
-                base, promotion, ..
+                all,
+                base,
+                promotion,
+                promoted,
+                ..
             } = blk;
             let st = base.as_mut().expect("block factored");
             let ni = st.interior.len();
@@ -1513,6 +1527,16 @@ impl Partitioned {
                     }
                 }
             }
+            if let Some(direct) = &direct {
+                for (k, (out, &len)) in direct.iter().zip(&lens).enumerate() {
+                    // SAFETY: `out` is `outs[k]` (length `len`, in bounds for every
+                    // equation); no other block writes this block's interiors.
+                    let out = unsafe { out.range(0, len) };
+                    let kept = |i: usize| promoted.is_empty() || top_index[i] == NONE;
+                    interiors_into(all, &z[k * ni..(k + 1) * ni], out, add, kept);
+                }
+                return Ok(Vec::new());
+            }
             Ok::<_, SolverError>(z)
         });
         if let Some(comm) = &mut self.comm {
@@ -1536,9 +1560,7 @@ impl Partitioned {
                 }
             }
         } else {
-            for (bi, z) in owned.zip(parts) {
-                self.write_interiors(bi, &z?, outs, add);
-            }
+            first_error(&parts)?;
         }
         self.stats.time_solve += t0.elapsed().as_secs_f64();
         Ok(())
@@ -1551,18 +1573,29 @@ impl Partitioned {
         let interior = &blk.all;
         let ni = interior.len();
         let promoted = !blk.promoted.is_empty();
+        let kept = |i: usize| !promoted || self.top_index[i] == NONE;
         for (k, out) in outs.iter_mut().enumerate() {
-            let zk = &z[k * ni..(k + 1) * ni];
-            for (&i, v) in interior.iter().zip(zk) {
-                if promoted && self.top_index[i] != NONE {
-                    continue;
-                }
-                if add {
-                    out[i] += v;
-                } else {
-                    out[i] = *v;
-                }
-            }
+            interiors_into(interior, &z[k * ni..(k + 1) * ni], out, add, kept);
+        }
+    }
+}
+
+/// `out[interior[k]] = z[k]` (or `+=` when `add`) for the equations `kept` accepts.
+fn interiors_into(
+    interior: &[usize],
+    z: &[f64],
+    out: &mut [f64],
+    add: bool,
+    kept: impl Fn(usize) -> bool,
+) {
+    for (&i, v) in interior.iter().zip(z) {
+        if !kept(i) {
+            continue;
+        }
+        if add {
+            out[i] += v;
+        } else {
+            out[i] = *v;
         }
     }
 }
@@ -1815,7 +1848,7 @@ fn block_state(
 fn promotion(
     st: &mut BlockState,
     promoted: Vec<usize>,
-    last: Option<&Promotion>,
+    last: Option<Promotion>,
 ) -> Result<Promotion, SolverError> {
     let ni = st.interior.len();
     let np = promoted.len();
@@ -1827,18 +1860,16 @@ fn promotion(
                 .map_err(|_| SolverError::Failed(format!("equation {g} is not in its block")))
         })
         .collect::<Result<_, _>>()?;
-    let mut z = vec![0.0; ni * np];
-    let mut fresh: Vec<usize> = Vec::with_capacity(np);
-    for (k, &l) in local.iter().enumerate() {
-        let kept = last.and_then(|p| p.local.iter().position(|&m| m == l));
-        match kept {
-            Some(m) => {
-                let last = last.expect("kept from it");
-                z[k * ni..(k + 1) * ni].copy_from_slice(&last.z[m * ni..(m + 1) * ni]);
-            }
-            None => fresh.push(k),
-        }
-    }
+    // Where each column of `Z` was in the last promotion's (`None`: a fresh column).
+    let from: Vec<Option<usize>> = local
+        .iter()
+        .map(|&l| last.as_ref()?.local.iter().position(|&m| m == l))
+        .collect();
+    let fresh: Vec<usize> = (0..np).filter(|&k| from[k].is_none()).collect();
+    let mut z = match last {
+        Some(last) if fresh.len() < np => kept_columns(last.z, ni, &from),
+        _ => vec![0.0; ni * np],
+    };
     if fresh.len() == np {
         for (k, &l) in local.iter().enumerate() {
             z[k * ni + l] = 1.0;
@@ -1879,9 +1910,66 @@ fn promotion(
     })
 }
 
+/// The last promotion's `Z` (`ni` rows) rearranged in its own storage so that column `k`
+/// holds its old column `from[k]`; columns with `from[k] = None` are left with whatever the
+/// storage held there (the caller writes them). Both promoted sets are sorted, so the kept
+/// columns keep their order (`from` increases over them): the columns moving left are
+/// moved first, in increasing order, then those moving right, in decreasing order, and no
+/// move overwrites a column still to be read. Columns are copied whole, so every kept
+/// value is the old one, bit for bit.
+fn kept_columns(mut z: Vec<f64>, ni: usize, from: &[Option<usize>]) -> Vec<f64> {
+    let np = from.len();
+    z.resize(z.len().max(ni * np), 0.0);
+    for (k, m) in from.iter().enumerate() {
+        if let Some(m) = *m {
+            if m > k {
+                z.copy_within(m * ni..(m + 1) * ni, k * ni);
+            }
+        }
+    }
+    for (k, m) in from.iter().enumerate().rev() {
+        if let Some(m) = *m {
+            if m < k {
+                z.copy_within(m * ni..(m + 1) * ni, k * ni);
+            }
+        }
+    }
+    z.truncate(ni * np);
+    z
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The columns rearranged in place are the old columns where kept, whatever was added
+    /// or dropped around them (against a copy into fresh storage).
+    #[test]
+    fn kept_columns_equal_a_fresh_copy() {
+        let ni = 3;
+        let old_local = [2usize, 5, 7, 9];
+        let old: Vec<f64> = (0..ni * old_local.len()).map(|x| x as f64 + 0.5).collect();
+        for new_local in [
+            vec![1usize, 2, 5, 7, 9],
+            vec![5, 9],
+            vec![2, 3, 4, 9, 11, 12],
+            vec![0, 7],
+            vec![2, 5, 7, 9],
+            vec![9, 10],
+        ] {
+            let from: Vec<Option<usize>> = new_local
+                .iter()
+                .map(|l| old_local.iter().position(|m| m == l))
+                .collect();
+            let got = kept_columns(old.clone(), ni, &from);
+            assert_eq!(got.len(), ni * new_local.len());
+            for (k, m) in from.iter().enumerate() {
+                if let Some(m) = *m {
+                    assert_eq!(got[k * ni..(k + 1) * ni], old[m * ni..(m + 1) * ni]);
+                }
+            }
+        }
+    }
 
     /// A chain of `nodes` 3-DOF nodes with springs between neighbours and a grounding
     /// spring on each (SPD), plus `extra` free equations coupled only by `V`.
