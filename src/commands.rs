@@ -467,8 +467,13 @@ pub struct ParetoCmd {
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     /// Cases, comma-separated, from force, sprung, curve, train-bridge [default:
-    /// force,sprung,curve].
-    #[arg(long, value_name = "force,sprung,curve,train-bridge")]
+    /// force,sprung,curve]. `--case` is the same option (`--case train-bridge`, as
+    /// `railfem bench --case`).
+    #[arg(
+        long,
+        visible_alias = "case",
+        value_name = "force,sprung,curve,train-bridge"
+    )]
     pub cases: Option<OsString>,
     /// A peer code's runs of the force case (CSV: peer, elements, dt [s], steps, wall [s],
     /// error [-]; scripts/opensees_compare.py --pareto writes it), drawn on

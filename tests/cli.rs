@@ -450,6 +450,15 @@ fn usage_errors_are_one_line_with_the_fix_and_exit_2() {
             &["curve", "--first-active-set", "Found"],
             &["--first-active-set Found", "committed or found"],
         ),
+        // `--case` is `--cases` (issue 16 names `railfem pareto --case train-bridge`): the
+        // value reaches the case check, which names the cases it knows.
+        (
+            &["pareto", "--case", "train-brigde"],
+            &[
+                "unknown case `train-brigde`",
+                "force,sprung,curve,train-bridge",
+            ],
+        ),
     ];
     for (argv, expect) in cases {
         let err = refused_with(&format!("{argv:?}"), &railfem(argv), expect);
