@@ -42,31 +42,28 @@ Every affine law goes through the two measured sizes exactly (two points, two pa
 import math
 
 # Measured, one rank, ms per Newton iteration by phase: `railfem bench --case train-bridge
-# --sizes 1e5` and `--sizes 1043430 --cars 12 --steps 20` of main 55e42be on a quiet machine
-# (docs/performance.md, "Quiet re-timing after the merge"; 2.00 iterations a step, the top
-# chain condensed on one rank).
+# --sizes 1e5` and `--sizes 1043430 --cars 12 --steps 20` of main 267f0e3 on a quiet machine
+# (docs/performance.md, "Quiet re-timing after the evening's merges"; 2.00 iterations a step,
+# the top chain condensed on one rank, the block solves from the factors' non-zeros).
 N = [112542, 1043052]
 BLOCKS = [37, 345]
-R = [7.3, 23.8]      # search + elements + assembly + loads + other
-PR = [1.9, 10.3]     # assembly (the products with K, M, C on their non-zeros), part of R
-PROM = [2.7, 6.5]    # blocks
-BS = [5.9, 22.4]     # solve
-TOP = [5.6, 9.1]     # top (the reduced system of the top chain: 2 214 and 3 228 factored)
+R = [6.5, 22.2]      # search + elements + assembly + loads + other
+PR = [1.8, 10.5]     # assembly (the products with K, M, C on their non-zeros), part of R
+PROM = [1.4, 2.6]    # blocks
+BS = [4.1, 13.6]     # solve
+TOP = [4.9, 6.3]     # top (the reduced system of the top chain: 2 214 and 3 228 factored)
 NT = [2592, 8166]    # top equations
-# Two ranks: bytes received by the busiest rank per iteration (measured at 3 iterations a
-# step before the first iteration's hold; not re-measured). Memory (MiB, 2026-11-27
-# 17:19-17:34, this branch's MPI build): resident after the steps of one rank and of the
-# larger of two ranks, and the larger 2-rank peak after the build.
-RECV2 = [604167, 3036013]
+# Two ranks: bytes received by the busiest rank per iteration (2.00 iterations a step), and
+# memory (MiB, 2026-11-27 21:00-21:01, the MPI build of main db775c7: K, M, C formed on each
+# rank's columns, light beams, block factors on their non-zeros): resident after the steps of
+# one rank and of the larger of two ranks.
+RECV2 = [669185, 4573650]
 MEM_N = [112542, 1043052]
-MEM1 = [530, 3769]
-MEM2 = [352, 2404]
-# The peak after the build (MiB, 2026-11-27 20:13-20:17, the MPI build of the build per
-# rank, `mpirun -n 1` and the larger of `-n 2`): the same as before on one rank (319,
-# 2583), 266/270 and 2290/2289 on two (327 and 2593 before, when every rank formed the
-# whole K, M, C).
-BUILD1 = [319, 2583]
-BUILD2 = [270, 2290]
+MEM1 = [366, 2444]
+MEM2 = [273, 1781]
+# The peak after the build (MiB, same runs, `mpirun -n 1` and the larger of `-n 2`).
+BUILD1 = [252, 1875]
+BUILD2 = [203, 1580]
 # Assumed network: latency of one step of a collective, bandwidth (a 100 Gb/s fabric).
 ALPHA = 2e-3  # ms
 BETA = 10e9   # B/s
