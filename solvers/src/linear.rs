@@ -11,6 +11,9 @@
 //!   pass plus faer's raw simplicial/supernodal numeric kernel, into a kept factor buffer
 //!   with kept scratch memory — no heap allocation, and no per-call permutation (faer's
 //!   `SymbolicCholesky::factorize_numeric_llt` re-permutes the matrix on every call).
+//!   A factor made once and solved with many times (the partitioned solver's blocks) can
+//!   instead be kept as its non-zeros alone and solved with the same bits
+//!   ([`SparseCholesky::with_compact_solve`], [`crate::compact_factor`]).
 //! * [`SparseLu`] — `P·A·Q = L·U` with partial row pivoting for unsymmetric matrices (for
 //!   example a tangent with friction). The column ordering (COLAMD) and the symbolic
 //!   analysis are kept per pattern; faer's numeric LU storage is re-used (it grows but never
@@ -322,8 +325,8 @@ pub struct SparseCholesky {
     factored: bool,
     stats: SolverStats,
     /// Solve from a copy of `L` without its exact zeros ([`CompactFactor`]) where the
-    /// factor is simplicial `L·Lᵀ`; the values of `L` are then released until the next
-    /// factorization.
+    /// factor is simplicial `L·Lᵀ`; the values of `L`, the symbolic factor, the permuted
+    /// pattern and the scratch are then released ([`SparseCholesky::with_compact_solve`]).
     compact_solve: bool,
     compact: Option<CompactFactor>,
 }
