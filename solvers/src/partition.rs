@@ -2017,6 +2017,18 @@ mod tests {
             .to_vec()
     }
 
+    /// A partitioned solver in blocks of `block_size` equations on `threads` threads.
+    fn in_blocks(symmetric: bool, block_size: usize, threads: usize) -> Partitioned {
+        Partitioned::new(
+            symmetric,
+            PartitionOptions {
+                block_size,
+                threads,
+                ..Default::default()
+            },
+        )
+    }
+
     fn rhs(n: usize) -> Vec<f64> {
         (0..n).map(|i| ((i * 37 % 11) as f64) - 5.0).collect()
     }
@@ -2035,14 +2047,7 @@ mod tests {
         // coupled to two chain nodes that move along the chain between factorizations.
         let a = chain(200, 6);
         let n = a.n;
-        let mut p = Partitioned::new(
-            false,
-            PartitionOptions {
-                block_size: 50,
-                threads: 2,
-                ..Default::default()
-            },
-        );
+        let mut p = in_blocks(false, 50, 2);
         for step in 0..8 {
             // A coupling moving along the chain, unsymmetric on purpose (a consistent
             // sliding tangent).
@@ -2224,14 +2229,7 @@ mod tests {
     ) -> (Vec<f64>, PartitionStats, usize) {
         let a = chain(200, 6);
         let n = a.n;
-        let mut p = Partitioned::new(
-            false,
-            PartitionOptions {
-                block_size,
-                threads: 1,
-                ..Default::default()
-            },
-        );
+        let mut p = in_blocks(false, block_size, 1);
         if let Some(ex) = exchange {
             p.set_exchange(ex);
         }
@@ -2345,14 +2343,7 @@ mod tests {
     #[test]
     fn a_new_key_refactors_every_block_and_a_singular_block_names_its_equation() {
         let mut a = chain(300, 0);
-        let mut p = Partitioned::new(
-            true,
-            PartitionOptions {
-                block_size: 90,
-                threads: 1,
-                ..Default::default()
-            },
-        );
+        let mut p = in_blocks(true, 90, 1);
         p.factor(&a, [1.0, 0.0, 0.0], &[]).unwrap();
         let first = p.stats().block_factorizations;
         p.factor(&a, [1.0, 0.0, 0.0], &[]).unwrap();
@@ -2418,14 +2409,7 @@ mod tests {
                     .map(|ex| {
                         let (a, cases) = (&a, &cases);
                         sc.spawn(move || {
-                            let mut p = Partitioned::new(
-                                false,
-                                PartitionOptions {
-                                    block_size: 50,
-                                    threads: 1,
-                                    ..Default::default()
-                                },
-                            );
+                            let mut p = in_blocks(false, 50, 1);
                             p.set_exchange(ex);
                             p.prepare(a);
                             // A rank holds only its owned rows; whatever the others hold
