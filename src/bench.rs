@@ -269,9 +269,9 @@ pub fn run_size(target: usize, steps: usize, mass: BenchMass) -> Result<BenchRow
 
     // A forced factorization of the same K_eff with a fresh solver (symbolic + numeric),
     // then a numeric refactorization and one solve with that solver.
-    let (ck, cc, cm) = d.integrator.effective(DT);
+    let coef = d.integrator.coefficients(DT);
     let mut k_eff = d.asm.k_const.zeros_like();
-    d.asm.effective(ck, cm, cc, &mut k_eff);
+    d.asm.effective(coef, &mut k_eff);
     let mut solver = solver_for(d.asm.symmetric());
     let singular = |e| FemError::Singular(format!("bench: {e}"));
     let t0 = Instant::now();

@@ -93,9 +93,9 @@ speed = 20.0
 /// Times one model's effective tangent with both solvers.
 pub fn measure(family: &'static str, model: Model) -> Result<ThresholdRow, FemError> {
     let d = Driver::new(model)?;
-    let (ck, cc, cm) = d.integrator.effective(crate::bench::DT);
+    let coef = d.integrator.coefficients(crate::bench::DT);
     let mut k = d.asm.k_const.zeros_like();
-    d.asm.effective(ck, cm, cc, &mut k);
+    d.asm.effective(coef, &mut k);
     // The variable elements' tangents are not formed before a step, and a wheel's DOFs
     // may have neither mass nor constant stiffness: a diagonal shift of 1e-3 of the
     // largest diagonal makes every pattern definite. The work of both solvers depends on

@@ -21,6 +21,7 @@
 //! pseudo-loads of carried masses `−M·a_ref` (Eq. 5, see [`crate::moving`]), uniform ground
 //! motion `−M·r·a_g(t)`, nodal loads and moving forces.
 
+use crate::coefficients::Coefficients;
 use crate::dofmap::DofMap;
 use crate::element::{ElementError, NodeKinematics, StepContext, TrialState};
 use crate::error::FemError;
@@ -1300,10 +1301,10 @@ impl Assembler {
     }
 
     /// Off-pattern mode: the variable elements' effective matrices
-    /// `cK·K_e + cM·M_e + cC·C_e` as `(row, column, value)` equation triplets appended to
+    /// `k·K_e + m·M_e + c·C_e` as `(row, column, value)` equation triplets appended to
     /// `out` (duplicates to be summed). Empty in the direct mode, where they are inside
     /// [`Assembler::effective`].
-    pub fn variable_triplets(&self, ck: f64, cm: f64, cc: f64, out: &mut Vec<(usize, usize, f64)>) {
+    pub fn variable_triplets(&self, w: Coefficients, out: &mut Vec<(usize, usize, f64)>) {
         if !self.off_pattern {
             return;
         }
@@ -1312,11 +1313,7 @@ impl Assembler {
             // rigid rail has its rail DOFs last and fixed.
             let nd = off.ndof;
             let mut e = DMatrix::zeros(nd, nd);
-            for (coef, mat) in [
-                (ck, Some(&off.k)),
-                (cm, off.m.as_ref()),
-                (cc, off.c.as_ref()),
-            ] {
+            for (coef, mat) in w.weigh(Some(&off.k), off.m.as_ref(), off.c.as_ref()) {
                 if let Some(mat) = mat.filter(|m| m.nrows() == nd && coef != 0.0) {
                     e += mat * coef;
                 }
@@ -1332,24 +1329,24 @@ impl Assembler {
         }
     }
 
-    /// `out = cK·(K_const + K_var) + cM·M + cC·C` on the common pattern (off-pattern mode:
+    /// `out = k·(K_const + K_var) + m·M + c·C` on the common pattern (off-pattern mode:
     /// the constant elements and the non-moving variable masses only).
-    pub fn effective(&self, ck: f64, cm: f64, cc: f64, out: &mut CscMatrix) {
+    pub fn effective(&self, w: Coefficients, out: &mut CscMatrix) {
         if out.pattern_id != self.k_const.pattern_id {
             *out = self.k_const.zeros_like();
         }
-        out.set_combination(&self.effective_terms(ck, cm, cc));
+        out.set_combination(&self.effective_terms(w));
     }
 
     /// The matrices of [`Assembler::effective`] with their coefficients.
-    fn effective_terms(&self, ck: f64, cm: f64, cc: f64) -> Vec<(f64, &CscMatrix)> {
+    fn effective_terms(&self, w: Coefficients) -> Vec<(f64, &CscMatrix)> {
         [
-            (ck, &self.k_const),
-            (ck, &self.k_var),
-            (cm, &self.m_const),
-            (cm, &self.m_var),
-            (cc, &self.c_const),
-            (cc, &self.c_var),
+            (w.k, &self.k_const),
+            (w.k, &self.k_var),
+            (w.m, &self.m_const),
+            (w.m, &self.m_var),
+            (w.c, &self.c_const),
+            (w.c, &self.c_var),
         ]
         .into_iter()
         .filter(|(_, m)| m.n == self.k_const.n) // unused variable matrices are kept empty
@@ -1385,11 +1382,11 @@ impl Assembler {
     }
 
     /// Equations whose column of `M` (constant and variable mass on the pattern, as
-    /// [`Assembler::effective`] with `cM = 1` forms it) holds no non-zero value; the
+    /// [`Assembler::effective`] with [`Coefficients::MASS`] forms it) holds no non-zero value; the
     /// off-pattern elements' masses are not looked at.
     pub fn massless_on_pattern(&self) -> Vec<bool> {
         let a = &self.k_const;
-        let terms = self.effective_terms(0.0, 1.0, 0.0);
+        let terms = self.effective_terms(Coefficients::MASS);
         (0..a.n)
             .map(|j| {
                 (a.col_ptr[j]..a.col_ptr[j + 1]).all(|p| {
@@ -1412,7 +1409,7 @@ impl Assembler {
     /// the columns its share of the partitioned solver reads
     /// (`railfem_solvers::partition::Partitioned::columns_read`), not a copy of the whole
     /// matrix.
-    pub fn effective_columns(&self, ck: f64, cm: f64, cc: f64, keep: &[bool], out: &mut CscMatrix) {
+    pub fn effective_columns(&self, w: Coefficients, keep: &[bool], out: &mut CscMatrix) {
         let a = &self.k_const;
         let kept = |j: usize| keep.get(j).copied().unwrap_or(false);
         let same = out.pattern_id == a.pattern_id
@@ -1447,7 +1444,7 @@ impl Assembler {
                 pattern_id: a.pattern_id,
             };
         }
-        let terms = self.effective_terms(ck, cm, cc);
+        let terms = self.effective_terms(w);
         for j in (0..a.n).filter(|&j| kept(j)) {
             let (from, to) = (a.col_ptr[j], out.col_ptr[j]);
             for k in 0..a.col_ptr[j + 1] - from {

@@ -4,7 +4,7 @@
 //! ([`element`]), the registry, plugins and conformance kit ([`registry`], [`plugin`],
 //! [`conformance`]), equation numbering
 //! with constraints ([`dofmap`]), finite rotations ([`rotation`], on the dual numbers of
-//! [`dual`]), sparse assembly ([`sparse`], [`assembly`]), loads and time series ([`loads`]),
+//! [`dual`]), sparse assembly ([`sparse`], [`assembly`], with the effective matrix's [`coefficients`]), loads and time series ([`loads`]),
 //! moving reference frames ([`moving`]), paths along beam chains ([`beam_chain`]), speed
 //! histories ([`speed`]), model files ([`modelfile`], [`strict_json`]),
 //! recorders and the names of every output ([`recorder`], [`outputs`]), and the size
@@ -18,6 +18,7 @@
 
 pub mod assembly;
 pub mod beam_chain;
+pub mod coefficients;
 pub mod comfort;
 pub mod conformance;
 pub mod dof;
@@ -48,6 +49,7 @@ pub mod speed;
 pub mod strict_json;
 pub mod vtk;
 
+pub use coefficients::Coefficients;
 pub use dof::{Dof, DofSet};
 pub use element::{
     Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, StepContext, TrialState,

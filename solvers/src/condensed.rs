@@ -709,7 +709,7 @@ impl Driver {
         let nt = threads(0);
         let af = ig.alpha_f;
         let settings = self.model.analysis.newton;
-        let (ck, cc, cm) = ig.effective(dt);
+        let coef = ig.coefficients(dt);
         let finite = self.asm.dofmap.has_finite_rotations();
         // `f̄_ext` and its norm: formed by the predictor's evaluation.
         let mut ext_norm: f64 = 0.0;
@@ -760,9 +760,9 @@ impl Driver {
                 }
                 let tp = self.condensed.products.as_ref().expect("built at the base");
                 for (j, &gj) in top.iter().enumerate() {
-                    let dk = ck * delta[j] - (1.0 - af) * (w.q[gj] - qb[j]);
-                    let dm = cm * delta[j] - (w.a_w[gj] - awb[j]);
-                    let dc = cc * delta[j] - (w.v_w[gj] - vwb[j]);
+                    let dk = coef.k * delta[j] - (1.0 - af) * (w.q[gj] - qb[j]);
+                    let dm = coef.m * delta[j] - (w.a_w[gj] - awb[j]);
+                    let dc = coef.c * delta[j] - (w.v_w[gj] - vwb[j]);
                     if dk == 0.0 && dm == 0.0 && dc == 0.0 {
                         continue;
                     }
@@ -859,8 +859,7 @@ impl Driver {
                     if it == settings.max_iter || (it >= 2 && rn > rn_prev) {
                         return Err(Exit::Fallback);
                     }
-                    self.factor_tangent(ck, cm, cc, dt)
-                        .map_err(|_| Exit::Fallback)?;
+                    self.factor_tangent(coef, dt).map_err(|_| Exit::Fallback)?;
                     self.summary.factorizations += 1;
                     let p = self.partition.as_mut().expect("partitioned");
                     if p.top_generation() != generation {
@@ -901,8 +900,7 @@ impl Driver {
             }
             // --- A new base at the full state `w.q` with the full residual `w.r`: factor,
             // condense the residual, solve the top system.
-            self.factor_tangent(ck, cm, cc, dt)
-                .map_err(|_| Exit::Fallback)?;
+            self.factor_tangent(coef, dt).map_err(|_| Exit::Fallback)?;
             self.summary.factorizations += 1;
             self.top_products();
             let p = self.partition.as_mut().expect("partitioned");

@@ -30,7 +30,7 @@
 
 use crate::dense::DenseLu;
 use crate::energy::EnergyLedger;
-use crate::integrator::Integrator;
+use crate::integrator::{Coefficients, Integrator};
 use crate::linear::{solver_for, LinearSolver, SolverError};
 use crate::lowrank::{LowRank, LowRankStats};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
@@ -760,17 +760,11 @@ impl Driver {
         self.partition.as_ref().map(Partitioned::stats)
     }
 
-    /// Forms and factors the effective tangent `cK·K + cM·M + cC·C`.
-    pub(crate) fn factor_tangent(
-        &mut self,
-        ck: f64,
-        cm: f64,
-        cc: f64,
-        dt: f64,
-    ) -> Result<(), FemError> {
+    /// Forms and factors the effective tangent `k·K + m·M + c·C`.
+    pub(crate) fn factor_tangent(&mut self, coef: Coefficients, dt: f64) -> Result<(), FemError> {
         let ta = Instant::now();
         if !self.asm.off_pattern() {
-            self.asm.effective(ck, cm, cc, &mut self.k_eff);
+            self.asm.effective(coef, &mut self.k_eff);
             self.summary.timings.assembly += ta.elapsed().as_secs_f64();
             let t0 = Instant::now();
             let r = self.solver.factor(&self.k_eff);
@@ -782,22 +776,20 @@ impl Driver {
         // The constant part changes only with the coefficients (and never if every mass is
         // constant); the variable elements come as triplets.
         let key = if self.asm.constant_part_is_constant() {
-            [ck, cm, cc]
+            coef.key()
         } else {
             [f64::NAN; 3]
         };
         if self.a_key != Some(key) || self.k_eff.pattern_id != self.asm.k_const.pattern_id {
             // Across ranks, only the columns this rank's blocks (and rank 0's top) read.
             match self.columns_read() {
-                Some(keep) => self
-                    .asm
-                    .effective_columns(ck, cm, cc, &keep, &mut self.k_eff),
-                None => self.asm.effective(ck, cm, cc, &mut self.k_eff),
+                Some(keep) => self.asm.effective_columns(coef, &keep, &mut self.k_eff),
+                None => self.asm.effective(coef, &mut self.k_eff),
             }
             self.a_key = Some(key);
         }
         self.triplets.clear();
-        self.asm.variable_triplets(ck, cm, cc, &mut self.triplets);
+        self.asm.variable_triplets(coef, &mut self.triplets);
         // The condensed Newton keeps every equation of the variable elements on top.
         let always = &self.condensed.promote_always;
         self.triplets.extend(always.iter().map(|&e| (e, e, 0.0)));
@@ -939,7 +931,7 @@ impl Driver {
                     break;
                 }
                 if !(linear && it > 0) {
-                    self.factor_tangent(1.0, 0.0, 0.0, 0.0)?;
+                    self.factor_tangent(Coefficients::STATIC, 0.0)?;
                     self.summary.factorizations += 1;
                 }
                 let mut dq = r.clone();
@@ -1015,7 +1007,7 @@ impl Driver {
         // columns this rank's share of the mass solve reads.
         let mut variable_mass = Vec::new();
         self.asm
-            .variable_triplets(0.0, 1.0, 0.0, &mut variable_mass);
+            .variable_triplets(Coefficients::MASS, &mut variable_mass);
         // A rank keeping its own rows no longer holds the whole pattern to split: its mass
         // solver was split before ([`Driver::keep_own_rows`]).
         let mut mass_solver = match self.mass_split.take() {
@@ -1034,8 +1026,8 @@ impl Driver {
         };
         let mut m = CscMatrix::from_columns(Vec::new());
         match &keep {
-            Some(keep) => self.asm.effective_columns(0.0, 1.0, 0.0, keep, &mut m),
-            None => self.asm.effective(0.0, 1.0, 0.0, &mut m),
+            Some(keep) => self.asm.effective_columns(Coefficients::MASS, keep, &mut m),
+            None => self.asm.effective(Coefficients::MASS, &mut m),
         }
         let mut massless = self.asm.massless_on_pattern();
         for &(_, j, v) in &variable_mass {
@@ -1154,7 +1146,7 @@ impl Driver {
         let settings = self.model.analysis.newton;
         let linear =
             self.asm.variable_elements().is_empty() && !self.asm.dofmap.has_finite_rotations();
-        let (ck, cc, cm) = ig.effective(dt);
+        let coef = ig.coefficients(dt);
         let State {
             q,
             v,
@@ -1336,7 +1328,7 @@ impl Driver {
                 (false, NewtonKind::Initial) => !valid,
             };
             if refactor {
-                self.factor_tangent(ck, cm, cc, dt)?;
+                self.factor_tangent(coef, dt)?;
                 self.summary.factorizations += 1;
             }
             // The residual is solved in place (it is formed anew before it is read again).
@@ -1478,8 +1470,8 @@ impl Driver {
         self.asm.advance(&mut self.model, self.state.t, 0.0)?;
         self.asm
             .update(&mut self.model, &z, &z, &z, self.state.t, 0.0, &mut f, true)?;
-        let k = self.whole_matrix(1.0, 0.0, 0.0);
-        let m = self.whole_matrix(0.0, 1.0, 0.0);
+        let k = self.whole_matrix(Coefficients::STATIC);
+        let m = self.whole_matrix(Coefficients::MASS);
         crate::modal::lowest_modes(&k, &m, n, &crate::modal::ModalOptions::default()).map_err(|e| {
             match e {
                 crate::modal::ModalError::Solver(s) => self.singular(s),
@@ -1506,19 +1498,19 @@ impl Driver {
         let mut load = vec![0.0; n];
         self.asm.external_force(&self.model, t, 1.0, &mut load)?;
         Ok(ReferenceSystem {
-            stiffness: self.whole_matrix(1.0, 0.0, 0.0),
+            stiffness: self.whole_matrix(Coefficients::STATIC),
             mass: self.asm.m_const.clone(),
             damping: self.asm.c_const.clone(),
             load,
         })
     }
 
-    /// `cK·K + cM·M + cC·C` of every element in one matrix. In the partitioned mode the
+    /// `k·K + m·M + c·C` of every element in one matrix. In the partitioned mode the
     /// variable elements are kept off the global pattern; they are added here as triplets
     /// (modal analysis needs the whole matrix, whichever solver the run uses).
-    fn whole_matrix(&self, ck: f64, cm: f64, cc: f64) -> CscMatrix {
+    fn whole_matrix(&self, coef: Coefficients) -> CscMatrix {
         let mut a = self.asm.k_const.zeros_like();
-        self.asm.effective(ck, cm, cc, &mut a);
+        self.asm.effective(coef, &mut a);
         if !self.asm.off_pattern() {
             return a;
         }
@@ -1528,7 +1520,7 @@ impl Driver {
                 t.push((a.row_idx[p], j, a.values[p]));
             }
         }
-        self.asm.variable_triplets(ck, cm, cc, &mut t);
+        self.asm.variable_triplets(coef, &mut t);
         CscMatrix::from_triplets(a.n, &t)
     }
 

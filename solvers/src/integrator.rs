@@ -14,6 +14,7 @@
 //! `M·ä + C·ḋ + K·Δd` with the current matrices.
 
 use railfem_framework::model::{AnalysisSpec, IntegratorKind};
+pub use railfem_framework::Coefficients;
 
 /// The four coefficients of a generalized-α integrator.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,13 +74,16 @@ impl Integrator {
         }
     }
 
-    /// Coefficients `(c_K, c_C, c_M)` of the effective tangent
-    /// `K_eff = c_K·K + c_C·C + c_M·M` for step `dt`.
-    pub fn effective(&self, dt: f64) -> (f64, f64, f64) {
-        let ck = 1.0 - self.alpha_f;
-        let cc = (1.0 - self.alpha_f) * self.gamma / (self.beta * dt);
-        let cm = (1.0 - self.alpha_m) / (self.beta * dt * dt);
-        (ck, cc, cm)
+    /// The effective tangent's weights for step `dt`: the derivatives of the balance's
+    /// `f_int`, `C·v` and `M·a` terms with respect to the displacement increment, `k = 1−α_f`
+    /// (`u_{n+1−α_f}`), `c = (1−α_f)·γ/(β·Δt)` (`v_{n+1−α_f}`) and
+    /// `m = (1−α_m)/(β·Δt²)` (`a_{n+1−α_m}`), from Newmark's updates above.
+    pub fn coefficients(&self, dt: f64) -> Coefficients {
+        Coefficients {
+            k: 1.0 - self.alpha_f,
+            m: (1.0 - self.alpha_m) / (self.beta * dt * dt),
+            c: (1.0 - self.alpha_f) * self.gamma / (self.beta * dt),
+        }
     }
 
     /// Acceleration and velocity at `n+1` from the displacement increment `Δu = u − u_n`.

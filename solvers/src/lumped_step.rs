@@ -80,8 +80,7 @@ impl Driver {
             ))));
         }
         if self.factored != Some((dt, self.asm.k_const.pattern_id)) {
-            let (ck, cc, cm) = ig.effective(dt);
-            self.factor_tangent(ck, cm, cc, dt)?;
+            self.factor_tangent(ig.coefficients(dt), dt)?;
             self.summary.factorizations += 1;
         }
         self.solve_unchecked(dq)?;
