@@ -122,7 +122,7 @@ fn pair(key: &str, v: &str) -> Result<[f64; 2], FemError> {
 }
 
 /// The command: options parsed from `args` (see `railfem help`).
-pub fn command(a: &crate::cli::Args) -> Result<i32, FemError> {
+pub fn command(a: &crate::args::Args) -> Result<i32, FemError> {
     let cl = "command line";
     let name = a.opt("psd").ok_or_else(|| {
         FemError::input(

@@ -13,6 +13,7 @@ pub use railfem_elements as elements;
 pub use railfem_framework as framework;
 pub use railfem_solvers as solvers;
 
+pub mod args;
 pub mod bench;
 pub mod bench_train;
 pub mod cli;
@@ -22,6 +23,7 @@ pub mod critical;
 pub mod curve;
 pub mod floor;
 pub mod irregularity;
+mod load_average;
 pub mod matrices;
 pub mod oscillators;
 pub mod pareto;

@@ -17,6 +17,7 @@
 
 use crate::framework::model::SolverChoice;
 use crate::framework::FemError;
+use crate::load_average::loadavg;
 use crate::pareto::Scheme;
 use crate::pareto_train::{simulate, Settings, TbGrid, TbRun, DURATION, MESH_K, SPACING};
 use std::path::Path;
@@ -94,16 +95,6 @@ fn median(v: &[f64]) -> f64 {
     } else {
         0.5 * (s[n / 2 - 1] + s[n / 2])
     }
-}
-
-/// The three load averages of `/proc/loadavg` (empty where there is none).
-pub(crate) fn loadavg() -> String {
-    std::fs::read_to_string("/proc/loadavg")
-        .unwrap_or_default()
-        .split_whitespace()
-        .take(3)
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 /// Picks and neighbours of `runs` (the grid's evaluated runs), each simulated again

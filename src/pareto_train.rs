@@ -580,7 +580,7 @@ fn make(path: &Path, job: &Job) -> Option<History> {
                 h.threads,
                 h.wall,
                 h.cpu,
-                crate::pareto_retime::loadavg()
+                crate::load_average::loadavg()
             );
             Some(h)
         }

@@ -34,7 +34,9 @@ use crate::integrator::{Coefficients, Integrator};
 use crate::linear::{solver_for, LinearSolver, SolverError};
 use crate::lowrank::{LowRank, LowRankStats};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
+pub use crate::state::State;
 use crate::static_lu::StaticLu;
+pub use crate::thresholds::{DENSE_LIMIT, DIRECT_DENSE_LIMIT, DIRECT_DENSE_LU_LIMIT};
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
@@ -49,26 +51,6 @@ use std::time::Instant;
 mod rank_build;
 use rank_build::RankSplit;
 
-/// Top systems of the partitioned solver up to this many equations are factored densely
-/// (a Schur complement is much denser than the model's tangent).
-pub const DENSE_LIMIT: usize = 200;
-
-/// The driver factors a model of at most this many equations densely, above it sparsely:
-/// the measured crossover [`railfem_framework::model::DENSE_UP_TO`] (it was 200 before it
-/// was measured, when a 121-equation model ran slower than a 241-equation one).
-pub const DIRECT_DENSE_LIMIT: usize = railfem_framework::model::DENSE_UP_TO;
-
-/// The driver factors an *unsymmetric* tangent of at most this many equations by the LU that
-/// replays the last row exchanges ([`StaticLu`], falling back to the dense LU in a
-/// fill-reducing order, [`DenseLu::fill_reducing`], whose factor it reproduces to the bit),
-/// above it by the sparse LU. The limit was measured for the ordered dense LU, on the curve
-/// case's vehicle with creep forces (`sks700` carriages with `tangential = "kalker_linear"`,
-/// per Newton iteration, docs/performance.md "Rolling-contact laws in the curve case"): 18
-/// against 42–48 µs at 66 equations, 18–27 against 23–29 at 132, 25–34 against 50–61 at 198,
-/// but 64 against 43 µs at 264. A symmetric tangent keeps [`DIRECT_DENSE_LIMIT`] (sparse
-/// Cholesky is faster from 18 equations on).
-pub const DIRECT_DENSE_LU_LIMIT: usize = 200;
-
 /// The linear solver of the whole tangent for a model of `n` equations: dense LU in the
 /// plain order up to [`DIRECT_DENSE_LIMIT`]; for an unsymmetric tangent [`StaticLu`] up to
 /// [`DIRECT_DENSE_LU_LIMIT`]; the sparse solver otherwise (Cholesky if `symmetric`).
@@ -80,23 +62,6 @@ pub fn direct_solver(n: usize, symmetric: bool) -> Box<dyn LinearSolver> {
     } else {
         solver_for(symmetric)
     }
-}
-
-/// The committed state of a run.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct State {
-    /// Time (s).
-    pub t: f64,
-    /// Displacements (equation vector; m, rad).
-    pub q: Vec<f64>,
-    /// Velocities.
-    pub v: Vec<f64>,
-    /// Accelerations.
-    pub a: Vec<f64>,
-    /// Internal force at the state.
-    pub f_int: Vec<f64>,
-    /// External force at the state.
-    pub f_ext: Vec<f64>,
 }
 
 /// The vectors of one step attempt, kept by the driver between steps so that a step

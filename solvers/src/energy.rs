@@ -36,8 +36,8 @@
 //! rigid-body pseudo-loads of Eq. 5 count as external work.
 
 use crate::chunks::par_chunks;
-use crate::driver::State;
 use crate::partition::Partitioned;
+use crate::state::State;
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::model::Model;

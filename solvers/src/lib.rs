@@ -6,7 +6,8 @@
 //! ([`energy`]) and the driver that runs static and
 //! transient analyses with Newton–Raphson and step cutting ([`driver`]; a lumped linear model's
 //! step in fused passes, [`lumped_step`]), and the checks made
-//! before its first step ([`preflight`]). What does not:
+//! before its first step ([`preflight`]); the committed state ([`state`]) and the solver
+//! switch-over sizes ([`thresholds`]). What does not:
 //! elements (railfem-elements) and the model itself (railfem-framework).
 
 // Index loops mirror the formulas of the dense kernels and the driver (rustc 1.95 clippy).
@@ -27,7 +28,9 @@ pub mod lumped_step;
 pub mod modal;
 pub mod partition;
 pub mod preflight;
+pub mod state;
 pub mod static_lu;
+pub mod thresholds;
 pub mod top_chain;
 
 pub use driver::{Driver, ReferenceSystem, RunSummary, State, StepReport};

@@ -1046,7 +1046,7 @@ impl Partitioned {
             cache.matrix.values[p] += t.2;
         }
         let s = &cache.matrix;
-        let dense = nr <= crate::driver::DENSE_LIMIT;
+        let dense = nr <= crate::thresholds::DENSE_LIMIT;
         if dense != self.top_dense {
             self.top_solver = if dense {
                 Box::new(DenseLu::default())

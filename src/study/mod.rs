@@ -16,7 +16,7 @@ pub mod plan;
 pub mod run;
 pub mod table;
 
-use crate::cli::Args;
+use crate::args::Args;
 use crate::framework::FemError;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;

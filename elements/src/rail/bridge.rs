@@ -44,7 +44,7 @@
 //! computation ([`BridgeLayout::midspan_node`]).
 
 use super::cant::Track;
-use super::track_model::RailSection;
+use super::rail_section::RailSection;
 use railfem_framework::error::FemError;
 use railfem_framework::limits;
 use railfem_framework::model::ModelBuilder;

@@ -16,6 +16,7 @@ pub mod point_contact_law;
 pub mod point_wheel;
 pub mod profiles;
 pub mod rail_point;
+pub mod rail_section;
 pub mod railline;
 pub mod rolling;
 pub mod section_plot;

@@ -29,6 +29,7 @@ use super::bridge::{
 };
 use super::cant::Track;
 use super::irregularity::Irregularity;
+pub use super::rail_section::RailSection;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::{self, fmt_num};
 use railfem_framework::model::ModelBuilder;
@@ -36,47 +37,6 @@ use railfem_framework::moving::Path;
 use railfem_framework::DofSet;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
-
-/// Section and material of a rail (SI units).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct RailSection {
-    /// Young's modulus (Pa).
-    #[serde(rename = "E")]
-    pub e: f64,
-    /// Shear modulus (Pa).
-    #[serde(rename = "G")]
-    pub g: f64,
-    /// Area (m²).
-    #[serde(rename = "A")]
-    pub a: f64,
-    /// Second moment for vertical bending (m⁴).
-    pub i_vertical: f64,
-    /// Second moment for lateral bending (m⁴).
-    pub i_lateral: f64,
-    /// Torsion constant (m⁴).
-    #[serde(rename = "J")]
-    pub j: f64,
-    /// Density (kg/m³).
-    pub rho: f64,
-}
-
-impl RailSection {
-    /// 60E1 (UIC60): E = 2.1e11 Pa, A = 7.686e-3 m², I_vertical = 3.038e-5 m⁴,
-    /// I_lateral = 5.123e-6 m⁴, 60.21 kg/m (ρ = 60.21/A), G = 8.1e10 Pa; J = 2.0e-6 m⁴
-    /// is an estimate of the Saint-Venant constant (not in the spec).
-    pub fn uic60() -> Self {
-        RailSection {
-            e: 2.1e11,
-            g: 8.1e10,
-            a: 7.686e-3,
-            i_vertical: 3.038e-5,
-            i_lateral: 5.123e-6,
-            j: 2.0e-6,
-            rho: 60.21 / 7.686e-3,
-        }
-    }
-}
 
 /// How the rails are supported.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
