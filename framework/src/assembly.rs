@@ -23,7 +23,7 @@
 
 use crate::coefficients::Coefficients;
 use crate::dofmap::DofMap;
-use crate::element::{ElementError, NodeKinematics, StepContext, TrialState};
+use crate::element::{DissipationKind, ElementError, NodeKinematics, StepContext, TrialState};
 use crate::error::FemError;
 use crate::loads::{Load, MovingForce};
 use crate::model::Model;
@@ -1644,6 +1644,20 @@ impl Assembler {
             .iter()
             .map(|&ei| model.elements[ei].element.dissipated_energy())
             .sum()
+    }
+
+    /// The dissipated energy reported by elements (J), as `[friction, material]`
+    /// ([`crate::element::DissipationKind`]).
+    pub fn dissipated_by_kind(&self, model: &Model) -> [f64; 2] {
+        let mut d = [0.0; 2];
+        for &ei in &self.variable {
+            let e = &model.elements[ei].element;
+            match e.dissipation_kind() {
+                DissipationKind::Friction => d[0] += e.dissipated_energy(),
+                DissipationKind::Material => d[1] += e.dissipated_energy(),
+            }
+        }
+        d
     }
 }
 

@@ -192,14 +192,19 @@ impl Report {
         let fails = self.failures();
         for f in &fails {
             if f.check != "samples" {
+                let measured = if f.value.is_nan() {
+                    String::new()
+                } else {
+                    format!(
+                        "{} {} (limit {}) ",
+                        measure_of(f.check),
+                        num(f.value),
+                        num(f.limit)
+                    )
+                };
                 out.push_str(&format!(
-                    "FAIL {} / {} / {}: measured {} (limit {}) {}\n",
-                    f.kind,
-                    f.sample,
-                    f.check,
-                    num(f.value),
-                    num(f.limit),
-                    f.note
+                    "FAIL {} / {} / {} check: {measured}{}\n",
+                    f.kind, f.sample, f.check, f.note
                 ));
             }
         }
@@ -219,6 +224,22 @@ impl Report {
             fails.len()
         ));
         out
+    }
+}
+
+/// What a check's measured number is, for the line of a failure: every number the kit
+/// compares with a limit is relative (dimensionless); a check that fails on something else
+/// (a dissipation that decreased, a non-finite value) says so in its note instead.
+fn measure_of(check: &str) -> &'static str {
+    match check {
+        "tangent" => "relative difference from central differences",
+        "symmetry" => "relative asymmetry",
+        "rigid_body" => "relative force under a rigid-body motion",
+        "mass" => "relative mass error",
+        "revert" => "relative difference after revert",
+        "serde" => "relative difference after the serde round trip",
+        "energy" => "relative energy-balance error",
+        _ => "relative measure",
     }
 }
 
@@ -1201,12 +1222,13 @@ fn check_energy(cx: &Cx) -> Result<Measured, String> {
         e.commit();
         let dn = e.dissipated_energy();
         if !dn.is_finite() || dn < d_prev - 1e-12 * e_ref.max(dn.abs()) {
+            // Joules, not a relative measure: the note carries them.
             return Ok(Measured {
                 outcome: Outcome::Fail,
-                value: dn,
-                limit: d_prev,
+                value: f64::NAN,
+                limit: f64::NAN,
                 note: format!(
-                    "dissipated_energy() decreased at step {step}: {d_prev:e} → {dn:e} J"
+                    "dissipated_energy() decreased at step {step}: {d_prev:e} J → {dn:e} J (an element's dissipation can only grow)"
                 ),
             });
         }
@@ -1553,5 +1575,48 @@ mod tests {
     fn filter_selects_nothing_for_an_unknown_name() {
         let rep = check_all(Some("no_such_element_kind_anywhere"));
         assert!(rep.results.is_empty() && rep.passed());
+    }
+
+    /// A failure reads as the check it is: a relative number is named as what it measures,
+    /// and a failure in joules (a dissipation that decreased) is not printed in the column
+    /// of relative numbers.
+    #[test]
+    fn a_failure_names_its_check_and_its_measure() {
+        let row = |value: f64, limit: f64, note: &str| CheckResult {
+            kind: "k".into(),
+            sample: "s".into(),
+            check: "energy",
+            outcome: Outcome::Fail,
+            value,
+            limit,
+            note: note.into(),
+        };
+        let relative = Report {
+            results: vec![row(2e-2, 1e-6, "")],
+        }
+        .table();
+        assert!(
+            relative.contains(
+                "FAIL k / s / energy check: relative energy-balance error 2.0e-2 (limit 1.0e-6)"
+            ),
+            "{relative}"
+        );
+        let joules = Report {
+            results: vec![row(
+                f64::NAN,
+                f64::NAN,
+                "dissipated_energy() decreased at step 3: 1.2e3 J → 9.0e2 J",
+            )],
+        }
+        .table();
+        let line = joules.lines().find(|l| l.starts_with("FAIL k")).unwrap();
+        assert!(
+            line.contains("energy check: dissipated_energy() decreased"),
+            "{line}"
+        );
+        assert!(
+            !line.contains("relative") && !line.contains("limit"),
+            "{line}"
+        );
     }
 }

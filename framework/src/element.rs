@@ -184,6 +184,15 @@ pub enum ActiveSet {
     LastFoundStickingReversals,
 }
 
+/// Where an element's dissipated energy goes in the energy ledger.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DissipationKind {
+    /// Sliding friction at contact points (the moving wheel-axle element).
+    Friction,
+    /// Dissipation inside the material: plasticity, hysteresis.
+    Material,
+}
+
 /// The element contract. See the module documentation for axes and ordering.
 pub trait Element: Send + Sync {
     /// The registered type name (`"beam3d"`, `"moving_axle"`, …).
@@ -267,8 +276,16 @@ pub trait Element: Send + Sync {
     }
 
     /// Energy dissipated inside the element since the start (J): friction, plasticity.
+    /// Say which of the two it is with [`Element::dissipation_kind`].
     fn dissipated_energy(&self) -> f64 {
         0.0
+    }
+
+    /// What [`Element::dissipated_energy`] is: the energy ledger books it under that
+    /// heading (`energy.csv`'s `friction [J]` or `material [J]`). Material (plasticity,
+    /// hysteresis) unless the element says friction, as a contact element does.
+    fn dissipation_kind(&self) -> DissipationKind {
+        DissipationKind::Material
     }
 
     /// The concrete element, for callers that know its type (tests, plots of one element's

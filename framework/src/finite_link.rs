@@ -347,6 +347,10 @@ impl Element for LinkedElement {
         self.inner.dissipated_energy()
     }
 
+    fn dissipation_kind(&self) -> crate::element::DissipationKind {
+        self.inner.dissipation_kind()
+    }
+
     fn as_any(&self) -> Option<&dyn std::any::Any> {
         self.inner.as_any()
     }

@@ -52,7 +52,8 @@ pub mod vtk;
 pub use coefficients::Coefficients;
 pub use dof::{Dof, DofSet};
 pub use element::{
-    Element, ElementError, ElementProperties, NodeDofs, NodeKinematics, StepContext, TrialState,
+    DissipationKind, Element, ElementError, ElementProperties, NodeDofs, NodeKinematics,
+    StepContext, TrialState,
 };
 pub use error::FemError;
 pub use inventory;

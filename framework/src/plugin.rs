@@ -646,6 +646,10 @@ pub mod guard {
         fn dissipated_energy(&self) -> f64 {
             catch_unwind(AssertUnwindSafe(|| self.inner.dissipated_energy())).unwrap_or(f64::NAN)
         }
+        fn dissipation_kind(&self) -> crate::element::DissipationKind {
+            catch_unwind(AssertUnwindSafe(|| self.inner.dissipation_kind()))
+                .unwrap_or(crate::element::DissipationKind::Material)
+        }
     }
 }
 

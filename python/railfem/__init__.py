@@ -82,7 +82,7 @@ class Result:
     - ``recorders``: dict, recorder file name (``file`` in the model) -> ``Recording``;
       ``result["wheels.csv"]`` is the same.
     - ``energy``: a ``Recording`` of the energy ledger (``external_work``, ``kinetic``,
-      ``strain``, ``damping``, ``friction``, ``integrator``, J; as energy.csv), or ``None``
+      ``strain``, ``damping``, ``friction``, ``material``, ``integrator``, J; as energy.csv), or ``None``
       for a static or modal analysis; ``energy_summary`` the block ``railfem run`` prints
       and ``energy_relative_error`` its largest |integrator|/energy.
     - ``stats``: steps, iterations, cuts, factorizations, symbolic, equations, wall (s)

@@ -239,6 +239,7 @@ fn ran_to_py<'py>(py: Python<'py>, ran: Ran, out: Option<&Path>) -> PyResult<Bou
                 "strain",
                 "damping",
                 "friction",
+                "material",
                 "integrator",
             ];
             let time = rows.iter().map(|r| r.t).collect();
@@ -251,6 +252,7 @@ fn ran_to_py<'py>(py: Python<'py>, ran: Ran, out: Option<&Path>) -> PyResult<Bou
                         r.strain,
                         r.damping,
                         r.friction,
+                        r.material,
                         r.integrator,
                     ]
                 })

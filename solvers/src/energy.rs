@@ -10,13 +10,14 @@
 //!
 //! with `W_ext = ∫f_extᵀ·dq`, `T = ½·vᵀ·M·v`, `W_int = ∫f_intᵀ·dq` and `D_c = ∫(C·v)ᵀ·dq`.
 //! The work of the internal forces splits into what elements store and what they dissipate
-//! themselves (friction at the contact points, plasticity), which they report
-//! ([`railfem_framework::Element::dissipated_energy`]): `W_int = U + D_f`. The ledger
+//! themselves, which they report ([`railfem_framework::Element::dissipated_energy`]) as
+//! friction at contact points or as material dissipation (plasticity, hysteresis;
+//! [`railfem_framework::DissipationKind`]): `W_int = U + D_f + D_p`. The ledger
 //! integrates the three works with the trapezoidal rule over each committed step,
 //! `ΔW = ½·(f_n + f_{n+1})ᵀ·(q_{n+1} − q_n)`, takes `T` from the state directly, and calls
 //! what is left the energy the *integrator* dissipated:
 //!
-//! `D_num = W_ext − ΔT − U − D_c − D_f = W_ext − ΔT − W_int − D_c`.
+//! `D_num = W_ext − ΔT − U − D_c − D_f − D_p = W_ext − ΔT − W_int − D_c`.
 //!
 //! For Newmark's average acceleration (`γ = ½`, `β = ¼`) on a linear model this residual is
 //! zero to round-off: then `q_{n+1} − q_n = ½Δt·(v_n + v_{n+1})` and
@@ -59,10 +60,13 @@ pub struct EnergyRow {
     pub strain: f64,
     /// Energy dissipated by the damping matrix, `∫(C·v)ᵀ·dq`.
     pub damping: f64,
-    /// Energy dissipated inside elements (friction), as they report it.
+    /// Energy dissipated by friction at contact points, as the elements report it.
     pub friction: f64,
+    /// Energy dissipated inside the elements' material (plasticity, hysteresis), as they
+    /// report it.
+    pub material: f64,
     /// The balance residual: energy dissipated (or, if negative, created) by the
-    /// integrator, `W_ext − ΔT − strain − damping − friction`.
+    /// integrator, `W_ext − ΔT − strain − damping − friction − material`.
     pub integrator: f64,
 }
 
@@ -75,6 +79,7 @@ impl EnergyRow {
             self.strain,
             self.damping,
             self.friction,
+            self.material,
         ]
         .iter()
         .fold(0.0f64, |m, x| m.max(x.abs()))
@@ -87,8 +92,8 @@ pub struct EnergyLedger {
     started: bool,
     /// Kinetic energy at the start.
     kinetic0: f64,
-    /// Element-reported dissipation at the start.
-    friction0: f64,
+    /// Element-reported dissipation at the start, `[friction, material]`.
+    dissipated0: [f64; 2],
     /// `C·v` at the last recorded state.
     cv_prev: Vec<f64>,
     /// Work of the internal forces so far.
@@ -192,7 +197,7 @@ impl EnergyLedger {
             *self = EnergyLedger {
                 started: true,
                 kinetic0: kinetic(asm, &prev.v, &mut buf, ranks.as_deref_mut()),
-                friction0: asm.dissipated_energy(model),
+                dissipated0: asm.dissipated_by_kind(model),
                 cv_prev,
                 ..Default::default()
             };
@@ -273,10 +278,16 @@ impl EnergyLedger {
         }
         self.cv = cv;
         r.kinetic = 0.5 * vmv;
-        r.friction = asm.dissipated_energy(model) - self.friction0;
-        r.strain = self.internal_work - r.friction;
-        r.integrator =
-            r.external_work - (r.kinetic - self.kinetic0) - r.strain - r.damping - r.friction;
+        let [friction, material] = asm.dissipated_by_kind(model);
+        r.friction = friction - self.dissipated0[0];
+        r.material = material - self.dissipated0[1];
+        r.strain = self.internal_work - r.friction - r.material;
+        r.integrator = r.external_work
+            - (r.kinetic - self.kinetic0)
+            - r.strain
+            - r.damping
+            - r.friction
+            - r.material;
         self.peak_scale = self.peak_scale.max(r.scale()).max(self.kinetic0);
         self.peak_residual = self.peak_residual.max(r.integrator.abs());
         self.history.push(*r);
@@ -320,9 +331,10 @@ impl EnergyLedger {
         );
         let _ = write!(
             s,
-            "  dissipated: damping {:.6e}, friction {:.6e}, integrator {:.6e}; largest |integrator|/energy {:.3e}",
+            "  dissipated: damping {:.6e}, friction {:.6e}, material {:.6e}, integrator {:.6e}; largest |integrator|/energy {:.3e}",
             r.damping,
             r.friction,
+            r.material,
             r.integrator,
             self.relative_error()
         );
@@ -330,14 +342,21 @@ impl EnergyLedger {
     }
 
     /// Writes the rows as CSV:
-    /// `time,external_work,kinetic,strain,damping,friction,integrator` (J).
+    /// `time,external_work,kinetic,strain,damping,friction,material,integrator` (J).
     pub fn write_csv(&self, path: &Path) -> Result<(), FemError> {
-        let mut s = String::from("time [s],external_work [J],kinetic [J],strain [J],damping [J],friction [J],integrator [J]\n");
+        let mut s = String::from("time [s],external_work [J],kinetic [J],strain [J],damping [J],friction [J],material [J],integrator [J]\n");
         for r in &self.history {
             let _ = writeln!(
                 s,
-                "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
-                r.t, r.external_work, r.kinetic, r.strain, r.damping, r.friction, r.integrator
+                "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
+                r.t,
+                r.external_work,
+                r.kinetic,
+                r.strain,
+                r.damping,
+                r.friction,
+                r.material,
+                r.integrator
             );
         }
         std::fs::write(path, s).map_err(|e| FemError::output(path, e))

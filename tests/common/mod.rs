@@ -234,6 +234,7 @@ pub fn energy_difference(
             (x.strain, y.strain),
             (x.damping, y.damping),
             (x.friction, y.friction),
+            (x.material, y.material),
             (x.integrator, y.integrator),
         ] {
             worst = worst.max((p - q).abs());

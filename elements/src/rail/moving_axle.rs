@@ -1506,6 +1506,10 @@ impl Element for MovingAxle {
         self.committed.dissipated
     }
 
+    fn dissipation_kind(&self) -> railfem_framework::DissipationKind {
+        railfem_framework::DissipationKind::Friction
+    }
+
     fn as_any(&self) -> Option<&dyn std::any::Any> {
         Some(self)
     }
