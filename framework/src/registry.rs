@@ -219,7 +219,14 @@ pub trait BuildContext {
 /// Builds an element from its model-file entry.
 pub type Factory = fn(&ElementSpec, &mut dyn BuildContext) -> Result<Box<dyn Element>, FemError>;
 
-/// A sample admissible state of an element for the conformance kit.
+/// A sample admissible state of an element for the conformance kit. Start from
+/// [`Sample::new`] and add what the state needs ([`Sample::with_fd_step`],
+/// [`Sample::committed_at`], [`Sample::rebuilt_by`]).
+///
+/// The element's connectivity indexes `nodes`: node index `i` of the element is
+/// `nodes[i]`. Where the kit rebuilds the element from its `parameters()` (the serde
+/// check), it hands the kind's factory a model context in which node index `i` has user id
+/// `i + 1`.
 pub struct Sample {
     /// Short name of the state (`"stick"`, `"two-point contact"`).
     pub name: String,
@@ -240,6 +247,55 @@ pub struct Sample {
     /// factory needs model context the kit cannot supply (internal nodes, a track). `None`:
     /// the kit calls the kind's factory.
     pub rebuild: Option<Rebuild>,
+}
+
+impl Sample {
+    /// The finite-difference step [`Sample::new`] uses, relative to the DOF's size.
+    pub const DEFAULT_FD_STEP: f64 = 1e-6;
+
+    /// A sample state: `element` built against `nodes` (node index `i` is `nodes[i]`), at
+    /// displacements `disp` and velocities `vel` (element DOF order), with no committed
+    /// history, the default finite-difference step and the kind's own factory for the
+    /// serde check.
+    pub fn new(
+        name: impl Into<String>,
+        element: Box<dyn Element>,
+        nodes: Vec<crate::element::NodeKinematics>,
+        disp: Vec<f64>,
+        vel: Vec<f64>,
+    ) -> Sample {
+        Sample {
+            name: name.into(),
+            element,
+            nodes,
+            disp,
+            vel,
+            fd_step: Self::DEFAULT_FD_STEP,
+            committed_disp: None,
+            rebuild: None,
+        }
+    }
+
+    /// The relative finite-difference step of the tangent check (for a law with a kink
+    /// near the state, a smaller one; for a stiff one with round-off, a larger one).
+    pub fn with_fd_step(mut self, fd_step: f64) -> Sample {
+        self.fd_step = fd_step;
+        self
+    }
+
+    /// Commits the state at `disp` before the checks, so that the sample sits on a
+    /// committed history (a stick anchor, a plastic strain).
+    pub fn committed_at(mut self, disp: Vec<f64>) -> Sample {
+        self.committed_disp = Some(disp);
+        self
+    }
+
+    /// Rebuilds the element from its parameters with `rebuild` in the serde check, for a
+    /// kind whose factory needs model context the kit cannot supply.
+    pub fn rebuilt_by(mut self, rebuild: Rebuild) -> Sample {
+        self.rebuild = Some(rebuild);
+        self
+    }
 }
 
 /// Rebuilds a sample element from its `parameters()`.

@@ -302,38 +302,37 @@ fn samples() -> Vec<Sample> {
     ];
     let two = |name: &str, committed: Option<f64>, delta: f64| {
         let pos: Vec<Vector3<f64>> = nodes.iter().map(|n| n.position).collect();
-        Sample {
-            name: name.into(),
-            element: Box::new(
-                HystereticSpring::new(sample_params(), &[0, 1], &pos, "sample")
-                    .expect("valid sample parameters"),
-            ),
-            nodes: nodes.clone(),
-            // Node i moves by −δ/4 so that both DOFs are exercised.
-            disp: vec![-0.25 * delta, 0.75 * delta],
-            vel: vec![0.0, 0.0],
-            fd_step: 1e-6,
-            committed_disp: committed.map(|c| vec![-0.25 * c, 0.75 * c]),
-            rebuild: None,
+        let element = HystereticSpring::new(sample_params(), &[0, 1], &pos, "sample")
+            .expect("valid sample parameters");
+        // Node i moves by −δ/4 so that both DOFs are exercised.
+        let at = |d: f64| vec![-0.25 * d, 0.75 * d];
+        let s = Sample::new(
+            name,
+            Box::new(element),
+            nodes.clone(),
+            at(delta),
+            vec![0.0; 2],
+        );
+        match committed {
+            Some(c) => s.committed_at(at(c)),
+            None => s,
         }
     };
     vec![
         two("elastic", None, 0.5 * uy),
         two("yielding", Some(3.0 * uy), 3.5 * uy),
         two("unloading after yield", Some(3.0 * uy), 2.0 * uy),
-        Sample {
-            name: "grounded, reversed yield".into(),
-            element: Box::new(
+        Sample::new(
+            "grounded, reversed yield",
+            Box::new(
                 HystereticSpring::new(sample_params(), &[0], &[Vector3::zeros()], "sample")
                     .expect("valid sample parameters"),
             ),
-            nodes: vec![NodeKinematics::fixed(Vector3::zeros())],
-            disp: vec![-2.5 * uy],
-            vel: vec![0.0],
-            fd_step: 1e-6,
-            committed_disp: Some(vec![2.0 * uy]),
-            rebuild: None,
-        },
+            vec![NodeKinematics::fixed(Vector3::zeros())],
+            vec![-2.5 * uy],
+            vec![0.0],
+        )
+        .committed_at(vec![2.0 * uy]),
     ]
 }
 
