@@ -19,7 +19,7 @@ cargo build --release -p railfem-plugin-hysteretic
 rm -rf "$venv"
 "$python" -m venv "$venv"
 "$venv/bin/python" -m pip install --quiet --upgrade pip
-"$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" pytest numpy
+"$venv/bin/python" -m pip install --quiet "maturin>=1.5,<2" pytest numpy mypy
 "$venv/bin/python" -m pip install --quiet "$here"
 echo "python/ci.sh: venv and build $(($(date +%s) - start)) s"
 cd "$here/tests"

@@ -171,7 +171,21 @@ class Model:
         return repr(self._inner)
 
 
-def curve(**kwargs):
+def curve(
+    *,
+    speed=None,
+    radius=None,
+    ct=None,
+    mu=None,
+    dt=None,
+    penalty=None,
+    duration=None,
+    lengths=None,
+    quick=False,
+    geometry="linear",
+    anti_roll=None,
+    out=None,
+):
     """The paper's curved-track case (Fig. 6), as ``railfem curve``.
 
     Keywords (defaults as the command's): ``speed`` (m/s, 80), ``radius`` (m, 6250),
@@ -188,11 +202,46 @@ def curve(**kwargs):
     prints (largest relative differences FE vs theory on the arc, settled-arc means);
     ``stats``; ``energy_summary``; ``case`` (the inputs).
     """
-    return _railfem.curve(**kwargs)
+    return _railfem.curve(
+        speed=speed,
+        radius=radius,
+        ct=ct,
+        mu=mu,
+        dt=dt,
+        penalty=penalty,
+        duration=duration,
+        lengths=lengths,
+        quick=quick,
+        geometry=geometry,
+        anti_roll=anti_roll,
+        out=None if out is None else str(out),
+    )
 
 
-def train_bridge(**kwargs):
-    """The train on a viaduct, as ``railfem train-bridge`` (the same keywords, with
+def train_bridge(
+    *,
+    cars=None,
+    spans=None,
+    span=None,
+    element_length=None,
+    dof=None,
+    speed=None,
+    radius=None,
+    ct=None,
+    duration=None,
+    dt=None,
+    record_every=None,
+    pier_height=None,
+    midspans=None,
+    quake=None,
+    seed=1,
+    pga=0.3,
+    quake_duration=30.0,
+    geometry="linear",
+    steps=None,
+    out=None,
+):
+    """The train on a viaduct, as ``railfem train-bridge`` (the same options, with
     ``_`` for ``-``; the defaults are the command's 1M-DOF case, so give ``cars``,
     ``spans`` and ``steps`` for a small run). ``quake`` is a record's path or
     ``"synthetic"`` (with ``seed``, ``pga``, ``quake_duration``).
@@ -203,6 +252,27 @@ def train_bridge(**kwargs):
     ``midspan``: span number (1-based) -> ``Recording`` with the column ``deflection``
     (girder midspan relative to the span's ends, m, positive down); ``stats``.
     """
-    r = _railfem.train_bridge(**kwargs)
+    r = _railfem.train_bridge(
+        cars=cars,
+        spans=spans,
+        span=span,
+        element_length=element_length,
+        dof=dof,
+        speed=speed,
+        radius=radius,
+        ct=ct,
+        duration=duration,
+        dt=dt,
+        record_every=record_every,
+        pier_height=pier_height,
+        midspans=midspans,
+        quake=None if quake is None else str(quake),
+        seed=seed,
+        pga=pga,
+        quake_duration=quake_duration,
+        geometry=geometry,
+        steps=steps,
+        out=None if out is None else str(out),
+    )
     r["midspan"] = {k: Recording(v) for k, v in r["midspan"].items()}
     return r
