@@ -428,10 +428,14 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
             }
             Err(e) => format!("failed: {}", e.to_string().replace('\n', " ")),
         };
-        r.write(&status)
-            .map_err(|e| FemError::output(r.dir.join(crate::sidecar::RUN_JSON), e))?;
+        let written = r.write(&status);
         if let Ok(mut g) = RUNNING.lock() {
             *g = None;
+        }
+        // A run that failed already keeps its own error (one line); otherwise a run.json
+        // that cannot be written is the error.
+        if let (Ok(_), Err(e)) = (&result, written) {
+            return Err(FemError::output(r.dir.join(crate::sidecar::RUN_JSON), e));
         }
     }
     result
