@@ -580,6 +580,9 @@ impl Driver {
         };
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         self.condensed.stats.full_evaluations += 1;
+        // The elements' own forces count with the assembled internal force (the driver's
+        // reference, [`Driver::element_force_reference`]).
+        let fn_ = fn_.max(self.element_force_reference());
         Ok((rn, ext_norm.max(fn_).max(inn), fn_, inn))
     }
 
