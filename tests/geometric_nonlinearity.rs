@@ -773,3 +773,76 @@ fn slender_cantilever_with_real_units_converges_in_a_few_iterations_a_step() {
     }
     assert!((-u[5] - rot).abs() < 1e-3, "{} vs {rot}", -u[5]);
 }
+
+/// The slender cantilever through `railfem run` with `RAILFEM_TRACE=1`: every iteration's
+/// line reports `tol`, `abs_tol` and each part of the force reference, and its tolerance
+/// is `tol · max(parts) + abs_tol` (to the 4 digits printed, 2e-3); the last iteration of each
+/// of the 40 load steps is within it.
+#[test]
+fn the_trace_reports_the_tolerances_newton_uses() {
+    let dir = common::temp_dir("slender-trace");
+    let (e, ei, ea) = (2e11, 1e6, 1e10);
+    let (a, i) = (ea / e, ei / e);
+    let mut text = String::from("[analysis]\nkind = \"static\"\nsteps = 40\n");
+    for k in 0..=20 {
+        let fix = if k == 0 { "fix = \"all\"\n" } else { "" };
+        text.push_str(&format!(
+            "[[node]]\nid = {}\nxyz = [{}, 0.0, 0.0]\n{fix}",
+            k + 1,
+            10.0 * k as f64 / 20.0
+        ));
+    }
+    for k in 1..=20 {
+        text.push_str(&format!(
+            "[[element]]\ntype = \"beam3d\"\nid = {k}\nnodes = [{k}, {}]\nE = {e:e}\nG = {:e}\nA = {a:e}\nIy = {i:e}\nIz = {i:e}\nJ = {:e}\ngeometry = \"corotational\"\n",
+            k + 1,
+            e / 2.0,
+            2.0 * i
+        ));
+    }
+    text.push_str("[[load]]\ntype = \"nodal\"\nnode = 21\ndof = \"uy\"\nvalue = -3.0e4\n");
+    let model = dir.join("slender.toml");
+    std::fs::write(&model, text).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args(["run", model.to_str().unwrap(), "--out"])
+        .arg(dir.join("out"))
+        .arg("-q")
+        .env("RAILFEM_TRACE", "1")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let err = String::from_utf8_lossy(&o.stderr);
+    // The number after `key` (up to a space, a comma or a parenthesis).
+    let after = |line: &str, key: &str| -> f64 {
+        let rest = &line[line.find(key).unwrap_or_else(|| panic!("{key} in {line}")) + key.len()..];
+        let end = rest.find([' ', ',', ')']).unwrap_or(rest.len());
+        rest[..end]
+            .parse()
+            .unwrap_or_else(|_| panic!("{key} in {line}"))
+    };
+    let mut last: std::collections::BTreeMap<usize, (f64, f64)> = Default::default();
+    let mut lines = 0;
+    for l in err.lines().filter(|l| l.contains("static load step")) {
+        lines += 1;
+        let tolerance = after(l, "(tolerance ");
+        let parts = [
+            after(l, "|f_ext| "),
+            after(l, "|f_int| "),
+            after(l, "|f_e| "),
+        ];
+        let expect =
+            after(l, "tol ") * parts.iter().fold(0.0f64, |m, x| m.max(*x)) + after(l, "abs_tol ");
+        assert!(
+            (tolerance - expect).abs() <= 2e-3 * expect,
+            "{tolerance} vs {expect}: {l}"
+        );
+        let step = after(l, "static load step ") as usize;
+        last.insert(step, (after(l, "|R| = "), tolerance));
+    }
+    assert!(lines >= 80, "{lines} trace lines");
+    assert_eq!(last.len(), 40);
+    for (step, (r, tolerance)) in last {
+        assert!(r <= tolerance, "load step {step}: |R| = {r} > {tolerance}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
