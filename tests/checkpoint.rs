@@ -207,7 +207,7 @@ impl Lcg {
 #[test]
 fn a_study_killed_20_times_resumes_to_the_same_table() {
     let dir = temp_dir("checkpoint-kill");
-    sdof(&dir, 20.0);
+    sdof(&dir, 10.0);
     let plan = plan(&dir, "plan.toml", 12);
     let whole = dir.join("whole");
     let t0 = Instant::now();
@@ -235,10 +235,11 @@ fn a_study_killed_20_times_resumes_to_the_same_table() {
             .stderr(std::process::Stdio::piped())
             .spawn()
             .expect("start railfem");
-        // A moment from the start to 4 % of the study's work past the start-up: some
-        // kills land in the start-up (reading, verifying, rewriting the checkpoint),
-        // most in the cases and their appends; the 20 together leave work to do.
-        std::thread::sleep((idle + work.mul_f64(0.04)).mul_f64(rng.next()));
+        // A moment from late in the start-up (reading, verifying, rewriting the
+        // checkpoint) to 6 % of the study's work past it: most kills land in the cases and
+        // their appends; the 20 together leave work for the last run.
+        let span = idle.mul_f64(0.25) + work.mul_f64(0.06);
+        std::thread::sleep(idle.mul_f64(0.75) + span.mul_f64(rng.next()));
         if child.try_wait().expect("poll").is_none() {
             landed += 1;
         }
@@ -253,6 +254,16 @@ fn a_study_killed_20_times_resumes_to_the_same_table() {
     assert!(
         landed >= 10,
         "only {landed} of 20 kills hit a running study"
+    );
+    // The kills left a study part done: the last run resumes, it does not start or skip.
+    let rows = std::fs::read_to_string(killed.join("study.checkpoint"))
+        .map_or(0, |t| t.lines().count().saturating_sub(1));
+    println!(
+        "{landed} of 20 kills hit a running study; {rows} of 24 cases kept; uninterrupted {full:?}, idle {idle:?}"
+    );
+    assert!(
+        rows > 0 && rows < 24,
+        "{rows} of 24 cases done after the kills"
     );
     ok(&railfem(&study_args(&plan, &killed, &[])));
     let resumed = std::fs::read(killed.join("study.csv")).unwrap();
