@@ -235,6 +235,25 @@ fn prepare_on(
     Ok((driver, pre))
 }
 
+/// `check`'s mechanism check ([`crate::solvers::mechanism`]): the run's first
+/// factorization, up to the size bound or at any size with `--factor`; above the bound
+/// without it, the note that says it was skipped and how to force it.
+fn mechanism_check(
+    d: &mut crate::solvers::Driver,
+    force: bool,
+) -> Result<Option<String>, FemError> {
+    let (n, limit) = (
+        d.neq(),
+        crate::solvers::mechanism::MECHANISM_CHECK_EQUATIONS,
+    );
+    if n > limit && !force {
+        return Ok(Some(format!(
+            "the mechanism check (the run's first factorization) was skipped: {n} equations is above {limit}; force it with `railfem check --factor`"
+        )));
+    }
+    d.first_factorization().map(|()| None)
+}
+
 /// Commands that stop at the end of a step, a load step or a case when asked
 /// ([`crate::framework::interrupt`]); the others stop at once on SIGINT/SIGTERM.
 const STOPS_AT_STEP: [&str; 9] = [
@@ -363,10 +382,14 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
             }
             Err(e) => format!("failed: {}", e.to_string().replace('\n', " ")),
         };
-        r.write(&status)
-            .map_err(|e| FemError::output(r.dir.join(crate::sidecar::RUN_JSON), e))?;
+        let written = r.write(&status);
         if let Ok(mut g) = RUNNING.lock() {
             *g = None;
+        }
+        // A run that failed already keeps its own error (one line); otherwise a run.json
+        // that cannot be written is the error.
+        if let (Ok(_), Err(e)) = (&result, written) {
+            return Err(FemError::output(r.dir.join(crate::sidecar::RUN_JSON), e));
         }
     }
     result
@@ -406,9 +429,15 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         }
         "check" => {
             let path = model_arg(a)?;
-            match prepare(path, true) {
-                Ok((_, pre)) => {
+            let checked = prepare(path, true).and_then(|(mut d, pre)| {
+                mechanism_check(&mut d, a.flag("factor")).map(|note| (pre, note))
+            });
+            match checked {
+                Ok((pre, note)) => {
                     println!("{}: ok — {}", path.display(), pre.size);
+                    if let Some(note) = note {
+                        println!("{}: {note}", path.display());
+                    }
                     Ok(0)
                 }
                 Err(e) => {

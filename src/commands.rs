@@ -157,6 +157,10 @@ pub struct CheckCmd {
     /// The model file (TOML or JSON).
     #[arg(value_name = "MODEL")]
     pub model: PathBuf,
+    /// Make the mechanism check (the run's first factorization) whatever the model's size;
+    /// without it, models above 100 000 equations skip it.
+    #[arg(long)]
+    pub factor: bool,
 }
 
 /// `railfem curve`.
@@ -546,6 +550,10 @@ pub struct StudyCmd {
     /// rerun goes on [default: all].
     #[arg(long, value_name = "N")]
     pub stop_after: Option<OsString>,
+    /// Start afresh: discard the checkpoint's rows instead of resuming from them (the way
+    /// out when a resume refuses a damaged or foreign row).
+    #[arg(long)]
+    pub restart: bool,
     /// Output directory: study.csv, study.json, study.svg/.png, study.checkpoint, cases/
     /// [default: out/study].
     #[arg(long, value_name = "DIR")]

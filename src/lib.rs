@@ -14,6 +14,7 @@ pub use railfem_framework as framework;
 pub use railfem_solvers as solvers;
 
 pub mod args;
+pub mod atomic_file;
 pub mod bench;
 pub mod bench_train;
 pub mod cli;

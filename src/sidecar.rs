@@ -60,8 +60,12 @@ impl RunRecord {
             .join(format!(".run.json.{}.tmp", std::process::id()));
         let text =
             serde_json::to_string_pretty(&self.to_json(status)).map_err(std::io::Error::other)?;
-        std::fs::write(&tmp, text + "\n")?;
-        std::fs::rename(&tmp, &path)?;
+        // A failed write (a full disk) leaves the previous run.json and no temporary file.
+        let written = std::fs::write(&tmp, text + "\n").and_then(|()| std::fs::rename(&tmp, &path));
+        if let Err(e) = written {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(e);
+        }
         Ok(Some(path))
     }
 }

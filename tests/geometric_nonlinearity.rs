@@ -721,3 +721,128 @@ fn rotated_free_bar_dissipates_as_generalized_alpha_predicts() {
         );
     }
 }
+
+/// The slender cantilever of issue 36: 20 corotational `beam3d`, L = 10 m, EI = 1e6 N·m²,
+/// EA = 1e10 N, tip load PL²/EI = 3 in 40 load steps, with the default Newton tolerances
+/// (tol 1e-8, abs_tol 1e-6 N). At a free node the element forces cancel, so the assembled
+/// `|f_int|` is small while each element's force carries round-off of order
+/// `ε·EA·|x|/h` ≈ 2e-5 N (h = 0.5 m, |x| up to 10 m): above `tol·|f_int| + abs_tol`, and
+/// Newton used to stall at the first load step. With the elements' own forces in the
+/// reference every step converges in a few iterations.
+///
+/// The tip against the inextensible elastica ([`elastica`], and Mattiasson 1981, Table 1,
+/// PL²/EI = 3: deflection 0.60325 L, shortening 0.25442 L) within 1e-3 L, the bound the
+/// 20-element unit cantilever above meets (the discretization error of 20 cubic
+/// corotational elements; the axial strain P/EA = 3e-6 the reference ignores is far below).
+#[test]
+fn slender_cantilever_with_real_units_converges_in_a_few_iterations_a_step() {
+    let (l, ei, ea) = (10.0, 1e6, 1e10);
+    let (e, a) = (2e11, ea / 2e11);
+    let i = ei / e;
+    let mut b = cantilever(
+        "slender",
+        20,
+        l,
+        [1.0, 0.0, 0.0],
+        &section("corotational", e, a, i, 2.0 * i),
+    );
+    b.analysis(AnalysisSpec {
+        kind: AnalysisKind::Static,
+        ..Default::default()
+    });
+    let p = 3.0 * ei / (l * l);
+    b.load(nodal(21, "uy", -p));
+    let steps = 40;
+    let mut d = Driver::new(b.build().expect("model")).expect("driver");
+    let iterations = d.static_solve(0.0, steps).expect("static solve");
+    let u = tip(&d, 21);
+    let (defl, short, rot) = elastica(3.0, 4000);
+    println!(
+        "slender cantilever: {iterations} Newton iterations in {steps} load steps; deflection {:.6} L (elastica {defl:.6}, Mattiasson 0.60325), shortening {:.6} L (elastica {short:.6}, Mattiasson 0.25442), rotation {:.6} rad (elastica {rot:.6})",
+        -u[1] / l,
+        -u[0] / l,
+        -u[5]
+    );
+    assert!(
+        iterations <= 5 * steps,
+        "{iterations} iterations in {steps} steps"
+    );
+    for (fe, exact, table) in [(-u[1] / l, defl, 0.60325), (-u[0] / l, short, 0.25442)] {
+        assert!((fe - exact).abs() < 1e-3, "{fe} vs {exact}");
+        assert!((fe - table).abs() < 1e-3, "{fe} vs Mattiasson {table}");
+    }
+    assert!((-u[5] - rot).abs() < 1e-3, "{} vs {rot}", -u[5]);
+}
+
+/// The slender cantilever through `railfem run` with `RAILFEM_TRACE=1`: every iteration's
+/// line reports `tol`, `abs_tol` and each part of the force reference, and its tolerance
+/// is `tol · max(parts) + abs_tol` (to the 4 digits printed, 2e-3); the last iteration of each
+/// of the 40 load steps is within it.
+#[test]
+fn the_trace_reports_the_tolerances_newton_uses() {
+    let dir = common::temp_dir("slender-trace");
+    let (e, ei, ea) = (2e11, 1e6, 1e10);
+    let (a, i) = (ea / e, ei / e);
+    let mut text = String::from("[analysis]\nkind = \"static\"\nsteps = 40\n");
+    for k in 0..=20 {
+        let fix = if k == 0 { "fix = \"all\"\n" } else { "" };
+        text.push_str(&format!(
+            "[[node]]\nid = {}\nxyz = [{}, 0.0, 0.0]\n{fix}",
+            k + 1,
+            10.0 * k as f64 / 20.0
+        ));
+    }
+    for k in 1..=20 {
+        text.push_str(&format!(
+            "[[element]]\ntype = \"beam3d\"\nid = {k}\nnodes = [{k}, {}]\nE = {e:e}\nG = {:e}\nA = {a:e}\nIy = {i:e}\nIz = {i:e}\nJ = {:e}\ngeometry = \"corotational\"\n",
+            k + 1,
+            e / 2.0,
+            2.0 * i
+        ));
+    }
+    text.push_str("[[load]]\ntype = \"nodal\"\nnode = 21\ndof = \"uy\"\nvalue = -3.0e4\n");
+    let model = dir.join("slender.toml");
+    std::fs::write(&model, text).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args(["run", model.to_str().unwrap(), "--out"])
+        .arg(dir.join("out"))
+        .arg("-q")
+        .env("RAILFEM_TRACE", "1")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let err = String::from_utf8_lossy(&o.stderr);
+    // The number after `key` (up to a space, a comma or a parenthesis).
+    let after = |line: &str, key: &str| -> f64 {
+        let rest = &line[line.find(key).unwrap_or_else(|| panic!("{key} in {line}")) + key.len()..];
+        let end = rest.find([' ', ',', ')']).unwrap_or(rest.len());
+        rest[..end]
+            .parse()
+            .unwrap_or_else(|_| panic!("{key} in {line}"))
+    };
+    let mut last: std::collections::BTreeMap<usize, (f64, f64)> = Default::default();
+    let mut lines = 0;
+    for l in err.lines().filter(|l| l.contains("static load step")) {
+        lines += 1;
+        let tolerance = after(l, "(tolerance ");
+        let parts = [
+            after(l, "|f_ext| "),
+            after(l, "|f_int| "),
+            after(l, "|f_e| "),
+        ];
+        let expect =
+            after(l, "tol ") * parts.iter().fold(0.0f64, |m, x| m.max(*x)) + after(l, "abs_tol ");
+        assert!(
+            (tolerance - expect).abs() <= 2e-3 * expect,
+            "{tolerance} vs {expect}: {l}"
+        );
+        let step = after(l, "static load step ") as usize;
+        last.insert(step, (after(l, "|R| = "), tolerance));
+    }
+    assert!(lines >= 80, "{lines} trace lines");
+    assert_eq!(last.len(), 40);
+    for (step, (r, tolerance)) in last {
+        assert!(r <= tolerance, "load step {step}: |R| = {r} > {tolerance}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

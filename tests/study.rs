@@ -469,7 +469,7 @@ fn bad_plans_are_refused_in_one_line() {
     refused_with(
         "changed plan",
         &o,
-        &["study.checkpoint", "another plan", "remove"],
+        &["study.checkpoint", "another plan", "--restart"],
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -174,6 +174,9 @@ pub struct Assembler {
     /// ([`nonzero_products`]); `None` where the products read the shared pattern (a
     /// matrix not symmetric, Rayleigh damping: `C` then fills the pattern of `K` and `M`).
     nonzero: Option<[NonzeroColumns; 3]>,
+    /// `Σ_e |f_e|²` over the variable elements' resisting forces at the last
+    /// [`Assembler::update_variable`] ([`Assembler::element_force_norm`]).
+    element_force_sq: f64,
 }
 
 fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Vector3<f64>) -> f64 {
@@ -238,6 +241,7 @@ impl Assembler {
             motions: Vec::new(),
             stats: AssemblyStats::default(),
             times: AssemblyTimes::default(),
+            element_force_sq: 0.0,
             off_pattern: false,
             off: Vec::new(),
             var_slot: Vec::new(),
@@ -1174,9 +1178,13 @@ impl Assembler {
         let results = crate::parallel::map_mut(&mut entries, nt, |(ei, e)| eval(*ei, e));
         drop(entries);
         self.stats.element_updates += results.len();
+        self.element_force_sq = 0.0;
         for (slot, r) in results.into_iter().enumerate() {
             let ei = self.variable[slot];
             let (fe, ke) = r?;
+            // The force reference of the Newton check, formed here where each element's
+            // force is scattered anyway (no second pass over the elements).
+            self.element_force_sq += fe.iter().map(|x| x * x).sum::<f64>();
             scatter_vec(&self.dofmap, &self.maps[ei].dofs, &fe, f_int);
             if let Some(ke) = ke {
                 let nd = fe.len();
@@ -1190,6 +1198,21 @@ impl Assembler {
         }
         self.times.elements += t0.elapsed().as_secs_f64();
         Ok(())
+    }
+
+    /// `√(Σ_e |f_e|²)`: the size of the variable elements' own resisting forces `f_e` (each
+    /// in its element's DOFs, before they are summed into `f_int`) at the last
+    /// [`Assembler::update_variable`] of this process; 0 before any.
+    ///
+    /// Where elements meet at a free node their forces cancel, so the assembled `|f_int|`
+    /// can be far below the forces each element carries; the round-off of the residual is
+    /// relative to the latter (each `f_e` is formed from terms of its own size and the sum
+    /// over a node's elements loses digits relative to the largest of them). It lies
+    /// between `1/√k` and 1 times the norm of the per-node sums `Σ_e |f_e,i|` (k the most
+    /// elements at a DOF), so it serves as that reference up to a constant factor.
+    /// Constant (linear) elements are not included: their force is one product `K·q`.
+    pub fn element_force_norm(&self) -> f64 {
+        self.element_force_sq.sqrt()
     }
 
     /// The variable elements' current resisting forces (as last determined, nothing

@@ -39,8 +39,9 @@ pub enum FemError {
         /// What happened.
         message: String,
     },
-    /// Writing an output failed.
-    #[error("output {path}: {message}")]
+    /// Writing an output failed (the files written end on whole lines; a full disk, a size
+    /// limit, a folder that cannot be written).
+    #[error("output {path}: {message}; make room there or write elsewhere (--out)")]
     Output {
         /// File that could not be written.
         path: String,

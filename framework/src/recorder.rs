@@ -687,14 +687,44 @@ impl Recorders {
                 }
             }
             if let Some(out) = o.out.as_mut() {
-                writeln!(out, "{line}").map_err(|e| FemError::output(&o.path, e))?;
+                if let Err(e) = writeln!(out, "{line}") {
+                    let err = FemError::output(&o.path, e);
+                    self.stop_writing();
+                    return Err(err);
+                }
             }
         }
         Ok(())
     }
 
-    /// Writes the comfort recorders' indices (once) and flushes every file.
+    /// After a failed write (a full disk, a file size limit): every file is left ending
+    /// on a whole line and nothing more is written to it. Each is flushed; one whose flush
+    /// fails (the one that failed first among them) drops what it still buffers and is
+    /// cut back to its last line end ([`cut_to_whole_lines`]).
+    fn stop_writing(&mut self) {
+        for o in &mut self.open {
+            let Some(mut out) = o.out.take() else {
+                continue;
+            };
+            if out.flush().is_err() {
+                // The buffer is dropped unwritten (a drop would try to write it again).
+                let _ = out.into_parts();
+                let _ = cut_to_whole_lines(&o.path);
+            }
+        }
+    }
+
+    /// Writes the comfort recorders' indices (once) and flushes every file; after a
+    /// failed write every file ends on a whole line ([`Recorders::stop_writing`]).
     pub fn finish(&mut self) -> Result<(), FemError> {
+        let r = self.finish_files();
+        if r.is_err() {
+            self.stop_writing();
+        }
+        r
+    }
+
+    fn finish_files(&mut self) -> Result<(), FemError> {
         for o in &mut self.open {
             let Some(c) = o.comfort.take() else {
                 if let Some(out) = o.out.as_mut() {
@@ -726,4 +756,27 @@ impl Recorders {
 /// Parses a DOF name list for recorders and loads (re-exported helper).
 pub fn parse_dof(name: &str) -> Option<Dof> {
     Dof::parse(name)
+}
+
+/// Cuts the file at `path` back to just after its last line end (to nothing if it has
+/// none): what a write cut short by a full disk or a size limit leaves is whole lines.
+pub fn cut_to_whole_lines(path: &Path) -> std::io::Result<()> {
+    use std::io::{Read, Seek, SeekFrom};
+    let mut f = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .open(path)?;
+    let mut end = f.metadata()?.len();
+    let mut buf = vec![0u8; 1 << 16];
+    while end > 0 {
+        let start = end.saturating_sub(buf.len() as u64);
+        let chunk = &mut buf[..(end - start) as usize];
+        f.seek(SeekFrom::Start(start))?;
+        f.read_exact(chunk)?;
+        if let Some(i) = chunk.iter().rposition(|b| *b == b'\n') {
+            return f.set_len(start + i as u64 + 1);
+        }
+        end = start;
+    }
+    f.set_len(0)
 }

@@ -580,6 +580,9 @@ impl Driver {
         };
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         self.condensed.stats.full_evaluations += 1;
+        // The elements' own forces count with the assembled internal force (the driver's
+        // reference, [`Driver::element_force_reference`]).
+        let fn_ = fn_.max(self.element_force_reference());
         Ok((rn, ext_norm.max(fn_).max(inn), fn_, inn))
     }
 
@@ -839,8 +842,10 @@ impl Driver {
                     }
                     if self.trace {
                         eprintln!(
-                            "t = {t1:.6} s, iteration {it} verified in full: |R| = {rn_full:.3e} N (tolerance {:.3e}), |dq| = {dn:.3e}",
-                            settings.tol * reference_full + settings.abs_tol
+                            "t = {t1:.6} s, iteration {it} verified in full: |R| = {rn_full:.3e} N (tolerance {:.3e} = tol {:.1e} · max(|f_ext|, |f_int|, |f_e|, |M·a|) {reference_full:.3e} + abs_tol {:.1e}), |dq| = {dn:.3e}",
+                            settings.tol * reference_full + settings.abs_tol,
+                            settings.tol,
+                            settings.abs_tol
                         );
                     }
                     if force_ok && disp_ok {

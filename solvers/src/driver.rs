@@ -467,7 +467,7 @@ impl Driver {
                     .dofmap
                     .dof_of(equation.min(self.neq().saturating_sub(1)));
                 FemError::Singular(format!(
-                    "{}: no stiffness at {} (equation {equation}); fix that DOF, connect it to an element, or add a spring",
+                    "{}: no stiffness at {} (equation {equation}) once the equations before it are held: the model is a mechanism (a rigid-body or zero-energy mode that the supports and elements leave free); fix that DOF, connect it to an element, or add a spring",
                     self.model.origin,
                     self.model.dof_name(n, d)
                 ))
@@ -640,6 +640,19 @@ impl Driver {
         }
         let sums = self.partition.as_mut()?.sums_of_squares(xs)?;
         Some(sums.into_iter().map(f64::sqrt).collect())
+    }
+
+    /// The element-force part of the Newton check's force reference: `√(Σ_e |f_e|²)` of the
+    /// variable elements ([`railfem_framework::assembly::Assembler::element_force_norm`]),
+    /// formed where their forces are scattered. 0 when each rank holds only some elements
+    /// ([`Driver::keep_own_rows`]): every rank must reach the same decision, and the check
+    /// then keeps its assembled references alone.
+    pub(crate) fn element_force_reference(&self) -> f64 {
+        if self.rows_per_rank {
+            0.0
+        } else {
+            self.asm.element_force_norm()
+        }
     }
 
     /// Whether a stop was asked for (SIGINT/SIGTERM) on this process or, when the blocks are
@@ -887,7 +900,17 @@ impl Driver {
                     Some(v) => (v[0], v[1]),
                     None => (norm(&r), norm(&f_int)),
                 };
-                let reference = (lam * norm(&f_full)).max(f_int_norm);
+                let (ext, elem) = (lam * norm(&f_full), self.element_force_reference());
+                let reference = ext.max(f_int_norm).max(elem);
+                if self.trace {
+                    let (v, dof) = self.largest(&r);
+                    eprintln!(
+                        "t = {t:.6} s, static load step {k} of {steps}, iteration {it}: |R| = {rn:.3e} N (tolerance {:.3e} = tol {:.1e} · max(|f_ext| {ext:.3e}, |f_int| {f_int_norm:.3e}, |f_e| {elem:.3e}) + abs_tol {:.1e}), largest {v:.3e} at {dof}",
+                        settings.tol * reference + settings.abs_tol,
+                        settings.tol,
+                        settings.abs_tol
+                    );
+                }
                 if it > 0 && rn <= settings.tol * reference + settings.abs_tol {
                     converged = true;
                     break;
@@ -1239,17 +1262,29 @@ impl Driver {
             let check = !linear || self.trace;
             let over_ranks = self.norms_over_ranks(&[r, f_int, inertia]);
             let rn = over_ranks.as_ref().map_or_else(|| norm(r), |v| v[0]);
-            let reference = match &over_ranks {
-                _ if !check => 0.0,
-                Some(v) => norm(f_ref_ext).max(v[1]).max(v[2]),
-                None => norm(f_ref_ext).max(norm(f_int)).max(norm(inertia)),
+            let parts = match &over_ranks {
+                _ if !check => [0.0; 4],
+                Some(v) => [norm(f_ref_ext), v[1], v[2], 0.0],
+                None => [
+                    norm(f_ref_ext),
+                    norm(f_int),
+                    norm(inertia),
+                    self.element_force_reference(),
+                ],
             };
+            let reference = parts.iter().fold(0.0f64, |m, x| m.max(*x));
             let force_ok = rn <= settings.tol * reference + settings.abs_tol;
             if self.trace {
                 let (v, dof) = self.largest(r);
                 eprintln!(
-                    "t = {t1:.6} s, dt = {dt:.3e} s, iteration {it}: |R| = {rn:.3e} N (tolerance {:.3e}), largest {v:.3e} at {dof}",
-                    settings.tol * reference + settings.abs_tol
+                    "t = {t1:.6} s, dt = {dt:.3e} s, iteration {it}: |R| = {rn:.3e} N (tolerance {:.3e} = tol {:.1e} · max(|f_ext| {:.3e}, |f_int| {:.3e}, |M·a| {:.3e}, |f_e| {:.3e}) + abs_tol {:.1e}), largest {v:.3e} at {dof}",
+                    settings.tol * reference + settings.abs_tol,
+                    settings.tol,
+                    parts[0],
+                    parts[1],
+                    parts[2],
+                    parts[3],
+                    settings.abs_tol
                 );
             }
             if it > 0 && (linear || (force_ok && disp_ok)) {

@@ -25,6 +25,7 @@ pub mod integrator;
 pub mod linear;
 pub mod lowrank;
 pub mod lumped_step;
+pub mod mechanism;
 pub mod modal;
 pub mod partition;
 pub mod preflight;

@@ -23,7 +23,8 @@
 //! (translations, rotations) — round-off of a rotated zero stiffness, not a soft spring. An
 //! equation a variable element (moving, nonlinear) touches counts as stiff: its matrices
 //! are not known before the element is evaluated. Mechanisms spread over several
-//! equations (an unsupported beam) are not seen here; the factorization names them.
+//! equations (an unsupported beam) are not seen here; the factorization names them, and
+//! `railfem check` runs it too on models up to a size ([`crate::mechanism`]).
 
 use crate::driver::{Driver, DIRECT_DENSE_LIMIT};
 use crate::linear::{cholesky_factor_entries, LinearSolver, SparseCholesky};
@@ -180,6 +181,22 @@ pub fn highest_frequency(k: &CscMatrix, m: &CscMatrix) -> Option<f64> {
 }
 
 impl Driver {
+    /// Whether the first factorization of a run is one of `K` alone: a static or modal
+    /// analysis, or the initial static equilibrium of a transient with loads at t = 0.
+    pub(crate) fn static_first(&mut self) -> Result<bool, FemError> {
+        let spec = self.model.analysis.clone();
+        Ok(match spec.kind {
+            AnalysisKind::Static | AnalysisKind::Modal => true,
+            AnalysisKind::Transient => {
+                spec.initial_static && {
+                    let mut f = vec![0.0; self.neq()];
+                    self.asm.external_force(&self.model, 0.0, 1.0, &mut f)?;
+                    f.iter().any(|v| *v != 0.0)
+                }
+            }
+        })
+    }
+
     /// The checks every run makes before its first step (module documentation). Problems
     /// come back as one error ([`FemError::Many`] for several, each naming its node and
     /// DOF); warnings and the size in the [`Preflight`]. `estimate_factor` adds the direct
@@ -188,17 +205,7 @@ impl Driver {
     pub fn preflight(&mut self, estimate_factor: bool) -> Result<Preflight, FemError> {
         let spec = self.model.analysis.clone();
         let n = self.neq();
-        // Is the first factorization one of K alone?
-        let static_first = match spec.kind {
-            AnalysisKind::Static | AnalysisKind::Modal => true,
-            AnalysisKind::Transient => {
-                spec.initial_static && {
-                    let mut f = vec![0.0; n];
-                    self.asm.external_force(&self.model, 0.0, 1.0, &mut f)?;
-                    f.iter().any(|v| *v != 0.0)
-                }
-            }
-        };
+        let static_first = self.static_first()?;
         // The diagonals of the constant matrices (no copy of them: at a million equations
         // one is hundreds of MB; a rank of a shared model holds only some columns, and the
         // whole diagonals); the variable elements are accounted for by their connectivity.
@@ -232,7 +239,7 @@ impl Driver {
                     _ => "",
                 };
                 problems.push(FemError::Singular(format!(
-                    "{}: no stiffness at {name} (equation {i}){why}; fix that DOF, connect it to an element, or add a spring",
+                    "{}: no stiffness at {name} (equation {i}){why}: a mechanism (a zero-energy mode); fix that DOF, connect it to an element, or add a spring",
                     self.model.origin
                 )));
             } else if !static_first && !stiff && !inertial {

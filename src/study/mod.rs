@@ -18,7 +18,7 @@ pub mod table;
 
 use crate::args::Args;
 use crate::framework::FemError;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::mpsc;
 
 /// Default output folder.
@@ -35,6 +35,8 @@ pub struct Options {
     pub threads: usize,
     /// Hand out at most this many cases in this run, then stop (resumable).
     pub stop_after: Option<usize>,
+    /// Start afresh: the checkpoint's rows are discarded, not verified.
+    pub restart: bool,
 }
 
 fn options(a: &Args) -> Result<Options, FemError> {
@@ -67,6 +69,7 @@ fn options(a: &Args) -> Result<Options, FemError> {
         out: a.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT)),
         threads,
         stop_after: whole("stop-after")?,
+        restart: a.flag("restart"),
     })
 }
 
@@ -96,7 +99,7 @@ pub fn command(a: &Args) -> Result<i32, FemError> {
         return Ok(0);
     }
     let fingerprint = cases::fingerprint(&plan, &cases)?;
-    let mut ck = checkpoint::Checkpoint::open(&o.out, fingerprint, cases.len())?;
+    let mut ck = checkpoint::Checkpoint::open(&o.out, &plan, &cases, fingerprint, o.restart)?;
     let skipped = cases.iter().filter(|c| ck.rows.contains_key(&c.id)).count();
     let mut todo: Vec<(f64, usize)> = cases
         .iter()
@@ -106,7 +109,8 @@ pub fn command(a: &Args) -> Result<i32, FemError> {
     // Longest first; equal costs in id order, so the order is the same on every run.
     todo.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
     let todo: Vec<usize> = todo.into_iter().map(|t| t.1).collect();
-    let planned = o.stop_after.unwrap_or(todo.len()).min(todo.len());
+    let left = todo.len();
+    let planned = o.stop_after.unwrap_or(left).min(left);
     let queue = run::Queue::new(todo, planned);
     #[cfg(feature = "mpi")]
     let ranks = world.as_ref().map_or(1, |w| w.size());
@@ -117,7 +121,7 @@ pub fn command(a: &Args) -> Result<i32, FemError> {
             "study: {skipped} of {} cases already in {}; running the other {}",
             cases.len(),
             o.out.join(checkpoint::FILE).display(),
-            cases.len() - skipped
+            left
         );
     }
     let mut bar = crate::progress::Progress::new("study", planned as u64, "cases");
@@ -157,15 +161,17 @@ pub fn command(a: &Args) -> Result<i32, FemError> {
     }
     let interrupted = crate::framework::interrupt::requested();
     let rows = &ck.rows;
+    // Counted over the plan's cases (every row the checkpoint kept is one of them).
+    let status_of = |c: &cases::Case| rows.get(&c.id).map(|r| status(r, plan.axes.len()));
     let counts = Counts {
         cases: cases.len(),
-        ok: rows
-            .values()
-            .filter(|r| status(r, plan.axes.len()) == "ok")
+        ok: cases
+            .iter()
+            .filter(|c| status_of(c).as_deref() == Some("ok"))
             .count(),
-        failed: rows
-            .values()
-            .filter(|r| status(r, plan.axes.len()) == "failed")
+        failed: cases
+            .iter()
+            .filter(|c| status_of(c).as_deref() == Some("failed"))
             .count(),
         this_run,
     };
@@ -173,12 +179,13 @@ pub fn command(a: &Args) -> Result<i32, FemError> {
     let figure = table::write_figure(&plan, &cases, rows, &o.out)?;
     write_sidecar(&plan, &o, counts, fingerprint, ranks, interrupted)?;
     let done = counts.ok + counts.failed;
+    let not_run = cases.iter().filter(|c| !rows.contains_key(&c.id)).count();
     println!(
         "study: {} cases, {} ok, {} failed, {} not yet run; {} computed now on {} rank(s) × {} thread(s); table {}{}",
         counts.cases,
         counts.ok,
         counts.failed,
-        counts.cases - done,
+        not_run,
         counts.this_run,
         ranks,
         o.threads,
@@ -192,7 +199,7 @@ pub fn command(a: &Args) -> Result<i32, FemError> {
         );
         return Err(FemError::Interrupted { t: 0.0 });
     }
-    if done < counts.cases {
+    if not_run > 0 {
         println!(
             "study: stopped after {} cases as asked (--stop-after); run the same command again to go on",
             counts.this_run
@@ -236,7 +243,7 @@ fn write_sidecar(
         "cases": c.cases,
         "ok": c.ok,
         "failed": c.failed,
-        "not_run": c.cases - c.ok - c.failed,
+        "not_run": c.cases.saturating_sub(c.ok + c.failed),
         "computed_this_run": c.this_run,
         "ranks": ranks,
         "threads_per_rank": o.threads,
@@ -244,11 +251,5 @@ fn write_sidecar(
     });
     let p = o.out.join("study.json");
     let text = serde_json::to_string_pretty(&v).unwrap_or_default() + "\n";
-    write_whole(&p, &text)
-}
-
-fn write_whole(p: &Path, text: &str) -> Result<(), FemError> {
-    let tmp = p.with_extension("json.tmp");
-    std::fs::write(&tmp, text).map_err(|e| FemError::output(&tmp, e))?;
-    std::fs::rename(&tmp, p).map_err(|e| FemError::output(p, e))
+    crate::atomic_file::write(&p, text.as_bytes())
 }

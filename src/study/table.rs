@@ -192,7 +192,7 @@ pub fn row(plan: &Plan, case: &Case, outcome: &Result<Vec<String>, String>) -> S
 }
 
 /// Writes `study.csv` (header, then the rows sorted by case id) whole, through a temporary
-/// name.
+/// name ([`crate::atomic_file`]).
 pub fn write_csv(plan: &Plan, rows: &BTreeMap<String, String>, dir: &Path) -> Result<(), FemError> {
     let mut s = header(plan);
     s.push('\n');
@@ -200,10 +200,7 @@ pub fn write_csv(plan: &Plan, rows: &BTreeMap<String, String>, dir: &Path) -> Re
         s.push_str(line);
         s.push('\n');
     }
-    let p = dir.join("study.csv");
-    let tmp = dir.join(".study.csv.tmp");
-    std::fs::write(&tmp, s).map_err(|e| FemError::output(&tmp, e))?;
-    std::fs::rename(&tmp, &p).map_err(|e| FemError::output(&p, e))
+    crate::atomic_file::write(&dir.join("study.csv"), s.as_bytes())
 }
 
 /// The summary figure `study.svg`/`.png`: for a train–bridge plan, max ΔQ/Q and max Y/Q of

@@ -591,7 +591,7 @@ fn a_mistyped_option_is_refused_with_the_nearest_before_anything_runs() {
         &[os("check"), path.as_os_str(), os("--out"), os("x")],
         &[
             "`railfem check` has no option `--out`",
-            "its options are --plugin",
+            "its options are --factor, --plugin",
         ],
     );
     refused(

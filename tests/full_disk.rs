@@ -1,0 +1,136 @@
+//! A full disk (issue 36 item 7, docs/robustness.md): when a recorder or `run.json` cannot
+//! be written, the run stops with exit code 2 and one line naming the file and the fix,
+//! and every file it wrote ends on a whole line.
+//!
+//! The disk is "full" by a file size limit on the child process (`setrlimit(RLIMIT_FSIZE)`,
+//! what `prlimit --fsize` sets), with SIGXFSZ ignored so that a write past the limit
+//! returns `EFBIG` instead of killing the process: the same path through the code as
+//! `ENOSPC`, and no privilege or mounted file system needed.
+
+#![cfg(target_os = "linux")]
+
+mod common;
+
+use common::{refused_with, temp_dir};
+use std::os::unix::process::CommandExt;
+use std::path::{Path, PathBuf};
+
+/// `railfem ARGS` with every file it writes limited to `limit` bytes.
+fn railfem_limited(args: &[&str], limit: u64) -> std::process::Output {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"));
+    cmd.args(args);
+    // SAFETY: between fork and exec only async-signal-safe calls (signal, setrlimit).
+    unsafe {
+        cmd.pre_exec(move || {
+            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            let r = libc::rlimit {
+                rlim_cur: limit as libc::rlim_t,
+                rlim_max: limit as libc::rlim_t,
+            };
+            if libc::setrlimit(libc::RLIMIT_FSIZE, &r) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+    cmd.output().expect("run railfem")
+}
+
+/// The single-DOF oscillator of examples/models/sdof.toml run for `duration` s.
+fn sdof(dir: &Path, duration: f64) -> PathBuf {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/models/sdof.toml"),
+    )
+    .expect("sdof.toml");
+    let text = text.replace("duration = 2.0", &format!("duration = {duration}"));
+    let p = dir.join("sdof.toml");
+    std::fs::write(&p, text).expect("write model");
+    p
+}
+
+/// Every `*.csv` of `out` is whole lines of its header's column count, and no temporary
+/// file is left.
+fn whole_lines(out: &Path) -> usize {
+    let mut rows = 0;
+    for e in std::fs::read_dir(out).expect("out") {
+        let p = e.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().to_string();
+        assert!(!name.ends_with(".tmp"), "temporary file left: {name}");
+        if !name.ends_with(".csv") {
+            continue;
+        }
+        let text = std::fs::read_to_string(&p).unwrap();
+        if text.is_empty() {
+            continue;
+        }
+        assert!(text.ends_with('\n'), "{name} ends inside a line");
+        let cols = text.lines().next().unwrap().split(',').count();
+        for l in text.lines() {
+            assert_eq!(l.split(',').count(), cols, "{name}: cut line {l:?}");
+            rows += 1;
+        }
+    }
+    rows
+}
+
+#[test]
+fn a_recorder_that_cannot_be_written_stops_the_run_in_one_line_with_whole_lines() {
+    let dir = temp_dir("full-disk-recorder");
+    let model = sdof(&dir, 2.0);
+    let out = dir.join("out");
+    // 400 steps of rows of about 40 bytes: 16 kB per recorder, past a 6 kB limit.
+    let o = railfem_limited(
+        &[
+            "run",
+            model.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "-q",
+        ],
+        6000,
+    );
+    let line = refused_with(
+        "recorder",
+        &o,
+        &[
+            "output ",
+            ".csv",
+            "File too large",
+            "make room there or write elsewhere (--out)",
+        ],
+    );
+    assert!(line.contains(out.to_str().unwrap()), "{line}");
+    let rows = whole_lines(&out);
+    assert!(rows > 10, "the rows before the limit are kept: {rows}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_run_json_that_cannot_be_written_stops_the_run_in_one_line() {
+    let dir = temp_dir("full-disk-run-json");
+    // Three steps: recorders of a few hundred bytes, under a limit run.json is over.
+    let model = sdof(&dir, 0.015);
+    let out = dir.join("out");
+    let o = railfem_limited(
+        &[
+            "run",
+            model.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "-q",
+        ],
+        400,
+    );
+    refused_with(
+        "run.json",
+        &o,
+        &[
+            &format!("output {}", out.join("run.json").display()),
+            "File too large",
+            "make room there or write elsewhere (--out)",
+        ],
+    );
+    assert!(!out.join("run.json").exists());
+    assert!(whole_lines(&out) >= 4);
+    let _ = std::fs::remove_dir_all(&dir);
+}
