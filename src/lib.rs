@@ -15,6 +15,7 @@ pub use railfem_solvers as solvers;
 
 pub mod bench;
 pub mod bench_train;
+pub mod bridge_check;
 pub mod cli;
 pub mod commands;
 pub mod cpu_time;
