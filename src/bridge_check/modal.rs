@@ -53,6 +53,8 @@ pub struct ModalHistories {
 /// The response of `span` to `train` at speed `v` (m/s), first axle on the left support at
 /// t = 0, sampled every `dt` for `samples` samples, at `stations` (m from the left
 /// support), with `modes` modes whose damping ratio is `zeta(ω_n)`.
+// The arguments are the case's physical inputs, each named in the doc line above.
+#[allow(clippy::too_many_arguments)]
 pub fn response(
     span: &Span,
     train: &Train,

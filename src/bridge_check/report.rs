@@ -104,7 +104,7 @@ pub fn write(r: &Results, out: &Path) -> Result<(), FemError> {
     if !rx.is_empty() {
         let ry = vec![0.02 * top; rx.len()];
         acc = acc.with(Series::new(
-            "resonance n₀·D/i",
+            "resonance speeds n0·D/i",
             rx,
             ry,
             Style::Squares,

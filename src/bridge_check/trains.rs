@@ -260,7 +260,7 @@ pub fn user_train(name: &str, mut axles: Vec<Axle>, origin: &str) -> Result<Trai
         ));
     }
     for (i, a) in axles.iter().enumerate() {
-        if !a.position.is_finite() || !(a.load.is_finite() && a.load > 0.0) {
+        if !(a.position.is_finite() && a.load.is_finite() && a.load > 0.0) {
             return Err(FemError::input(
                 format!("{origin}: axle {}", i + 1),
                 "give a finite position (m) and a load > 0 (N)",
