@@ -445,3 +445,72 @@ fn bad_plans_are_refused() {
         assert!(err.contains(name), "{err}");
     }
 }
+
+/// The whole command on a short envelope: a user train written out as CSV with HSLM-A1's
+/// axles gives HSLM-A1's rows to the digit; the report's governing acceleration is the
+/// largest of `envelope.csv` and its verdict follows the 3.5 m/s² limit; the figures and
+/// `run.json` are there.
+#[test]
+fn command_writes_envelope_report_and_figures() {
+    let dir = common::temp_dir("bridge-check-run");
+    let a1 = hslm_a(1).expect("A1");
+    let mut csv = String::from("position [m],load [N]\n");
+    for a in &a1.axles {
+        csv.push_str(&format!("{},{}\n", a.position + 5.0, a.load));
+    }
+    std::fs::write(dir.join("mine.csv"), csv).expect("write");
+    let plan = "trains = [\"HSLM-A1\"]\n[[train]]\nname = \"mine\"\nfile = \"mine.csv\"\n\n[bridge]\nspans = [20.0]\nEI = 4.8e10\nmass = 15000.0\nkind = \"prestressed_concrete\"\ntrack = \"ballasted\"\n\n[speeds]\nmax_line_speed = 200.0\nmin = 220.0\nstep = 10.0\nrefine = 1\n";
+    let p = dir.join("plan.toml");
+    std::fs::write(&p, plan).expect("write");
+    let out = dir.join("out");
+    let o = common::railfem(&[
+        "bridge-check",
+        p.to_str().expect("utf-8"),
+        "--threads",
+        "2",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let text = std::fs::read_to_string(out.join("envelope.csv")).expect("csv");
+    let mut lines = text.lines();
+    let header = lines.next().expect("header");
+    assert!(
+        header.starts_with("train [-],speed [km/h],acceleration [m/s²]"),
+        "{header}"
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let of = |name: &str| -> Vec<Vec<&str>> {
+        rows.iter()
+            .filter(|r| r[0] == name)
+            .map(|r| r[1..].to_vec())
+            .collect()
+    };
+    assert_eq!(of("HSLM-A1"), of("mine"));
+    assert!(of("HSLM-A1").len() >= 3);
+    let top = rows
+        .iter()
+        .map(|r| r[2].parse::<f64>().expect("number"))
+        .fold(0.0, f64::max);
+    let report = std::fs::read_to_string(out.join("report.md")).expect("report");
+    assert!(report.contains(&format!("**{top:.3} m/s²**")), "{report}");
+    let verdict = if top <= 3.5 {
+        "**PASSES**"
+    } else {
+        "**FAILS**"
+    };
+    assert!(report.contains(verdict), "{report}");
+    for f in [
+        "acceleration.png",
+        "acceleration.svg",
+        "dynamic-factor.png",
+        "run.json",
+    ] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+}
