@@ -153,8 +153,11 @@ pub fn markdown(r: &Results) -> String {
         None => {
             let _ = writeln!(
                 s,
-                "- Bridge: {:?} spans {:?} m, EI = {:.4e} N·m², μ = {:.1} kg/m, {} elements per span ({} equations)",
-                b.support,
+                "- Bridge: {} spans {:?} m, EI = {:.4e} N·m², μ = {:.1} kg/m, {} elements per span ({} equations)",
+                match b.support {
+                    super::bridge::Support::SimplySupported => "simply supported",
+                    super::bridge::Support::Continuous => "continuous",
+                },
                 b.spans,
                 b.ei.unwrap_or(0.0),
                 b.mass.unwrap_or(0.0),
