@@ -256,7 +256,7 @@ fn mechanism_check(
 
 /// Commands that stop at the end of a step, a load step or a case when asked
 /// ([`crate::framework::interrupt`]); the others stop at once on SIGINT/SIGTERM.
-const STOPS_AT_STEP: [&str; 9] = [
+const STOPS_AT_STEP: [&str; 10] = [
     "run",
     "curve",
     "train-bridge",
@@ -266,6 +266,7 @@ const STOPS_AT_STEP: [&str; 9] = [
     "bench",
     "irregularity",
     "study",
+    "bridge-check",
 ];
 
 /// The output directory of a command as it resolves it (its `--out` or its default);
@@ -286,6 +287,7 @@ pub fn out_dir(a: &Args) -> Option<PathBuf> {
         "irregularity" => "out/irregularity",
         "matrices" => "out/matrices",
         "study" => crate::study::DEFAULT_OUT,
+        "bridge-check" => crate::bridge_check::DEFAULT_OUT,
         "critical-radius" | "stress" => return a.out.clone(),
         _ => return None,
     };
@@ -530,6 +532,8 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         "pareto" => pareto(a),
         "irregularity" => crate::irregularity::command(a),
         "study" => crate::study::command(a),
+        "bridge-check" => crate::bridge_check::command(a),
+        "trains" => crate::bridge_check::trains_command(),
         "matrices" => {
             let path = model_arg(a)?;
             let out = a

@@ -124,6 +124,11 @@ pub enum Command {
     /// Run a parameter study: a base case over the Cartesian product of a plan's axes, on
     /// threads or MPI ranks; study.csv, study.json, study.svg (docs/scale-out.md).
     Study(StudyCmd),
+    /// The EN 1991-2 dynamic check of a railway bridge: HSLM and user trains over a speed
+    /// range; envelope.csv, figures, report.md (docs/bridge-check.md).
+    BridgeCheck(BridgeCheckCmd),
+    /// List the built-in trains (HSLM-A1…A10, HSLM-B): axle counts, lengths, loads.
+    Trains,
     /// Print a shell completion script (e.g. `railfem completions bash > ~/.local/share/bash-completion/completions/railfem`).
     Completions(CompletionsCmd),
 }
@@ -556,6 +561,21 @@ pub struct StudyCmd {
     pub restart: bool,
     /// Output directory: study.csv, study.json, study.svg/.png, study.checkpoint, cases/
     /// [default: out/study].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `railfem bridge-check`.
+#[derive(ClapArgs, Debug)]
+pub struct BridgeCheckCmd {
+    /// The check's plan (TOML, docs/bridge-check.md).
+    #[arg(value_name = "PLAN.toml")]
+    pub plan: PathBuf,
+    /// Computing threads [default: the available cores].
+    #[arg(long, value_name = "N")]
+    pub threads: Option<OsString>,
+    /// Output directory: envelope.csv, acceleration.svg/.png, dynamic-factor.svg/.png,
+    /// report.md, run.json [default: out/bridge_check].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }

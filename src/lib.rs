@@ -17,6 +17,7 @@ pub mod args;
 pub mod atomic_file;
 pub mod bench;
 pub mod bench_train;
+pub mod bridge_check;
 pub mod cli;
 pub mod commands;
 pub mod cpu_time;

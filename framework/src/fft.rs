@@ -44,8 +44,29 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 /// In-place radix-2 FFT of `(re, im)` (length a power of two):
 /// `X_k = Σ_j x_j·e^{∓2πi·jk/n}`, `−` forward, `+` with `inverse` (no 1/n factor).
 pub fn fft(re: &mut [f64], im: &mut [f64], inverse: bool) {
+    let tw = twiddles(re.len(), inverse);
+    fft_with(re, im, &tw);
+}
+
+/// The twiddles `e^{∓2πi·m/n}`, `m < n/2`, of a transform of length `n` (`+` with
+/// `inverse`), for [`fft_with`]: made once, they serve every transform of that length.
+pub fn twiddles(n: usize, inverse: bool) -> Vec<(f64, f64)> {
+    let sign = if inverse { 1.0 } else { -1.0 };
+    (0..n / 2)
+        .map(|m| {
+            let (s, c) = sin_cos(2.0 * PI * m as f64 / n as f64);
+            (c, sign * s)
+        })
+        .collect()
+}
+
+/// [`fft`] with the twiddles given ([`twiddles`] of the same length and direction).
+pub fn fft_with(re: &mut [f64], im: &mut [f64], tw: &[(f64, f64)]) {
     let n = re.len();
-    assert!(n.is_power_of_two() && im.len() == n, "fft length");
+    assert!(
+        n.is_power_of_two() && im.len() == n && tw.len() == n / 2,
+        "fft length"
+    );
     if n < 2 {
         return;
     }
@@ -58,14 +79,6 @@ pub fn fft(re: &mut [f64], im: &mut [f64], inverse: bool) {
             im.swap(i, j);
         }
     }
-    // Twiddles e^{∓2πi·m/n}, m < n/2.
-    let sign = if inverse { 1.0 } else { -1.0 };
-    let tw: Vec<(f64, f64)> = (0..n / 2)
-        .map(|m| {
-            let (s, c) = sin_cos(2.0 * PI * m as f64 / n as f64);
-            (c, sign * s)
-        })
-        .collect();
     let mut len = 2;
     while len <= n {
         let half = len / 2;

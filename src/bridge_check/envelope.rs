@@ -1,0 +1,215 @@
+//! The speed envelope: every train over the speed range on threads, a coarse pass and
+//! then refinement around each local maximum of the peak acceleration, and the result of
+//! one train at one speed ([`Outcome`]).
+//!
+//! One run crosses the deck from rest, the first axle entering at t = 0, and goes on for
+//! the plan's tail of free vibration after the last axle has left. The deck acceleration
+//! of every station is filtered to the cut-off ([`super::filter`]) before its peak is
+//! taken; the deflection is not filtered. The dynamic factor is the largest dynamic
+//! deflection over the largest static deflection of the same train (EN 1991-2 §6.4.6.5:
+//! `1 + φ'_dyn`).
+//!
+//! Refinement: around each coarse local maximum that reaches a quarter of the train's
+//! highest, the speeds half a step either side of the best so far are run, then a quarter
+//! step, … (`refine` halvings), so that a peak is found to within `step/2^refine`.
+
+use super::fe::{Deck, Stepper, Work};
+use super::filter::LowPass;
+use super::trains::Train;
+use crate::framework::FemError;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+/// km/h per m/s.
+pub const KMH: f64 = 3.6;
+
+/// The result of one train at one speed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outcome {
+    /// Index of the train.
+    pub train: usize,
+    /// Speed (km/h).
+    pub speed: f64,
+    /// Peak filtered deck acceleration (m/s², magnitude).
+    pub acceleration: f64,
+    /// Where (m along the deck) and when (s after the first axle entered) it occurs.
+    pub acc_station: f64,
+    /// Time of the peak acceleration (s).
+    pub acc_time: f64,
+    /// Peak deflection (m, magnitude).
+    pub deflection: f64,
+    /// Where the peak deflection occurs (m along the deck).
+    pub defl_station: f64,
+    /// Largest static deflection of the same train (m).
+    pub static_deflection: f64,
+}
+
+impl Outcome {
+    /// The dynamic factor `max|y_dyn| / max|y_stat|` (= 1 + φ'_dyn).
+    pub fn dynamic_factor(&self) -> f64 {
+        self.deflection / self.static_deflection
+    }
+}
+
+/// Everything a run needs, shared read-only by the threads.
+pub struct Check<'a> {
+    /// The deck.
+    pub deck: &'a Deck,
+    /// Its integrator.
+    pub stepper: &'a Stepper,
+    /// The trains.
+    pub trains: &'a [Train],
+    /// Their largest static deflections (m).
+    pub statics: &'a [f64],
+    /// Cut-off frequency (Hz).
+    pub cutoff: f64,
+    /// Free vibration after the last axle has left (s).
+    pub tail: f64,
+}
+
+/// Per-thread buffers.
+#[derive(Default)]
+pub struct Scratch {
+    work: Work,
+    filter: LowPass,
+}
+
+impl Check<'_> {
+    /// Steps of a run at `v` (m/s).
+    pub fn steps(&self, train: &Train, v: f64) -> usize {
+        let t = (self.deck.length() + train.length()) / v + self.tail;
+        (t / self.stepper.dt).ceil() as usize
+    }
+
+    /// Runs train `i` at `speed` (km/h).
+    pub fn run(&self, i: usize, speed: f64, s: &mut Scratch) -> Outcome {
+        let train = &self.trains[i];
+        let v = speed / KMH;
+        let steps = self.steps(train, v);
+        let dt = self.stepper.dt;
+        self.stepper.run(self.deck, train, v, steps, &mut s.work);
+        let mut o = Outcome {
+            train: i,
+            speed,
+            acceleration: 0.0,
+            acc_station: 0.0,
+            acc_time: 0.0,
+            deflection: 0.0,
+            defl_station: 0.0,
+            static_deflection: self.statics[i],
+        };
+        let st = &self.deck.stations;
+        for (j, y) in s.work.deflection.iter().enumerate() {
+            let m = y.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            if m > o.deflection {
+                o.deflection = m;
+                o.defl_station = st[j].station;
+            }
+        }
+        let acc = &mut s.work.acceleration;
+        let mut j = 0;
+        while j < acc.len() {
+            let (x, rest) = acc[j..].split_at_mut(1);
+            let y: &mut [f64] = rest.first_mut().map_or(&mut [], |y| y.as_mut_slice());
+            s.filter.apply_pair(&mut x[0], y, dt, self.cutoff);
+            for (k, h) in [(j, &x[0][..]), (j + 1, &*y)] {
+                for (n, a) in h.iter().enumerate() {
+                    if a.abs() > o.acceleration {
+                        o.acceleration = a.abs();
+                        o.acc_station = st[k].station;
+                        o.acc_time = n as f64 * dt;
+                    }
+                }
+            }
+            j += 2;
+        }
+        o
+    }
+
+    /// Runs `jobs` (train, km/h) on `threads` threads; the outcomes in the order of `jobs`.
+    /// Stops handing out jobs when an interrupt is requested.
+    pub fn run_all(&self, jobs: &[(usize, f64)], threads: usize) -> Result<Vec<Outcome>, FemError> {
+        let next = AtomicUsize::new(0);
+        let out: Mutex<Vec<Option<Outcome>>> = Mutex::new(vec![None; jobs.len()]);
+        std::thread::scope(|sc| {
+            for _ in 0..threads.max(1) {
+                sc.spawn(|| {
+                    let mut s = Scratch::default();
+                    loop {
+                        if crate::framework::interrupt::requested() {
+                            return;
+                        }
+                        let k = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(&(i, v)) = jobs.get(k) else { return };
+                        let o = self.run(i, v, &mut s);
+                        if let Ok(mut g) = out.lock() {
+                            g[k] = Some(o);
+                        }
+                    }
+                });
+            }
+        });
+        let got = out.into_inner().unwrap_or_default();
+        let done = got.iter().filter(|o| o.is_some()).count();
+        if done < jobs.len() {
+            return Err(FemError::InterruptedAfter {
+                after: format!(
+                    "{done} of {} train-speed runs (no envelope written)",
+                    jobs.len()
+                ),
+            });
+        }
+        Ok(got.into_iter().flatten().collect())
+    }
+
+    /// The envelope: coarse pass over `speeds` (km/h) for every train, then `refine`
+    /// halvings of `step` around each local maximum. Outcomes sorted by train and speed.
+    pub fn envelope(
+        &self,
+        speeds: &[f64],
+        step: f64,
+        refine: usize,
+        threads: usize,
+    ) -> Result<Vec<Outcome>, FemError> {
+        let (lo, hi) = (speeds[0], *speeds.last().unwrap_or(&speeds[0]));
+        let jobs: Vec<(usize, f64)> = (0..self.trains.len())
+            .flat_map(|i| speeds.iter().map(move |&v| (i, v)))
+            .collect();
+        let mut all = self.run_all(&jobs, threads)?;
+        // The maxima to refine: (train, best speed, best value).
+        let mut peaks: Vec<(usize, f64, f64)> = Vec::new();
+        for i in 0..self.trains.len() {
+            let row: Vec<&Outcome> = all.iter().filter(|o| o.train == i).collect();
+            let top = row.iter().fold(0.0f64, |m, o| m.max(o.acceleration));
+            for k in 0..row.len() {
+                let a = row[k].acceleration;
+                let left = k == 0 || row[k - 1].acceleration <= a;
+                let right = k + 1 == row.len() || row[k + 1].acceleration < a;
+                if left && right && a >= 0.25 * top {
+                    peaks.push((i, row[k].speed, a));
+                }
+            }
+        }
+        let mut h = step;
+        for _ in 0..refine {
+            h /= 2.0;
+            let tagged: Vec<(usize, (usize, f64))> = peaks
+                .iter()
+                .enumerate()
+                .flat_map(|(k, &(i, v, _))| [(k, (i, v - h)), (k, (i, v + h))])
+                .filter(|&(_, (_, v))| v >= lo && v <= hi)
+                .collect();
+            let jobs: Vec<(usize, f64)> = tagged.iter().map(|t| t.1).collect();
+            let got = self.run_all(&jobs, threads)?;
+            for ((k, _), o) in tagged.iter().zip(&got) {
+                if o.acceleration > peaks[*k].2 {
+                    peaks[*k] = (o.train, o.speed, o.acceleration);
+                }
+            }
+            all.extend(got);
+        }
+        all.sort_by(|a, b| a.train.cmp(&b.train).then(a.speed.total_cmp(&b.speed)));
+        all.dedup_by(|a, b| a.train == b.train && a.speed == b.speed);
+        Ok(all)
+    }
+}

@@ -1,0 +1,276 @@
+//! `railfem bridge-check PLAN.toml` and `railfem trains`: the dynamic check of a railway
+//! bridge for high-speed traffic as EN 1991-2 §6.4.6 sets it out — the universal trains
+//! HSLM-A/B and the user's trains over a speed range, the peak deck acceleration after the
+//! frequency cut-off against the limit of the track, the deflection and the dynamic
+//! factor, with figures, a report and a verdict.
+//!
+//! One job per module: [`trains`] (HSLM and user trains), [`bridge`] (the description and
+//! the standard's rules for damping, limits and frequencies), [`modal`] (the modal
+//! reference solution), [`filter`] (the frequency cut-off), [`fe`] (the finite element
+//! deck and its step), [`envelope`] (the speed sweep on threads), [`plan`] (the plan file)
+//! and [`report`] (CSV, figures, Markdown). User documentation: `docs/bridge-check.md`.
+
+pub mod bridge;
+pub mod envelope;
+pub mod fe;
+pub mod filter;
+pub mod modal;
+pub mod plan;
+pub mod report;
+pub mod trains;
+
+use crate::framework::FemError;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Default output directory of `railfem bridge-check`.
+pub const DEFAULT_OUT: &str = "out/bridge_check";
+
+/// Everything the check found, for the report and the tests.
+#[derive(Debug, Clone)]
+pub struct Results {
+    /// The plan.
+    pub plan: plan::Plan,
+    /// The trains run.
+    pub trains: Vec<trains::Train>,
+    /// Vertical bending frequencies of the deck (Hz).
+    pub frequencies: Vec<f64>,
+    /// Determinant length (m) used for damping and Fig. 6.10.
+    pub length: f64,
+    /// Damping ratio and where it came from.
+    pub damping: (f64, String),
+    /// Rayleigh `(α, β)`.
+    pub rayleigh: (f64, f64),
+    /// Cut-off frequency (Hz).
+    pub cutoff: f64,
+    /// Time step (s).
+    pub dt: f64,
+    /// Equations of the FE deck.
+    pub equations: usize,
+    /// Every train-speed outcome, by train and speed.
+    pub outcomes: Vec<envelope::Outcome>,
+    /// Wall time of the envelope (s) and of the whole check (s).
+    pub seconds: (f64, f64),
+    /// Threads used.
+    pub threads: usize,
+    /// The modal reference at the governing case (simply supported single described span):
+    /// `(FE peak acceleration, modal peak acceleration, FE peak deflection, modal peak
+    /// deflection)`.
+    pub reference: Option<(f64, f64, f64, f64)>,
+}
+
+impl Results {
+    /// The outcome with the highest peak acceleration.
+    pub fn governing(&self) -> Option<&envelope::Outcome> {
+        self.outcomes
+            .iter()
+            .max_by(|a, b| a.acceleration.total_cmp(&b.acceleration))
+    }
+
+    /// The acceleration limit of the track (m/s²).
+    pub fn limit(&self) -> f64 {
+        self.plan.bridge.track.acceleration_limit()
+    }
+}
+
+/// The trains of a plan: the named built-ins (default HSLM-A1…A10, and HSLM-B on a simply
+/// supported span under 7 m), then the user's.
+pub fn plan_trains(p: &plan::Plan, file: &str) -> Result<Vec<trains::Train>, FemError> {
+    let span = p.bridge.spans.iter().fold(0.0f64, |m, &s| m.max(s));
+    let names: Vec<String> = match &p.trains {
+        Some(n) => n.clone(),
+        None => {
+            let mut n: Vec<String> = (1..=10).map(|i| format!("HSLM-A{i}")).collect();
+            if p.bridge.support == bridge::Support::SimplySupported && span < 7.0 {
+                n.push("HSLM-B".into());
+            }
+            n
+        }
+    };
+    let mut out = Vec::new();
+    for name in &names {
+        let t = trains::builtin(name, Some(span)).ok_or_else(|| {
+            FemError::input(
+                format!("{file}: trains"),
+                format!("`{name}` is not a built-in train; use HSLM-A1 … HSLM-A10 or HSLM-B (spans 1-7 m), or a [[train]] with a file"),
+            )
+        })?;
+        out.push(t);
+    }
+    for u in &p.train {
+        out.push(trains::read_user_train(&u.file, &u.name)?);
+    }
+    if out.is_empty() {
+        return Err(FemError::input(
+            format!("{file}: trains"),
+            "no train to run; name built-in trains or add a [[train]]",
+        ));
+    }
+    Ok(out)
+}
+
+/// The FE deck of a plan: described, or the model file's deck path.
+pub fn plan_deck(p: &plan::Plan, file: &str) -> Result<fe::Deck, FemError> {
+    let b = &p.bridge;
+    let modes = p.analysis.modes;
+    match &b.model {
+        Some(m) => {
+            let model = crate::load_model(m)?;
+            fe::Deck::new(model, &b.deck, modes, &m.display().to_string())
+        }
+        None => {
+            if b.support == bridge::Support::SimplySupported && b.spans.len() > 1 {
+                return Err(FemError::input(
+                    format!("{file}: bridge.spans"),
+                    "simply supported spans are independent: check one span per plan, or set support = \"continuous\"",
+                ));
+            }
+            let per = b.elements_per_span.unwrap_or(10);
+            let model =
+                fe::described_model(&b.spans, b.ei.unwrap_or(0.0), b.mass.unwrap_or(0.0), per)
+                    .build()?;
+            let ids: Vec<u64> = (1..=(per * b.spans.len()) as u64).collect();
+            fe::Deck::new(model, &ids, modes, file)
+        }
+    }
+}
+
+/// Runs the check of `plan_path` on `threads` threads and writes its outputs into `out`.
+pub fn check(plan_path: &Path, out: &Path, threads: usize) -> Result<Results, FemError> {
+    let t0 = Instant::now();
+    let file = plan_path.display().to_string();
+    let p = plan::Plan::read(plan_path)?;
+    let trains = plan_trains(&p, &file)?;
+    let deck = plan_deck(&p, &file)?;
+    let f = &deck.frequencies;
+    let n0 = *f.first().ok_or_else(|| {
+        FemError::input(
+            format!("{file}: bridge"),
+            "the deck has no vertical bending mode among the modes computed; raise analysis.modes",
+        )
+    })?;
+    let cutoff = filter::cutoff(n0, f.get(2).copied());
+    let length = bridge::determinant_length(&p.bridge.spans, p.bridge.support);
+    let damping = bridge::damping(&p.bridge, length);
+    let two_pi = 2.0 * std::f64::consts::PI;
+    let rayleigh = fe::rayleigh(damping.0, two_pi * n0, two_pi * cutoff);
+    let dt = 1.0 / (p.analysis.steps_per_period * cutoff);
+    let stepper = fe::Stepper::new(&deck, rayleigh.0, rayleigh.1, dt)?;
+    let mut statics = Vec::new();
+    for t in &trains {
+        statics.push(fe::Stepper::static_peak(&deck, t, p.analysis.static_step)?.0);
+    }
+    let c = envelope::Check {
+        deck: &deck,
+        stepper: &stepper,
+        trains: &trains,
+        statics: &statics,
+        cutoff,
+        tail: p.analysis.tail_periods / n0,
+    };
+    let te = Instant::now();
+    let outcomes = c.envelope(&p.coarse_speeds(), p.speeds.step, p.speeds.refine, threads)?;
+    let envelope_s = te.elapsed().as_secs_f64();
+    let mut r = Results {
+        plan: p,
+        trains: trains.clone(),
+        frequencies: deck.frequencies.clone(),
+        length,
+        damping,
+        rayleigh,
+        cutoff,
+        dt,
+        equations: deck.n,
+        outcomes,
+        seconds: (envelope_s, 0.0),
+        threads,
+        reference: None,
+    };
+    r.reference = governing_reference(&r, &deck, &c);
+    r.seconds.1 = t0.elapsed().as_secs_f64();
+    report::write(&r, out)?;
+    Ok(r)
+}
+
+/// On a described single simply supported span: the governing case again, beside the
+/// modal reference with 30 modes filtered the same way.
+fn governing_reference(
+    r: &Results,
+    deck: &fe::Deck,
+    c: &envelope::Check,
+) -> Option<(f64, f64, f64, f64)> {
+    let b = &r.plan.bridge;
+    if b.model.is_some() || b.spans.len() != 1 || b.support != bridge::Support::SimplySupported {
+        return None;
+    }
+    let g = *r.governing()?;
+    let span = modal::Span {
+        length: b.spans[0],
+        ei: b.ei?,
+        mass: b.mass?,
+    };
+    let train = &r.trains[g.train];
+    let v = g.speed / envelope::KMH;
+    let steps = c.steps(train, v);
+    let stations: Vec<f64> = deck.stations.iter().map(|s| s.station).collect();
+    let (al, be) = r.rayleigh;
+    let h = modal::response(&span, train, v, r.dt, steps + 1, &stations, 30, &|w| {
+        al / (2.0 * w) + be * w / 2.0
+    });
+    let mut lp = filter::LowPass::default();
+    let mut acc = 0.0f64;
+    let mut defl = 0.0f64;
+    for (a, y) in h.acceleration.iter().zip(&h.deflection) {
+        let mut a = a.clone();
+        lp.apply(&mut a, r.dt, r.cutoff);
+        acc = a.iter().fold(acc, |m, x| m.max(x.abs()));
+        defl = y.iter().fold(defl, |m, x| m.max(x.abs()));
+    }
+    Some((g.acceleration, acc, g.deflection, defl))
+}
+
+/// `railfem bridge-check PLAN.toml [--threads N] [--out DIR]`.
+pub fn command(a: &crate::cli::Args) -> Result<i32, FemError> {
+    let cl = "command line";
+    let plan: PathBuf = a
+        .positional
+        .first()
+        .map(PathBuf::from)
+        .ok_or_else(|| FemError::input(cl, "give the plan: railfem bridge-check PLAN.toml"))?;
+    let threads = match a.num("threads")? {
+        Some(t) if t >= 1.0 && t.fract() == 0.0 && t <= 1024.0 => t as usize,
+        Some(t) => {
+            return Err(FemError::input(
+                cl,
+                format!("--threads {t}: give a whole number of threads ≥ 1"),
+            ))
+        }
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT));
+    let r = check(&plan, &out, threads)?;
+    let g = r.governing().copied();
+    if let Some(g) = g {
+        let limit = r.limit();
+        println!(
+            "{}: {} runs in {:.1} s on {} threads; governing {} at {:.1} km/h: {:.3} m/s² at {:.2} m (limit {limit} m/s²) — {}",
+            plan.display(),
+            r.outcomes.len(),
+            r.seconds.0,
+            r.threads,
+            r.trains[g.train].name,
+            g.speed,
+            g.acceleration,
+            g.acc_station,
+            if g.acceleration <= limit { "passes" } else { "FAILS" }
+        );
+    }
+    println!("outputs in {}", out.display());
+    Ok(0)
+}
+
+/// `railfem trains`: the built-in trains.
+pub fn trains_command() -> Result<i32, FemError> {
+    print!("{}", trains::listing());
+    Ok(0)
+}
