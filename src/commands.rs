@@ -124,6 +124,9 @@ pub enum Command {
     /// Run a parameter study: a base case over the Cartesian product of a plan's axes, on
     /// threads or MPI ranks; study.csv, study.json, study.svg (docs/scale-out.md).
     Study(StudyCmd),
+    /// Running-safety and track-loading assessment of a run's wheel forces (EN 14363):
+    /// assessment.csv, assessment-summary.csv, assessment.svg (docs/assessment.md).
+    Assess(AssessCmd),
     /// Print a shell completion script (e.g. `railfem completions bash > ~/.local/share/bash-completion/completions/railfem`).
     Completions(CompletionsCmd),
 }
@@ -137,6 +140,58 @@ pub struct RunCmd {
     /// Output directory of the recorders and run.json [default: out].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Assess the run's wheel forces afterwards with the defaults of `railfem assess`.
+    #[arg(long)]
+    pub assess: bool,
+}
+
+/// `railfem assess`.
+#[derive(ClapArgs, Debug)]
+pub struct AssessCmd {
+    /// The output directory of a run (railfem run, curve, train-bridge).
+    #[arg(value_name = "RUN_DIR")]
+    pub run_dir: PathBuf,
+    /// Where to write the assessment [default: RUN_DIR].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Speed in m/s, to measure distance as V·t where no station was recorded [default:
+    /// none, the recorded station].
+    #[arg(long, value_name = "V")]
+    pub speed: Option<OsString>,
+    /// Static wheel load Q0 in N [default: each wheelset's mean wheel load over the run].
+    #[arg(long, value_name = "N")]
+    pub q0: Option<OsString>,
+    /// Low-pass cut-off of Y and Q in Hz [default: 20].
+    #[arg(long, value_name = "HZ")]
+    pub cutoff: Option<OsString>,
+    /// Window of the sliding means of Y/Q and ΣY in m [default: 2].
+    #[arg(long, value_name = "M")]
+    pub window: Option<OsString>,
+    /// Percentile of the quasi-static values over the section, in % [default: 50].
+    #[arg(long, value_name = "P")]
+    pub qst_percentile: Option<OsString>,
+    /// Percentile of the maximum values, in % [default: 99.85].
+    #[arg(long, value_name = "P")]
+    pub max_percentile: Option<OsString>,
+    /// First station of the quasi-static section in m [default: start of the run].
+    #[arg(long, value_name = "S")]
+    pub from: Option<OsString>,
+    /// Last station of the quasi-static section in m [default: end of the run].
+    #[arg(long, value_name = "S")]
+    pub to: Option<OsString>,
+    /// Flange angle of Nadal's limit in degrees [default: 70].
+    #[arg(long, value_name = "DEG")]
+    pub flange_angle: Option<OsString>,
+    /// Friction coefficient of Nadal's limit [default: 0.36].
+    #[arg(long, value_name = "MU")]
+    pub nadal_mu: Option<OsString>,
+    /// Y/Q limit given directly instead of Nadal's, e.g. 0.8 for R ≥ 250 m [default:
+    /// Nadal's, 1.20].
+    #[arg(long, value_name = "L")]
+    pub yq_limit: Option<OsString>,
+    /// Prud'homme's factor α: 1.0 passenger vehicles, 0.85 freight wagons [default: 1.0].
+    #[arg(long, value_name = "A")]
+    pub alpha: Option<OsString>,
 }
 
 /// `railfem matrices`.
@@ -206,14 +261,17 @@ pub struct CurveCmd {
     /// Anti-roll bar stiffness in N·m/rad [default: 0].
     #[arg(long, value_name = "K")]
     pub anti_roll: Option<OsString>,
-    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear or
-    /// polach (rolling-contact creep, docs/creep.md) [default: coulomb].
-    #[arg(long, value_name = "coulomb|kalker_linear|polach")]
+    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear, polach
+    /// or fastsim (rolling-contact creep, docs/creep.md) [default: coulomb].
+    #[arg(long, value_name = "coulomb|kalker_linear|polach|fastsim")]
     pub tangential: Option<OsString>,
     /// Polach's spin term with `--tangential polach`: off (his 2005 law) or polach_1999 (his
     /// spin-corrected lateral creepage and force, docs/creep.md) [default: off].
     #[arg(long, value_name = "off|polach_1999")]
     pub polach_spin: Option<OsString>,
+    /// Assess the wheel forces afterwards with the defaults of `railfem assess`.
+    #[arg(long)]
+    pub assess: bool,
 }
 
 /// `railfem critical-radius`.
@@ -246,10 +304,10 @@ pub struct CriticalCmd {
     /// Friction coefficient μ [default: 0.3].
     #[arg(long, value_name = "MU")]
     pub mu: Option<OsString>,
-    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear or
-    /// polach (rolling-contact creep; sliding onset = every contact at 99 % of μN for the
+    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear, polach
+    /// or fastsim (rolling-contact creep; sliding onset = every contact at 99 % of μN for the
     /// gross criterion, docs/creep.md) [default: coulomb]. Single runs only.
-    #[arg(long, value_name = "coulomb|kalker_linear|polach")]
+    #[arg(long, value_name = "coulomb|kalker_linear|polach|fastsim")]
     pub tangential: Option<OsString>,
     /// Polach's spin term with `--tangential polach`: off (his 2005 law) or polach_1999 (his
     /// spin-corrected lateral creepage and force, docs/creep.md) [default: off].
@@ -417,6 +475,10 @@ pub struct TrainBridgeCmd {
     /// [default: out/train_bridge].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Assess the wheel forces afterwards with the defaults of `railfem assess` (the
+    /// train's speed measures distance).
+    #[arg(long)]
+    pub assess: bool,
 }
 
 /// `railfem stress`.

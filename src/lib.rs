@@ -13,6 +13,7 @@ pub use railfem_elements as elements;
 pub use railfem_framework as framework;
 pub use railfem_solvers as solvers;
 
+pub mod assess;
 pub mod bench;
 pub mod bench_train;
 pub mod cli;

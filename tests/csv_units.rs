@@ -117,6 +117,7 @@ fn every_csv_header_field_carries_a_unit() {
         "10",
         "--out",
         &out("train_bridge"),
+        "--assess",
     ]);
     run_ok(&[
         "bench",
