@@ -74,10 +74,14 @@ pub struct SummaryRow {
 }
 
 impl SummaryRow {
-    /// The margin `(limit − value)/limit`: positive when the value is inside its limit
-    /// (NaN without a limit).
+    /// The margin `(limit − value)/limit`, or `limit − value` for a limit of zero (the
+    /// fatigue index): positive when the value is inside its limit (NaN without a limit).
     pub fn margin(&self) -> f64 {
-        (self.limit - self.value) / self.limit
+        if self.limit == 0.0 {
+            -self.value
+        } else {
+            (self.limit - self.value) / self.limit
+        }
     }
 }
 
@@ -417,7 +421,9 @@ pub fn table(a: &Assessment) -> String {
                 "-".into()
             }
         };
-        let margin = if r.margin().is_finite() {
+        let margin = if r.limit == 0.0 {
+            format!("{:.4}", r.margin())
+        } else if r.margin().is_finite() {
             format!("{:.1} %", 100.0 * r.margin())
         } else {
             "-".into()
