@@ -104,12 +104,18 @@ pub struct Assessment {
 
 /// The index and value of the largest `|x|` (finite values only).
 fn abs_max(x: &[f64]) -> (usize, f64) {
+    let abs: Vec<f64> = x.iter().map(|v| v.abs()).collect();
+    arg_max(&abs)
+}
+
+/// The index and value of the largest finite value of `x` (`(0, NaN)` for none).
+fn arg_max(x: &[f64]) -> (usize, f64) {
     x.iter()
         .enumerate()
         .filter(|(_, v)| v.is_finite())
-        .fold((0, f64::NAN), |(i0, m), (i, v)| {
-            if m.is_nan() || v.abs() > m {
-                (i, v.abs())
+        .fold((0, f64::NAN), |(i0, m), (i, &v)| {
+            if m.is_nan() || v > m {
+                (i, v)
             } else {
                 (i0, m)
             }
@@ -172,16 +178,7 @@ pub fn assess(
             let at = |i: usize| w.s.get(i).copied().unwrap_or(f64::NAN);
             out.summary
                 .push(row("Y/Q 2 m", &w.name, v, lim.yq(), "-", at(i)));
-            let (i, v) = dqq.iter().enumerate().filter(|(_, v)| v.is_finite()).fold(
-                (0, f64::NAN),
-                |(i0, m), (i, v)| {
-                    if m.is_nan() || *v > m {
-                        (i, *v)
-                    } else {
-                        (i0, m)
-                    }
-                },
-            );
+            let (i, v) = arg_max(&dqq);
             out.summary
                 .push(row("dQ/Q0", &w.name, v, lim.dqq_limit, "-", at(i)));
             let abs_y: Vec<f64> = y.iter().map(|v| v.abs()).collect();
@@ -268,16 +265,7 @@ pub fn assess(
                     .collect(),
             };
             if fi.iter().any(|v| v.is_finite()) {
-                let (i, v) = fi.iter().enumerate().filter(|(_, v)| v.is_finite()).fold(
-                    (0, f64::NAN),
-                    |(i0, m), (i, v)| {
-                        if m.is_nan() || *v > m {
-                            (i, *v)
-                        } else {
-                            (i0, m)
-                        }
-                    },
-                );
+                let (i, v) = arg_max(&fi);
                 out.summary
                     .push(row("FI_surf", &w.name, v, 0.0, "-", at(i)));
             }
