@@ -570,6 +570,7 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         "irregularity" => crate::irregularity::command(a),
         "study" => crate::study::command(a),
         "assess" => crate::assess::command(a),
+        "contact" => crate::contact_tool::command(a),
         "matrices" => {
             let path = model_arg(a)?;
             let out = a

@@ -127,6 +127,11 @@ pub enum Command {
     /// Running-safety and track-loading assessment of a run's wheel forces (EN 14363):
     /// assessment.csv, assessment-summary.csv, assessment.svg (docs/assessment.md).
     Assess(AssessCmd),
+    /// Wheel–rail contact of a wheelset on straight track over a lateral shift: contact
+    /// points, rolling radii, contact angles, Δr(y), equivalent conicity, Hertz ellipses,
+    /// creepages and creep forces; contact.csv, conicity.csv, contact.svg
+    /// (docs/contact-tool.md).
+    Contact(ContactCmd),
     /// Print a shell completion script (e.g. `railfem completions bash > ~/.local/share/bash-completion/completions/railfem`).
     Completions(CompletionsCmd),
 }
@@ -192,6 +197,63 @@ pub struct AssessCmd {
     /// Prud'homme's factor α: 1.0 passenger vehicles, 0.85 freight wagons [default: 1.0].
     #[arg(long, value_name = "A")]
     pub alpha: Option<OsString>,
+}
+
+/// `railfem contact`.
+#[derive(ClapArgs, Debug)]
+pub struct ContactCmd {
+    /// Output directory [default: out-contact].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Built-in profiles: s1002-60e1 or mbench (the Manchester contact benchmark's)
+    /// [default: s1002-60e1].
+    #[arg(long, value_name = "SET")]
+    pub profiles: Option<OsString>,
+    /// Wheel profile CSV (with --rail), instead of the built-in profiles.
+    #[arg(long, value_name = "FILE")]
+    pub wheel: Option<PathBuf>,
+    /// Rail profile CSV, upright (with --wheel).
+    #[arg(long, value_name = "FILE")]
+    pub rail: Option<PathBuf>,
+    /// Rail inclination of 60E1 or a CSV rail: 1:40, 1:20 or none [default: 1:40].
+    #[arg(long, value_name = "I")]
+    pub inclination: Option<OsString>,
+    /// Track gauge in m, at 14 mm below the rail top [default: 1.435].
+    #[arg(long, value_name = "M")]
+    pub gauge: Option<OsString>,
+    /// Back-to-back distance of the wheels in m [default: 1.360].
+    #[arg(long, value_name = "M")]
+    pub back_to_back: Option<OsString>,
+    /// Nominal rolling radius in m [default: 0.46].
+    #[arg(long, value_name = "M")]
+    pub radius: Option<OsString>,
+    /// One lateral shift in m (positive to the left) instead of a sweep.
+    #[arg(long, value_name = "M")]
+    pub y: Option<OsString>,
+    /// Sweep of the lateral shift from 0 to this value in m [default: 0.01].
+    #[arg(long, value_name = "M")]
+    pub y_max: Option<OsString>,
+    /// Step of the sweep in m [default: 0.0005].
+    #[arg(long, value_name = "M")]
+    pub y_step: Option<OsString>,
+    /// Yaw angle in rad [default: 0].
+    #[arg(long, value_name = "RAD")]
+    pub yaw: Option<OsString>,
+    /// Vertical load on each wheel in N [default: 50000].
+    #[arg(long, value_name = "N")]
+    pub load: Option<OsString>,
+    /// Speed in m/s [default: 20].
+    #[arg(long, value_name = "V")]
+    pub speed: Option<OsString>,
+    /// Friction coefficient [default: 0.3].
+    #[arg(long, value_name = "MU")]
+    pub mu: Option<OsString>,
+    /// Young's modulus of wheel and rail in Pa [default: 2.1e11].
+    #[arg(long, value_name = "PA")]
+    pub young: Option<OsString>,
+    /// Poisson's ratio of wheel and rail [default: 0.28].
+    #[arg(long, value_name = "NU")]
+    pub poisson: Option<OsString>,
 }
 
 /// `railfem matrices`.

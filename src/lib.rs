@@ -18,6 +18,7 @@ pub mod bench;
 pub mod bench_train;
 pub mod cli;
 pub mod commands;
+pub mod contact_tool;
 pub mod cpu_time;
 pub mod critical;
 pub mod curve;

@@ -45,6 +45,7 @@ fn every_command_has_help_naming_each_option_with_unit_or_default() {
         "irregularity",
         "study",
         "assess",
+        "contact",
         "completions",
     ] {
         assert!(

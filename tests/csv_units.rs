@@ -119,6 +119,7 @@ fn every_csv_header_field_carries_a_unit() {
         &out("train_bridge"),
         "--assess",
     ]);
+    run_ok(&["contact", "--y", "0.003", "--out", &out("contact")]);
     run_ok(&[
         "bench",
         "--sizes",
