@@ -507,6 +507,9 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
                     p.ranks, p.owned_blocks, p.blocks, p.comm.bytes_sent, p.comm.bytes_received, p.comm.collectives
                 );
             }
+            if a.flag("assess") {
+                crate::assess::after_run(&out, None)?;
+            }
             Ok(0)
         }
         "elements" => {
@@ -534,6 +537,8 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         "study" => crate::study::command(a),
         "bridge-check" => crate::bridge_check::command(a),
         "trains" => crate::bridge_check::trains_command(),
+        "assess" => crate::assess::command(a),
+        "contact" => crate::contact_tool::command(a),
         "matrices" => {
             let path = model_arg(a)?;
             let out = a
@@ -648,6 +653,9 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     );
     if let Some(e) = &r.energy_summary {
         println!("{e}");
+    }
+    if a.flag("assess") {
+        crate::assess::after_run(&out, None)?;
     }
     Ok(0)
 }
@@ -971,10 +979,10 @@ fn critical(a: &Args) -> Result<i32, FemError> {
         }
     };
     let tangential = a.opt("tangential").unwrap_or("coulomb");
-    if !["coulomb", "kalker_linear", "polach"].contains(&tangential) {
+    if !["coulomb", "kalker_linear", "polach", "fastsim"].contains(&tangential) {
         return Err(FemError::input(
             "command line",
-            format!("--tangential {tangential}: use coulomb, kalker_linear or polach"),
+            format!("--tangential {tangential}: use coulomb, kalker_linear, polach or fastsim"),
         ));
     }
     if a.flags.iter().any(|f| f == "sweep") {
@@ -1314,6 +1322,9 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
             e.min_q.0,
             e.min_q.1
         );
+    }
+    if a.flag("assess") {
+        crate::assess::after_run(&out, Some(c.speed))?;
     }
     Ok(0)
 }

@@ -129,6 +129,14 @@ pub enum Command {
     BridgeCheck(BridgeCheckCmd),
     /// List the built-in trains (HSLM-A1…A10, HSLM-B): axle counts, lengths, loads.
     Trains,
+    /// Running-safety and track-loading assessment of a run's wheel forces (EN 14363):
+    /// assessment.csv, assessment-summary.csv, assessment.svg (docs/assessment.md).
+    Assess(AssessCmd),
+    /// Wheel–rail contact of a wheelset on straight track over a lateral shift: contact
+    /// points, rolling radii, contact angles, Δr(y), equivalent conicity, Hertz ellipses,
+    /// creepages and creep forces; contact.csv, conicity.csv, contact.svg
+    /// (docs/contact-tool.md).
+    Contact(ContactCmd),
     /// Print a shell completion script (e.g. `railfem completions bash > ~/.local/share/bash-completion/completions/railfem`).
     Completions(CompletionsCmd),
 }
@@ -142,6 +150,115 @@ pub struct RunCmd {
     /// Output directory of the recorders and run.json [default: out].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Assess the run's wheel forces afterwards with the defaults of `railfem assess`.
+    #[arg(long)]
+    pub assess: bool,
+}
+
+/// `railfem assess`.
+#[derive(ClapArgs, Debug)]
+pub struct AssessCmd {
+    /// The output directory of a run (railfem run, curve, train-bridge).
+    #[arg(value_name = "RUN_DIR")]
+    pub run_dir: PathBuf,
+    /// Where to write the assessment [default: RUN_DIR].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Speed in m/s, to measure distance as V·t where no station was recorded [default:
+    /// none, the recorded station].
+    #[arg(long, value_name = "V")]
+    pub speed: Option<OsString>,
+    /// Static wheel load Q0 in N [default: each wheelset's mean wheel load over the run].
+    #[arg(long, value_name = "N")]
+    pub q0: Option<OsString>,
+    /// Low-pass cut-off of Y and Q in Hz [default: 20].
+    #[arg(long, value_name = "HZ")]
+    pub cutoff: Option<OsString>,
+    /// Window of the sliding means of Y/Q and ΣY in m [default: 2].
+    #[arg(long, value_name = "M")]
+    pub window: Option<OsString>,
+    /// Percentile of the quasi-static values over the section, in % [default: 50].
+    #[arg(long, value_name = "P")]
+    pub qst_percentile: Option<OsString>,
+    /// Percentile of the maximum values, in % [default: 99.85].
+    #[arg(long, value_name = "P")]
+    pub max_percentile: Option<OsString>,
+    /// First station of the quasi-static section in m [default: start of the run].
+    #[arg(long, value_name = "S")]
+    pub from: Option<OsString>,
+    /// Last station of the quasi-static section in m [default: end of the run].
+    #[arg(long, value_name = "S")]
+    pub to: Option<OsString>,
+    /// Flange angle of Nadal's limit in degrees [default: 70].
+    #[arg(long, value_name = "DEG")]
+    pub flange_angle: Option<OsString>,
+    /// Friction coefficient of Nadal's limit [default: 0.36].
+    #[arg(long, value_name = "MU")]
+    pub nadal_mu: Option<OsString>,
+    /// Y/Q limit given directly instead of Nadal's, e.g. 0.8 for R ≥ 250 m [default:
+    /// Nadal's, 1.20].
+    #[arg(long, value_name = "L")]
+    pub yq_limit: Option<OsString>,
+    /// Prud'homme's factor α: 1.0 passenger vehicles, 0.85 freight wagons [default: 1.0].
+    #[arg(long, value_name = "A")]
+    pub alpha: Option<OsString>,
+}
+
+/// `railfem contact`.
+#[derive(ClapArgs, Debug)]
+pub struct ContactCmd {
+    /// Output directory [default: out-contact].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Built-in profiles: s1002-60e1 or mbench (the Manchester contact benchmark's)
+    /// [default: s1002-60e1].
+    #[arg(long, value_name = "SET")]
+    pub profiles: Option<OsString>,
+    /// Wheel profile CSV (with --rail), instead of the built-in profiles.
+    #[arg(long, value_name = "FILE")]
+    pub wheel: Option<PathBuf>,
+    /// Rail profile CSV, upright (with --wheel).
+    #[arg(long, value_name = "FILE")]
+    pub rail: Option<PathBuf>,
+    /// Rail inclination of 60E1 or a CSV rail: 1:40, 1:20 or none [default: 1:40].
+    #[arg(long, value_name = "I")]
+    pub inclination: Option<OsString>,
+    /// Track gauge in m, at 14 mm below the rail top [default: 1.435].
+    #[arg(long, value_name = "M")]
+    pub gauge: Option<OsString>,
+    /// Back-to-back distance of the wheels in m [default: 1.360].
+    #[arg(long, value_name = "M")]
+    pub back_to_back: Option<OsString>,
+    /// Nominal rolling radius in m [default: 0.46].
+    #[arg(long, value_name = "M")]
+    pub radius: Option<OsString>,
+    /// One lateral shift in m (positive to the left) instead of a sweep.
+    #[arg(long, value_name = "M")]
+    pub y: Option<OsString>,
+    /// Sweep of the lateral shift from 0 to this value in m [default: 0.01].
+    #[arg(long, value_name = "M")]
+    pub y_max: Option<OsString>,
+    /// Step of the sweep in m [default: 0.0005].
+    #[arg(long, value_name = "M")]
+    pub y_step: Option<OsString>,
+    /// Yaw angle in rad [default: 0].
+    #[arg(long, value_name = "RAD")]
+    pub yaw: Option<OsString>,
+    /// Vertical load on each wheel in N [default: 50000].
+    #[arg(long, value_name = "N")]
+    pub load: Option<OsString>,
+    /// Speed in m/s [default: 20].
+    #[arg(long, value_name = "V")]
+    pub speed: Option<OsString>,
+    /// Friction coefficient [default: 0.3].
+    #[arg(long, value_name = "MU")]
+    pub mu: Option<OsString>,
+    /// Young's modulus of wheel and rail in Pa [default: 2.1e11].
+    #[arg(long, value_name = "PA")]
+    pub young: Option<OsString>,
+    /// Poisson's ratio of wheel and rail [default: 0.28].
+    #[arg(long, value_name = "NU")]
+    pub poisson: Option<OsString>,
 }
 
 /// `railfem matrices`.
@@ -215,14 +332,17 @@ pub struct CurveCmd {
     /// Anti-roll bar stiffness in N·m/rad [default: 0].
     #[arg(long, value_name = "K")]
     pub anti_roll: Option<OsString>,
-    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear or
-    /// polach (rolling-contact creep, docs/creep.md) [default: coulomb].
-    #[arg(long, value_name = "coulomb|kalker_linear|polach")]
+    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear, polach
+    /// or fastsim (rolling-contact creep, docs/creep.md) [default: coulomb].
+    #[arg(long, value_name = "coulomb|kalker_linear|polach|fastsim")]
     pub tangential: Option<OsString>,
     /// Polach's spin term with `--tangential polach`: off (his 2005 law) or polach_1999 (his
     /// spin-corrected lateral creepage and force, docs/creep.md) [default: off].
     #[arg(long, value_name = "off|polach_1999")]
     pub polach_spin: Option<OsString>,
+    /// Assess the wheel forces afterwards with the defaults of `railfem assess`.
+    #[arg(long)]
+    pub assess: bool,
 }
 
 /// `railfem critical-radius`.
@@ -255,10 +375,10 @@ pub struct CriticalCmd {
     /// Friction coefficient μ [default: 0.3].
     #[arg(long, value_name = "MU")]
     pub mu: Option<OsString>,
-    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear or
-    /// polach (rolling-contact creep; sliding onset = every contact at 99 % of μN for the
+    /// Tangential contact law of the wheels: coulomb (the paper's), kalker_linear, polach
+    /// or fastsim (rolling-contact creep; sliding onset = every contact at 99 % of μN for the
     /// gross criterion, docs/creep.md) [default: coulomb]. Single runs only.
-    #[arg(long, value_name = "coulomb|kalker_linear|polach")]
+    #[arg(long, value_name = "coulomb|kalker_linear|polach|fastsim")]
     pub tangential: Option<OsString>,
     /// Polach's spin term with `--tangential polach`: off (his 2005 law) or polach_1999 (his
     /// spin-corrected lateral creepage and force, docs/creep.md) [default: off].
@@ -426,6 +546,10 @@ pub struct TrainBridgeCmd {
     /// [default: out/train_bridge].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Assess the wheel forces afterwards with the defaults of `railfem assess` (the
+    /// train's speed measures distance).
+    #[arg(long)]
+    pub assess: bool,
 }
 
 /// `railfem stress`.

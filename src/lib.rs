@@ -14,12 +14,14 @@ pub use railfem_framework as framework;
 pub use railfem_solvers as solvers;
 
 pub mod args;
+pub mod assess;
 pub mod atomic_file;
 pub mod bench;
 pub mod bench_train;
 pub mod bridge_check;
 pub mod cli;
 pub mod commands;
+pub mod contact_tool;
 pub mod cpu_time;
 pub mod critical;
 pub mod curve;

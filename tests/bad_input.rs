@@ -326,7 +326,7 @@ fn curve_command_refuses_bad_options() {
         vec!["curve", "--dt", "0", "--quick", "--quiet"],
         vec!["curve", "--speed", "abc"],
         vec!["critical-radius", "--criterion", "tipping"],
-        vec!["critical-radius", "--tangential", "fastsim"],
+        vec!["critical-radius", "--tangential", "contact"],
         vec!["critical-radius", "--sweep", "--tangential", "polach"],
         vec![
             "curve",
@@ -665,11 +665,25 @@ fn non_physical_vehicle_values_are_refused() {
         ),
         (
             "law",
-            "wheel = {tangential = \"fastsim\"}",
+            "wheel = {tangential = \"contact\"}",
             &[
                 "moving_axle",
-                "`tangential` = \"fastsim\"",
-                "\"kalker_linear\" or \"polach\"",
+                "`tangential` = \"contact\"",
+                "\"kalker_linear\", \"polach\" or \"fastsim\"",
+            ][..],
+        ),
+        (
+            "fstrips",
+            "wheel = {tangential = \"fastsim\", fastsim_strips = 1}",
+            &["moving_axle", "`fastsim_strips` = 1", "give 2 to 400"][..],
+        ),
+        (
+            "fignored",
+            "wheel = {tangential = \"kalker_linear\", fastsim_elements = 30}",
+            &[
+                "moving_axle",
+                "`fastsim_elements` would be ignored",
+                "set `tangential = \"fastsim\"`",
             ][..],
         ),
         (

@@ -44,6 +44,8 @@ fn every_command_has_help_naming_each_option_with_unit_or_default() {
         "pareto",
         "irregularity",
         "study",
+        "assess",
+        "contact",
         "completions",
     ] {
         assert!(

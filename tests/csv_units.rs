@@ -117,7 +117,9 @@ fn every_csv_header_field_carries_a_unit() {
         "10",
         "--out",
         &out("train_bridge"),
+        "--assess",
     ]);
+    run_ok(&["contact", "--y", "0.003", "--out", &out("contact")]);
     run_ok(&[
         "bench",
         "--sizes",

@@ -52,6 +52,7 @@
 
 use super::contact_geometry::{candidate_window, rail_node_gap};
 use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent, Status};
+use super::creep::fastsim::FastsimGrid;
 use super::creep::hertz::{hertz_ellipse, Curvatures};
 use super::creep::kalker::kalker_coefficients;
 use super::creep::law::{EllipseShape, Material, TangentialLaw};
@@ -109,7 +110,8 @@ railfem_framework::element_params! {
         /// Static wheel load for ΔQ/Q (N); 0 = the load at the first converged state.
         static_load: f64 ["N"] = 0.0,
         /// Tangential law: "coulomb" (the paper's penalty friction), "kalker_linear"
-        /// (Kalker's linear creep, Shen–Hedrick–Elkins saturation) or "polach" (Polach 2005).
+        /// (Kalker's linear creep, Shen–Hedrick–Elkins saturation), "polach" (Polach 2005)
+        /// or "fastsim" (Kalker's FASTSIM, 1982).
         tangential: String [""] = "coulomb",
         /// Shear modulus G of wheel and rail steel (Pa), creep laws only.
         shear_modulus: f64 ["Pa"] = 8.0e10,
@@ -127,6 +129,10 @@ railfem_framework::element_params! {
         /// (the spin-corrected lateral creepage and force of his 1999 method; about 1.8× the
         /// Newton iterations in the curve case, docs/creep.md).
         polach_spin: String [""] = "off",
+        /// FASTSIM's strips across the contact patch (-), 2–400.
+        fastsim_strips: usize ["-"] = 20,
+        /// FASTSIM's elements along each strip (-), 2–400.
+        fastsim_elements: usize ["-"] = 20,
     }
 }
 
@@ -298,10 +304,17 @@ pub fn ignored_keys(params: &serde_json::Map<String, serde_json::Value>) -> Opti
             ));
         }
     }
+    for key in ["fastsim_strips", "fastsim_elements"] {
+        if params.contains_key(key) && law != "fastsim" {
+            return Some(format!(
+                "`{key}` would be ignored: it is a constant of `tangential = \"fastsim\"`, but the law is \"{law}\"; remove `{key}` or set `tangential = \"fastsim\"`"
+            ));
+        }
+    }
     for key in ["shear_modulus", "poisson"] {
         if params.contains_key(key) && law == "coulomb" {
             return Some(format!(
-                "`{key}` would be ignored: the \"coulomb\" law has no contact ellipse; remove `{key}` or choose `tangential = \"kalker_linear\"` or \"polach\""
+                "`{key}` would be ignored: the \"coulomb\" law has no contact ellipse; remove `{key}` or choose `tangential = \"kalker_linear\"`, \"polach\" or \"fastsim\""
             ));
         }
     }
@@ -497,9 +510,28 @@ fn creep_law(p: &MovingAxleParams) -> Result<Option<(TangentialLaw, Material)>, 
                 }
             },
         },
+        "fastsim" => {
+            let range = FastsimGrid::MIN..=FastsimGrid::MAX;
+            for (key, v) in [
+                ("fastsim_strips", p.fastsim_strips),
+                ("fastsim_elements", p.fastsim_elements),
+            ] {
+                if !range.contains(&v) {
+                    return Err(format!(
+                        "`{key}` = {v}; give {} to {} (default 20)",
+                        FastsimGrid::MIN,
+                        FastsimGrid::MAX
+                    ));
+                }
+            }
+            TangentialLaw::fastsim(FastsimGrid {
+                strips: p.fastsim_strips,
+                elements: p.fastsim_elements,
+            })
+        }
         s => {
             return Err(format!(
-                "`tangential` = \"{s}\"; use \"coulomb\", \"kalker_linear\" or \"polach\""
+                "`tangential` = \"{s}\"; use \"coulomb\", \"kalker_linear\", \"polach\" or \"fastsim\""
             ))
         }
     };
@@ -1403,6 +1435,7 @@ impl Element for MovingAxle {
                 v.push(format!("c{i}_{f}"));
             }
         }
+        v.push("t_gamma".into());
         v
     }
 
@@ -1410,7 +1443,7 @@ impl Element for MovingAxle {
         // In the order of `output_names`: station, Q, Y, X, YQ, dQQ, the three counts,
         // spring_f2, the two contact angles, contact_y, contact_z; per point p1..p3
         // rail_y, wheel_y, fn, mode (a code); rolling_radius, attack_angle; per creep slot
-        // radius, xi_x, xi_y (ratios), spin (rad/m), fx, fy, the ellipse's semi-axes a, b.
+        // radius, xi_x, xi_y (ratios), spin (rad/m), fx, fy, the ellipse's semi-axes a, b; then t_gamma.
         let mut v: Vec<String> = [
             "m", "N", "N", "N", "-", "-", "-", "-", "-", "N", "rad", "rad", "m", "m",
         ]
@@ -1424,6 +1457,7 @@ impl Element for MovingAxle {
         for _ in 1..=CREEP_SLOTS {
             v.extend(["m", "-", "-", "1/m", "N", "N", "m", "m"].map(String::from));
         }
+        v.push("N".into());
         v
     }
 
@@ -1496,6 +1530,18 @@ impl Element for MovingAxle {
                 None => out.extend_from_slice(&[0.0; 8]),
             }
         }
+        // Wear number of the whole wheel: the creep forces' work per unit distance rolled,
+        // −Σ(Fx·ξx + Fy·ξy) over every contact point (what `commit` dissipates per metre).
+        let t_gamma = if self.rolling.is_some() {
+            -self
+                .creep_out
+                .iter()
+                .map(|c| c[3] * c[0] + c[4] * c[1])
+                .sum::<f64>()
+        } else {
+            0.0
+        };
+        out.push(t_gamma);
     }
 
     fn parameters(&self) -> serde_json::Value {
@@ -1606,6 +1652,7 @@ fn samples() -> Vec<Sample> {
     let mut v = sample_states(SlidingTangent::Consistent);
     v.extend(creep_samples("kalker_linear"));
     v.extend(creep_samples("polach"));
+    v.extend(creep_samples("fastsim"));
     v
 }
 
@@ -2009,7 +2056,7 @@ mod creep_tests {
     /// on the loads of the patch's other nodes.
     #[test]
     fn rolling_samples_have_multi_node_patches() {
-        for law in ["kalker_linear", "polach"] {
+        for law in ["kalker_linear", "polach", "fastsim"] {
             let mut any = false;
             for mut s in creep_samples(law) {
                 tangent_at(&mut s);
@@ -2028,7 +2075,7 @@ mod creep_tests {
     /// sample has nonzero creepage, the saturated one at μN.
     #[test]
     fn rolling_samples_exercise_the_creep_tangent() {
-        for law in ["kalker_linear", "polach"] {
+        for law in ["kalker_linear", "polach", "fastsim"] {
             for mut s in creep_samples(law) {
                 let k = tangent_at(&mut s);
                 let mut o = Vec::new();

@@ -125,6 +125,8 @@ pub struct SideContact {
     pub wheel_y: f64,
     /// Lateral profile coordinate of the contact on the rail (m, towards the field side).
     pub rail_y: f64,
+    /// Parameter of the contact point on the wheel spline ([`WheelProfile::spline`]).
+    pub wheel_t: f64,
     /// Rolling radius (m).
     pub rolling_radius: f64,
     /// Contact angle δ in the track frame (rad, see the module doc).
@@ -224,6 +226,11 @@ impl WheelsetGeometry {
             0.5 * gauge + 0.036,
             nominal_radius,
         )
+    }
+
+    /// The left rail's surface `z(y)` (m) in its profile coordinates, as the search sees it.
+    pub fn rail_surface(&self) -> &CubicSpline {
+        &self.rail
     }
 
     /// Wheel point at parameter `t` in the track frame for side `s` (+1 left, −1 right).
@@ -329,6 +336,7 @@ impl WheelsetGeometry {
         SideContact {
             wheel_y: p.x,
             rail_y: g.rail_y,
+            wheel_t: g.t,
             rolling_radius: self.nominal_radius - p.y,
             contact_angle: up.atan2(out),
             lateral_position: s * yt,

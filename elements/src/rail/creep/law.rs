@@ -10,11 +10,14 @@
 //!   running on adhesion limit", Wear 258 (2005) 992–1000, built on his closed form of 1999
 //!   ("A fast wheel–rail forces calculation computer code", Vehicle System Dynamics 33
 //!   suppl., 728–739), with the spin term of the latter ([`polach`]).
+//! - [`TangentialLaw::Fastsim`]: Kalker's FASTSIM (1982) on a patch of strips × elements,
+//!   its flexibilities from `C11, C22, C23` ([`super::fastsim`]).
 //!
 //! The ellipse semi-axes scale with the load, `a = a_ref·(N/N_ref)^{1/3}` (Hertz), from an
 //! ellipse computed once per contact point and step at `N_ref` ([`EllipseShape`]).
 
 use super::dual::D4;
+use super::fastsim::{fastsim, FastsimGrid, PatchSums};
 use super::kalker::CreepCoefficients;
 use std::f64::consts::PI;
 
@@ -32,6 +35,19 @@ pub enum TangentialLaw {
         b: f64,
         spin: bool,
     },
+    /// Kalker's FASTSIM on the patch `grid`, with the grid's quadrature sums `sums`
+    /// (made by [`TangentialLaw::fastsim`]).
+    Fastsim { grid: FastsimGrid, sums: PatchSums },
+}
+
+impl TangentialLaw {
+    /// FASTSIM on `grid`.
+    pub fn fastsim(grid: FastsimGrid) -> TangentialLaw {
+        TangentialLaw::Fastsim {
+            grid,
+            sums: PatchSums::of(&grid),
+        }
+    }
 }
 
 /// One parameter set of Polach's model: reduction factors `kA`, `kS`, friction at zero
@@ -146,6 +162,15 @@ pub fn creep_forces(
                 [x, y, sp, n],
             )
         }
+        TangentialLaw::Fastsim { grid, sums } => fastsim(
+            &grid,
+            &sums,
+            (scale * shape.a_ref, scale * shape.b_ref),
+            g,
+            c,
+            mat.mu,
+            [x, y, sp, n],
+        ),
     }
 }
 

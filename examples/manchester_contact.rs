@@ -1,0 +1,10 @@
+//! The Manchester contact benchmark with `railfem contact`'s geometry, side by side with
+//! CONTACT's reference numbers: prints the markdown table of docs/contact-tool.md.
+//!
+//! `cargo run --release --example manchester_contact`
+
+fn main() -> Result<(), railfem::framework::FemError> {
+    let rows = railfem::contact_tool::manchester::compare()?;
+    print!("{}", railfem::contact_tool::manchester::markdown(&rows));
+    Ok(())
+}

@@ -1,0 +1,470 @@
+//! `railfem contact`: the contact of a wheelset on straight track, evaluated without a
+//! dynamic run. For each lateral shift `y` (and a yaw `ψ`): per wheel, the contact points on
+//! wheel and rail, rolling radius, contact angle, the wheelset roll and `Δr(y)` (rigid
+//! profiles, `railfem_elements::rail::creep::conicity`), Hertz's ellipse (`creep::hertz`),
+//! the creepages of steady rolling and the creep forces of the three tangential laws
+//! (`creep::law`); the equivalent conicity `λ_e(ŷ)` (EN 15302, harmonic linearisation); a
+//! figure of `Δr(y)` and of the contact positions. Outputs: `contact.csv`,
+//! `conicity.csv`, `contact.svg` and `.png` (docs/contact-tool.md).
+//!
+//! What lives elsewhere: the profile pairs and their placement on the track ([`profiles`]).
+//!
+//! # Contact mechanics of one wheel (the formulas)
+//!
+//! - Normal load: `N = Q/cos δ`, `Q` the vertical wheel load and `δ` the contact angle (the
+//!   vertical component of the lateral creep force is left out; docs/contact-tool.md
+//!   shows its size).
+//! - Hertz: the wheel's longitudinal radius in the contact's normal plane is `r/cos δ`
+//!   (Meusnier's theorem for the surface of revolution), its transverse curvature that of
+//!   the profile curve, the rail's longitudinal curvature 0 and its transverse curvature
+//!   that of its profile curve, convex positive.
+//! - Creepages of steady rolling at speed `V` with the wheelset turning at `V/r0` (no
+//!   traction), yaw `ψ` and `ẏ = 0`, in the contact plane (the nonlinear form of the
+//!   linear-wheelset creepages of `creep::linear_wheelset`):
+//!   `ξx = (r0 − r)/r0`, `ξy = −ψ/cos δ`, `φ = ∓sin δ/r` (left/right wheel).
+
+pub mod manchester;
+pub mod profiles;
+
+use crate::cli::Args;
+use crate::elements::rail::creep::conicity::{
+    equivalent_conicity, secant_conicity, ConicityError, SideContact, WheelsetContact,
+    WheelsetGeometry,
+};
+use crate::elements::rail::creep::fastsim::FastsimGrid;
+use crate::elements::rail::creep::hertz::{hertz_ellipse, Curvatures, HertzEllipse};
+use crate::elements::rail::creep::kalker::kalker_coefficients;
+use crate::elements::rail::creep::law::{
+    creep_forces, EllipseShape, Material, TangentialLaw, POLACH_DRY,
+};
+use crate::elements::rail::profiles::Inclination;
+use crate::framework::plot::{Figure, Panel, Series, Style};
+use crate::framework::FemError;
+use profiles::{PlacedProfiles, ProfileSet};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// Amplitudes (m) at which `conicity.csv` gives `λ_e`: 1 … 8 mm (EN 15302 quotes 3 mm).
+pub const CONICITY_AMPLITUDES_MM: [f64; 8] = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0];
+
+/// A wheelset on a track and its operating point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactCase {
+    /// Profiles.
+    pub profiles: ProfileSet,
+    /// Track gauge (m).
+    pub gauge: f64,
+    /// Back-to-back distance of the wheels (m).
+    pub back_to_back: f64,
+    /// Nominal rolling radius r0 (m).
+    pub radius: f64,
+    /// Yaw angle ψ (rad).
+    pub yaw: f64,
+    /// Vertical load on each wheel Q (N).
+    pub load: f64,
+    /// Speed V (m/s).
+    pub speed: f64,
+    /// Friction coefficient μ.
+    pub mu: f64,
+    /// Young's modulus of wheel and rail (Pa).
+    pub young: f64,
+    /// Poisson's ratio of wheel and rail.
+    pub poisson: f64,
+}
+
+impl Default for ContactCase {
+    fn default() -> Self {
+        Self {
+            profiles: ProfileSet::S1002On60E1(Inclination::OneIn40),
+            gauge: 1.435,
+            back_to_back: 1.360,
+            radius: 0.46,
+            yaw: 0.0,
+            load: 50e3,
+            speed: 20.0,
+            mu: 0.3,
+            young: 210e9,
+            poisson: 0.28,
+        }
+    }
+}
+
+/// Creep forces `(Fx, Fy)` (N) on the wheel, in the contact plane, of the three laws.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawForces {
+    /// Kalker's linear theory saturated by Shen–Hedrick–Elkins.
+    pub kalker: (f64, f64),
+    /// Polach (2005), dry-rail reduction factors, with spin.
+    pub polach: (f64, f64),
+    /// FASTSIM on 20 × 20 elements.
+    pub fastsim: (f64, f64),
+}
+
+/// One wheel's contact patch at one shift.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Patch {
+    /// The geometric contact.
+    pub geometry: SideContact,
+    /// Normal load N (N).
+    pub normal: f64,
+    /// Hertz's ellipse, `None` where the surfaces conform (`B ≤ 0`).
+    pub hertz: Option<HertzEllipse>,
+    /// Creepages `ξx`, `ξy` (−) and spin `φ` (1/m).
+    pub creepage: [f64; 3],
+    /// Creep forces, `None` without an ellipse.
+    pub forces: Option<LawForces>,
+}
+
+/// The wheelset at one shift.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShiftResult {
+    /// Rigid contact geometry.
+    pub contact: WheelsetContact,
+    /// Left wheel.
+    pub left: Patch,
+    /// Right wheel.
+    pub right: Patch,
+}
+
+/// The wheelset geometry of `case` with its profiles.
+pub fn geometry(case: &ContactCase) -> Result<(WheelsetGeometry, PlacedProfiles), FemError> {
+    let placed = case.profiles.load()?;
+    let g = WheelsetGeometry::new(
+        placed.wheel.clone(),
+        &placed.rail,
+        0.5 * case.back_to_back + placed.flange_back,
+        0.5 * case.gauge - placed.gauge_y,
+        case.radius,
+    )
+    .map_err(conicity_error)?;
+    Ok((g, placed))
+}
+
+fn conicity_error(e: ConicityError) -> FemError {
+    FemError::input("railfem contact", e.to_string())
+}
+
+/// Signed curvature (1/m) of a plane curve with first and second derivatives `d`, `dd`:
+/// `(x'y'' − y'x'')/|r'|³`, positive when it turns counter-clockwise.
+fn curvature(d: nalgebra::Vector2<f64>, dd: nalgebra::Vector2<f64>) -> f64 {
+    (d.x * dd.y - d.y * dd.x) / d.norm().powi(3)
+}
+
+fn patch(
+    case: &ContactCase,
+    geom: &WheelsetGeometry,
+    c: &SideContact,
+    side: f64,
+) -> Result<Patch, FemError> {
+    let (cd, sd) = (c.contact_angle.cos(), c.contact_angle.sin());
+    let normal = case.load / cd;
+    let spline = geom.wheel.spline();
+    // The wheel is traversed towards the field side with its material above: a tread
+    // convex towards the rail turns counter-clockwise.
+    let kw = curvature(
+        spline.derivative(c.wheel_t),
+        spline.second_derivative(c.wheel_t),
+    );
+    let rail = geom.rail_surface();
+    let (dz, ddz) = (rail.derivative(c.rail_y), rail.second_derivative(c.rail_y));
+    let kr = -ddz / (1.0 + dz * dz).powf(1.5);
+    let curv = Curvatures {
+        wheel_rolling_radius: c.rolling_radius / cd,
+        wheel_transverse: kw,
+        rail_transverse: kr,
+    };
+    let creepage = [
+        (case.radius - c.rolling_radius) / case.radius,
+        -case.yaw / cd,
+        -side * sd / c.rolling_radius,
+    ];
+    let hertz = hertz_ellipse(&curv, normal, case.young, case.poisson).ok();
+    let forces = match hertz {
+        None => None,
+        Some(h) => {
+            let coeff = kalker_coefficients(h.a / h.b, case.poisson)
+                .map_err(|e| FemError::input("railfem contact", e.to_string()))?;
+            let shape = EllipseShape {
+                n_ref: normal,
+                a_ref: h.a,
+                b_ref: h.b,
+                c: coeff,
+            };
+            let mat = Material {
+                shear_modulus: case.young / (2.0 * (1.0 + case.poisson)),
+                mu: case.mu,
+            };
+            let input = [creepage[0], creepage[1], creepage[2], normal];
+            let f = |law: &TangentialLaw| {
+                let (fx, fy) = creep_forces(law, &shape, &mat, case.speed, input);
+                (fx.v, fy.v)
+            };
+            Some(LawForces {
+                kalker: f(&TangentialLaw::KalkerLinear),
+                polach: f(&TangentialLaw::Polach {
+                    ka: POLACH_DRY.ka,
+                    ks: POLACH_DRY.ks,
+                    a: POLACH_DRY.a,
+                    b: POLACH_DRY.b,
+                    spin: true,
+                }),
+                fastsim: f(&TangentialLaw::fastsim(FastsimGrid::DEFAULT)),
+            })
+        }
+    };
+    Ok(Patch {
+        geometry: *c,
+        normal,
+        hertz,
+        creepage,
+        forces,
+    })
+}
+
+/// The wheelset at shift `y` (m, positive to the left).
+pub fn evaluate(
+    case: &ContactCase,
+    geom: &WheelsetGeometry,
+    y: f64,
+) -> Result<ShiftResult, FemError> {
+    let contact = geom.contact(y).map_err(conicity_error)?;
+    Ok(ShiftResult {
+        contact,
+        left: patch(case, geom, &contact.left, 1.0)?,
+        right: patch(case, geom, &contact.right, -1.0)?,
+    })
+}
+
+/// CSV header of `contact.csv`.
+pub const CONTACT_HEADER: &str = "y [m],wheel [-],roll [rad],delta_r [m],wheel_y [m],rail_y [m],\
+lateral_position [m],rolling_radius [m],contact_angle [rad],N [N],a [m],b [m],xi_x [-],\
+xi_y [-],spin [1/m],Fx_kalker [N],Fy_kalker [N],Fx_polach [N],Fy_polach [N],\
+Fx_fastsim [N],Fy_fastsim [N]";
+
+/// The rows of `contact.csv`.
+pub fn contact_csv(results: &[ShiftResult]) -> String {
+    let mut s = String::from(CONTACT_HEADER);
+    s.push('\n');
+    for r in results {
+        for (name, p) in [("left", &r.left), ("right", &r.right)] {
+            let g = &p.geometry;
+            let (a, b) = p.hertz.map_or((f64::NAN, f64::NAN), |h| (h.a, h.b));
+            let nan = (f64::NAN, f64::NAN);
+            let f = p
+                .forces
+                .map_or([nan; 3], |f| [f.kalker, f.polach, f.fastsim]);
+            let _ = writeln!(
+                s,
+                "{},{name},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6e},\
+                 {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
+                r.contact.shift,
+                r.contact.roll,
+                r.contact.delta_r(),
+                g.wheel_y,
+                g.rail_y,
+                g.lateral_position,
+                g.rolling_radius,
+                g.contact_angle,
+                p.normal,
+                a,
+                b,
+                p.creepage[0],
+                p.creepage[1],
+                p.creepage[2],
+                f[0].0,
+                f[0].1,
+                f[1].0,
+                f[1].1,
+                f[2].0,
+                f[2].1
+            );
+        }
+    }
+    s
+}
+
+/// The figure: `Δr(y)`, and the contact positions on wheel and rail over `y` (mm).
+pub fn figure(results: &[ShiftResult]) -> Figure {
+    let y: Vec<f64> = results.iter().map(|r| r.contact.shift * 1e3).collect();
+    let col = |f: &dyn Fn(&ShiftResult) -> f64| results.iter().map(|r| f(r) * 1e3).collect();
+    Figure::new()
+        .with(
+            Panel::new(
+                "Rolling-radius difference",
+                "lateral shift y [mm]",
+                "Δr = r_L − r_R [mm]",
+            )
+            .with(Series::new(
+                "Δr",
+                y.clone(),
+                col(&|r| r.contact.delta_r()),
+                Style::Line,
+                "#1f77b4",
+            )),
+        )
+        .with(
+            Panel::new(
+                "Contact positions (profile coordinates, + towards the field side)",
+                "lateral shift y [mm]",
+                "position [mm]",
+            )
+            .with(Series::new(
+                "left wheel",
+                y.clone(),
+                col(&|r| r.left.geometry.wheel_y),
+                Style::Line,
+                "#1f77b4",
+            ))
+            .with(Series::new(
+                "right wheel",
+                y.clone(),
+                col(&|r| r.right.geometry.wheel_y),
+                Style::Dashed,
+                "#1f77b4",
+            ))
+            .with(Series::new(
+                "left rail",
+                y.clone(),
+                col(&|r| r.left.geometry.rail_y),
+                Style::Line,
+                "#d62728",
+            ))
+            .with(Series::new(
+                "right rail",
+                y,
+                col(&|r| r.right.geometry.rail_y),
+                Style::Dashed,
+                "#d62728",
+            )),
+        )
+}
+
+/// The shifts of a sweep `0, step, …, y_max` (both signs of `y_max` allowed).
+pub fn sweep(y_max: f64, step: f64) -> Vec<f64> {
+    let n = (y_max.abs() / step).round() as usize;
+    (0..=n)
+        .map(|k| (k as f64 * step).min(y_max.abs()) * y_max.signum())
+        .collect()
+}
+
+fn positive(a: &Args, key: &str, default: f64) -> Result<f64, FemError> {
+    let v = a.num(key)?.unwrap_or(default);
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(FemError::input(
+            "command line",
+            format!("--{key} {v}: must be positive (SI units: m, N, m/s, Pa)"),
+        ))
+    }
+}
+
+fn inclination(a: &Args) -> Result<Inclination, FemError> {
+    match a.opt("inclination").unwrap_or("1:40") {
+        "1:40" => Ok(Inclination::OneIn40),
+        "1:20" => Ok(Inclination::OneIn20),
+        "none" => Ok(Inclination::None),
+        v => Err(FemError::input(
+            "command line",
+            format!("--inclination {v}: use 1:40, 1:20 or none"),
+        )),
+    }
+}
+
+/// The case of a command line.
+pub fn case_from_args(a: &Args) -> Result<ContactCase, FemError> {
+    let d = ContactCase::default();
+    let profiles = match (a.opt("profiles"), a.path("wheel"), a.path("rail")) {
+        (_, Some(w), Some(r)) => ProfileSet::Files {
+            wheel: w.to_path_buf(),
+            rail: r.to_path_buf(),
+            inclination: inclination(a)?,
+        },
+        (_, Some(_), None) | (_, None, Some(_)) => {
+            return Err(FemError::input(
+                "command line",
+                "--wheel and --rail go together; fix: give both CSV files or neither",
+            ))
+        }
+        (None | Some("s1002-60e1"), None, None) => ProfileSet::S1002On60E1(inclination(a)?),
+        (Some("mbench"), None, None) => ProfileSet::ManchesterBenchmark,
+        (Some(v), None, None) => {
+            return Err(FemError::input(
+                "command line",
+                format!("--profiles {v}: use s1002-60e1 or mbench"),
+            ))
+        }
+    };
+    let poisson = a.num("poisson")?.unwrap_or(d.poisson);
+    if !(0.0..0.5).contains(&poisson) {
+        return Err(FemError::input(
+            "command line",
+            format!("--poisson {poisson}: must lie in [0, 0.5)"),
+        ));
+    }
+    Ok(ContactCase {
+        profiles,
+        gauge: positive(a, "gauge", d.gauge)?,
+        back_to_back: positive(a, "back-to-back", d.back_to_back)?,
+        radius: positive(a, "radius", d.radius)?,
+        yaw: a.num("yaw")?.unwrap_or(0.0),
+        load: positive(a, "load", d.load)?,
+        speed: positive(a, "speed", d.speed)?,
+        mu: positive(a, "mu", d.mu)?,
+        young: positive(a, "young", d.young)?,
+        poisson,
+    })
+}
+
+/// `railfem contact`.
+pub fn command(a: &Args) -> Result<i32, FemError> {
+    let case = case_from_args(a)?;
+    let shifts = match (a.num("y")?, a.num("y-max")?) {
+        (Some(_), Some(_)) => {
+            return Err(FemError::input(
+                "command line",
+                "--y and --y-max exclude each other; fix: give one shift or a sweep",
+            ))
+        }
+        (Some(y), None) => vec![y],
+        (None, y_max) => sweep(y_max.unwrap_or(0.01), positive(a, "y-step", 5e-4)?),
+    };
+    let out = a.out.clone().unwrap_or_else(|| "out-contact".into());
+    let (geom, _) = geometry(&case)?;
+    let results = shifts
+        .iter()
+        .map(|&y| evaluate(&case, &geom, y))
+        .collect::<Result<Vec<_>, _>>()?;
+    std::fs::create_dir_all(&out).map_err(|e| FemError::output(&out, e))?;
+    write(&out.join("contact.csv"), &contact_csv(&results))?;
+    let mut con = String::from("amplitude [m],lambda_e [-],secant [-]\n");
+    for amp in CONICITY_AMPLITUDES_MM.map(|v| v * 1e-3) {
+        let le = equivalent_conicity(&geom, amp).map_err(conicity_error)?;
+        let ls = secant_conicity(&geom, amp).map_err(conicity_error)?;
+        let _ = writeln!(con, "{amp},{le:.6},{ls:.6}");
+        if amp == 3e-3 {
+            println!("equivalent conicity λ_e(3 mm) = {le:.4} (EN 15302 amplitude)");
+        }
+    }
+    write(&out.join("conicity.csv"), &con)?;
+    if results.len() > 1 {
+        figure(&results)
+            .write_svg_and_png(out.join("contact.svg"))
+            .map_err(|e| FemError::output(out.join("contact.svg"), e))?;
+    }
+    println!(
+        "{} shifts: contact.csv, conicity.csv{} in {}",
+        results.len(),
+        if results.len() > 1 {
+            ", contact.svg"
+        } else {
+            ""
+        },
+        out.display()
+    );
+    Ok(0)
+}
+
+fn write(path: &Path, text: &str) -> Result<(), FemError> {
+    std::fs::write(path, text).map_err(|e| FemError::output(path, e))
+}
