@@ -162,3 +162,28 @@ fn contact_command_refuses_bad_input_with_exit_2() {
         assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
     }
 }
+
+/// The gauge point 14 mm below the top of the upright 60E1 lies on its R13 gauge corner
+/// (centre (−23.016, −14.949) mm): y = −23.016 − √(13² − 0.949²) = −35.9813 mm. Linear
+/// interpolation between nodes 0.4 mm apart on R13 errs by less than 0.4²/(8·13) mm.
+#[test]
+fn gauge_point_of_60e1_lies_on_its_gauge_corner() {
+    use railfem::contact_tool::profiles::gauge_point;
+    use railfem::elements::rail::profiles::{Inclination, RailProfile};
+    let rail = RailProfile::uic60(401, Inclination::None);
+    let y = gauge_point(rail.nodes()).unwrap() * 1e3;
+    let exact = -23.016 - (13.0f64 * 13.0 - 0.949 * 0.949).sqrt();
+    assert!((y - exact).abs() < 2e-3, "{y} vs {exact}");
+}
+
+/// The benchmark rail's gauge point, found in its file, places the rail where CONTACT puts
+/// it: CONTACT's centred contact is at YCP(TR) = 751.8726 mm, YCP(R) = −8.66 mm from the
+/// rail origin, so the origin is at 760.5326 mm and the gauge point (at 717.5 mm) at
+/// −43.0326 mm. CONTACT interpolates the file's nodes by splines, we linearly between
+/// nodes about 0.15 mm apart on the gauge face, which moves the 14 mm crossing by a few
+/// micrometres: 5 µm.
+#[test]
+fn manchester_rail_sits_where_contact_puts_it() {
+    let p = railfem::contact_tool::profiles::manchester().unwrap();
+    assert!((p.gauge_y * 1e3 + 43.0326).abs() < 5e-3, "{}", p.gauge_y);
+}
