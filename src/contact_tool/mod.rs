@@ -143,7 +143,14 @@ pub fn geometry(case: &ContactCase) -> Result<(WheelsetGeometry, PlacedProfiles)
 }
 
 fn conicity_error(e: ConicityError) -> FemError {
-    FemError::input("railfem contact", e.to_string())
+    let message = match e {
+        ConicityError::NoOverlap { side, shift } => format!(
+            "at a lateral shift of {shift} m the {side} wheel has no point over its rail; \
+             fix: a smaller --y or --y-max, or check --gauge and --back-to-back"
+        ),
+        e => e.to_string(),
+    };
+    FemError::input("railfem contact", message)
 }
 
 /// Signed curvature (1/m) of a plane curve with first and second derivatives `d`, `dd`:
