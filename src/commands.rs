@@ -232,7 +232,8 @@ pub struct ContactCmd {
     /// Nominal rolling radius in m [default: 0.46].
     #[arg(long, value_name = "M")]
     pub radius: Option<OsString>,
-    /// One lateral shift in m (positive to the left) instead of a sweep.
+    /// One lateral shift of the axle centre in m (positive to the left) instead of a sweep
+    /// [default: none, the sweep].
     #[arg(long, value_name = "M")]
     pub y: Option<OsString>,
     /// Sweep of the lateral shift from 0 to this value in m [default: 0.01].
@@ -241,7 +242,7 @@ pub struct ContactCmd {
     /// Step of the sweep in m [default: 0.0005].
     #[arg(long, value_name = "M")]
     pub y_step: Option<OsString>,
-    /// Yaw angle in rad [default: 0].
+    /// Yaw angle in rad, for the lateral creepage [default: 0].
     #[arg(long, value_name = "RAD")]
     pub yaw: Option<OsString>,
     /// Vertical load on each wheel in N [default: 50000].

@@ -9,35 +9,50 @@ fn rel(p: Pair) -> f64 {
     (p.ours / p.contact - 1.0).abs()
 }
 
-/// Shifts 1 … 4.5 mm: one contact per wheel on the treads, away from the contact jumps
-/// (0 → 0.5 mm and 4.5 → 5.5 mm, where the patch is a band of several millimetres and
-/// CONTACT's reference point, its centre, is not a rigid touch point). There the elastic
-/// patch (half-width 1.5–6 mm at 10 kN) is nearly symmetric about the rigid touch point:
-/// positions agree to 0.5 mm (a tenth of a patch width); angles, Δr and roll, which vary
-/// smoothly along the tread, to 5 %. CONTACT ran with yaw 2.4·y rad/m, ours without: on the
-/// tread the yaw's lead of the contact, r0·tan δ·ψ < 0.1 mm, changes none of these by more
-/// than 1e-3 (docs/contact-tool.md).
+/// CONTACT's numbers are those of an elastic patch at 10 kN (its contact reference point,
+/// the patch centre; elastic approach 0.016 mm), ours of rigid profiles (the first touch
+/// point); both codes shift the axle centre. Away from the contact jumps of this pair
+/// (0 → 0.5 mm and 4.5 → 5 mm, where the patch spans both contact zones), i.e. at
+/// 1.5–4.5 mm and 5.5–10 mm (flange contact from 6.5 mm), the patch is small and nearly
+/// symmetric about the rigid point: positions agree to 0.25 mm (a tenth of the smallest
+/// patch half-width, 2.5 mm), contact angles to 1 mrad or 2 % (CONTACT prints 0.1 mrad;
+/// the patch's mean normal differs from the point's by the profile curvature over the
+/// patch), Δr to 2.5 % and the roll to 5 % (differences of the order of the elastic
+/// approach, 0.02 mm in Δr, 0.02 mrad in roll). Next to the jumps (1 and 5 mm) the bounds
+/// are 0.6 mm, 4 % (angles), 6 % (Δr) and 8 % (roll). CONTACT ran with yaw 2.4·y rad/m, ours without: its lead of the
+/// contact, below 5 mm (CONTACT's XCP), moves the profiles by lead·ψ < 0.12 mm laterally.
 #[test]
-fn manchester_benchmark_tread_geometry_agrees_with_contact() {
+fn manchester_benchmark_geometry_agrees_with_contact() {
     let rows = compare().unwrap();
     assert_eq!(rows.len(), CONTACT_A22.len());
     let mut checked = 0;
-    for c in rows.iter().filter(|c| (1.0..=4.5).contains(&c.y_mm)) {
+    for c in rows.iter().filter(|c| c.y_mm >= 1.0) {
         checked += 1;
-        assert!(rel(c.roll) < 0.05, "y {} roll {:?}", c.y_mm, c.roll);
-        assert!(rel(c.delta_r) < 0.05, "y {} Δr {:?}", c.y_mm, c.delta_r);
+        let near_jump = c.y_mm == 1.0 || c.y_mm == 5.0;
+        let (pos, dr, roll, angle) = if near_jump {
+            (0.6, 0.06, 0.08, 0.04)
+        } else {
+            (0.25, 0.025, 0.05, 0.02)
+        };
+        assert!(rel(c.roll) < roll, "y {} roll {:?}", c.y_mm, c.roll);
+        assert!(rel(c.delta_r) < dr, "y {} Δr {:?}", c.y_mm, c.delta_r);
         for (k, w) in c.wheels.iter().enumerate() {
             for (what, p) in [("wheel_y", w[0]), ("rail_y", w[1])] {
                 assert!(
-                    (p.ours - p.contact).abs() < 0.5,
+                    (p.ours - p.contact).abs() < pos,
                     "y {} wheel {k} {what} {p:?}",
                     c.y_mm
                 );
             }
-            assert!(rel(w[2]) < 0.05, "y {} wheel {k} δ {:?}", c.y_mm, w[2]);
+            let d = w[2];
+            assert!(
+                (d.ours - d.contact).abs() < (1.0f64).max(angle * d.contact.abs()),
+                "y {} wheel {k} δ {d:?}",
+                c.y_mm
+            );
         }
     }
-    assert_eq!(checked, 8);
+    assert_eq!(checked, 19);
     // Centred, both contacts lie on the field side of the tape circle, as CONTACT's patch
     // centre does (1.87 mm), within the 16 mm wide patch it finds there.
     let c0 = &rows[0];
@@ -49,8 +64,8 @@ fn manchester_benchmark_tread_geometry_agrees_with_contact() {
     }
 }
 
-/// Flange contact is reached between 6 and 7.5 mm (CONTACT: 6.5 mm; the jump of the
-/// contact angle above 1 rad) on the flange-side wheel only.
+/// Flange contact (contact angle above 1 rad) starts at 6.5 mm in both codes, on the
+/// flange-side wheel only.
 #[test]
 fn manchester_benchmark_flange_contact_onset() {
     let rows = compare().unwrap();
@@ -63,8 +78,7 @@ fn manchester_benchmark_flange_contact_onset() {
             .map(|c| c.y_mm)
     };
     assert_eq!(onset(false), Some(6.5));
-    let ours = onset(true).unwrap();
-    assert!((6.0..=7.5).contains(&ours), "flange contact from {ours} mm");
+    assert_eq!(onset(true), Some(6.5));
     assert!(rows.iter().all(|c| c.wheels[1][2].ours < 100.0));
 }
 
@@ -147,4 +161,29 @@ fn contact_command_refuses_bad_input_with_exit_2() {
         assert!(err.contains(says), "{args:?}: {err}");
         assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
     }
+}
+
+/// The gauge point 14 mm below the top of the upright 60E1 lies on its R13 gauge corner
+/// (centre (−23.016, −14.949) mm): y = −23.016 − √(13² − 0.949²) = −35.9813 mm. Linear
+/// interpolation between nodes 0.4 mm apart on R13 errs by less than 0.4²/(8·13) mm.
+#[test]
+fn gauge_point_of_60e1_lies_on_its_gauge_corner() {
+    use railfem::contact_tool::profiles::gauge_point;
+    use railfem::elements::rail::profiles::{Inclination, RailProfile};
+    let rail = RailProfile::uic60(401, Inclination::None);
+    let y = gauge_point(rail.nodes()).unwrap() * 1e3;
+    let exact = -23.016 - (13.0f64 * 13.0 - 0.949 * 0.949).sqrt();
+    assert!((y - exact).abs() < 2e-3, "{y} vs {exact}");
+}
+
+/// The benchmark rail's gauge point, found in its file, places the rail where CONTACT puts
+/// it: CONTACT's centred contact is at YCP(TR) = 751.8726 mm, YCP(R) = −8.66 mm from the
+/// rail origin, so the origin is at 760.5326 mm and the gauge point (at 717.5 mm) at
+/// −43.0326 mm. CONTACT interpolates the file's nodes by splines, we linearly between
+/// nodes about 0.15 mm apart on the gauge face, which moves the 14 mm crossing by a few
+/// micrometres: 5 µm.
+#[test]
+fn manchester_rail_sits_where_contact_puts_it() {
+    let p = railfem::contact_tool::profiles::manchester().unwrap();
+    assert!((p.gauge_y * 1e3 + 43.0326).abs() < 5e-3, "{}", p.gauge_y);
 }

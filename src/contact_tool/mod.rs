@@ -1,5 +1,5 @@
 //! `railfem contact`: the contact of a wheelset on straight track, evaluated without a
-//! dynamic run. For each lateral shift `y` (and a yaw `ψ`): per wheel, the contact points on
+//! dynamic run. For each lateral shift `y` of the axle centre (and a yaw `ψ`): per wheel, the contact points on
 //! wheel and rail, rolling radius, contact angle, the wheelset roll and `Δr(y)` (rigid
 //! profiles, `railfem_elements::rail::creep::conicity`), Hertz's ellipse (`creep::hertz`),
 //! the creepages of steady rolling and the creep forces of the three tangential laws
@@ -118,7 +118,9 @@ pub struct Patch {
 /// The wheelset at one shift.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShiftResult {
-    /// Rigid contact geometry.
+    /// Lateral shift of the axle centre (m).
+    pub y_axle: f64,
+    /// Rigid contact geometry (its `shift` is that of the tape-circle level).
     pub contact: WheelsetContact,
     /// Left wheel.
     pub left: Patch,
@@ -141,7 +143,14 @@ pub fn geometry(case: &ContactCase) -> Result<(WheelsetGeometry, PlacedProfiles)
 }
 
 fn conicity_error(e: ConicityError) -> FemError {
-    FemError::input("railfem contact", e.to_string())
+    let message = match e {
+        ConicityError::NoOverlap { side, shift } => format!(
+            "at a lateral shift of {shift} m the {side} wheel has no point over its rail; \
+             fix: a smaller --y or --y-max, or check --gauge and --back-to-back"
+        ),
+        e => e.to_string(),
+    };
+    FemError::input("railfem contact", message)
 }
 
 /// Signed curvature (1/m) of a plane curve with first and second derivatives `d`, `dd`:
@@ -221,14 +230,70 @@ fn patch(
     })
 }
 
-/// The wheelset at shift `y` (m, positive to the left).
+/// Bisection steps of [`contact_at_axle_shift`] (the bracket shrinks to 2⁻⁶⁰ of its width).
+const AXLE_SHIFT_STEPS: usize = 60;
+
+/// The rigid contact at the lateral shift `y_axle` (m) of the **axle centre**.
+///
+/// The conicity module's pose shifts the wheelset's tape-circle level by `y` and rolls it
+/// by `φ` about that level; the axle centre, `r0` above it, then stands at
+/// `y_axle = y − r0·sin φ` (pose formula of `creep::conicity` with `(Y, Z) = (0, r0)`).
+/// Codes and the Manchester benchmark give the shift of the wheelset centre, which differs
+/// from `y` by `r0·φ` — 2 to 5 mm in flange contact, where the roll reaches 4–11 mrad. The
+/// root of `g(y) = y − r0·sin φ(y) − y_axle` is bracketed from `y = y_axle` (where
+/// `g = −r0 sin φ`, of the sign opposite to the roll's) by steps of 1 mm outward, then
+/// bisected. Where `g` is not monotone (a contact jump, `r0·φ' > 1`), the root nearest to
+/// `y_axle` is taken.
+pub fn contact_at_axle_shift(
+    geom: &WheelsetGeometry,
+    y_axle: f64,
+) -> Result<WheelsetContact, ConicityError> {
+    let r0 = geom.nominal_radius;
+    let g = |c: &WheelsetContact| c.shift - r0 * c.roll.sin() - y_axle;
+    let mut lo = geom.contact(y_axle)?;
+    let g_lo = g(&lo);
+    if g_lo == 0.0 {
+        return Ok(lo);
+    }
+    let dir = -g_lo.signum();
+    let mut hi = lo;
+    for k in 1..=40 {
+        hi = geom.contact(y_axle + dir * 1e-3 * k as f64)?;
+        if g(&hi) * g_lo <= 0.0 {
+            break;
+        }
+        lo = hi;
+    }
+    if g(&hi) * g_lo > 0.0 {
+        return Err(ConicityError::NotConverged {
+            shift: y_axle,
+            gap_left: g(&hi),
+            gap_right: g_lo,
+        });
+    }
+    for _ in 0..AXLE_SHIFT_STEPS {
+        let mid = geom.contact(0.5 * (lo.shift + hi.shift))?;
+        if g(&mid) * g_lo > 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if (hi.shift - lo.shift).abs() < 1e-12 {
+            break;
+        }
+    }
+    Ok(if g(&lo).abs() < g(&hi).abs() { lo } else { hi })
+}
+
+/// The wheelset at the axle-centre shift `y_axle` (m, positive to the left).
 pub fn evaluate(
     case: &ContactCase,
     geom: &WheelsetGeometry,
-    y: f64,
+    y_axle: f64,
 ) -> Result<ShiftResult, FemError> {
-    let contact = geom.contact(y).map_err(conicity_error)?;
+    let contact = contact_at_axle_shift(geom, y_axle).map_err(conicity_error)?;
     Ok(ShiftResult {
+        y_axle,
         contact,
         left: patch(case, geom, &contact.left, 1.0)?,
         right: patch(case, geom, &contact.right, -1.0)?,
@@ -236,7 +301,8 @@ pub fn evaluate(
 }
 
 /// CSV header of `contact.csv`.
-pub const CONTACT_HEADER: &str = "y [m],wheel [-],roll [rad],delta_r [m],wheel_y [m],rail_y [m],\
+pub const CONTACT_HEADER: &str =
+    "y [m],y_tape [m],wheel [-],roll [rad],delta_r [m],wheel_y [m],rail_y [m],\
 lateral_position [m],rolling_radius [m],contact_angle [rad],N [N],a [m],b [m],xi_x [-],\
 xi_y [-],spin [1/m],Fx_kalker [N],Fy_kalker [N],Fx_polach [N],Fy_polach [N],\
 Fx_fastsim [N],Fy_fastsim [N]";
@@ -255,8 +321,9 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
                 .map_or([nan; 3], |f| [f.kalker, f.polach, f.fastsim]);
             let _ = writeln!(
                 s,
-                "{},{name},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6e},\
+                "{},{:.9e},{name},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6e},\
                  {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
+                r.y_axle,
                 r.contact.shift,
                 r.contact.roll,
                 r.contact.delta_r(),
@@ -285,13 +352,13 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
 
 /// The figure: `Δr(y)`, and the contact positions on wheel and rail over `y` (mm).
 pub fn figure(results: &[ShiftResult]) -> Figure {
-    let y: Vec<f64> = results.iter().map(|r| r.contact.shift * 1e3).collect();
+    let y: Vec<f64> = results.iter().map(|r| r.y_axle * 1e3).collect();
     let col = |f: &dyn Fn(&ShiftResult) -> f64| results.iter().map(|r| f(r) * 1e3).collect();
     Figure::new()
         .with(
             Panel::new(
                 "Rolling-radius difference",
-                "lateral shift y [mm]",
+                "lateral shift of the axle y [mm]",
                 "Δr = r_L − r_R [mm]",
             )
             .with(Series::new(
@@ -305,7 +372,7 @@ pub fn figure(results: &[ShiftResult]) -> Figure {
         .with(
             Panel::new(
                 "Contact positions (profile coordinates, + towards the field side)",
-                "lateral shift y [mm]",
+                "lateral shift of the axle y [mm]",
                 "position [mm]",
             )
             .with(Series::new(
