@@ -108,8 +108,8 @@ fn a_recorder_that_cannot_be_written_stops_the_run_in_one_line_with_whole_lines(
 #[test]
 fn a_run_json_that_cannot_be_written_stops_the_run_in_one_line() {
     let dir = temp_dir("full-disk-run-json");
-    // Three steps: recorders of a few hundred bytes, under a limit run.json is over.
-    let model = sdof(&dir, 0.015);
+    // Two steps: recorders of a few hundred bytes, under a limit run.json is over.
+    let model = sdof(&dir, 0.01);
     let out = dir.join("out");
     let o = railfem_limited(
         &[
