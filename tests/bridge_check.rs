@@ -594,3 +594,51 @@ fn der_and_lir_envelope_the_single_mode_resonance() {
         );
     }
 }
+
+/// The LIR influence factor is the residual vibration of one load, exactly: one axle
+/// crosses a 20 m span (n₀ = 5 Hz, ζ = 2 %) at `K = λ/(2L)` = 0.6 and at 1 (the 0/0 point of
+/// the undamped form); after it leaves, the first mode's acceleration `|q̈|·e^{ζω(t−T)}`
+/// peaks at the free vibration's amplitude (`|s|² = ω²` for `s = ω(−ζ ± i√(1−ζ²))`), which
+/// must equal `(2P/(μL))·A(K)` up to the `ω_d ≈ ω` of the derivation (order ζ² = 4e-4) and
+/// the sampling (1e-6 at 2000 samples a period): within 0.2 %.
+#[test]
+fn lir_influence_factor_is_the_residual_vibration_of_one_load() {
+    use railfem::bridge_check::bridge::simply_supported_frequency;
+    use railfem::bridge_check::simplified::{influence, Method};
+    let (l, ei, mass, zeta, p) = (20.0, 3.24e10, 20e3, 0.02, 1e5);
+    let span = Span {
+        length: l,
+        ei,
+        mass,
+    };
+    let n0 = simply_supported_frequency(1, l, ei, mass);
+    let w = 2.0 * PI * n0;
+    let one = Train {
+        name: "one".into(),
+        axles: vec![Axle {
+            position: 0.0,
+            load: p,
+        }],
+        regular_spacing: None,
+    };
+    for k in [0.6, 1.0] {
+        let v = 2.0 * k * l * n0;
+        let dt = 1.0 / (2000.0 * n0);
+        let exit = l / v;
+        let n = ((exit + 2.0 / n0) / dt) as usize;
+        let h = response(&span, &one, v, dt, n, &[l / 2.0], 1, &|_| zeta);
+        let amp = h.acceleration[0]
+            .iter()
+            .enumerate()
+            .map(|(i, a)| (i as f64 * dt, a))
+            .filter(|(t, _)| *t > exit + dt && *t < exit + 1.0 / n0)
+            .fold(0.0f64, |m, (t, a)| {
+                m.max(a.abs() * (zeta * w * (t - exit)).exp())
+            });
+        let lir = 2.0 * p / (mass * l) * influence(Method::Lir, k, zeta);
+        assert!(
+            (lir / amp - 1.0).abs() < 2e-3,
+            "K = {k}: LIR {lir:.6} m/s², residual {amp:.6} m/s²"
+        );
+    }
+}

@@ -18,13 +18,16 @@
 //! so the free vibration the load leaves behind (undamped) has the acceleration amplitude
 //! `(2P/(μL))·ω·|1 + e^{iωT}|·Ω/|ω² − Ω²|`. With `Ω/ω = K = λ/(2L)` and `ωT = π/K`:
 //! `(2P/M)·K/|1 − K²|·|1 + e^{iπ/K}|`, `M = μL` the span's mass. The two terms are the
-//! load's entry and exit; with damping the entry's share has decayed by `e^{−ζπ/K}` when the
-//! load leaves, which gives the influence factor of the residual influence line:
+//! load's entry and exit. With damping the Duhamel integral has `e^{sτ}`, `s = ω(ζ − i)`
+//! (taking `ω_d ≈ ω`, an error of order `ζ²`), in place of `e^{iωτ}`: the same integral
+//! gives `Ω·(1 + e^{sT})/(s² + Ω²)`, and seen from the exit the entry's share has decayed
+//! by `e^{−ζπ/K}`. This is the influence factor of the residual influence line:
 //!
-//! `A(K) = K/|1 − K²| · √(1 + e^{−2ζπ/K} + 2·e^{−ζπ/K}·cos(π/K))`.
+//! `A(K) = K·√(1 + e^{−2ζπ/K} + 2·e^{−ζπ/K}·cos(π/K)) / √((K² − 1 + ζ²)² + 4ζ²)`,
 //!
-//! At `K = 1` (`λ = 2L`, the load's own half sine in tune with the mode) both numerator and
-//! denominator vanish; the limit is `π/2` (undamped), which [`influence`] uses near there.
+//! which is `K/|1 − K²|·√(…)` up to terms in `ζ²` away from `K = 1` and stays finite there
+//! (`λ = 2L`, the load's own half sine in tune with the mode): undamped the limit is `π/2`,
+//! which [`influence`] uses at `K = 1` for `ζ = 0`.
 //!
 //! # LIR: the residual vibration of the train
 //!
@@ -70,18 +73,19 @@ fn entry_exit(k: f64, zeta: f64) -> f64 {
     (1.0 + e * e + 2.0 * e * (PI / k).cos()).max(0.0).sqrt()
 }
 
-/// The span's influence factor `A(K)` of the method, `K = λ/(2L)` (module documentation).
-/// Near `K = 1` the 0/0 form is replaced by its limit: the integral of the entry–exit
-/// transfer at `Ω = ω` directly, `π/2` undamped (damped: `(π/4)·(1 + e^{−ζπ})`).
+/// The span's influence factor `A(K)` of the method, `K = λ/(2L)` (module documentation):
+/// damped for LIR, undamped for DER. Undamped, `K = 1` is a 0/0 form whose limit, the
+/// integral `∫₀ᵀ sin²(ωτ) dτ·ω = π/2`, is used within 1e-6 of it.
 pub fn influence(method: Method, k: f64, zeta: f64) -> f64 {
     let z = match method {
         Method::Der => 0.0,
         Method::Lir => zeta,
     };
-    if (k - 1.0).abs() < 1e-6 {
-        return PI / 4.0 * (1.0 + (-z * PI).exp());
+    if z == 0.0 && (k - 1.0).abs() < 1e-6 {
+        return PI / 2.0;
     }
-    k / (1.0 - k * k).abs() * entry_exit(k, z)
+    let den = (k * k - 1.0 + z * z).hypot(2.0 * z);
+    k * entry_exit(k, z) / den
 }
 
 /// The train's aggressivity spectrum `G(λ)` (N) of the method at wavelength `λ` (m) and
