@@ -6,7 +6,7 @@
 //!
 //! One job per module: [`trains`] (HSLM and user trains), [`bridge`] (the description and
 //! the standard's rules for damping, limits and frequencies), [`modal`] (the modal
-//! reference solution), [`filter`] (the frequency cut-off), [`fe`] (the finite element
+//! reference solution), [`filter`] (the frequency cut-off), [`simplified`] (the DER and LIR methods of ERRI D214), [`fe`] (the finite element
 //! deck and its step), [`envelope`] (the speed sweep on threads), [`plan`] (the plan file)
 //! and [`report`] (CSV, figures, Markdown). User documentation: `docs/bridge-check.md`.
 
@@ -17,6 +17,7 @@ pub mod filter;
 pub mod modal;
 pub mod plan;
 pub mod report;
+pub mod simplified;
 pub mod trains;
 
 use crate::framework::FemError;
