@@ -88,6 +88,16 @@ pub enum ProfileError {
         /// The offending values.
         what: String,
     },
+    /// A coordinate beyond [`MAX_PROFILE_EXTENT`] in its declared unit.
+    #[error("{file}:{line}: {what}")]
+    OutOfBounds {
+        /// File name.
+        file: String,
+        /// Line number.
+        line: usize,
+        /// The column, the value, the bound and the fix ([`railfem_framework::csv_input`]).
+        what: String,
+    },
     /// More points than [`MAX_PROFILE_POINTS`], or a file larger than the memory budget.
     #[error("{file}:{line}: {what}")]
     TooLarge {
@@ -608,6 +618,12 @@ impl Unit {
             Unit::Metre => 1.0,
         }
     }
+    fn name(self) -> &'static str {
+        match self {
+            Unit::Millimetre => "mm",
+            Unit::Metre => "m",
+        }
+    }
 }
 
 /// Reads `y,z` points from CSV text and converts them to metres. Format: blank lines and
@@ -620,6 +636,7 @@ pub fn read_points_csv(
     text: &str,
     file: &str,
 ) -> Result<(Vec<Vector2<f64>>, Vec<usize>), ProfileError> {
+    let text = railfem_framework::csv_input::strip_bom(text);
     let mut unit: Option<Unit> = None;
     let mut points = Vec::new();
     let mut lines = Vec::new();
@@ -687,6 +704,20 @@ pub fn read_points_csv(
                         what,
                     });
                 }
+                for (column, x) in ["y", "z"].iter().zip(&v) {
+                    railfem_framework::csv_input::check_bound(
+                        column,
+                        *x,
+                        u.name(),
+                        u.scale(),
+                        &PROFILE_BOUND,
+                    )
+                    .map_err(|what| ProfileError::OutOfBounds {
+                        file: file.into(),
+                        line,
+                        what,
+                    })?;
+                }
                 points.push(Vector2::new(v[0], v[1]) * u.scale());
                 lines.push(line);
             }
@@ -732,6 +763,17 @@ pub fn read_points_csv(
     }
     Ok((points, lines))
 }
+
+/// Largest coordinate magnitude of a profile point read from a file (m): a wheel or rail
+/// cross-section is a few hundred millimetres (S1002 spans about 140 mm, a 60E1 rail is
+/// 172 mm high), so a point a metre from the profile's origin is a unit slip.
+pub const MAX_PROFILE_EXTENT: f64 = 1.0;
+
+const PROFILE_BOUND: railfem_framework::csv_input::Bound = railfem_framework::csv_input::Bound {
+    max_si: MAX_PROFILE_EXTENT,
+    si_unit: "m",
+    why: "a wheel or rail cross-section is a few hundred millimetres",
+};
 
 /// Most points a wheel or rail profile may have, sampled (`wheel_points`, `rail_nodes`) or
 /// read from a file: beyond a few thousand points a profile is no more accurate (the
