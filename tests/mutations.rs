@@ -120,10 +120,7 @@ fn judge_any(
             if lines.is_empty() {
                 return Err("exit 2 without a message".into());
             }
-            if let Some(l) = lines
-                .iter()
-                .find(|l| !files.iter().any(|f| l.contains(f)))
-            {
+            if let Some(l) = lines.iter().find(|l| !files.iter().any(|f| l.contains(f))) {
                 return Err(format!("a line does not name the file ({files:?}): {l}"));
             }
             Ok(t)
@@ -263,11 +260,11 @@ base = "sdof.toml"
 histories = false
 
 [[axis]]
-name = "element[0].m"
+name = "element.0.m"
 values = [500.0, 1000.0, 2000.0]
 
 [[axis]]
-name = "element[1].k[0]"
+name = "element.1.k.0"
 start = 2.0e6
 stop = 4.0e6
 count = 2
@@ -297,10 +294,13 @@ fn mutated_companion_inputs_end_in_exit_0_or_2() {
     let cases = env("RAILFEM_COMPANION_MUTATIONS").unwrap_or(100);
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let read = |p: &str| std::fs::read_to_string(root.join(p)).expect(p);
-    let vehicles: Vec<toml::Value> = ["examples/vehicles/manchester_benchmark.toml", "elements/presets/sks700.toml"]
-        .iter()
-        .map(|p| toml::from_str(&read(p)).expect("vehicle file"))
-        .collect();
+    let vehicles: Vec<toml::Value> = [
+        "examples/vehicles/manchester_benchmark.toml",
+        "elements/presets/sks700.toml",
+    ]
+    .iter()
+    .map(|p| toml::from_str(&read(p)).expect("vehicle file"))
+    .collect();
     let train: toml::Value = toml::from_str(TRAIN_TABLE).expect("train table");
     let irregularity = read("examples/models/irregular_straight.csv");
     let irregular_model = read("examples/models/irregular_straight.toml");
@@ -371,10 +371,17 @@ fn mutated_companion_inputs_end_in_exit_0_or_2() {
                 if o.is_some() {
                     let _ = std::fs::remove_dir_all(&out);
                 }
-                (o, what, vec!["study.checkpoint".into(), "good-plan.toml".into()])
+                (
+                    o,
+                    what,
+                    vec!["study.checkpoint".into(), "good-plan.toml".into()],
+                )
             }
         };
-        let stem = model.file_name().and_then(|s| s.to_str()).unwrap_or("model");
+        let stem = model
+            .file_name()
+            .and_then(|s| s.to_str())
+            .unwrap_or("model");
         let mut all: Vec<&str> = names.iter().map(String::as_str).collect();
         all.push(stem);
         all.push("train-");

@@ -338,7 +338,16 @@ pub fn too_big(v: &Value) -> bool {
 
 /// What a field of a CSV input is replaced with: extremes, non-numbers, nothing.
 const CSV_FIELDS: [&str; 10] = [
-    "1e300", "-1e300", "NaN", "inf", "-1", "0", "1e-300", "", "x", "18446744073709551616",
+    "1e300",
+    "-1e300",
+    "NaN",
+    "inf",
+    "-1",
+    "0",
+    "1e-300",
+    "",
+    "x",
+    "18446744073709551616",
 ];
 
 /// One to three line-level mutations of a CSV input (an irregularity table, a study
@@ -412,7 +421,11 @@ pub fn mutate_csv(text: &str, rng: &mut Rng) -> (String, Vec<String>) {
             }
         }
     }
-    let mut out = if bom { "\u{feff}".to_string() } else { String::new() };
+    let mut out = if bom {
+        "\u{feff}".to_string()
+    } else {
+        String::new()
+    };
     out.push_str(&lines.join("\n"));
     match cut {
         Some(c) => {
