@@ -44,15 +44,17 @@ pub fn check_bound(
     if si.is_finite() && si.abs() <= bound.max_si {
         return Ok(());
     }
+    // The bound to six significant digits: 10 g is 98.0665 m/s², not 98.06649999999999.
+    let short = |v: f64| fmt_num(format!("{v:.5e}").parse().unwrap_or(v));
     let in_unit = if scale == 1.0 || unit == bound.si_unit {
         String::new()
     } else {
-        format!(" ({} {unit})", fmt_num(bound.max_si / scale))
+        format!(" ({} {unit})", short(bound.max_si / scale))
     };
     Err(format!(
         "column `{column}` = {} {unit} is beyond ±{} {}{in_unit}: {}; correct that row, or the column's unit in the header",
         fmt_num(value),
-        fmt_num(bound.max_si),
+        short(bound.max_si),
         bound.si_unit,
         bound.why
     ))

@@ -345,3 +345,40 @@ fn the_oscillator_without_rail_runs() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A ground-motion record that begins with a byte-order mark and a comment, with a row of
+/// 50 g (a unit slip: the largest recorded peaks are about 4 g): the mark is no longer
+/// taken for part of the header, and the row is refused with its column and value.
+#[test]
+fn a_record_acceleration_of_50_g_names_row_and_column() {
+    let dir = temp_dir("quake_50g");
+    let f = dir.join("q.csv");
+    std::fs::write(
+        &f,
+        "\u{feff}# a record\ntime_s,ax_g,ay_g,az_g\n0,0,0,0\n0.01,0.1,50,0\n0.02,0,0,0\n",
+    )
+    .expect("write");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args([
+            "train-bridge",
+            "--cars",
+            "1",
+            "--spans",
+            "1",
+            "--build-only",
+            "--quake",
+        ])
+        .arg(&f)
+        .output()
+        .expect("runs");
+    refused_with(
+        "quake 50 g",
+        &o,
+        &[
+            "q.csv:4",
+            "column `ay_g` = 50 g",
+            "beyond ±98.0665 m/s² (10 g)",
+        ],
+    );
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -1460,6 +1460,18 @@ mod tests {
     }
 
     #[test]
+    fn a_point_beyond_a_metre_names_its_row_and_column() {
+        // 1500 mm = 1.5 m from the origin: beyond any cross-section, a unit slip.
+        let e = WheelProfile::from_csv_str("\u{feff}y_mm,z_mm\n0,0\n1500,1\n", "a.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("a.csv:3: column `y` = 1500 mm is beyond ±1 m (1000 mm)"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn csv_errors_are_clear() {
         let e = WheelProfile::from_csv_str("0,0\n1,1\n2,2\n3,3\n", "a.csv").unwrap_err();
         assert!(matches!(e, ProfileError::UnknownUnits { line: 1, .. }));
@@ -1470,7 +1482,8 @@ mod tests {
         assert!(matches!(e, ProfileError::UnknownUnits { line: 1, .. }));
         let e = WheelProfile::from_csv_str("y_mm,z_m\n0,0\n", "a.csv").unwrap_err();
         assert!(matches!(e, ProfileError::UnknownUnits { line: 1, .. }));
-        let e = WheelProfile::from_csv_str("# units: m\n0,0\n1,1\n2,2\n", "a.csv").unwrap_err();
+        let e = WheelProfile::from_csv_str("# units: m\n0,0\n0.01,0.01\n0.02,0.02\n", "a.csv")
+            .unwrap_err();
         assert!(matches!(
             e,
             ProfileError::TooFewPoints {
@@ -1497,8 +1510,8 @@ mod tests {
             }
         ));
         // Folding back on itself.
-        let e =
-            WheelProfile::from_csv_str("# units: m\n0,0\n1,0\n0.5,0\n2,1\n", "a.csv").unwrap_err();
+        let e = WheelProfile::from_csv_str("# units: m\n0,0\n0.1,0\n0.05,0\n0.2,0.1\n", "a.csv")
+            .unwrap_err();
         assert!(matches!(e, ProfileError::SelfIntersecting { .. }));
         let e = RailProfile::from_csv_str(
             "# units: mm\n-30,-5\n-10,-0.2\n-12,0\n10,-0.2\n30,-5\n",
@@ -1509,12 +1522,12 @@ mod tests {
         assert!(matches!(e, ProfileError::NonMonotonic { line: 4, .. }));
         let e = RailProfile::from_csv_file("/nonexistent/rail.csv", Inclination::None).unwrap_err();
         assert!(matches!(e, ProfileError::Io { .. }));
-        let e =
-            WheelProfile::from_csv_str("# units: m\n0,0\n1,0\n1,0\n2,1\n", "a.csv").unwrap_err();
+        let e = WheelProfile::from_csv_str("# units: m\n0,0\n0.1,0\n0.1,0\n0.2,0.1\n", "a.csv")
+            .unwrap_err();
         assert!(matches!(e, ProfileError::RepeatedPoint { line: 4, .. }));
-        // Millimetres declared as metres: a 60 m wide rail head.
+        // Millimetres declared as metres, within the ±1 m bound: a 1.2 m wide rail head.
         let e = RailProfile::from_csv_str(
-            "# units: m\n-30,-5\n-10,-0.2\n0,0\n10,-0.2\n30,-5\n",
+            "# units: m\n-0.6,-0.1\n-0.2,-0.004\n0,0\n0.2,-0.004\n0.6,-0.1\n",
             "r.csv",
             Inclination::None,
         )
