@@ -382,3 +382,20 @@ fn a_record_acceleration_of_50_g_names_row_and_column() {
     );
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// Found by the `model_file` fuzz target (the input as it found it): a JSON key holding a
+/// line feed came back inside the "unknown top-level key" message and
+/// broke the one line in two. Every input message writes control characters as escapes.
+#[test]
+fn a_key_with_a_line_break_stays_on_one_line() {
+    const FOUND: &str = "{\n \"car]_,,,,G,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,,len]thstraig6(250 raig9(250 m, domed r: a 1000 kass on \\\\\\n \\\\\\\\SU\\\\) 30pe\": 1.0\n \n}";
+    super::check(
+        "key_break.json",
+        FOUND,
+        &[
+            "unknown top-level key",
+            "kass on \\\\n \\\\SU",
+            "valid keys: analysis",
+        ],
+    );
+}
