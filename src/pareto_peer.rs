@@ -72,7 +72,7 @@ pub fn read_peer_csv(path: &Path) -> Result<Vec<PeerRun>, FemError> {
 
 /// Parses the text of a peer CSV (see the module doc); `origin` names the file in messages.
 pub fn parse_peer_csv(text: &str, origin: &str) -> Result<Vec<PeerRun>, FemError> {
-    let mut lines = text
+    let mut lines = crate::framework::csv_input::strip_bom(text)
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());

@@ -21,6 +21,7 @@ use crate::elements::rail::bridge::BridgeSpec;
 use crate::elements::rail::cant::{Cant, Track};
 use crate::elements::rail::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
 use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
+use crate::framework::csv_input;
 use crate::framework::limits::{self, fmt_num};
 use crate::framework::loads::{LoadSpec, TimeSeries};
 use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder, NewtonSettings};
@@ -190,6 +191,23 @@ impl QuakeRecord {
     }
 }
 
+/// Largest ground acceleration a record may hold (m/s²): 10 g. The largest peak ground
+/// accelerations recorded are about 4 g (the 2008 Iwate–Miyagi earthquake at station IWTH25).
+pub const MAX_GROUND_ACCEL: f64 = 10.0 * G0;
+
+const ACCEL_BOUND: csv_input::Bound = csv_input::Bound {
+    max_si: MAX_GROUND_ACCEL,
+    si_unit: "m/s²",
+    why: "no earthquake has shaken the ground harder than about 4 g",
+};
+
+/// The longest record time (s): a day. Strong shaking lasts minutes.
+const TIME_BOUND: csv_input::Bound = csv_input::Bound {
+    max_si: 86_400.0,
+    si_unit: "s",
+    why: "strong ground motion lasts minutes, not days",
+};
+
 /// Reads a quake CSV: header `time_s,ax_<u>,ay_<u>,az_<u>` with `<u>` = `g` or `mps2`, then
 /// rows of four numbers with strictly increasing time. Errors name the file and line.
 pub fn read_quake(path: &Path) -> Result<QuakeRecord, FemError> {
@@ -201,7 +219,7 @@ pub fn read_quake(path: &Path) -> Result<QuakeRecord, FemError> {
             format!("cannot read the quake record ({e}); give a CSV file (see examples/records/README.md)"),
         )
     })?;
-    let mut lines = text
+    let mut lines = csv_input::strip_bom(&text)
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with('#'));
@@ -212,9 +230,9 @@ pub fn read_quake(path: &Path) -> Result<QuakeRecord, FemError> {
         )
     })?;
     let cols: Vec<&str> = header.split(',').map(str::trim).collect();
-    let scale = match cols.as_slice() {
-        ["time_s", "ax_g", "ay_g", "az_g"] => G0,
-        ["time_s", "ax_mps2", "ay_mps2", "az_mps2"] => 1.0,
+    let (scale, unit) = match cols.as_slice() {
+        ["time_s", "ax_g", "ay_g", "az_g"] => (G0, "g"),
+        ["time_s", "ax_mps2", "ay_mps2", "az_mps2"] => (1.0, "m/s²"),
         _ => {
             return Err(FemError::input(
                 format!("{origin}:{}", hn + 1),
@@ -243,6 +261,12 @@ pub fn read_quake(path: &Path) -> Result<QuakeRecord, FemError> {
                 &place,
                 format!("`{line}`: give four finite numbers (time, a_x, a_y, a_z)"),
             ));
+        }
+        let bounds = [(&TIME_BOUND, 1.0, "s"), (&ACCEL_BOUND, scale, unit)];
+        for (c, x) in v.iter().enumerate() {
+            let (bound, sc, u) = bounds[c.min(1)];
+            csv_input::check_bound(cols[c], *x, u, sc, bound)
+                .map_err(|m| FemError::input(&place, m))?;
         }
         if let Some(last) = rec.t.last() {
             if v[0] <= *last {

@@ -422,7 +422,7 @@ fn the_unbroken_train_checks() {
 #[test]
 fn bad_wheel_profile_files_are_refused() {
     let wheel = |file: &str| format!("wheel = {{wheel_profile = \"{{dir}}/{file}\"}}");
-    let cases: [(&str, &str, &[&str]); 7] = [
+    let cases: [(&str, &str, &[&str]); 8] = [
         // Three points: a not-a-knot spline needs four.
         (
             "few.csv",
@@ -450,11 +450,18 @@ fn bad_wheel_profile_files_are_refused() {
             "-70,-30\n-60,-20\n0,0\n30,0.3\n60,0.5\n",
             &["nounit.csv:1:", "unknown units", "# units: mm"],
         ),
-        // Millimetre numbers declared as metres: a wheel 130 m wide.
+        // Millimetre numbers declared as metres: the first point is 70 m from the origin,
+        // beyond the ±1 m any cross-section lies in.
         (
             "metres.csv",
             "# units: m\n-70,-30\n-60,-20\n-30,-1\n0,0\n30,0.3\n60,0.5\n",
-            &["metres.csv:7:", "spans 130 m", "check the units"],
+            &["metres.csv:2:", "column `y` = -70 m", "beyond ±1 m", "unit"],
+        ),
+        // Within the bound but 1.5 m wide: still a unit slip, by the width.
+        (
+            "wide.csv",
+            "# units: m\n-0.75,-0.3\n-0.6,-0.2\n-0.3,-0.01\n0,0\n0.3,0.003\n0.75,0.005\n",
+            &["wide.csv:7:", "spans 1.5 m", "check the units"],
         ),
         // The fourth point goes back across the first segment.
         (
@@ -832,5 +839,7 @@ fn bad_plugins_are_refused() {
     );
 }
 
+#[path = "bad_input/round_three.rs"]
+mod round_three;
 #[path = "bad_input/validation.rs"]
 mod validation;

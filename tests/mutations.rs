@@ -5,7 +5,13 @@
 //! time limit. Every case must end with exit code 0 or 2 (never a signal, a panic or a
 //! hang), and a refusal must be one line per problem naming the file.
 //!
-//! The default run is 600 cases from a fixed seed (about 15 s on two cores).
+//! The inputs beside the model files are mutated too ([`mutated_companion_inputs_end_in_exit_0_or_2`]):
+//! vehicle files, train tables (`[[vehicle]]` with `vehicles = [...]` and a speed table),
+//! irregularity CSVs, study plans and study checkpoints, each given to the command that
+//! reads it (`check` for the first three, `study` for the last two).
+//!
+//! The default run is 600 cases from a fixed seed (about 15 s on two cores), and 100 of the
+//! companion inputs.
 //! `RAILFEM_MUTATIONS=N` sets the number of cases, `RAILFEM_MUTATION_SECONDS=T` runs cases
 //! for T seconds instead, `RAILFEM_MUTATION_SEED=S` changes the seed; a failure prints the
 //! seed of its case and the mutations, and keeps the file in the temp directory.
@@ -93,6 +99,14 @@ fn run_limited(args: &[&str], limit: Duration) -> Option<(Option<i32>, String, D
 
 /// Checks one outcome; `Err` describes the failure.
 fn judge(out: Option<(Option<i32>, String, Duration)>, file: &str) -> Result<Duration, String> {
+    judge_any(out, &[file])
+}
+
+/// [`judge`] for a case of several files: every line of a refusal names one of `files`.
+fn judge_any(
+    out: Option<(Option<i32>, String, Duration)>,
+    files: &[&str],
+) -> Result<Duration, String> {
     let Some((code, err, t)) = out else {
         return Err(format!("no end within {LIMIT:?}"));
     };
@@ -106,8 +120,8 @@ fn judge(out: Option<(Option<i32>, String, Duration)>, file: &str) -> Result<Dur
             if lines.is_empty() {
                 return Err("exit 2 without a message".into());
             }
-            if let Some(l) = lines.iter().find(|l| !l.contains(file)) {
-                return Err(format!("a line does not name the file: {l}"));
+            if let Some(l) = lines.iter().find(|l| !files.iter().any(|f| l.contains(f))) {
+                return Err(format!("a line does not name the file ({files:?}): {l}"));
             }
             Ok(t)
         }
@@ -195,6 +209,197 @@ fn mutated_examples_end_in_exit_0_or_2() {
     assert!(
         failures.is_empty(),
         "{} of {done} cases failed (files kept in {}):\n{}",
+        failures.len(),
+        dir.display(),
+        failures.join("\n")
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A train of two kinds of vehicle (`vehicles = [...]`) on a speed table, on rigid straight
+/// track: the train table the companion cases mutate.
+const TRAIN_TABLE: &str = r#"
+[analysis]
+kind = "static"
+
+[track]
+segments = [{type = "straight", length = 80.0}]
+element_length = 0.6
+support = {type = "rigid"}
+
+[[vehicle]]
+name = "mixed"
+start = 50.0
+speed_table = [[0.0, 0.0], [1.0, 2.0], [3.0, 2.0]]
+wheel = {mu = 0.3}
+coupler = {k = [5e7, 1e5, 1e5], c = [1e5, 1e4, 1e4]}
+vehicles = [{preset = "sks700", count = 1}, {preset = "sks700", carriage = {car_length = 20.0}}]
+record = {wheels = "wheels.csv"}
+"#;
+
+/// A model that rides a vehicle file `{file}` on rigid straight track.
+const VEHICLE_FILE_MODEL: &str = r#"
+[analysis]
+kind = "static"
+
+[track]
+segments = [{type = "straight", length = 60.0}]
+element_length = 0.6
+support = {type = "rigid"}
+
+[[vehicle]]
+file = "{file}"
+start = 30.0
+speed = 0.0
+"#;
+
+/// A study of the single-DOF oscillator (`base = "sdof.toml"` beside it) over its mass and
+/// stiffness: 3 × 2 cases, of which a run computes at most two (`--stop-after`).
+const PLAN: &str = r#"
+base = "sdof.toml"
+histories = false
+
+[[axis]]
+name = "element.0.m"
+values = [500.0, 1000.0, 2000.0]
+
+[[axis]]
+name = "element.1.k.0"
+start = 2.0e6
+stop = 4.0e6
+count = 2
+"#;
+
+/// Runs `railfem study` on `plan` into `out` for at most `after` cases, one thread.
+fn study(plan: &Path, out: &Path, after: &str) -> Option<(Option<i32>, String, Duration)> {
+    run_limited(
+        &[
+            "study",
+            plan.to_str().expect("utf-8"),
+            "--out",
+            out.to_str().expect("utf-8"),
+            "--stop-after",
+            after,
+            "--threads",
+            "1",
+        ],
+        LIMIT,
+    )
+}
+
+#[test]
+fn mutated_companion_inputs_end_in_exit_0_or_2() {
+    let env = |k: &str| std::env::var(k).ok().and_then(|v| v.parse::<u64>().ok());
+    let seed = env("RAILFEM_MUTATION_SEED").unwrap_or(36);
+    let cases = env("RAILFEM_COMPANION_MUTATIONS").unwrap_or(100);
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let read = |p: &str| std::fs::read_to_string(root.join(p)).expect(p);
+    let vehicles: Vec<toml::Value> = [
+        "examples/vehicles/manchester_benchmark.toml",
+        "elements/presets/sks700.toml",
+    ]
+    .iter()
+    .map(|p| toml::from_str(&read(p)).expect("vehicle file"))
+    .collect();
+    let train: toml::Value = toml::from_str(TRAIN_TABLE).expect("train table");
+    let irregularity = read("examples/models/irregular_straight.csv");
+    let irregular_model = read("examples/models/irregular_straight.toml");
+    let plan: toml::Value = toml::from_str(PLAN).expect("plan");
+    let dir = common::temp_dir("companions");
+    let sdof = read("examples/models/sdof.toml");
+    std::fs::write(dir.join("sdof.toml"), &sdof).expect("write base");
+    // A checkpoint to mutate: the first two cases of the plan, computed once.
+    let good_plan = dir.join("good-plan.toml");
+    std::fs::write(&good_plan, PLAN).expect("write plan");
+    let first = dir.join("first");
+    let o = study(&good_plan, &first, "2");
+    assert!(
+        matches!(&o, Some((Some(0), _, _))),
+        "the unmutated study runs: {o:?}"
+    );
+    let checkpoint = std::fs::read_to_string(first.join("study.checkpoint")).expect("checkpoint");
+    let t0 = Instant::now();
+    let mut failures = Vec::new();
+    let mut counts = [0usize; 5];
+    for k in 0..cases {
+        let case_seed = seed.wrapping_mul(1_000_003).wrapping_add(k);
+        let mut rng = Rng(case_seed);
+        let kind = (k % 5) as usize;
+        counts[kind] += 1;
+        let model = dir.join(format!("model-{case_seed}.toml"));
+        let m = model.to_str().expect("utf-8").to_string();
+        let (outcome, what, names): (_, Vec<String>, Vec<String>) = match kind {
+            0 => {
+                let c = mutate::toml_case(&vehicles[rng.below(vehicles.len())], &mut rng);
+                let name = format!("vehicle-{case_seed}.toml");
+                std::fs::write(dir.join(&name), &c.text).expect("write vehicle");
+                std::fs::write(&model, VEHICLE_FILE_MODEL.replace("{file}", &name))
+                    .expect("write model");
+                (run_limited(&["check", &m], LIMIT), c.what, vec![name])
+            }
+            1 => {
+                let c = case(&train, &mut rng);
+                let model = dir.join(format!("train-{case_seed}.{}", c.ext));
+                std::fs::write(&model, &c.text).expect("write train");
+                let m = model.to_str().expect("utf-8");
+                (run_limited(&["check", m], LIMIT), c.what, vec![])
+            }
+            2 => {
+                let (text, what) = mutate::mutate_csv(&irregularity, &mut rng);
+                let name = format!("irr-{case_seed}.csv");
+                std::fs::write(dir.join(&name), text).expect("write csv");
+                let text = irregular_model.replace("irregular_straight.csv", &name);
+                std::fs::write(&model, text).expect("write model");
+                (run_limited(&["check", &m], LIMIT), what, vec![name])
+            }
+            3 => {
+                let c = mutate::toml_case(&plan, &mut rng);
+                let name = format!("plan-{case_seed}.toml");
+                let p = dir.join(&name);
+                std::fs::write(&p, &c.text).expect("write plan");
+                let out = dir.join(format!("out-{case_seed}"));
+                let o = study(&p, &out, "2");
+                let _ = std::fs::remove_dir_all(&out);
+                (o, c.what, vec![name, "sdof.toml".into()])
+            }
+            _ => {
+                let (text, what) = mutate::mutate_csv(&checkpoint, &mut rng);
+                let out = dir.join(format!("out-{case_seed}"));
+                std::fs::create_dir_all(&out).expect("out dir");
+                std::fs::write(out.join("study.checkpoint"), text).expect("write checkpoint");
+                let o = study(&good_plan, &out, "1");
+                if o.is_some() {
+                    let _ = std::fs::remove_dir_all(&out);
+                }
+                (
+                    o,
+                    what,
+                    vec!["study.checkpoint".into(), "good-plan.toml".into()],
+                )
+            }
+        };
+        let stem = model
+            .file_name()
+            .and_then(|s| s.to_str())
+            .unwrap_or("model");
+        let mut all: Vec<&str> = names.iter().map(String::as_str).collect();
+        all.push(stem);
+        all.push("train-");
+        if let Err(e) = judge_any(outcome, &all) {
+            failures.push(format!(
+                "kind {kind} (seed {case_seed}; {}): {e}",
+                what.join("; ")
+            ));
+        }
+    }
+    println!(
+        "{cases} mutated companion inputs (vehicle files, train tables, irregularity CSVs, plans, checkpoints: {counts:?}) in {:.1} s, {} failures",
+        t0.elapsed().as_secs_f64(),
+        failures.len()
+    );
+    assert!(
+        failures.is_empty(),
+        "{} of {cases} cases failed (files kept in {}):\n{}",
         failures.len(),
         dir.display(),
         failures.join("\n")

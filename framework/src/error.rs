@@ -70,6 +70,24 @@ pub enum FemError {
     },
 }
 
+/// `s` on one line: a line break or other control character that user text brings into a
+/// message (a key or a value echoed back, a file name) is written as its escape (`\n`),
+/// so that every input message stays the one line the CLI prints.
+fn one_line(s: String) -> String {
+    if !s.chars().any(char::is_control) {
+        return s;
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 fn fold_repeats(list: Vec<FemError>) -> Vec<FemError> {
     let mut out: Vec<(FemError, usize)> = Vec::new();
     for e in list {
@@ -113,8 +131,8 @@ impl FemError {
     /// A bad-input error at `origin`.
     pub fn input(origin: impl Into<String>, message: impl Into<String>) -> FemError {
         FemError::Input {
-            origin: origin.into(),
-            message: message.into(),
+            origin: one_line(origin.into()),
+            message: one_line(message.into()),
         }
     }
 
@@ -222,6 +240,12 @@ pub fn nearest_n<'a>(word: &str, candidates: &[&'a str], n: usize) -> Vec<&'a st
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn user_text_with_line_breaks_stays_on_one_line() {
+        let e = FemError::input("m.json", "unknown key `a\nb\r\tc`").to_string();
+        assert_eq!(e, "m.json: unknown key `a\\nb\\r\\tc`");
+    }
 
     #[test]
     fn many_problems_print_the_first_and_a_count_on_one_line() {

@@ -6,10 +6,10 @@
 //! with constraints ([`dofmap`]), finite rotations ([`rotation`], on the dual numbers of
 //! [`dual`]), sparse assembly ([`sparse`], [`assembly`], with the effective matrix's [`coefficients`]), loads and time series ([`loads`]),
 //! moving reference frames ([`moving`]), paths along beam chains ([`beam_chain`]), speed
-//! histories ([`speed`]), model files ([`modelfile`], [`strict_json`]),
-//! recorders and the names of every output ([`recorder`], [`outputs`]), and the size
-//! guards of generators ([`limits`]). What does not: concrete elements (railfem-elements) and
-//! solvers (railfem-solvers).
+//! histories ([`speed`]), model files ([`modelfile`], [`strict_json`], [`keypath`]),
+//! recorders and the names of every output ([`recorder`], [`outputs`]), the size
+//! guards of generators ([`limits`]), and what CSV input readers share ([`csv_input`]).
+//! What does not: concrete elements (railfem-elements) and solvers (railfem-solvers).
 //!
 //! Units are SI throughout: m, kg, s, N, rad.
 
@@ -21,6 +21,7 @@ pub mod beam_chain;
 pub mod coefficients;
 pub mod comfort;
 pub mod conformance;
+pub mod csv_input;
 pub mod dof;
 pub mod dofmap;
 pub mod dual;
@@ -30,6 +31,7 @@ pub mod error;
 pub mod fft;
 pub mod finite_link;
 pub mod interrupt;
+pub mod keypath;
 pub mod limits;
 pub mod loads;
 pub mod matrix_market;

@@ -29,6 +29,47 @@ pub struct ModelSection {
     pub order: i32,
     /// Applies the section's value to the builder. `origin` is `"file.toml: [key]"`.
     pub apply: fn(&Value, &str, &mut ModelBuilder) -> Result<(), FemError>,
+    /// What the section will build, estimated from its value alone (`base`: the model
+    /// file's folder, for the files it names) before any section is applied: the part of
+    /// the whole model's size guard ([`check_model_size`]). `None`: nothing in it grows
+    /// with its input. A value the section will refuse estimates as nothing.
+    pub estimate: Option<fn(&Value, &Path) -> Vec<SizePart>>,
+}
+
+/// One part of a model's size estimate: what grows (`"`[track]`: 5e4 rail stations"`)
+/// and the bytes it will take.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SizePart {
+    /// The input and what it implies, for the message.
+    pub what: String,
+    /// Estimated bytes.
+    pub bytes: f64,
+}
+
+/// The whole model's size guard, checked once before any section is applied: the sum of
+/// every section's [`ModelSection::estimate`] against the memory budget. Each section also
+/// checks its own part when it builds it, with a message naming its key; so a part that
+/// alone exceeds the budget is left to that message, and this check refuses the models
+/// whose parts fit one by one but not together (a long slab track and a long train).
+pub fn check_model_size(parts: &[SizePart]) -> Result<(), String> {
+    let limit = crate::limits::max_memory() as f64;
+    if parts.iter().any(|p| p.bytes.is_nan() || p.bytes > limit) {
+        return Ok(());
+    }
+    let total: f64 = parts.iter().map(|p| p.bytes).sum();
+    if total <= limit {
+        return Ok(());
+    }
+    let list: Vec<String> = parts
+        .iter()
+        .map(|p| format!("{}: {}", p.what, crate::limits::fmt_bytes(p.bytes)))
+        .collect();
+    Err(format!(
+        "the model as written needs about {} ({}), more than the memory limit {}; make one of them smaller, or raise the limit with `[limits] max_memory` or `--max-memory`",
+        crate::limits::fmt_bytes(total),
+        list.join("; "),
+        crate::limits::fmt_bytes(limit)
+    ))
 }
 
 inventory::collect!(ModelSection);
@@ -182,8 +223,10 @@ fn entries<'a>(
     }
 }
 
-fn de<T: serde::de::DeserializeOwned>(v: &Value, origin: &str) -> Result<T, FemError> {
-    T::deserialize(v).map_err(|e| FemError::input(origin, e.to_string()))
+/// `v`, the value at key path `at`, into `T`; a refusal names the key path
+/// ([`crate::keypath::from_value`]).
+fn de<T: serde::de::DeserializeOwned>(v: &Value, origin: &str, at: &str) -> Result<T, FemError> {
+    crate::keypath::from_value(v, origin, at)
 }
 
 /// `[analysis] block_size` must be a whole number: serde alone would say "invalid value:
@@ -233,9 +276,15 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         Some(v) => parse_limits(v, &format!("{name}: [limits]"))?,
         None => LimitSpec::default(),
     });
+    let parts: Vec<SizePart> = sections
+        .iter()
+        .filter_map(|s| Some((s.estimate?)(root.get(s.key)?, base)))
+        .flatten()
+        .collect();
+    check_model_size(&parts).map_err(|m| FemError::input(name, m))?;
     let mut b = ModelBuilder::new(name);
     if let Some(p) = root.get("plugins") {
-        let list: Vec<String> = de(p, &format!("{name}: plugins"))?;
+        let list: Vec<String> = de(p, &format!("{name}: plugins"), "plugins")?;
         for rel in list {
             let path = base.join(&rel);
             // The plugin's own error names the library; the model file and key say where
@@ -247,7 +296,7 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
     }
     if let Some(a) = root.get("analysis") {
         let o = format!("{name}: [analysis]");
-        match check_block_size(a, &o).and_then(|()| de::<AnalysisSpec>(a, &o)) {
+        match check_block_size(a, &o).and_then(|()| de::<AnalysisSpec>(a, &o, "analysis")) {
             Ok(spec) => {
                 for e in ignored_analysis_keys(a, &spec, &o) {
                     b.error(e);
@@ -262,7 +311,7 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
     let mut node_ids: HashMap<u64, usize> = HashMap::new();
     for (i, v) in entries(root, "node", name)?.into_iter().enumerate() {
         let o = format!("{name}: node[{i}]");
-        let n: NodeEntry = match de(v, &o) {
+        let n: NodeEntry = match de(v, &o, &format!("node[{i}]")) {
             Ok(n) => n,
             Err(e) => {
                 b.error(e);
@@ -321,7 +370,7 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
     }
     for (i, v) in entries(root, "link", name)?.into_iter().enumerate() {
         let o = format!("{name}: link[{i}]");
-        match de::<LinkEntry>(v, &o)
+        match de::<LinkEntry>(v, &o, &format!("link[{i}]"))
             .and_then(|l| parse_dofs(&l.dofs, DofSet::ALL, &o).map(|d| (l, d)))
         {
             Ok((l, dofs)) => b.rigid_link_with(l.master, l.slave, dofs, l.geometry, o),
@@ -337,13 +386,17 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         }
     }
     for (i, v) in entries(root, "load", name)?.into_iter().enumerate() {
-        match de::<LoadSpec>(v, &format!("{name}: load[{i}]")) {
+        match de::<LoadSpec>(v, &format!("{name}: load[{i}]"), &format!("load[{i}]")) {
             Ok(l) => b.load(l),
             Err(e) => b.error(e),
         };
     }
     for (i, v) in entries(root, "recorder", name)?.into_iter().enumerate() {
-        match de::<RecorderSpec>(v, &format!("{name}: recorder[{i}]")) {
+        match de::<RecorderSpec>(
+            v,
+            &format!("{name}: recorder[{i}]"),
+            &format!("recorder[{i}]"),
+        ) {
             Ok(r) => b.recorder(r),
             Err(e) => b.error(e),
         };
@@ -431,7 +484,7 @@ fn element_entry(v: &Value, i: usize, name: &str, b: &mut ModelBuilder) -> Resul
     };
     o = format!("{name}: element[{i}] (id {id}, {kind})");
     let nodes: Vec<u64> = match params.remove("nodes") {
-        Some(v) => de(&v, &o)?,
+        Some(v) => de(&v, &o, &format!("element[{i}].nodes"))?,
         None => return Err(FemError::input(o, "missing `nodes` (a list of node ids)")),
     };
     b.element_spec(ElementSpec {

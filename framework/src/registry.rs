@@ -154,9 +154,13 @@ impl ElementSpec {
                 }
             }
         }
-        let p: P = serde_json::from_value(serde_json::Value::Object(map)).map_err(|e| {
-            FemError::input(&self.origin, format!("element type `{}`: {e}", self.kind))
-        })?;
+        let p: P = crate::keypath::from_value(&serde_json::Value::Object(map), &self.origin, "")
+            .map_err(|e| match e {
+                FemError::Input { origin, message } => {
+                    FemError::input(origin, format!("element type `{}`: {message}", self.kind))
+                }
+                e => e,
+            })?;
         // Refuse NaN / infinity in any numeric key.
         let v = serde_json::to_value(&p).unwrap_or(serde_json::Value::Null);
         if let Some(bad) = first_non_finite(&v, "") {

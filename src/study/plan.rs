@@ -182,6 +182,8 @@ fn toml_to_value(file: &Path, place: &str, v: &toml::Value) -> Result<AxisValue,
 
 /// Reads and checks a plan file.
 pub fn read(file: &Path) -> Result<Plan, FemError> {
+    crate::framework::limits::check_file(file, "the plan")
+        .map_err(|m| FemError::input(file.display().to_string(), m))?;
     let text = std::fs::read_to_string(file).map_err(|e| {
         FemError::input(
             file.display().to_string(),
@@ -376,7 +378,9 @@ fn parse(file: &Path, table: &toml::Table) -> Result<Plan, FemError> {
                 format!("axis `{name}` given twice; merge its values into one axis"),
             ));
         }
-        let values = axis_values(file, &place, &folder, ax)?;
+        // The cases of the axes so far bound this one's length before its values exist.
+        let so_far: usize = axes.iter().map(|a| a.values.len()).product();
+        let values = axis_values(file, &place, &folder, ax, MAX_CASES / so_far.max(1))?;
         if values.is_empty() {
             return Err(refuse(
                 file,
@@ -434,7 +438,17 @@ fn axis_values(
     place: &str,
     folder: &Path,
     ax: &toml::Table,
+    cap: usize,
 ) -> Result<Vec<AxisValue>, FemError> {
+    let too_many = || {
+        refuse(
+            file,
+            place,
+            format!(
+                "with the axes before it, this axis makes more than {MAX_CASES} cases; give fewer values (a larger `step`, a smaller `count`) or split the study into several plans"
+            ),
+        )
+    };
     let has = |k: &str| ax.contains_key(k);
     let ways = [has("values"), has("start") || has("stop"), has("dir")];
     if ways.iter().filter(|w| **w).count() != 1 {
@@ -508,11 +522,19 @@ fn axis_values(
                     format!("the range has more than {MAX_CASES} values; give a larger `step`"),
                 ));
             }
+            if n > cap as f64 {
+                return Err(too_many());
+            }
             return Ok((0..n as usize)
                 .map(|i| AxisValue::Num(start + i as f64 * step))
                 .collect());
         }
-        (None, Some(c)) if c >= 1.0 && c.fract() == 0.0 && c <= MAX_CASES as f64 => c as usize,
+        (None, Some(c)) if c >= 1.0 && c.fract() == 0.0 && c <= MAX_CASES as f64 => {
+            if c > cap as f64 {
+                return Err(too_many());
+            }
+            c as usize
+        }
         (None, Some(_)) => {
             return Err(refuse(file, place, "`count`: give a whole number ≥ 1"));
         }

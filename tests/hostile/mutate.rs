@@ -335,3 +335,125 @@ pub fn too_big(v: &Value) -> bool {
         _ => false,
     }
 }
+
+/// What a field of a CSV input is replaced with: extremes, non-numbers, nothing.
+const CSV_FIELDS: [&str; 10] = [
+    "1e300",
+    "-1e300",
+    "NaN",
+    "inf",
+    "-1",
+    "0",
+    "1e-300",
+    "",
+    "x",
+    "18446744073709551616",
+];
+
+/// One to three line-level mutations of a CSV input (an irregularity table, a study
+/// checkpoint): a field replaced by an extreme or a non-number, a field dropped or added,
+/// a line deleted, duplicated or swapped with the next, a comment line inserted, a
+/// byte-order mark put first, a unit of the header changed, the text cut mid-line.
+/// Returns the text and what was done.
+pub fn mutate_csv(text: &str, rng: &mut Rng) -> (String, Vec<String>) {
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let mut what = Vec::new();
+    let mut bom = false;
+    let mut cut = None;
+    for _ in 0..1 + rng.below(3) {
+        if lines.is_empty() {
+            lines.push(String::new());
+        }
+        let i = rng.below(lines.len());
+        match rng.below(10) {
+            0..=2 => {
+                let mut f: Vec<String> = lines[i].split(',').map(str::to_string).collect();
+                let j = rng.below(f.len());
+                let x = CSV_FIELDS[rng.below(CSV_FIELDS.len())];
+                what.push(format!("line {} field {j} = {x:?}", i + 1));
+                f[j] = x.to_string();
+                lines[i] = f.join(",");
+            }
+            3 => {
+                what.push(format!("deleted line {}", i + 1));
+                lines.remove(i);
+            }
+            4 => {
+                what.push(format!("duplicated line {}", i + 1));
+                let l = lines[i].clone();
+                lines.insert(i, l);
+            }
+            5 => {
+                let mut f: Vec<&str> = lines[i].split(',').collect();
+                if rng.below(2) == 0 && f.len() > 1 {
+                    f.pop();
+                    what.push(format!("line {} lost a field", i + 1));
+                } else {
+                    f.push("1");
+                    what.push(format!("line {} gained a field", i + 1));
+                }
+                lines[i] = f.join(",");
+            }
+            6 => {
+                what.push(format!("comment before line {}", i + 1));
+                lines.insert(i, "# a comment".into());
+            }
+            7 => {
+                what.push("byte-order mark".into());
+                bom = true;
+            }
+            8 => {
+                let units = [("_mm", "_m"), ("_m", "_mm"), ("[mm]", "[in]"), ("_mm", "")];
+                let (a, b) = units[rng.below(units.len())];
+                what.push(format!("header unit {a:?} -> {b:?}"));
+                if let Some(h) = lines.iter_mut().find(|l| !l.starts_with('#')) {
+                    *h = h.replacen(a, b, 1);
+                }
+            }
+            _ => {
+                if i + 1 < lines.len() {
+                    what.push(format!("swapped lines {} and {}", i + 1, i + 2));
+                    lines.swap(i, i + 1);
+                } else {
+                    cut = Some(rng.below(lines[i].len() + 1));
+                    what.push(format!("cut line {} at byte {cut:?}", i + 1));
+                }
+            }
+        }
+    }
+    let mut out = if bom {
+        "\u{feff}".to_string()
+    } else {
+        String::new()
+    };
+    out.push_str(&lines.join("\n"));
+    match cut {
+        Some(c) => {
+            // Cut the last line short (on a character boundary), without a line end.
+            let last = out.rfind('\n').map_or(0, |p| p + 1);
+            let mut at = (last + c).min(out.len());
+            while !out.is_char_boundary(at) {
+                at -= 1;
+            }
+            out.truncate(at);
+        }
+        None => out.push('\n'),
+    }
+    (out, what)
+}
+
+/// One to three mutations of a TOML input that only TOML may spell (a vehicle file, a
+/// study plan): [`mutate`], written back as TOML (as JSON if TOML cannot write it, which
+/// the reader must refuse).
+pub fn toml_case(base: &Value, rng: &mut Rng) -> Case {
+    let mut v = base.clone();
+    let mut what = Vec::new();
+    for _ in 0..1 + rng.below(3) {
+        what.push(mutate(&mut v, rng).0);
+    }
+    Case {
+        text: toml::to_string(&v).unwrap_or_else(|_| to_json(&v, None)),
+        ext: "toml",
+        what,
+    }
+}

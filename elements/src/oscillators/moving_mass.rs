@@ -30,6 +30,7 @@
 use super::path::{ContactPath, ContactPoint};
 use super::{dot, sample_positions, speed_history, SampleContext};
 use crate::beam3d::support;
+use crate::rail::railline::RailSide;
 use nalgebra::DMatrix;
 use railfem_framework::element::{
     Element, ElementError, ElementProperties, NodeDofs, StepContext, TrialState,
@@ -47,8 +48,8 @@ railfem_framework::element_params! {
         path: Vec<u64> ["-"] = Vec::<u64>::new(),
         /// Name of a generated track to ride on instead of `path` (with `rail`).
         track: String [""] = "",
-        /// Rail of `track`: "left" or "right".
-        rail: String [""] = "left",
+        /// Rail of `track`: "left" or "right" (only with `track`).
+        rail: RailSide [""] = RailSide::Left,
         /// Station of the mass at t = 0 (m): distance along `path`, or track station.
         start: f64 ["m"] = 0.0,
         /// Speed at t = 0 (m/s), ≥ 0.
@@ -260,7 +261,7 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
         ));
     }
     let history = speed_history(spec, KIND, p.start, p.speed, p.accel, &p.speed_table)?;
-    let path = ContactPath::resolve(spec, ctx, KIND, &p.path, &p.track, &p.rail, history)?;
+    let path = ContactPath::resolve(spec, ctx, KIND, &p.path, &p.track, p.rail, history)?;
     Ok(Box::new(MovingMass::new(p, path, &spec.origin)?))
 }
 

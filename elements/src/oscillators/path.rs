@@ -30,6 +30,7 @@
 
 use crate::beam3d::{hermite, hermite_d, hermite_dd};
 use crate::rail::rail_point::beam_axes;
+use crate::rail::railline::RailSide;
 use crate::rail::track_model::TrackModel;
 use nalgebra::{Matrix3, Vector3};
 use railfem_framework::beam_chain::BeamChain;
@@ -140,7 +141,7 @@ impl ContactPath {
         kind: &str,
         path: &[u64],
         track: &str,
-        rail: &str,
+        rail: RailSide,
         history: SpeedHistory,
     ) -> Result<ContactPath, FemError> {
         let bad = |m: String| FemError::input(&spec.origin, format!("{kind}: {m}"));
@@ -151,6 +152,11 @@ impl ContactPath {
                 ))
             }
             (false, true) => {
+                if spec.params.contains_key("rail") {
+                    return Err(bad(
+                        "`rail` would be ignored: it picks a rail of `track`, and this oscillator rides the beams of `path`; remove `rail`, or give `track` instead of `path`".into(),
+                    ));
+                }
                 let mut pairs = Vec::with_capacity(path.len());
                 for (i, &id) in path.iter().enumerate() {
                     let Some((k, nodes)) = ctx.element_nodes(id) else {
@@ -170,15 +176,7 @@ impl ContactPath {
                 Support::Beams(chain)
             }
             (true, false) => {
-                let r = match rail {
-                    "left" => 0,
-                    "right" => 1,
-                    other => {
-                        return Err(bad(format!(
-                            "`rail` = \"{other}\" is not a rail; use \"left\" or \"right\""
-                        )))
-                    }
-                };
+                let r = rail.index();
                 let tm = ctx
                     .resource(track)
                     .and_then(|x| x.downcast::<TrackModel>().ok())

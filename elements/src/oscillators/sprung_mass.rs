@@ -48,6 +48,7 @@
 use super::path::{ContactPath, ContactPoint};
 use super::{dot, sample_positions, speed_history, SampleContext};
 use crate::beam3d::support;
+use crate::rail::railline::RailSide;
 use nalgebra::DMatrix;
 use railfem_framework::element::{
     Element, ElementError, ElementProperties, NodeDofs, StepContext, TrialState,
@@ -68,13 +69,13 @@ railfem_framework::element_params! {
         /// Unsprung (wheel) mass m_w riding on the beam (kg), ≥ 0.
         m_w: f64 ["kg"] = 0.0,
         /// Contact: "bonded" (bilateral) or "unilateral" (cannot pull; the mass may lift off).
-        contact: String [""] = "bonded",
+        contact: Contact [""] = Contact::Bonded,
         /// Beam element ids of the path, in order of travel (either direction); or use `track`.
         path: Vec<u64> ["-"] = Vec::<u64>::new(),
         /// Name of a generated track to ride on instead of `path` (with `rail`).
         track: String [""] = "",
-        /// Rail of `track`: "left" or "right".
-        rail: String [""] = "left",
+        /// Rail of `track`: "left" or "right" (only with `track`).
+        rail: RailSide [""] = RailSide::Left,
         /// Station of the contact point at t = 0 (m): distance along `path`, or track station.
         start: f64 ["m"] = 0.0,
         /// Speed at t = 0 (m/s), ≥ 0.
@@ -86,6 +87,17 @@ railfem_framework::element_params! {
         /// Gravitational acceleration used in the reported contact force of m_w (m/s²).
         gravity: f64 ["m/s^2"] = 9.81,
     }
+}
+
+/// How the wheel meets the beam (`contact`): `"bonded"` (bilateral) or `"unilateral"` (the
+/// wheel cannot pull and may lift off).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Contact {
+    /// Bilateral: the contact force may pull.
+    Bonded,
+    /// Compression only: the wheel lifts off when the force would pull.
+    Unilateral,
 }
 
 /// Number of element DOFs: z and the 12 DOFs of the segment's two nodes.
@@ -134,15 +146,7 @@ impl MovingSprungMass {
                 return bad(format!("`{key}` = {} must be ≥ 0", fmt_num(v)));
             }
         }
-        let unilateral = match params.contact.as_str() {
-            "bonded" => false,
-            "unilateral" => true,
-            other => {
-                return bad(format!(
-                    "`contact` = \"{other}\" is not offered; use \"bonded\" or \"unilateral\""
-                ))
-            }
-        };
+        let unilateral = params.contact == Contact::Unilateral;
         if unilateral && params.m_w > 0.0 {
             return bad("`contact` = \"unilateral\" with `m_w` > 0 is not offered (the wheel would need its own DOF); set `m_w` = 0 or use \"bonded\"".into());
         }
@@ -421,7 +425,7 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
     const KIND: &str = "moving_sprung_mass";
     let n = support::resolve_nodes(spec, ctx, &[1], KIND, "the node of the sprung mass")?;
     let history = speed_history(spec, KIND, p.start, p.speed, p.accel, &p.speed_table)?;
-    let path = ContactPath::resolve(spec, ctx, KIND, &p.path, &p.track, &p.rail, history)?;
+    let path = ContactPath::resolve(spec, ctx, KIND, &p.path, &p.track, p.rail, history)?;
     Ok(Box::new(MovingSprungMass::new(
         p,
         n[0],

@@ -574,6 +574,15 @@ fn default_hand() -> Hand {
 }
 
 impl SegmentSpec {
+    /// The segment's length as given (m).
+    pub fn length(&self) -> f64 {
+        match self {
+            SegmentSpec::Straight { length }
+            | SegmentSpec::Clothoid { length, .. }
+            | SegmentSpec::Arc { length, .. } => *length,
+        }
+    }
+
     /// Resolves a list of specs into segments (inferring clothoid end curvatures) and builds
     /// the alignment.
     pub fn build(specs: &[SegmentSpec]) -> Result<Alignment, AlignmentError> {

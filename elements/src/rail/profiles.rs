@@ -88,6 +88,16 @@ pub enum ProfileError {
         /// The offending values.
         what: String,
     },
+    /// A coordinate beyond [`MAX_PROFILE_EXTENT`] in its declared unit.
+    #[error("{file}:{line}: {what}")]
+    OutOfBounds {
+        /// File name.
+        file: String,
+        /// Line number.
+        line: usize,
+        /// The column, the value, the bound and the fix ([`railfem_framework::csv_input`]).
+        what: String,
+    },
     /// More points than [`MAX_PROFILE_POINTS`], or a file larger than the memory budget.
     #[error("{file}:{line}: {what}")]
     TooLarge {
@@ -608,6 +618,12 @@ impl Unit {
             Unit::Metre => 1.0,
         }
     }
+    fn name(self) -> &'static str {
+        match self {
+            Unit::Millimetre => "mm",
+            Unit::Metre => "m",
+        }
+    }
 }
 
 /// Reads `y,z` points from CSV text and converts them to metres. Format: blank lines and
@@ -620,6 +636,7 @@ pub fn read_points_csv(
     text: &str,
     file: &str,
 ) -> Result<(Vec<Vector2<f64>>, Vec<usize>), ProfileError> {
+    let text = railfem_framework::csv_input::strip_bom(text);
     let mut unit: Option<Unit> = None;
     let mut points = Vec::new();
     let mut lines = Vec::new();
@@ -687,6 +704,20 @@ pub fn read_points_csv(
                         what,
                     });
                 }
+                for (column, x) in ["y", "z"].iter().zip(&v) {
+                    railfem_framework::csv_input::check_bound(
+                        column,
+                        *x,
+                        u.name(),
+                        u.scale(),
+                        &PROFILE_BOUND,
+                    )
+                    .map_err(|what| ProfileError::OutOfBounds {
+                        file: file.into(),
+                        line,
+                        what,
+                    })?;
+                }
                 points.push(Vector2::new(v[0], v[1]) * u.scale());
                 lines.push(line);
             }
@@ -732,6 +763,17 @@ pub fn read_points_csv(
     }
     Ok((points, lines))
 }
+
+/// Largest coordinate magnitude of a profile point read from a file (m): a wheel or rail
+/// cross-section is a few hundred millimetres (S1002 spans about 140 mm, a 60E1 rail is
+/// 172 mm high), so a point a metre from the profile's origin is a unit slip.
+pub const MAX_PROFILE_EXTENT: f64 = 1.0;
+
+const PROFILE_BOUND: railfem_framework::csv_input::Bound = railfem_framework::csv_input::Bound {
+    max_si: MAX_PROFILE_EXTENT,
+    si_unit: "m",
+    why: "a wheel or rail cross-section is a few hundred millimetres",
+};
 
 /// Most points a wheel or rail profile may have, sampled (`wheel_points`, `rail_nodes`) or
 /// read from a file: beyond a few thousand points a profile is no more accurate (the
@@ -1418,6 +1460,18 @@ mod tests {
     }
 
     #[test]
+    fn a_point_beyond_a_metre_names_its_row_and_column() {
+        // 1500 mm = 1.5 m from the origin: beyond any cross-section, a unit slip.
+        let e = WheelProfile::from_csv_str("\u{feff}y_mm,z_mm\n0,0\n1500,1\n", "a.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("a.csv:3: column `y` = 1500 mm is beyond ±1 m (1000 mm)"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn csv_errors_are_clear() {
         let e = WheelProfile::from_csv_str("0,0\n1,1\n2,2\n3,3\n", "a.csv").unwrap_err();
         assert!(matches!(e, ProfileError::UnknownUnits { line: 1, .. }));
@@ -1428,7 +1482,8 @@ mod tests {
         assert!(matches!(e, ProfileError::UnknownUnits { line: 1, .. }));
         let e = WheelProfile::from_csv_str("y_mm,z_m\n0,0\n", "a.csv").unwrap_err();
         assert!(matches!(e, ProfileError::UnknownUnits { line: 1, .. }));
-        let e = WheelProfile::from_csv_str("# units: m\n0,0\n1,1\n2,2\n", "a.csv").unwrap_err();
+        let e = WheelProfile::from_csv_str("# units: m\n0,0\n0.01,0.01\n0.02,0.02\n", "a.csv")
+            .unwrap_err();
         assert!(matches!(
             e,
             ProfileError::TooFewPoints {
@@ -1455,8 +1510,8 @@ mod tests {
             }
         ));
         // Folding back on itself.
-        let e =
-            WheelProfile::from_csv_str("# units: m\n0,0\n1,0\n0.5,0\n2,1\n", "a.csv").unwrap_err();
+        let e = WheelProfile::from_csv_str("# units: m\n0,0\n0.1,0\n0.05,0\n0.2,0.1\n", "a.csv")
+            .unwrap_err();
         assert!(matches!(e, ProfileError::SelfIntersecting { .. }));
         let e = RailProfile::from_csv_str(
             "# units: mm\n-30,-5\n-10,-0.2\n-12,0\n10,-0.2\n30,-5\n",
@@ -1467,12 +1522,12 @@ mod tests {
         assert!(matches!(e, ProfileError::NonMonotonic { line: 4, .. }));
         let e = RailProfile::from_csv_file("/nonexistent/rail.csv", Inclination::None).unwrap_err();
         assert!(matches!(e, ProfileError::Io { .. }));
-        let e =
-            WheelProfile::from_csv_str("# units: m\n0,0\n1,0\n1,0\n2,1\n", "a.csv").unwrap_err();
+        let e = WheelProfile::from_csv_str("# units: m\n0,0\n0.1,0\n0.1,0\n0.2,0.1\n", "a.csv")
+            .unwrap_err();
         assert!(matches!(e, ProfileError::RepeatedPoint { line: 4, .. }));
-        // Millimetres declared as metres: a 60 m wide rail head.
+        // Millimetres declared as metres, within the ±1 m bound: a 1.2 m wide rail head.
         let e = RailProfile::from_csv_str(
-            "# units: m\n-30,-5\n-10,-0.2\n0,0\n10,-0.2\n30,-5\n",
+            "# units: m\n-0.6,-0.1\n-0.2,-0.004\n0,0\n0.2,-0.004\n0.6,-0.1\n",
             "r.csv",
             Inclination::None,
         )

@@ -17,8 +17,9 @@ use railfem_framework::plot::{Corner, Figure, Panel, Series, Style};
 use std::io::{self, Write as _};
 use std::path::Path;
 
-/// Which rail, seen in the direction of travel.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Which rail, seen in the direction of travel (`"left"` or `"right"` in a model file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum RailSide {
     /// The left rail (at +G/2 along wheel axis 1).
     Left,
@@ -32,6 +33,14 @@ impl RailSide {
         match self {
             RailSide::Left => 1.0,
             RailSide::Right => -1.0,
+        }
+    }
+
+    /// The index of this rail in a track model's `rails` (left 0, right 1).
+    pub fn index(self) -> usize {
+        match self {
+            RailSide::Left => 0,
+            RailSide::Right => 1,
         }
     }
 }

@@ -27,8 +27,9 @@ use super::cant::TrackSpec;
 use super::track_model::{generate_with, JointDip, RailSection, RailSupport, TrackMesh};
 use super::vehicle::section::apply_vehicles;
 use railfem_framework::error::FemError;
+use railfem_framework::limits;
 use railfem_framework::model::ModelBuilder;
-use railfem_framework::modelfile::ModelSection;
+use railfem_framework::modelfile::{ModelSection, SizePart};
 use serde::Deserialize;
 use serde_json::Value;
 use std::sync::Arc;
@@ -61,8 +62,7 @@ struct TrackSection {
 }
 
 fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemError> {
-    let t: TrackSection =
-        TrackSection::deserialize(v).map_err(|e| FemError::input(origin, e.to_string()))?;
+    let t: TrackSection = railfem_framework::keypath::from_value(v, origin, "track")?;
     let spec = TrackSpec {
         segments: t.segments,
         ct: t.ct,
@@ -99,12 +99,42 @@ fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemE
     Ok(())
 }
 
+/// The track's part of the model's size estimate: the meshed length over `element_length`
+/// stations, each as [`super::track_model::check_mesh_size`] counts it (two rail nodes on a
+/// rigid support, 12 DOFs on discrete supports, 18 with a slab or girder).
+fn estimate_track(v: &Value, _base: &std::path::Path) -> Vec<SizePart> {
+    let Ok(t) = railfem_framework::keypath::from_value::<TrackSection>(v, "", "") else {
+        return Vec::new();
+    };
+    let length = match t.window {
+        Some([a, b]) => b - a,
+        None => t.segments.iter().map(SegmentSpec::length).sum(),
+    };
+    let h = t
+        .element_length
+        .unwrap_or(TrackMesh::default().element_length);
+    let stations = length / h + 1.0;
+    let per_station = match t.support.unwrap_or(RailSupport::Rigid) {
+        RailSupport::Rigid => 2.0 * limits::BYTES_PER_NODE,
+        RailSupport::Discrete { .. } => 12.0 * limits::BYTES_PER_DOF,
+        _ => 18.0 * limits::BYTES_PER_DOF,
+    };
+    vec![SizePart {
+        what: format!(
+            "[track]: {} rail stations",
+            limits::fmt_num(stations.ceil())
+        ),
+        bytes: stations * per_station,
+    }]
+}
+
 railfem_framework::inventory::submit! {
     ModelSection {
         key: "track",
         description: "a track: alignment segments, cant, rails and their supports",
         order: -10,
         apply: apply_track,
+        estimate: Some(estimate_track),
     }
 }
 
@@ -114,5 +144,6 @@ railfem_framework::inventory::submit! {
         description: "trains of vehicles (presets, vehicle files or inline bodies and suspensions) riding the track on wheel elements",
         order: 10,
         apply: apply_vehicles,
+        estimate: Some(super::vehicle::section::estimate_vehicles),
     }
 }

@@ -17,11 +17,27 @@
 //! resolution) but not zero is refused as "metres declared as millimetres".
 
 use super::psd::Component;
+use railfem_framework::csv_input::{self, Bound};
 use railfem_framework::limits;
 use thiserror::Error;
 
 /// Largest irregularity value a file declared in metres may hold (m), see the module doc.
 pub const MAX_IRREGULARITY_M: f64 = 0.1;
+
+/// The bound of every irregularity value ([`MAX_IRREGULARITY_M`], whatever the column's
+/// unit).
+const VALUE_BOUND: Bound = Bound {
+    max_si: MAX_IRREGULARITY_M,
+    si_unit: "m",
+    why: "no track in service deviates that far from its mean (FRA class 1 allows 76 mm)",
+};
+
+/// The bound of a station: [`railfem_framework::modelfile::MAX_COORDINATE`].
+const STATION_BOUND: Bound = Bound {
+    max_si: railfem_framework::modelfile::MAX_COORDINATE,
+    si_unit: "m",
+    why: "a track that long would circle the Earth",
+};
 
 /// Smallest nonzero largest value of a column declared in millimetres (mm).
 pub const MIN_IRREGULARITY_MM: f64 = 1e-3;
@@ -69,6 +85,8 @@ pub fn read_table(text: &str, file: &str) -> Result<IrregularityTable, Irregular
         line,
         what,
     };
+    // A byte-order mark would hide a first comment line (`\u{feff}# ...` is not `#`).
+    let text = csv_input::strip_bom(text);
     let mut lines = text
         .lines()
         .enumerate()
@@ -90,6 +108,8 @@ pub fn read_table(text: &str, file: &str) -> Result<IrregularityTable, Irregular
         ));
     }
     let mut cols: Vec<(Component, f64)> = Vec::new();
+    // The header text and unit of each component column, for the bounds' messages.
+    let mut labels: Vec<(&str, &str)> = Vec::new();
     for n in &names[1..] {
         let parsed = name_and_unit(n).and_then(|(c, u)| {
             let scale = match u.to_ascii_lowercase().as_str() {
@@ -115,6 +135,7 @@ pub fn read_table(text: &str, file: &str) -> Result<IrregularityTable, Irregular
             ));
         }
         cols.push((c, scale));
+        labels.push((n, if scale == 1.0 { "m" } else { "mm" }));
     }
     if cols.is_empty() {
         return Err(err(
@@ -155,6 +176,27 @@ pub fn read_table(text: &str, file: &str) -> Result<IrregularityTable, Irregular
                 line,
                 format!("{v} is not a finite number; correct or remove that row"),
             ));
+        }
+        let bounded = |k: usize, bound: &Bound| {
+            let (column, unit, scale) = match k {
+                0 => (names[0], "m", 1.0),
+                k => (labels[k - 1].0, labels[k - 1].1, cols[k - 1].1),
+            };
+            csv_input::check_bound(column, nums[k], unit, scale, bound).map_err(|m| err(line, m))
+        };
+        bounded(0, &STATION_BOUND)?;
+        for k in 1..nums.len() {
+            // Metre columns get the millimetre slip's own message below; here only values
+            // that are not even plausible as millimetres.
+            let bound = if cols[k - 1].1 == 1.0 {
+                Bound {
+                    max_si: MAX_IRREGULARITY_M * 1e3,
+                    ..VALUE_BOUND
+                }
+            } else {
+                VALUE_BOUND
+            };
+            bounded(k, &bound)?;
         }
         if let Some(&prev) = stations.last() {
             if nums[0] <= prev {

@@ -244,7 +244,11 @@ pub fn from_value(
     for (i, item) in list.into_iter().enumerate() {
         let o = format!("{origin} irregularity[{i}]");
         let e = |m: String| FemError::input(&o, m);
-        let spec = IrregularitySpec::deserialize(item).map_err(|x| e(x.to_string()))?;
+        let spec: IrregularitySpec = railfem_framework::keypath::from_value(
+            item,
+            origin,
+            &format!("track.irregularity[{i}]"),
+        )?;
         match (&spec.file, &spec.psd) {
             (Some(f), None) => {
                 for (key, given) in [

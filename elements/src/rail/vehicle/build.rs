@@ -215,11 +215,7 @@ pub fn build(
         }
     }
     // Size guard: six DOFs per body and six per wheel's contact nodes.
-    let dofs: usize = train
-        .vehicles
-        .iter()
-        .map(|v| 6 * (v.bodies.len() + 2 * v.wheelsets.len() + v.sensors.len()))
-        .sum();
+    let dofs: usize = train.vehicles.iter().map(VehicleDef::dofs).sum();
     railfem_framework::limits::check_memory(
         &format!("{} vehicles", train.vehicles.len()),
         dofs as f64,

@@ -187,6 +187,12 @@ impl VehicleDef {
         self.bodies.iter().position(|b| b.name == name)
     }
 
+    /// DOFs the vehicle adds to a model: six per body, per wheel's contact nodes (two
+    /// wheels a wheelset) and per sensor node (what the train's size guard counts).
+    pub fn dofs(&self) -> usize {
+        6 * (self.bodies.len() + 2 * self.wheelsets.len() + self.sensors.len())
+    }
+
     /// Total mass (kg).
     pub fn total_mass(&self) -> f64 {
         self.bodies.iter().map(|b| b.mass).sum()

@@ -12,7 +12,10 @@ use super::definition::VehicleDef;
 use super::track_model::TrackModel;
 use super::{build_train_at, CarriageData, TrainSpec};
 use railfem_framework::error::FemError;
+use railfem_framework::keypath::{self, from_value};
+use railfem_framework::limits;
 use railfem_framework::model::{Geometry, ModelBuilder};
+use railfem_framework::modelfile::SizePart;
 use railfem_framework::recorder::{Quantity, RecorderSpec};
 use serde::Deserialize;
 use serde_json::{Map, Value};
@@ -108,11 +111,12 @@ fn merge(base: &mut Value, patch: &Value) {
 /// definition.
 pub fn parse_vehicle(text: &str, name: &str) -> Result<VehicleDef, FemError> {
     let v = railfem_framework::modelfile::parse_toml(text, name)?;
-    definition_from(&v, name)
+    definition_from(&v, name, "")
 }
 
-fn definition_from(v: &Value, place: &str) -> Result<VehicleDef, FemError> {
-    let d = VehicleDef::deserialize(v).map_err(|e| FemError::input(place, e.to_string()))?;
+/// A definition from its value at key path `at` (`""`: a vehicle file's top level).
+fn definition_from(v: &Value, place: &str, at: &str) -> Result<VehicleDef, FemError> {
+    let d: VehicleDef = from_value(v, place, at)?;
     let d = d.normalized();
     d.validate()
         .map_err(|(p, m)| FemError::input(format!("{place} {p}"), m))?;
@@ -126,7 +130,12 @@ pub fn sks700() -> Result<VehicleDef, FemError> {
 
 /// One vehicle unit (a table with `preset`, `file` or inline keys, and `count`) into its
 /// definition and count. `o` is the place, `dir` the model file's directory.
-fn unit(map: &Map<String, Value>, o: &str, dir: &Path) -> Result<(VehicleDef, usize), FemError> {
+fn unit(
+    map: &Map<String, Value>,
+    o: &str,
+    at: &str,
+    dir: &Path,
+) -> Result<(VehicleDef, usize), FemError> {
     let count_key = if map.contains_key("carriages") {
         "carriages"
     } else {
@@ -193,7 +202,7 @@ fn unit(map: &Map<String, Value>, o: &str, dir: &Path) -> Result<(VehicleDef, us
         return Ok((parse_vehicle(&text, &name)?, count));
     }
     if !inline.is_empty() {
-        return Ok((definition_from(&Value::Object(inline), o)?, count));
+        return Ok((definition_from(&Value::Object(inline), o, at)?, count));
     }
     match map.get("preset").map(|p| p.as_str()) {
         Some(Some("sks700")) | None => {}
@@ -212,8 +221,7 @@ fn unit(map: &Map<String, Value>, o: &str, dir: &Path) -> Result<(VehicleDef, us
         Some(over) => {
             let mut c = serde_json::to_value(CarriageData::sks700()).unwrap_or(Value::Null);
             merge(&mut c, over);
-            let c = CarriageData::deserialize(c)
-                .map_err(|e| FemError::input(o, format!("carriage: {e}")))?;
+            let c: CarriageData = from_value(&c, o, &keypath::join(at, "carriage"))?;
             c.validate().map_err(|m| FemError::input(o, m))?;
             Ok((c.expand(), count))
         }
@@ -244,7 +252,7 @@ pub fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(
         let track =
             track_of(b).ok_or_else(|| FemError::input(&o, "a vehicle needs a [track] table"))?;
         if map.contains_key("carriage") && !map.contains_key("vehicles") {
-            legacy(map, &o, b, &track)?;
+            legacy(map, &o, &format!("vehicle[{i}]"), b, &track)?;
             continue;
         }
         let train_map: Map<String, Value> = map
@@ -252,8 +260,8 @@ pub fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(
             .filter(|(k, _)| TRAIN_KEYS.contains(&k.as_str()))
             .map(|(k, v)| (k.clone(), v.clone()))
             .collect();
-        let keys = TrainKeys::deserialize(Value::Object(train_map))
-            .map_err(|e| FemError::input(&o, e.to_string()))?;
+        let at = format!("vehicle[{i}]");
+        let keys: TrainKeys = from_value(&Value::Object(train_map), &o, &at)?;
         let named = format!("{o} (vehicle `{}`)", keys.name);
         if keys.wheel.contains_key("side") {
             return Err(FemError::input(
@@ -266,25 +274,28 @@ pub fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(
             .filter(|(k, _)| !TRAIN_KEYS.contains(&k.as_str()))
             .map(|(k, v)| (k.clone(), v.clone()))
             .collect();
-        let mut vehicles = Vec::new();
+        // Every entry's definition and count first; the vehicles are repeated only once the
+        // whole train's size is known to fit.
+        let mut units = Vec::new();
         match &keys.vehicles {
-            Some(units) => {
+            Some(list) => {
                 if !unit_map.is_empty() {
                     return Err(FemError::input(&o, "with `vehicles = [...]` give the vehicle keys in its entries, not on [[vehicle]]"));
                 }
-                for (j, u) in units.iter().enumerate() {
+                for (j, u) in list.iter().enumerate() {
                     let ou = format!("{named} vehicles[{j}]");
                     let Value::Object(um) = u else {
                         return Err(FemError::input(&ou, "must be a table"));
                     };
-                    let (d, n) = unit(um, &ou, &dir)?;
-                    vehicles.extend(std::iter::repeat_n(d, n));
+                    units.push(unit(um, &ou, &format!("{at}.vehicles[{j}]"), &dir)?);
                 }
             }
-            None => {
-                let (d, n) = unit(&unit_map, &named, &dir)?;
-                vehicles.extend(std::iter::repeat_n(d, n));
-            }
+            None => units.push(unit(&unit_map, &named, &at, &dir)?),
+        }
+        check_train_size(&units, &at).map_err(|m| FemError::input(&named, m))?;
+        let mut vehicles = Vec::new();
+        for (d, n) in units {
+            vehicles.extend(std::iter::repeat_n(d, n));
         }
         let train = Train {
             name: keys.name.clone(),
@@ -306,6 +317,89 @@ pub fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(
         }
     }
     Ok(())
+}
+
+/// The size guard of a whole train, from its entries' definitions and counts before any
+/// vehicle is repeated: the DOFs of all of them ([`VehicleDef::dofs`]) against the memory
+/// budget. `at` is the train's key path. Returns the message.
+fn check_train_size(units: &[(VehicleDef, usize)], at: &str) -> Result<(), String> {
+    let vehicles: f64 = units.iter().map(|(_, n)| *n as f64).sum();
+    let dofs: f64 = units.iter().map(|(d, n)| d.dofs() as f64 * *n as f64).sum();
+    let entries = if units.len() == 1 {
+        String::new()
+    } else {
+        format!(" in {} entries of `vehicles`", units.len())
+    };
+    railfem_framework::limits::check_memory(
+        &format!("`{at}`: {} vehicles{entries}", limits::fmt_num(vehicles)),
+        dofs,
+        "vehicle DOFs",
+        limits::BYTES_PER_DOF,
+        "give fewer vehicles (`count` of each entry)",
+    )
+}
+
+/// The trains' part of the model's size estimate, from the `[[vehicle]]` value alone: every
+/// entry's count times its vehicle's DOFs ([`VehicleDef::dofs`]; a vehicle file is read
+/// for its bodies, wheelsets and sensors). `dir` is the model file's folder. Entries that
+/// will be refused count as nothing.
+pub fn estimate_vehicles(v: &Value, dir: &Path) -> Vec<SizePart> {
+    let trains: Vec<&Value> = match v {
+        Value::Array(a) => a.iter().collect(),
+        o => vec![o],
+    };
+    let mut out = Vec::new();
+    for (i, t) in trains.into_iter().enumerate() {
+        let Value::Object(map) = t else { continue };
+        let units: Vec<&Map<String, Value>> = match map.get("vehicles") {
+            Some(Value::Array(a)) => a.iter().filter_map(Value::as_object).collect(),
+            _ => vec![map],
+        };
+        let (mut vehicles, mut dofs) = (0.0, 0.0);
+        for u in units {
+            let count = ["carriages", "count"]
+                .iter()
+                .find_map(|k| u.get(*k))
+                .map_or(Some(1), Value::as_u64)
+                .unwrap_or(0) as f64;
+            vehicles += count;
+            dofs += count * unit_dofs(u, dir) as f64;
+        }
+        out.push(SizePart {
+            what: format!(
+                "vehicle[{i}]: {} vehicles, {} DOFs",
+                limits::fmt_num(vehicles),
+                limits::fmt_num(dofs)
+            ),
+            bytes: dofs * limits::BYTES_PER_DOF,
+        });
+    }
+    out
+}
+
+/// DOFs of one vehicle of a unit table, from its value: the preset's, or those of the
+/// bodies, wheelsets and sensors its file or inline definition lists (0 if unreadable).
+fn unit_dofs(u: &Map<String, Value>, dir: &Path) -> usize {
+    let listed = |m: &Map<String, Value>| {
+        let n = |k: &str| m.get(k).and_then(Value::as_array).map_or(0, Vec::len);
+        6 * (n("body") + 2 * n("wheelset") + n("sensor"))
+    };
+    if let Some(f) = u.get("file").and_then(Value::as_str) {
+        let path = dir.join(f);
+        if limits::check_file(&path, "").is_err() {
+            return 0;
+        }
+        return std::fs::read_to_string(&path)
+            .ok()
+            .and_then(|t| railfem_framework::modelfile::parse_toml(&t, "").ok())
+            .and_then(|v| v.as_object().map(listed))
+            .unwrap_or(0);
+    }
+    if u.contains_key("body") {
+        return listed(u);
+    }
+    static PRESET: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *PRESET.get_or_init(|| CarriageData::sks700().expand().dofs())
 }
 
 /// Name of the builder resource listing every train's sensor nodes as
@@ -423,6 +517,7 @@ fn motion(speed: Option<f64>, accel: f64, table: bool, o: &str) -> Result<f64, F
 fn legacy(
     map: &Map<String, Value>,
     o: &str,
+    at: &str,
     b: &mut ModelBuilder,
     track: &Arc<TrackModel>,
 ) -> Result<(), FemError> {
@@ -443,9 +538,7 @@ fn legacy(
         merge(&mut carriage, &over);
     }
     let rec: Option<Record> = match map.remove("record") {
-        Some(r) => {
-            Some(Record::deserialize(r).map_err(|e| FemError::input(o, format!("record: {e}")))?)
-        }
+        Some(r) => Some(from_value(&r, o, &keypath::join(at, "record"))?),
         None => None,
     };
     let speed = map.get("speed").and_then(Value::as_f64);
@@ -456,8 +549,7 @@ fn legacy(
     map.entry("carriages").or_insert(Value::from(1));
     map.entry("wheel")
         .or_insert(Value::Object(Default::default()));
-    let spec: TrainSpec = TrainSpec::deserialize(Value::Object(map))
-        .map_err(|e| FemError::input(o, e.to_string()))?;
+    let spec: TrainSpec = from_value(&Value::Object(map), o, at)?;
     if let Value::Object(w) = &spec.wheel {
         if w.contains_key("side") {
             return Err(FemError::input(
