@@ -242,7 +242,7 @@ impl Element for MovingMass {
     }
 
     fn parameters(&self) -> serde_json::Value {
-        serde_json::to_value(&self.params).unwrap_or(serde_json::Value::Null)
+        super::path::path_parameters(&self.params)
     }
 
     fn as_any(&self) -> Option<&dyn std::any::Any> {

@@ -44,6 +44,23 @@ use std::sync::Arc;
 /// `v·t` round-off still counts as on it.
 const END_SLACK: f64 = 1e-9;
 
+/// An oscillator's parameters as JSON for `Element::parameters`, without `rail` when it
+/// rides a beam `path` (no `track`): the model file refuses `rail` beside `path`, so a key
+/// that only its default put there would not read back.
+pub fn path_parameters<P: serde::Serialize>(params: &P) -> serde_json::Value {
+    let mut v = serde_json::to_value(params).unwrap_or(serde_json::Value::Null);
+    if let Some(map) = v.as_object_mut() {
+        let on_track = map
+            .get("track")
+            .and_then(|t| t.as_str())
+            .is_some_and(|t| !t.is_empty());
+        if !on_track {
+            map.remove("rail");
+        }
+    }
+    v
+}
+
 /// The rail-top profile (m, up) of rail `rail` at station `s`: the one place where a
 /// moving oscillator reads the track's irregularity (the vertical part of
 /// [`TrackModel::rail_offset`]: the `[track] irregularity` of that rail and the dipped
