@@ -233,30 +233,9 @@ fn ran_to_py<'py>(py: Python<'py>, ran: Ran, out: Option<&Path>) -> PyResult<Bou
     d.set_item("recorders", recorders)?;
     match ran.energy {
         Some((rows, summary, rel)) => {
-            let cols = [
-                "external_work",
-                "kinetic",
-                "strain",
-                "damping",
-                "friction",
-                "material",
-                "integrator",
-            ];
+            let cols = railfem::solvers::energy::EnergyRow::COLUMNS;
             let time = rows.iter().map(|r| r.t).collect();
-            let values = rows
-                .iter()
-                .flat_map(|r| {
-                    [
-                        r.external_work,
-                        r.kinetic,
-                        r.strain,
-                        r.damping,
-                        r.friction,
-                        r.material,
-                        r.integrator,
-                    ]
-                })
-                .collect();
+            let values = rows.iter().flat_map(|r| r.values()).collect();
             let e = table(
                 py,
                 railfem::framework::outputs::ENERGY_CSV,

@@ -71,6 +71,31 @@ pub struct EnergyRow {
 }
 
 impl EnergyRow {
+    /// The names of the energies (J), in the order of [`EnergyRow::values`] and of
+    /// `energy.csv`'s columns after `time`.
+    pub const COLUMNS: [&'static str; 7] = [
+        "external_work",
+        "kinetic",
+        "strain",
+        "damping",
+        "friction",
+        "material",
+        "integrator",
+    ];
+
+    /// The energies in the order of [`EnergyRow::COLUMNS`].
+    pub fn values(&self) -> [f64; 7] {
+        [
+            self.external_work,
+            self.kinetic,
+            self.strain,
+            self.damping,
+            self.friction,
+            self.material,
+            self.integrator,
+        ]
+    }
+
     /// The largest of the energies' magnitudes: the scale an energy error is relative to.
     pub fn scale(&self) -> f64 {
         [
@@ -344,20 +369,17 @@ impl EnergyLedger {
     /// Writes the rows as CSV:
     /// `time,external_work,kinetic,strain,damping,friction,material,integrator` (J).
     pub fn write_csv(&self, path: &Path) -> Result<(), FemError> {
-        let mut s = String::from("time [s],external_work [J],kinetic [J],strain [J],damping [J],friction [J],material [J],integrator [J]\n");
+        let mut s = String::from("time [s]");
+        for c in EnergyRow::COLUMNS {
+            let _ = write!(s, ",{c} [J]");
+        }
+        s.push('\n');
         for r in &self.history {
-            let _ = writeln!(
-                s,
-                "{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e}",
-                r.t,
-                r.external_work,
-                r.kinetic,
-                r.strain,
-                r.damping,
-                r.friction,
-                r.material,
-                r.integrator
-            );
+            let _ = write!(s, "{:.9e}", r.t);
+            for v in r.values() {
+                let _ = write!(s, ",{v:.9e}");
+            }
+            s.push('\n');
         }
         std::fs::write(path, s).map_err(|e| FemError::output(path, e))
     }
