@@ -14,8 +14,9 @@
 //! process's peak resident memory (`VmHWM`) after the size ran. Timings are wall-clock and
 //! depend on what else the machine is doing; nothing here asserts them.
 
+use crate::framework::builder::ModelBuilder;
 use crate::framework::loads::LoadSpec;
-use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder};
+use crate::framework::model::{AnalysisSpec, IntegratorKind};
 use crate::framework::{Dof, DofSet, FemError, Model};
 use crate::solvers::linear::solver_for;
 use crate::solvers::Driver;

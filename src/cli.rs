@@ -398,6 +398,19 @@ pub fn run(a: &Args) -> Result<i32, FemError> {
 }
 
 /// Runs a parsed command; returns the process exit code.
+/// Prints a registered kind and its documented keys (`railfem elements`, `loads`,
+/// `recorders`).
+fn print_kind(name: &str, description: &str, params: Vec<crate::framework::registry::ParamDoc>) {
+    println!("{name} — {description}");
+    for p in params {
+        let def = p
+            .default
+            .map(|d| format!(" (default {d})"))
+            .unwrap_or_else(|| " (required)".into());
+        println!("    {:<12} [{}]{}  {}", p.key, p.unit, def, p.doc);
+    }
+}
+
 fn dispatch(a: &Args) -> Result<i32, FemError> {
     crate::elements::link();
     for p in &a.plugins {
@@ -514,14 +527,19 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         }
         "elements" => {
             for k in crate::framework::registry::kinds() {
-                println!("{} — {}", k.name, k.description);
-                for p in (k.params)() {
-                    let def = p
-                        .default
-                        .map(|d| format!(" (default {d})"))
-                        .unwrap_or_else(|| " (required)".into());
-                    println!("    {:<12} [{}]{}  {}", p.key, p.unit, def, p.doc);
-                }
+                print_kind(k.name, k.description, (k.params)());
+            }
+            Ok(0)
+        }
+        "loads" => {
+            for k in crate::framework::load_kind::kinds() {
+                print_kind(k.name, k.description, (k.params)());
+            }
+            Ok(0)
+        }
+        "recorders" => {
+            for k in crate::framework::recorder_kind::kinds() {
+                print_kind(k.name, k.description, (k.params)());
             }
             Ok(0)
         }

@@ -3,7 +3,7 @@
 //! each command's `--help`, the shell completions (`railfem completions bash|zsh|fish`) and
 //! the refusal of an unknown or misplaced option (with the nearest valid one).
 //!
-//! The values themselves reach the commands through [`crate::cli::Args`], built generically
+//! The values themselves reach the commands through [`crate::args::Args`], built generically
 //! from clap's matches ([`crate::cli::parse`]): an option's value stays the text the user
 //! typed until the command checks it, so every command keeps its own one-line messages
 //! (`--dt -1: give a time step > 0 s`, docs/robustness.md). Adding an option is therefore
@@ -98,6 +98,11 @@ pub enum Command {
     Check(CheckCmd),
     /// List the registered element kinds and their keys (units, defaults).
     Elements,
+    /// List the registered load kinds (`[[load]] type`) and their keys (units, defaults).
+    Loads,
+    /// List the registered recorder kinds (`[[recorder]] type`) and their keys (units,
+    /// defaults).
+    Recorders,
     /// The paper's curved-track validation (Fig. 6): FE against theory.
     Curve(CurveCmd),
     /// Critical radius, FE against theory (Figs. 7, 9); `--sweep` for a whole figure.

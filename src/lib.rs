@@ -5,7 +5,7 @@
 //! spring_damper, mass, and the rail toolkit with the moving wheel-axle element of Ju & Ro
 //! 2021) and [`solvers`] (linear solvers, integrators, the driver) — and holds the
 //! command-line interface ([`cli`]). Units are SI throughout: m, kg, s, N, rad.
-
+#![deny(missing_docs)]
 // Index loops are the clearest way to write small dense matrix algebra.
 #![allow(clippy::needless_range_loop)]
 

@@ -24,8 +24,9 @@
 //! every step; the reference is computed outside the timed region. Timings depend on the
 //! machine's load and are never asserted.
 
+use crate::framework::builder::ModelBuilder;
 use crate::framework::loads::{LoadSpec, TimeSeries};
-use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder};
+use crate::framework::model::{AnalysisSpec, IntegratorKind};
 use crate::framework::plot::{Corner, Figure, Panel, Series, Style};
 use crate::framework::{Dof, DofSet, FemError, Model};
 use crate::solvers::Driver;

@@ -13,7 +13,8 @@
 //! from the direct solver's, relative to the largest displacement.
 
 use crate::bench::{BenchBeam, DT};
-use crate::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder, SolverChoice};
+use crate::framework::builder::ModelBuilder;
+use crate::framework::model::{AnalysisSpec, IntegratorKind, SolverChoice};
 use crate::framework::{DofSet, FemError, Model};
 use crate::solvers::Driver;
 use serde_json::json;

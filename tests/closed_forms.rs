@@ -8,8 +8,9 @@
 
 mod common;
 
+use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
-use railfem::framework::model::{AnalysisSpec, ModelBuilder};
+use railfem::framework::model::AnalysisSpec;
 use railfem::framework::recorder::{Quantity, RecorderSpec};
 use railfem::framework::{Dof, DofSet};
 use railfem::solvers::modal::{lowest_modes, ModalOptions};

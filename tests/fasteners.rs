@@ -23,7 +23,7 @@ use railfem::elements::rail::alignment::Alignment;
 use railfem::elements::rail::bridge::BridgeSpec;
 use railfem::elements::rail::cant::{Cant, Track};
 use railfem::elements::rail::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
-use railfem::framework::model::ModelBuilder;
+use railfem::framework::builder::ModelBuilder;
 use railfem::framework::Dof;
 use std::sync::Arc;
 

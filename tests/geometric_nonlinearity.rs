@@ -7,8 +7,9 @@
 
 mod common;
 
+use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
-use railfem::framework::model::{AnalysisKind, AnalysisSpec, IntegratorKind, ModelBuilder};
+use railfem::framework::model::{AnalysisKind, AnalysisSpec, IntegratorKind};
 use railfem::framework::DofSet;
 use railfem::solvers::Driver;
 use serde_json::json;

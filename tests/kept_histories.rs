@@ -5,7 +5,7 @@
 
 mod common;
 
-use railfem::framework::recorder::History;
+use railfem::framework::recording::History;
 use std::path::Path;
 
 fn run(model: &Path, out: Option<&Path>) -> Vec<History> {

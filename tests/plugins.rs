@@ -373,3 +373,230 @@ fn energy_ledger_books_plastic_dissipation_as_material() {
         r.strain
     );
 }
+
+/// A 50 kg rotor mass on springs in uy and uz (different stiffnesses), driven by
+/// `m·e·ω²` rotating in the uz–uy plane.
+fn unbalance_model(loads: &str, recorders: &str) -> String {
+    format!(
+        r#"
+[analysis]
+kind = "transient"
+dt = 1e-3
+duration = 0.5
+initial_static = false
+
+[[node]]
+id = 1
+xyz = [0.0, 0.0, 0.0]
+fix = "all"
+
+[[node]]
+id = 2
+xyz = [0.0, 0.0, 0.0]
+fix = ["ux", "rx", "ry", "rz"]
+
+[[element]]
+type = "mass"
+id = 1
+nodes = [2]
+m = 50.0
+
+[[element]]
+type = "spring_damper"
+id = 2
+nodes = [1, 2]
+k = [0.0, 2.0e6, 3.0e6, 0.0, 0.0, 0.0]
+c = [0.0, 400.0, 500.0, 0.0, 0.0, 0.0]
+
+{loads}
+
+[[recorder]]
+type = "node"
+nodes = [1, 2]
+dofs = ["uy", "uz"]
+quantity = "vel"
+file = "node.csv"
+{recorders}
+"#
+    )
+}
+
+/// Reads a CSV of numbers written by a recorder: header and rows.
+fn read_numbers(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (header, rows)
+}
+
+/// The plugin's load and recorder kinds, used from a model file: `rotating_unbalance`
+/// applies `F_z = m·e·ω²·cos(ωt + φ)`, `F_y = m·e·ω²·sin(ωt + φ)`, the same forces as two
+/// built-in nodal loads with sine series of amplitude `m·e·ω²`, frequency `ω/2π` and phases
+/// `φ + π/2` and `φ` (cos x = sin(x + π/2)); the two runs' velocities agree to round-off
+/// (1e-9 of the peak: the series differ in the last bits only). The `relative_motion`
+/// recorder's `2_1_duz` column is the difference of the node recorder's `2_uz` and `1_uz`
+/// columns (node 1 is fixed, so `2_uz` itself), to the CSV's 13 significant digits.
+/// `railfem loads` and `railfem recorders` list the plugin's kinds with their keys.
+#[test]
+fn plugin_load_and_recorder_kinds_run_from_a_model_file() {
+    let (me, omega, phase) = (0.02, 120.0, 0.3);
+    let amp = me * omega * omega;
+    let dir = tmp("load-recorder");
+    let plugin = format!(
+        r#"[[load]]
+type = "rotating_unbalance"
+node = 2
+me = {me}
+omega = {omega}
+phase = {phase}
+"#
+    );
+    let relative = r#"
+[[recorder]]
+type = "relative_motion"
+from = 1
+to = 2
+dofs = ["uz", "uy"]
+quantity = "vel"
+file = "relative.csv"
+"#;
+    let f = omega / (2.0 * std::f64::consts::PI);
+    let builtin = format!(
+        r#"[[load]]
+type = "nodal"
+node = 2
+dof = "uz"
+value = {amp:e}
+series = {{ type = "sine", frequency = {f:e}, phase = {:e} }}
+
+[[load]]
+type = "nodal"
+node = 2
+dof = "uy"
+value = {amp:e}
+series = {{ type = "sine", frequency = {f:e}, phase = {phase:e} }}
+"#,
+        phase + std::f64::consts::FRAC_PI_2
+    );
+    let run = |name: &str, text: String| {
+        let model = dir.join(format!("{name}.toml"));
+        std::fs::write(&model, text).unwrap();
+        let out_dir = dir.join(name);
+        let out = railfem()
+            .arg("run")
+            .arg(&model)
+            .arg("--plugin")
+            .arg(plugin_lib())
+            .arg("--out")
+            .arg(&out_dir)
+            .output()
+            .unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out_dir
+    };
+    let a = run("plugin", unbalance_model(&plugin, relative));
+    let b = run("builtin", unbalance_model(&builtin, ""));
+    let (ha, ra) = read_numbers(&a.join("node.csv"));
+    let (hb, rb) = read_numbers(&b.join("node.csv"));
+    assert_eq!(ha, hb);
+    assert_eq!(ra.len(), 501);
+    let peak = ra
+        .iter()
+        .flat_map(|r| r[1..].iter())
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    // The rotor is driven near neither resonance; the velocity peaks are millimetres per
+    // second, so a dropped or mis-signed component would show at order 1 of the peak.
+    assert!(peak > 1e-3, "peak velocity {peak}");
+    for (x, y) in ra.iter().zip(&rb) {
+        for (u, v) in x.iter().zip(y) {
+            assert!((u - v).abs() <= 1e-9 * peak, "{u} vs {v}");
+        }
+    }
+    let (hr, rr) = read_numbers(&a.join("relative.csv"));
+    assert_eq!(hr, ["time [s]", "2_1_duz [m/s]", "2_1_duy [m/s]"]);
+    let col = |h: &[String], name: &str| h.iter().position(|c| c == name).unwrap();
+    let (y1, y2, z1, z2) = (
+        col(&ha, "1_uy [m/s]"),
+        col(&ha, "2_uy [m/s]"),
+        col(&ha, "1_uz [m/s]"),
+        col(&ha, "2_uz [m/s]"),
+    );
+    for (r, n) in rr.iter().zip(&ra) {
+        assert_eq!(r[0], n[0]);
+        assert!(
+            (r[1] - (n[z2] - n[z1])).abs() <= 1e-12 * peak,
+            "{r:?} {n:?}"
+        );
+        assert!(
+            (r[2] - (n[y2] - n[y1])).abs() <= 1e-12 * peak,
+            "{r:?} {n:?}"
+        );
+    }
+
+    for (cmd, kind, key) in [
+        ("loads", "rotating_unbalance", "omega"),
+        ("recorders", "relative_motion", "quantity"),
+    ] {
+        let out = railfem()
+            .arg(cmd)
+            .arg("--plugin")
+            .arg(plugin_lib())
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(out.status.code(), Some(0), "{text}");
+        assert!(text.contains(kind) && text.contains(key), "{text}");
+    }
+}
+
+/// A plugin load kind's bad key, and an unknown load type, are refused with exit 2 and
+/// one line naming the file, the entry and the fix.
+#[test]
+fn plugin_load_bad_input_is_one_line() {
+    let dir = tmp("load-bad");
+    for (name, load, want) in [
+        (
+            "axes",
+            "type = \"rotating_unbalance\"\nnode = 2\nme = 0.1\nomega = 10.0\naxes = [\"uz\", \"uw\"]",
+            "axes",
+        ),
+        (
+            "missing",
+            "type = \"rotating_unbalance\"\nnode = 2\nomega = 10.0",
+            "missing key `me`",
+        ),
+        (
+            "unknown",
+            "type = \"rotating_unbalence\"\nnode = 2",
+            "rotating_unbalance",
+        ),
+    ] {
+        let model = dir.join(format!("{name}.toml"));
+        std::fs::write(&model, unbalance_model(&format!("[[load]]\n{load}\n"), "")).unwrap();
+        let out = railfem()
+            .arg("check")
+            .arg(&model)
+            .arg("--plugin")
+            .arg(plugin_lib())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{name}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{name}: {err}");
+        assert!(err.contains(&format!("{name}.toml")) && err.contains("load[0]"), "{name}: {err}");
+        assert!(err.contains(want), "{name}: {err}");
+    }
+}

@@ -5,8 +5,9 @@
 //! converged state is written. Two test-only element kinds are registered here.
 
 use nalgebra::DMatrix;
+use railfem::framework::builder::ModelBuilder;
 use railfem::framework::element::*;
-use railfem::framework::model::{AnalysisSpec, IntegratorKind, ModelBuilder};
+use railfem::framework::model::{AnalysisSpec, IntegratorKind};
 use railfem::framework::registry::{BuildContext, ElementKind, ElementSpec, Sample};
 use railfem::framework::{Dof, DofSet, FemError};
 use railfem::solvers::Driver;

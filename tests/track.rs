@@ -24,7 +24,8 @@ use railfem::elements::rail::cant::{Cant, Track};
 use railfem::elements::rail::track_model::{
     self, mesh_stations, RailSection, RailSupport, TrackMesh, TrackModel,
 };
-use railfem::framework::model::{AnalysisKind, AnalysisSpec, ModelBuilder};
+use railfem::framework::builder::ModelBuilder;
+use railfem::framework::model::{AnalysisKind, AnalysisSpec};
 use railfem::framework::moving::{Carrier, Path};
 use railfem::solvers::Driver;
 use std::sync::Arc;

@@ -3,8 +3,9 @@
 //! with body lean (`railfem::elements::rail::lean`), on shortened tracks.
 
 use railfem::curve::{self, CurveCase};
+use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
-use railfem::framework::model::{AnalysisKind, AnalysisSpec, Geometry, ModelBuilder};
+use railfem::framework::model::{AnalysisKind, AnalysisSpec, Geometry};
 use railfem::framework::DofSet;
 use railfem::solvers::Driver;
 use serde_json::json;

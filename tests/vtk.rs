@@ -8,8 +8,9 @@
 //! through a few lines here that follow each array's `offset` and byte count, against the
 //! arrays `vtkio` read from the base64 file of the same frame.
 
+use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
-use railfem::framework::model::{AnalysisKind, AnalysisSpec, ModelBuilder};
+use railfem::framework::model::{AnalysisKind, AnalysisSpec};
 use railfem::framework::vtk::{Encoding, Frame, VtkSeries};
 use railfem::framework::DofSet;
 use railfem::solvers::Driver;

@@ -8,7 +8,7 @@
 //! registers itself with the framework's registry; nothing else lists them.
 //!
 //! Units are SI throughout: m, kg, s, N, rad.
-
+#![deny(missing_docs)]
 // Index loops are the clearest way to write small dense matrix algebra.
 #![allow(clippy::needless_range_loop)]
 

@@ -41,6 +41,10 @@ railfem_framework::element_params! {
     }
 }
 
+impl railfem_framework::registry::ElementParams for MassParams {
+    const KIND: &'static str = "mass";
+}
+
 /// The inertia tensor (kg·m²) of a parameter set, see the module documentation.
 pub fn inertia_tensor(p: &MassParams) -> Matrix3<f64> {
     let [ixx, iyy, izz] = p.inertia;

@@ -53,6 +53,10 @@ railfem_framework::element_params! {
     }
 }
 
+impl railfem_framework::registry::ElementParams for SpringDamperParams {
+    const KIND: &'static str = "spring_damper";
+}
+
 /// The local frame of a spring from its `axes` key: `R` with rows local x, y, z in nodal
 /// axes (orthonormal, right-handed). Rows: none → identity; `[x, y]` → `x̂ = x/|x|`,
 /// `ẑ = x × y/|x × y|`, `ŷ = ẑ × x̂` (Gram–Schmidt); `[x, y, z]` → as for two rows, and

@@ -101,6 +101,10 @@ railfem_framework::element_params! {
     }
 }
 
+impl railfem_framework::registry::ElementParams for SuspensionParams {
+    const KIND: &'static str = "suspension";
+}
+
 /// The axis names, the keys of `force_table` and `bump_stop`.
 pub const AXES: [&str; 3] = ["1", "2", "3"];
 

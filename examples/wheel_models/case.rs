@@ -12,8 +12,9 @@
 use railfem::elements::rail::alignment::Alignment;
 use railfem::elements::rail::cant::{Cant, Track};
 use railfem::elements::rail::track_model::{self, TrackMesh, TrackModel};
+use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
-use railfem::framework::model::{AnalysisSpec, ModelBuilder};
+use railfem::framework::model::AnalysisSpec;
 use railfem::framework::moving::{Carrier, Path};
 use railfem::framework::{DofSet, FemError};
 use railfem::solvers::Driver;

@@ -1565,6 +1565,11 @@ impl Assembler {
                     gi += 1;
                 }
                 Load::MovingForce(mf) => self.add_moving_force(mf, t, out),
+                Load::Registered(r) => r.load.nodal_forces(t, &mut |node, dof, f| {
+                    for (e, c) in self.dofmap.terms(node, dof.index()) {
+                        out[e] += c * f;
+                    }
+                })?,
             }
         }
         if load_factor != 1.0 {

@@ -12,12 +12,14 @@
 //! What does not: concrete elements (railfem-elements) and solvers (railfem-solvers).
 //!
 //! Units are SI throughout: m, kg, s, N, rad.
-
+#![deny(missing_docs)]
 // Index loops are the clearest way to write small dense matrix algebra.
 #![allow(clippy::needless_range_loop)]
 
+pub mod analysis;
 pub mod assembly;
 pub mod beam_chain;
+pub mod builder;
 pub mod coefficients;
 pub mod comfort;
 pub mod conformance;
@@ -32,8 +34,11 @@ pub mod fft;
 pub mod finite_link;
 pub mod interrupt;
 pub mod keypath;
+pub mod kind_list;
 pub mod limits;
+pub mod load_kind;
 pub mod loads;
+pub mod lookup;
 pub mod matrix_market;
 pub mod model;
 pub mod modelfile;
@@ -43,6 +48,8 @@ pub mod parallel;
 pub mod plot;
 pub mod plugin;
 pub mod recorder;
+pub mod recorder_kind;
+pub mod recording;
 pub mod registry;
 pub mod released;
 pub mod rotation;
@@ -51,6 +58,7 @@ pub mod speed;
 pub mod strict_json;
 pub mod vtk;
 
+pub use builder::ModelBuilder;
 pub use coefficients::Coefficients;
 pub use dof::{Dof, DofSet};
 pub use element::{
@@ -59,5 +67,5 @@ pub use element::{
 };
 pub use error::FemError;
 pub use inventory;
-pub use model::{Model, ModelBuilder};
+pub use model::Model;
 pub use serde_json;

@@ -10,7 +10,8 @@
 
 use crate::dof::Dof;
 use crate::error::FemError;
-use crate::model::Model;
+use crate::load_kind::{LoadEntry, RegisteredLoad};
+use crate::lookup::ModelLookup;
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -177,6 +178,11 @@ pub enum LoadSpec {
         #[serde(default)]
         start: f64,
     },
+    /// A load of a registered (plugin) kind: its keys, built by the kind's factory
+    /// ([`crate::load_kind`]). Model files reach it by the kind's `type`; it has no serde
+    /// form of its own.
+    #[serde(skip)]
+    Registered(LoadEntry),
 }
 
 /// A resolved load.
@@ -204,6 +210,8 @@ pub enum Load {
     },
     /// See [`LoadSpec::MovingForce`].
     MovingForce(MovingForce),
+    /// See [`LoadSpec::Registered`].
+    Registered(RegisteredLoad),
 }
 
 /// A force moving along a polyline of beam elements.
@@ -279,16 +287,20 @@ impl MovingForce {
 
 impl LoadSpec {
     /// Resolves ids against the model and checks values.
-    pub fn resolve(&self, model: &Model) -> Result<Load, FemError> {
+    pub fn resolve(&self, model: &dyn ModelLookup) -> Result<Load, FemError> {
         self.resolve_at(model, None)
     }
 
     /// As [`LoadSpec::resolve`]; `index` (the position among the model's loads, the
     /// `[[load]]` table number of a model file) is named in messages as `load[i]`.
-    pub fn resolve_at(&self, model: &Model, index: Option<usize>) -> Result<Load, FemError> {
+    pub fn resolve_at(
+        &self,
+        model: &dyn ModelLookup,
+        index: Option<usize>,
+    ) -> Result<Load, FemError> {
         let place = |what: String| match index {
-            Some(i) => format!("{}: load[{i}] ({what})", model.origin),
-            None => format!("{}: {what}", model.origin),
+            Some(i) => format!("{}: load[{i}] ({what})", model.origin()),
+            None => format!("{}: {what}", model.origin()),
         };
         match self {
             LoadSpec::Nodal {
@@ -298,7 +310,7 @@ impl LoadSpec {
                 series,
             } => {
                 let o = place(format!("load on node {node}"));
-                let n = model.node(*node).ok_or_else(|| {
+                let n = model.node_index(*node).ok_or_else(|| {
                     FemError::input(
                         &o,
                         format!("node {node} does not exist; define it in a [[node]] table or fix `node`"),
@@ -363,33 +375,31 @@ impl LoadSpec {
                         "`force`, `speed` and `start` must be finite",
                     ));
                 }
-                // Element ids to positions once: a path of n elements is resolved in O(n),
-                // not O(n · elements) (a 1e6-DOF beam took 40 s with a linear search).
-                let by_id: std::collections::HashMap<u64, usize> = model
-                    .elements
-                    .iter()
-                    .enumerate()
-                    .map(|(i, e)| (e.id, i))
-                    .collect();
+                // Element ids to positions in one pass: a path of n elements is resolved in
+                // O(n), not O(n · elements) (a 1e6-DOF beam took 40 s with a linear search).
+                let found = model.element_indices(elements);
                 let mut pairs = Vec::with_capacity(elements.len());
-                for id in elements {
-                    let Some(e) = by_id.get(id).map(|&i| &model.elements[i]) else {
+                for (id, at) in elements.iter().zip(found) {
+                    let Some(i) = at else {
                         return Err(FemError::input(
                             &o,
                             format!("element {id} does not exist; list the ids of existing beam elements"),
                         ));
                     };
-                    let c = e.element.connectivity();
+                    let c = model.element_nodes(i);
                     if c.len() != 2 {
                         return Err(FemError::input(
                             &o,
-                            format!("element {id} ({}) is not a two-node beam", e.element.kind()),
+                            format!(
+                                "element {id} ({}) is not a two-node beam",
+                                model.element_kind(i)
+                            ),
                         ));
                     }
-                    pairs.push((c[0].node, c[1].node));
+                    pairs.push((c[0], c[1]));
                 }
                 let chain = crate::beam_chain::BeamChain::walk(elements, pairs, &|n| {
-                    model.nodes[n].position
+                    model.node_position(n)
                 })
                 .map_err(|m| FemError::input(&o, m))?;
                 let crate::beam_chain::BeamChain {
@@ -405,6 +415,10 @@ impl LoadSpec {
                     speed: *speed,
                     start: *start,
                 }))
+            }
+            LoadSpec::Registered(entry) => {
+                let o = place(format!("{} load", entry.kind));
+                crate::load_kind::build(entry, model, &o).map(Load::Registered)
             }
         }
     }

@@ -7,11 +7,12 @@
 //! `docs/model-format.md`. Errors are one line naming the file, the place (line and column
 //! for syntax errors, the table and index otherwise) and the fix.
 
+use crate::builder::ModelBuilder;
 use crate::dof::DofSet;
 use crate::error::{nearest, FemError};
 use crate::limits::{fmt_num, fmt_vec, LimitSpec};
 use crate::loads::LoadSpec;
-use crate::model::{AnalysisSpec, ModelBuilder};
+use crate::model::AnalysisSpec;
 use crate::recorder::RecorderSpec;
 use crate::registry::ElementSpec;
 use serde::Deserialize;
@@ -223,6 +224,60 @@ fn entries<'a>(
     }
 }
 
+/// The `[[load]]` entry `v` (number `i` of file `name`): a built-in kind through its typed
+/// spec, a plugin's kind as its keys for the kind's factory ([`crate::load_kind`]); a
+/// `type` no kind is registered under lists the registered ones.
+fn load_spec(v: &Value, name: &str, i: usize) -> Result<LoadSpec, FemError> {
+    use crate::load_kind::{LoadBuild, LoadEntry};
+    let origin = format!("{name}: load[{i}]");
+    if let Some(kind) = v.get("type").and_then(Value::as_str) {
+        match crate::load_kind::find(kind).map(|k| k.build) {
+            None => return Err(crate::load_kind::unknown(kind, &origin)),
+            Some(LoadBuild::Factory(_)) => {
+                let mut params = v.as_object().cloned().unwrap_or_default();
+                params.remove("type");
+                return Ok(LoadSpec::Registered(LoadEntry {
+                    kind: kind.to_string(),
+                    params,
+                }));
+            }
+            Some(LoadBuild::BuiltIn) => {}
+        }
+    }
+    de::<LoadSpec>(v, &origin, &format!("load[{i}]"))
+}
+
+/// The `[[recorder]]` entry `v` (number `i` of file `name`): a built-in kind through its
+/// typed spec, a plugin's kind as its `file` and keys for the kind's factory
+/// ([`crate::recorder_kind`]); a `type` no kind is registered under lists the registered
+/// ones.
+fn recorder_spec(v: &Value, name: &str, i: usize) -> Result<RecorderSpec, FemError> {
+    use crate::recorder_kind::{RecorderBuild, RecorderEntry};
+    let origin = format!("{name}: recorder[{i}]");
+    if let Some(kind) = v.get("type").and_then(Value::as_str) {
+        match crate::recorder_kind::find(kind).map(|k| k.build) {
+            None => return Err(crate::recorder_kind::unknown(kind, &origin)),
+            Some(RecorderBuild::Factory(_)) => {
+                let mut params = v.as_object().cloned().unwrap_or_default();
+                params.remove("type");
+                let Some(Value::String(file)) = params.remove("file") else {
+                    return Err(FemError::input(
+                        &origin,
+                        format!("recorder type `{kind}` needs `file` = \"NAME.csv\" (a string: the output file, relative to the output directory)"),
+                    ));
+                };
+                return Ok(RecorderSpec::Registered(RecorderEntry {
+                    kind: kind.to_string(),
+                    file,
+                    params,
+                }));
+            }
+            Some(RecorderBuild::BuiltIn) => {}
+        }
+    }
+    de::<RecorderSpec>(v, &origin, &format!("recorder[{i}]"))
+}
+
 /// `v`, the value at key path `at`, into `T`; a refusal names the key path
 /// ([`crate::keypath::from_value`]).
 fn de<T: serde::de::DeserializeOwned>(v: &Value, origin: &str, at: &str) -> Result<T, FemError> {
@@ -386,17 +441,13 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
         }
     }
     for (i, v) in entries(root, "load", name)?.into_iter().enumerate() {
-        match de::<LoadSpec>(v, &format!("{name}: load[{i}]"), &format!("load[{i}]")) {
+        match load_spec(v, name, i) {
             Ok(l) => b.load(l),
             Err(e) => b.error(e),
         };
     }
     for (i, v) in entries(root, "recorder", name)?.into_iter().enumerate() {
-        match de::<RecorderSpec>(
-            v,
-            &format!("{name}: recorder[{i}]"),
-            &format!("recorder[{i}]"),
-        ) {
+        match recorder_spec(v, name, i) {
             Ok(r) => b.recorder(r),
             Err(e) => b.error(e),
         };

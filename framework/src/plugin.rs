@@ -84,6 +84,8 @@
 
 use crate::element::{Element, ElementError, ElementProperties, NodeDofs, StepContext, TrialState};
 use crate::error::FemError;
+use crate::load_kind::{self, LoadKind};
+use crate::recorder_kind::{self, RecorderKind};
 use crate::registry::{self, BuildContext, ElementKind, ElementSpec, ParamDoc, Sample};
 use libloading::Library;
 use nalgebra::DMatrix;
@@ -94,8 +96,10 @@ use std::sync::{Mutex, OnceLock};
 /// Magic number at the start of every [`PluginAbi`]: `"RAILFEM\x01"`.
 pub const MAGIC: [u8; 8] = *b"RAILFEM\x01";
 
-/// Revision of the [`PluginAbi`] layout itself (bumped if its fields ever change).
-pub const ABI_REVISION: u32 = 1;
+/// Revision of the plugin interface: the [`PluginAbi`] layout and the entry point's
+/// signature ([`RegisterFn`]). Revision 2: the entry point hands [`PluginItem`]s (element,
+/// load and recorder kinds), not element kinds alone.
+pub const ABI_REVISION: u32 = 2;
 
 /// Name of the exported stamp static.
 pub const ABI_SYMBOL: &str = "RAILFEM_PLUGIN_ABI";
@@ -103,12 +107,59 @@ pub const ABI_SYMBOL: &str = "RAILFEM_PLUGIN_ABI";
 /// Name of the exported entry point.
 pub const REGISTER_SYMBOL: &str = "railfem_plugin_register";
 
+/// One kind a plugin registers.
+#[derive(Clone, Copy)]
+pub enum PluginItem {
+    /// An element kind ([`crate::registry`]).
+    Element(ElementKind),
+    /// A load kind ([`crate::load_kind`]).
+    Load(LoadKind),
+    /// A recorder kind ([`crate::recorder_kind`]).
+    Recorder(RecorderKind),
+}
+
+impl PluginItem {
+    /// The kind's type name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            PluginItem::Element(k) => k.name,
+            PluginItem::Load(k) => k.name,
+            PluginItem::Recorder(k) => k.name,
+        }
+    }
+
+    /// What it is, for messages (`"element"`, `"load"`, `"recorder"`).
+    pub fn what(&self) -> &'static str {
+        match self {
+            PluginItem::Element(_) => "element",
+            PluginItem::Load(_) => "load",
+            PluginItem::Recorder(_) => "recorder",
+        }
+    }
+
+    fn taken(&self) -> bool {
+        match self {
+            PluginItem::Element(k) => registry::find(k.name).is_some(),
+            PluginItem::Load(k) => load_kind::find(k.name).is_some(),
+            PluginItem::Recorder(k) => recorder_kind::find(k.name).is_some(),
+        }
+    }
+
+    fn register(self) -> Result<(), FemError> {
+        match self {
+            PluginItem::Element(k) => registry::register(k),
+            PluginItem::Load(k) => load_kind::register(k),
+            PluginItem::Recorder(k) => recorder_kind::register(k),
+        }
+    }
+}
+
 /// Signature of the entry point `railfem_plugin_register` that
 /// [`export_plugin!`](crate::export_plugin) generates: it calls `registrar` once per
-/// element kind and returns `Err(message)` if the plugin panicked (the panic is caught on
-/// the plugin's side). Rust ABI: sound only between identical compilers, which the stamp
-/// guarantees before this is ever called.
-pub type RegisterFn = fn(registrar: &mut dyn FnMut(ElementKind)) -> Result<(), String>;
+/// element, load and recorder kind and returns `Err(message)` if the plugin panicked (the
+/// panic is caught on the plugin's side). Rust ABI: sound only between identical
+/// compilers, which the stamp guarantees before this is ever called.
+pub type RegisterFn = fn(registrar: &mut dyn FnMut(PluginItem)) -> Result<(), String>;
 
 /// The version/ABI stamp a plugin exports as `#[no_mangle] static RAILFEM_PLUGIN_ABI`.
 ///
@@ -354,7 +405,7 @@ fn register_from(lib: &Library, path: &Path) -> Result<Vec<&'static str>, FemErr
                 "{shown}: has a stamp but no `{REGISTER_SYMBOL}` entry point; build it with railfem_framework::export_plugin!"
             ))
         })?;
-        let mut kinds: Vec<ElementKind> = Vec::new();
+        let mut kinds: Vec<PluginItem> = Vec::new();
         // The closure cannot panic (a push), so nothing of the host unwinds through the
         // plugin's frames.
         let status = register(&mut |k| kinds.push(k));
@@ -368,53 +419,68 @@ fn register_from(lib: &Library, path: &Path) -> Result<Vec<&'static str>, FemErr
     };
     // All or none.
     for (i, k) in kinds.iter().enumerate() {
-        if registry::find(k.name).is_some() || kinds[..i].iter().any(|o| o.name == k.name) {
+        let twice = kinds[..i]
+            .iter()
+            .any(|o| o.name() == k.name() && o.what() == k.what());
+        if k.taken() || twice {
             return Err(FemError::Plugin(format!(
-                "{shown}: element type `{}` is already registered; rename the plugin's kind or load the plugin once",
-                k.name
+                "{shown}: {} type `{}` is already registered; rename the plugin's kind or load the plugin once",
+                k.what(),
+                k.name()
             )));
         }
     }
-    let names = kinds.iter().map(|k| k.name).collect();
+    let names = kinds.iter().map(|k| k.name()).collect();
     for k in kinds {
-        registry::register(k)?;
+        k.register()?;
     }
     Ok(names)
 }
 
-/// Generates a plugin's ABI stamp and entry point from a list of [`ElementKind`] constant
-/// expressions (paths to `const`/`static` items). Write it once at the crate root of a
-/// crate built with `crate-type = ["cdylib"]`:
+/// Generates a plugin's ABI stamp and entry point from lists of kind constants (paths to
+/// `const`/`static` [`ElementKind`], [`LoadKind`] and [`RecorderKind`] items). Write it
+/// once at the crate root of a crate built with `crate-type = ["cdylib"]`:
 ///
 /// ```ignore
 /// pub const MY_KIND: railfem_framework::registry::ElementKind = /* … */;
 /// railfem_framework::export_plugin!(MY_KIND);
+/// // or, with loads and recorders (each list may be left out):
+/// railfem_framework::export_plugin!(
+///     elements: [MY_KIND],
+///     loads: [MY_LOAD],
+///     recorders: [MY_RECORDER],
+/// );
 /// ```
 ///
 /// It emits `#[no_mangle] static RAILFEM_PLUGIN_ABI` (a copy of [`PluginAbi::CURRENT`] of
 /// the plugin's framework) and `#[no_mangle] fn railfem_plugin_register` of type
 /// [`RegisterFn`]. The registration, and every factory, sample generator, parameter
-/// documentation function and element method of the exported kinds, runs under the
-/// plugin's own `catch_unwind`, so a panic in the plugin becomes an error instead of
-/// unwinding into the host (which would abort the process).
+/// documentation function, element method, load and recorder of the exported kinds, runs
+/// under the plugin's own `catch_unwind`, so a panic in the plugin becomes an error instead
+/// of unwinding into the host (which would abort the process).
 #[macro_export]
 macro_rules! export_plugin {
-    ($($kind:expr),+ $(,)?) => {
+    (
+        $(elements: [$($kind:expr),* $(,)?])? $(,)?
+        $(loads: [$($load:expr),* $(,)?])? $(,)?
+        $(recorders: [$($rec:expr),* $(,)?])? $(,)?
+    ) => {
         /// The railfem plugin ABI stamp, read by the loader before anything else.
         #[no_mangle]
         pub static RAILFEM_PLUGIN_ABI: $crate::plugin::PluginAbi =
             $crate::plugin::PluginAbi::CURRENT;
 
-        /// The railfem plugin entry point: hands every element kind of this plugin to the
-        /// host's registrar. Panics are caught on this side and returned as `Err`.
+        /// The railfem plugin entry point: hands every element, load and recorder kind of
+        /// this plugin to the host's registrar. Panics are caught on this side and returned
+        /// as `Err`.
         #[no_mangle]
         pub fn railfem_plugin_register(
-            registrar: &mut dyn FnMut($crate::registry::ElementKind),
+            registrar: &mut dyn FnMut($crate::plugin::PluginItem),
         ) -> ::std::result::Result<(), ::std::string::String> {
             // Type check against the loader's expectation.
             const _: $crate::plugin::RegisterFn = railfem_plugin_register;
             $crate::plugin::guard::catch("registration", || {
-                $({
+                $($({
                     fn build(
                         spec: &$crate::registry::ElementSpec,
                         ctx: &mut dyn $crate::registry::BuildContext,
@@ -431,15 +497,64 @@ macro_rules! export_plugin {
                         $crate::plugin::guard::params(&$kind)
                     }
                     let k: $crate::registry::ElementKind = $kind;
-                    registrar($crate::registry::ElementKind {
-                        build,
-                        samples,
+                    registrar($crate::plugin::PluginItem::Element(
+                        $crate::registry::ElementKind {
+                            build,
+                            samples,
+                            params,
+                            ..k
+                        },
+                    ));
+                })*)?
+                $($({
+                    fn build(
+                        entry: &$crate::load_kind::LoadEntry,
+                        model: &dyn $crate::lookup::ModelLookup,
+                        origin: &str,
+                    ) -> ::std::result::Result<
+                        ::std::boxed::Box<dyn $crate::load_kind::AppliedLoad>,
+                        $crate::error::FemError,
+                    > {
+                        $crate::plugin::guard::build_load(&$load, entry, model, origin)
+                    }
+                    fn params() -> ::std::vec::Vec<$crate::registry::ParamDoc> {
+                        $crate::plugin::guard::docs($load.params)
+                    }
+                    let k: $crate::load_kind::LoadKind = $load;
+                    registrar($crate::plugin::PluginItem::Load($crate::load_kind::LoadKind {
+                        build: $crate::load_kind::LoadBuild::Factory(build),
                         params,
                         ..k
-                    });
-                })+
+                    }));
+                })*)?
+                $($({
+                    fn build(
+                        entry: &$crate::recorder_kind::RecorderEntry,
+                        model: &dyn $crate::lookup::ModelLookup,
+                        origin: &str,
+                    ) -> ::std::result::Result<
+                        ::std::boxed::Box<dyn $crate::recorder_kind::RecordedColumns>,
+                        $crate::error::FemError,
+                    > {
+                        $crate::plugin::guard::build_recorder(&$rec, entry, model, origin)
+                    }
+                    fn params() -> ::std::vec::Vec<$crate::registry::ParamDoc> {
+                        $crate::plugin::guard::docs($rec.params)
+                    }
+                    let k: $crate::recorder_kind::RecorderKind = $rec;
+                    registrar($crate::plugin::PluginItem::Recorder(
+                        $crate::recorder_kind::RecorderKind {
+                            build: $crate::recorder_kind::RecorderBuild::Factory(build),
+                            params,
+                            ..k
+                        },
+                    ));
+                })*)?
             })
         }
+    };
+    ($($kind:expr),+ $(,)?) => {
+        $crate::export_plugin!(elements: [$($kind),+]);
     };
 }
 
@@ -497,7 +612,122 @@ pub mod guard {
 
     /// Calls the kind's parameter documentation under `catch_unwind`.
     pub fn params(kind: &ElementKind) -> Vec<ParamDoc> {
-        catch_unwind(AssertUnwindSafe(kind.params)).unwrap_or_default()
+        docs(kind.params)
+    }
+
+    /// Calls a parameter documentation function under `catch_unwind`.
+    pub fn docs(f: fn() -> Vec<ParamDoc>) -> Vec<ParamDoc> {
+        catch_unwind(AssertUnwindSafe(f)).unwrap_or_default()
+    }
+
+    /// Calls a load kind's factory under `catch_unwind` and wraps the load in a
+    /// [`GuardedLoad`].
+    pub fn build_load(
+        kind: &LoadKind,
+        entry: &crate::load_kind::LoadEntry,
+        model: &dyn crate::lookup::ModelLookup,
+        origin: &str,
+    ) -> Result<Box<dyn crate::load_kind::AppliedLoad>, FemError> {
+        let crate::load_kind::LoadBuild::Factory(f) = kind.build else {
+            return Err(FemError::Plugin(format!(
+                "{origin}: plugin load type `{}` has no factory; give it `build: LoadBuild::Factory(…)`",
+                kind.name
+            )));
+        };
+        match catch_unwind(AssertUnwindSafe(|| f(entry, model, origin))) {
+            Ok(Ok(l)) => Ok(Box::new(GuardedLoad {
+                inner: l,
+                kind: kind.name,
+            })),
+            Ok(Err(e)) => Err(e),
+            Err(p) => Err(FemError::Plugin(format!(
+                "{origin}: plugin load type `{}` panicked while building: {}",
+                kind.name,
+                message(p.as_ref())
+            ))),
+        }
+    }
+
+    /// A plugin's load whose methods run under the plugin's `catch_unwind`: a panic
+    /// becomes an error that stops the run.
+    #[derive(Debug)]
+    pub struct GuardedLoad {
+        inner: Box<dyn crate::load_kind::AppliedLoad>,
+        kind: &'static str,
+    }
+
+    impl crate::load_kind::AppliedLoad for GuardedLoad {
+        fn nodal_forces(
+            &self,
+            t: f64,
+            add: &mut dyn FnMut(usize, crate::dof::Dof, f64),
+        ) -> Result<(), FemError> {
+            catch_unwind(AssertUnwindSafe(|| self.inner.nodal_forces(t, add))).unwrap_or_else(|p| {
+                Err(FemError::Plugin(format!(
+                    "panic in plugin load `{}` at t = {t} s: {}",
+                    self.kind,
+                    message(p.as_ref())
+                )))
+            })
+        }
+        fn nodes(&self) -> Vec<usize> {
+            catch_unwind(AssertUnwindSafe(|| self.inner.nodes())).unwrap_or_default()
+        }
+    }
+
+    /// Calls a recorder kind's factory under `catch_unwind` and wraps the recorder in a
+    /// [`GuardedRecorder`].
+    pub fn build_recorder(
+        kind: &RecorderKind,
+        entry: &crate::recorder_kind::RecorderEntry,
+        model: &dyn crate::lookup::ModelLookup,
+        origin: &str,
+    ) -> Result<Box<dyn crate::recorder_kind::RecordedColumns>, FemError> {
+        let crate::recorder_kind::RecorderBuild::Factory(f) = kind.build else {
+            return Err(FemError::Plugin(format!(
+                "{origin}: plugin recorder type `{}` has no factory; give it `build: RecorderBuild::Factory(…)`",
+                kind.name
+            )));
+        };
+        match catch_unwind(AssertUnwindSafe(|| f(entry, model, origin))) {
+            Ok(Ok(r)) => Ok(Box::new(GuardedRecorder {
+                inner: r,
+                kind: kind.name,
+            })),
+            Ok(Err(e)) => Err(e),
+            Err(p) => Err(FemError::Plugin(format!(
+                "{origin}: plugin recorder type `{}` panicked while building: {}",
+                kind.name,
+                message(p.as_ref())
+            ))),
+        }
+    }
+
+    /// A plugin's recorder whose methods run under the plugin's `catch_unwind`: a panic in
+    /// `row` becomes an error that stops the run; one in `columns` gives no columns.
+    pub struct GuardedRecorder {
+        inner: Box<dyn crate::recorder_kind::RecordedColumns>,
+        kind: &'static str,
+    }
+
+    impl crate::recorder_kind::RecordedColumns for GuardedRecorder {
+        fn columns(&self) -> Vec<String> {
+            catch_unwind(AssertUnwindSafe(|| self.inner.columns())).unwrap_or_default()
+        }
+        fn row(
+            &mut self,
+            s: &mut crate::recorder_kind::RecordState,
+            out: &mut Vec<f64>,
+        ) -> Result<(), FemError> {
+            let t = s.t;
+            catch_unwind(AssertUnwindSafe(|| self.inner.row(s, out))).unwrap_or_else(|p| {
+                Err(FemError::Plugin(format!(
+                    "panic in plugin recorder `{}` at t = {t} s: {}",
+                    self.kind,
+                    message(p.as_ref())
+                )))
+            })
+        }
     }
 
     /// An element of a plugin whose every method runs under the plugin's `catch_unwind`.

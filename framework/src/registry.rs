@@ -15,7 +15,6 @@ use crate::element::Element;
 use crate::error::FemError;
 use nalgebra::Vector3;
 use serde::de::DeserializeOwned;
-use std::sync::{Mutex, OnceLock};
 
 /// Documentation of one model-file key of an element kind.
 #[derive(Debug, Clone, PartialEq)]
@@ -34,6 +33,14 @@ pub struct ParamDoc {
 pub trait Params: DeserializeOwned + serde::Serialize {
     /// Documentation of every key.
     fn docs() -> Vec<ParamDoc>;
+}
+
+/// A parameter struct tied to the element kind it builds, so that
+/// [`crate::builder::ModelBuilder::add`] takes it without a type name:
+/// `b.add(7, &[1, 2], &beam)` with `beam: Beam3dParams`.
+pub trait ElementParams: Params {
+    /// The registered type name these parameters build.
+    const KIND: &'static str;
 }
 
 /// Declares an element's parameter struct: serde (unknown keys refused), documented keys,
@@ -116,61 +123,77 @@ impl ElementSpec {
     /// Deserializes the element's keys into `P`, filling documented defaults first.
     /// Errors name the origin, the offending key and the valid keys.
     pub fn parse<P: Params>(&self) -> Result<P, FemError> {
-        let docs = P::docs();
-        let mut map = self.params.clone();
-        // Unknown keys first: a misspelt key (`Iyy`) also leaves its correct key missing,
-        // and "did you mean `Iy`?" is the useful message then.
-        for k in map.keys() {
-            if !docs.iter().any(|d| d.key == k) {
-                let names: Vec<&str> = docs.iter().map(|d| d.key).collect();
-                let near = crate::error::nearest(k, &names);
-                return Err(FemError::input(
-                    &self.origin,
-                    format!(
-                        "unknown key `{k}` for element type `{}`{}; valid keys: {}",
-                        self.kind,
-                        near.map(|n| format!(" (did you mean `{n}`?)"))
-                            .unwrap_or_default(),
-                        names.join(", ")
-                    ),
-                ));
-            }
-        }
-        for d in &docs {
-            if !map.contains_key(d.key) {
-                match &d.default {
-                    Some(v) => {
-                        map.insert(d.key.to_string(), v.clone());
-                    }
-                    None => {
-                        return Err(FemError::input(
-                            &self.origin,
-                            format!(
-                                "missing key `{}` ({}) for element type `{}`; add it, e.g. `{} = …` [{}]",
-                                d.key, d.doc, self.kind, d.key, d.unit
-                            ),
-                        ))
-                    }
-                }
-            }
-        }
-        let p: P = crate::keypath::from_value(&serde_json::Value::Object(map), &self.origin, "")
-            .map_err(|e| match e {
-                FemError::Input { origin, message } => {
-                    FemError::input(origin, format!("element type `{}`: {message}", self.kind))
-                }
-                e => e,
-            })?;
-        // Refuse NaN / infinity in any numeric key.
-        let v = serde_json::to_value(&p).unwrap_or(serde_json::Value::Null);
-        if let Some(bad) = first_non_finite(&v, "") {
+        parse_params(
+            &self.params,
+            &self.origin,
+            &format!("element type `{}`", self.kind),
+        )
+    }
+}
+
+/// Deserializes a registered kind's keys `params` into `P`, filling documented defaults
+/// first: what element, load and recorder kinds share. Unknown keys (with the nearest
+/// valid one), missing required keys and non-finite numbers are refused with one line
+/// naming `origin`, the key and `what` (`"element type `beam3d`"`, `"load type `x`"`).
+pub fn parse_params<P: Params>(
+    params: &serde_json::Map<String, serde_json::Value>,
+    origin: &str,
+    what: &str,
+) -> Result<P, FemError> {
+    let docs = P::docs();
+    let mut map = params.clone();
+    // Unknown keys first: a misspelt key (`Iyy`) also leaves its correct key missing,
+    // and "did you mean `Iy`?" is the useful message then.
+    for k in map.keys() {
+        if !docs.iter().any(|d| d.key == k) {
+            let names: Vec<&str> = docs.iter().map(|d| d.key).collect();
+            let near = crate::error::nearest(k, &names);
             return Err(FemError::input(
-                &self.origin,
-                format!("key `{bad}` is not a finite number; give a finite value in SI units"),
+                origin,
+                format!(
+                    "unknown key `{k}` for {what}{}; valid keys: {}",
+                    near.map(|n| format!(" (did you mean `{n}`?)"))
+                        .unwrap_or_default(),
+                    names.join(", ")
+                ),
             ));
         }
-        Ok(p)
     }
+    for d in &docs {
+        if !map.contains_key(d.key) {
+            match &d.default {
+                Some(v) => {
+                    map.insert(d.key.to_string(), v.clone());
+                }
+                None => {
+                    return Err(FemError::input(
+                        origin,
+                        format!(
+                            "missing key `{}` ({}) for {what}; add it, e.g. `{} = …` [{}]",
+                            d.key, d.doc, d.key, d.unit
+                        ),
+                    ))
+                }
+            }
+        }
+    }
+    let p: P = crate::keypath::from_value(&serde_json::Value::Object(map), origin, "").map_err(
+        |e| match e {
+            FemError::Input { origin, message } => {
+                FemError::input(origin, format!("{what}: {message}"))
+            }
+            e => e,
+        },
+    )?;
+    // Refuse NaN / infinity in any numeric key.
+    let v = serde_json::to_value(&p).unwrap_or(serde_json::Value::Null);
+    if let Some(bad) = first_non_finite(&v, "") {
+        return Err(FemError::input(
+            origin,
+            format!("key `{bad}` is not a finite number; give a finite value in SI units"),
+        ));
+    }
+    Ok(p)
 }
 
 fn first_non_finite(v: &serde_json::Value, path: &str) -> Option<String> {
@@ -325,43 +348,29 @@ pub struct ElementKind {
 
 inventory::collect!(ElementKind);
 
-fn dynamic() -> &'static Mutex<Vec<ElementKind>> {
-    static DYN: OnceLock<Mutex<Vec<ElementKind>>> = OnceLock::new();
-    DYN.get_or_init(|| Mutex::new(Vec::new()))
+impl crate::kind_list::Kind for ElementKind {
+    const WHAT: &'static str = "element";
+    fn name(&self) -> &'static str {
+        self.name
+    }
 }
+
+static KINDS: crate::kind_list::KindList<ElementKind> = crate::kind_list::KindList::new();
 
 /// Registers a kind at run time (the path dynamic plugins take).
 /// A name that is already registered is refused.
 pub fn register(kind: ElementKind) -> Result<(), FemError> {
-    if find(kind.name).is_some() {
-        return Err(FemError::Plugin(format!(
-            "element type `{}` is already registered; rename the plugin's kind",
-            kind.name
-        )));
-    }
-    dynamic()
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .push(kind);
-    Ok(())
+    KINDS.register(kind)
 }
 
 /// Every registered kind, static ones first, sorted by name within each source.
 pub fn kinds() -> Vec<ElementKind> {
-    let mut v: Vec<ElementKind> = inventory::iter::<ElementKind>
-        .into_iter()
-        .copied()
-        .collect();
-    v.sort_by_key(|k| k.name);
-    let mut d = dynamic().lock().unwrap_or_else(|e| e.into_inner()).clone();
-    d.sort_by_key(|k| k.name);
-    v.extend(d);
-    v
+    KINDS.kinds()
 }
 
 /// The kind registered under `name`.
 pub fn find(name: &str) -> Option<ElementKind> {
-    kinds().into_iter().find(|k| k.name == name)
+    KINDS.find(name)
 }
 
 /// Builds an element from its spec through the registry; an unknown type lists the

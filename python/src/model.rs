@@ -14,7 +14,7 @@ use numpy::IntoPyArray;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use railfem::framework::recorder::History;
+use railfem::framework::recording::History;
 use railfem::framework::FemError;
 use railfem::solvers::driver::RunSummary;
 use railfem::solvers::energy::EnergyRow;

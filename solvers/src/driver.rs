@@ -41,7 +41,7 @@ use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
 use railfem_framework::model::{AnalysisKind, Model, NewtonKind, Predictor, SolverChoice};
-use railfem_framework::recorder::{History, Recorders};
+use railfem_framework::recording::{History, Recorders};
 use railfem_framework::sparse::CscMatrix;
 use railfem_framework::DofSet;
 use std::path::Path;
@@ -1589,6 +1589,45 @@ impl Driver {
         Some(self.asm.dofmap.value(&self.state.q, i, dof))
     }
 
+    /// Displacement (m, rad) of DOF `dof` of node user id `node` in the committed state, in
+    /// the node's axes; `None` for an unknown node.
+    pub fn displacement(&self, node: u64, dof: railfem_framework::Dof) -> Option<f64> {
+        self.node_value(node, dof.index())
+    }
+
+    /// Velocity (m/s, rad/s) of DOF `dof` of node user id `node` in the committed state.
+    pub fn velocity(&self, node: u64, dof: railfem_framework::Dof) -> Option<f64> {
+        let i = self.model.node(node)?;
+        Some(self.asm.dofmap.value(&self.state.v, i, dof.index()))
+    }
+
+    /// Acceleration (m/s², rad/s²) of DOF `dof` of node user id `node` in the committed
+    /// state.
+    pub fn acceleration(&self, node: u64, dof: railfem_framework::Dof) -> Option<f64> {
+        let i = self.model.node(node)?;
+        Some(self.asm.dofmap.value(&self.state.a, i, dof.index()))
+    }
+
+    /// The value of output `name` of the element with user id `element`
+    /// ([`railfem_framework::Element::output_names`]) in the committed state, as a recorder
+    /// would write it (a linear element is first brought to that state); `None` for an
+    /// unknown element or output.
+    pub fn element_output(&mut self, element: u64, name: &str) -> Result<Option<f64>, FemError> {
+        let Some(ei) = self.model.elements.iter().position(|e| e.id == element) else {
+            return Ok(None);
+        };
+        let names = self.model.elements[ei].element.output_names();
+        let Some(k) = names.iter().position(|n| n == name) else {
+            return Ok(None);
+        };
+        let s = &self.state;
+        self.asm
+            .refresh_constant(&mut self.model, ei, s.t, &s.q, &s.v, &s.a)?;
+        let mut out = Vec::new();
+        self.model.elements[ei].element.outputs(&mut out);
+        Ok(out.get(k).copied())
+    }
+
     /// Writes the committed state (every active nodal DOF) as CSV:
     /// `node [-],dof [-],disp [m or rad],vel [m/s or rad/s],acc [m/s² or rad/s²]`.
     pub fn write_state(&self, path: &Path) -> Result<(), FemError> {
@@ -1633,7 +1672,7 @@ impl Driver {
     }
 
     /// [`Driver::run`], and when `keep`, every recorder's rows in memory as well (the
-    /// exact values; [`railfem_framework::recorder::History`]), whether or not `out` is
+    /// exact values; [`railfem_framework::recording::History`]), whether or not `out` is
     /// given. Recording is the same whether rows go to files, memory or both, so a run
     /// keeping rows takes the same steps as `railfem run`.
     pub fn run_keeping(

@@ -9,7 +9,7 @@
 //! before its first step ([`preflight`]); the committed state ([`state`]) and the solver
 //! switch-over sizes ([`thresholds`]). What does not:
 //! elements (railfem-elements) and the model itself (railfem-framework).
-
+#![deny(missing_docs)]
 // Index loops mirror the formulas of the dense kernels and the driver (rustc 1.95 clippy).
 #![allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
 

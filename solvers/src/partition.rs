@@ -133,15 +133,17 @@ pub struct PartitionStats {
     pub top_symbolic_analyses: usize,
     /// Times the constant part `S_A` of the top system was formed anew.
     pub top_constant_forms: usize,
-    /// Stored entries of the top system and of its last factor (`L` of a Cholesky
-    /// factorization; 0 for sparse LU, whose factor size is not exposed).
+    /// Stored entries of the top system.
     pub top_nnz: usize,
+    /// Stored entries of its last factor (`L` of a Cholesky factorization; 0 for sparse
+    /// LU, whose factor size is not exposed).
     pub top_factor_nnz: usize,
     /// Equations of the system factored at the last factorization: the top set less the
     /// inner equations of the condensed groups ([`crate::top_chain`]).
     pub top_reduced_equations: usize,
-    /// Groups of the top chain condensed at the last factorization, and in all.
+    /// Groups of the top chain condensed at the last factorization.
     pub top_groups_condensed: usize,
+    /// Groups of the top chain in all.
     pub top_groups: usize,
     /// Groups condensed anew (their `M_ii` factored).
     pub top_group_condensations: usize,

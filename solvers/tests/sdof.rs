@@ -2,8 +2,9 @@
 //! and mass written here (so the driver is tested independently of the element library).
 
 use nalgebra::DMatrix;
+use railfem_framework::builder::ModelBuilder;
 use railfem_framework::element::*;
-use railfem_framework::model::{AnalysisSpec, ModelBuilder};
+use railfem_framework::model::AnalysisSpec;
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Sample};
 use railfem_framework::{DofSet, FemError};
 use railfem_solvers::Driver;

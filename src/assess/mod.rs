@@ -537,7 +537,7 @@ pub fn after_run(dir: &Path, speed: Option<f64>) -> Result<(), FemError> {
 }
 
 /// `railfem assess RUN_DIR [options]`.
-pub fn command(a: &crate::cli::Args) -> Result<i32, FemError> {
+pub fn command(a: &crate::args::Args) -> Result<i32, FemError> {
     let run_dir = a.positional.first().map(Path::new).ok_or_else(|| {
         FemError::input(
             "command line",

@@ -18,9 +18,10 @@
 //! compares them).
 
 use super::trains::Train;
+use crate::framework::builder::ModelBuilder;
 use crate::framework::dof::Dof;
 use crate::framework::loads::{LoadSpec, MovingForce};
-use crate::framework::model::{AnalysisSpec, IntegratorKind, Model, ModelBuilder};
+use crate::framework::model::{AnalysisSpec, IntegratorKind, Model};
 use crate::framework::sparse::CscMatrix;
 use crate::framework::{DofSet, FemError};
 use crate::solvers::Driver;

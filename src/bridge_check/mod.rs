@@ -231,7 +231,7 @@ fn governing_reference(
 }
 
 /// `railfem bridge-check PLAN.toml [--threads N] [--out DIR]`.
-pub fn command(a: &crate::cli::Args) -> Result<i32, FemError> {
+pub fn command(a: &crate::args::Args) -> Result<i32, FemError> {
     let cl = "command line";
     let plan: PathBuf = a
         .positional

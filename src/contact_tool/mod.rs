@@ -26,7 +26,7 @@
 pub mod manchester;
 pub mod profiles;
 
-use crate::cli::Args;
+use crate::args::Args;
 use crate::elements::rail::creep::conicity::{
     equivalent_conicity, secant_conicity, ConicityError, SideContact, WheelsetContact,
     WheelsetGeometry,

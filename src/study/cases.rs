@@ -242,44 +242,6 @@ pub fn curve(plan: &Plan, case: &Case) -> Result<CurveCase, FemError> {
     Ok(c)
 }
 
-/// The value a dotted key path (`analysis.dt`, `elements.3.E`) names in a model file, or
-/// why it names none.
-pub fn key_path<'a>(value: &'a Value, path: &str) -> Result<&'a Value, String> {
-    let mut v = value;
-    for (depth, part) in path.split('.').enumerate() {
-        let here = path
-            .split('.')
-            .take(depth + 1)
-            .collect::<Vec<_>>()
-            .join(".");
-        v = match v {
-            Value::Object(o) => o.get(part).ok_or_else(|| {
-                let keys: Vec<&str> = o.keys().map(String::as_str).collect();
-                let hint = crate::framework::error::nearest(part, &keys)
-                    .map(|n| format!("did you mean `{n}`? "))
-                    .unwrap_or_default();
-                format!(
-                    "the base model has no key `{here}`; {hint}give a key path that the model file sets (e.g. analysis.dt)"
-                )
-            })?,
-            Value::Array(a) => part.parse::<usize>().ok().and_then(|i| a.get(i)).ok_or_else(|| {
-                format!("`{here}`: give an index 0..{} into that list", a.len())
-            })?,
-            _ => {
-                return Err(format!(
-                    "`{here}`: the model's value there is not a table or a list; give a key path to a value"
-                ))
-            }
-        };
-    }
-    if v.is_object() || v.is_array() {
-        return Err(format!(
-            "`{path}` is a table or a list in the base model; give the path down to one value"
-        ));
-    }
-    Ok(v)
-}
-
 /// The base model with the case's axis values set at their key paths.
 pub fn model_value(base: &Value, plan: &Plan, case: &Case) -> Value {
     let mut v = base.clone();

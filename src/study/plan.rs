@@ -357,7 +357,7 @@ fn parse(file: &Path, table: &toml::Table) -> Result<Plan, FemError> {
         let place = format!("[[axis]] {} ({name})", i + 1);
         match &base {
             Base::Model { value, .. } => {
-                super::cases::key_path(value, name).map_err(|m| refuse(file, &place, m))?;
+                key_path(value, name).map_err(|m| refuse(file, &place, m))?;
             }
             _ => {
                 if !case_keys.contains(&name.as_str()) {
@@ -572,4 +572,42 @@ fn model_value(path: &Path) -> Result<Value, FemError> {
     } else {
         parse_toml(text, &name)
     }
+}
+
+/// The value a dotted key path (`analysis.dt`, `elements.3.E`) names in a model file, or
+/// why it names none.
+pub fn key_path<'a>(value: &'a Value, path: &str) -> Result<&'a Value, String> {
+    let mut v = value;
+    for (depth, part) in path.split('.').enumerate() {
+        let here = path
+            .split('.')
+            .take(depth + 1)
+            .collect::<Vec<_>>()
+            .join(".");
+        v = match v {
+            Value::Object(o) => o.get(part).ok_or_else(|| {
+                let keys: Vec<&str> = o.keys().map(String::as_str).collect();
+                let hint = crate::framework::error::nearest(part, &keys)
+                    .map(|n| format!("did you mean `{n}`? "))
+                    .unwrap_or_default();
+                format!(
+                    "the base model has no key `{here}`; {hint}give a key path that the model file sets (e.g. analysis.dt)"
+                )
+            })?,
+            Value::Array(a) => part.parse::<usize>().ok().and_then(|i| a.get(i)).ok_or_else(|| {
+                format!("`{here}`: give an index 0..{} into that list", a.len())
+            })?,
+            _ => {
+                return Err(format!(
+                    "`{here}`: the model's value there is not a table or a list; give a key path to a value"
+                ))
+            }
+        };
+    }
+    if v.is_object() || v.is_array() {
+        return Err(format!(
+            "`{path}` is a table or a list in the base model; give the path down to one value"
+        ));
+    }
+    Ok(v)
 }

@@ -246,7 +246,7 @@ pub fn energy_difference(
 /// Solves `b` statically, in one load step, under a point load `value` (N, positive up)
 /// along global Z at `node`: the driver holds the solution.
 pub fn solve_under_point_load(
-    mut b: railfem::framework::model::ModelBuilder,
+    mut b: railfem::framework::builder::ModelBuilder,
     node: u64,
     value: f64,
 ) -> railfem::solvers::Driver {

@@ -72,6 +72,34 @@ railfem_framework::element_params! {
     }
 }
 
+impl railfem_framework::registry::ElementParams for Beam3dParams {
+    const KIND: &'static str = "beam3d";
+}
+
+impl Beam3dParams {
+    /// A massless, linear, Euler–Bernoulli beam of the given section (the required keys:
+    /// E, G in Pa; A in m²; Iy, Iz, J in m⁴) with every other key at its documented
+    /// default; set the rest with struct update syntax,
+    /// `Beam3dParams { rho: 7850.0, ..Beam3dParams::new(e, g, a, iy, iz, j) }`.
+    #[allow(non_snake_case)]
+    pub fn new(E: f64, G: f64, A: f64, Iy: f64, Iz: f64, J: f64) -> Beam3dParams {
+        Beam3dParams {
+            E,
+            G,
+            A,
+            Iy,
+            Iz,
+            J,
+            rho: 0.0,
+            orient: Vec::new(),
+            Asy: 0.0,
+            Asz: 0.0,
+            mass: "consistent".into(),
+            geometry: "linear".into(),
+        }
+    }
+}
+
 /// The kinematics a beam uses (key `geometry`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BeamGeometry {
@@ -860,6 +888,30 @@ pub(crate) mod support {
             committed_disp: None,
             rebuild: None,
         }
+    }
+}
+
+#[cfg(test)]
+mod params_tests {
+    use super::Beam3dParams;
+    use railfem_framework::registry::{parse_params, Params};
+
+    /// `Beam3dParams::new` fills exactly the documented defaults: it equals the struct the
+    /// registry parses from the required keys alone.
+    #[test]
+    fn new_equals_the_documented_defaults() {
+        let required = serde_json::json!({"E": 2.1e11, "G": 8.1e10, "A": 0.01, "Iy": 1e-4, "Iz": 2e-4, "J": 3e-4});
+        let parsed: Beam3dParams = parse_params(
+            required.as_object().unwrap(),
+            "test",
+            "element type `beam3d`",
+        )
+        .unwrap();
+        assert_eq!(
+            parsed,
+            Beam3dParams::new(2.1e11, 8.1e10, 0.01, 1e-4, 2e-4, 3e-4)
+        );
+        assert_eq!(Beam3dParams::docs().len(), 12);
     }
 }
 

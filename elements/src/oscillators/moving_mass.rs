@@ -63,6 +63,10 @@ railfem_framework::element_params! {
     }
 }
 
+impl railfem_framework::registry::ElementParams for MovingMassParams {
+    const KIND: &'static str = "moving_mass";
+}
+
 /// Element DOFs: the 12 DOFs of the segment's two nodes.
 const N: usize = 12;
 

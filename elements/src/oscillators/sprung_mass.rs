@@ -89,6 +89,10 @@ railfem_framework::element_params! {
     }
 }
 
+impl railfem_framework::registry::ElementParams for SprungMassParams {
+    const KIND: &'static str = "moving_sprung_mass";
+}
+
 /// How the wheel meets the beam (`contact`): `"bonded"` (bilateral) or `"unilateral"` (the
 /// wheel cannot pull and may lift off).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

@@ -45,9 +45,9 @@
 
 use super::cant::Track;
 use super::rail_section::RailSection;
+use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
 use railfem_framework::limits;
-use railfem_framework::model::ModelBuilder;
 use railfem_framework::moving::Path;
 use railfem_framework::DofSet;
 use serde::{Deserialize, Serialize};

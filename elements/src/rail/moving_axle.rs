@@ -136,6 +136,10 @@ railfem_framework::element_params! {
     }
 }
 
+impl railfem_framework::registry::ElementParams for MovingAxleParams {
+    const KIND: &'static str = "moving_axle";
+}
+
 /// Settings of one wheel that do not change while it runs.
 #[derive(Debug, Clone)]
 struct Setup {
@@ -1861,6 +1865,8 @@ fn rebuild_sample(params: &serde_json::Value) -> Result<Box<dyn Element>, FemErr
     Ok(Box::new(sample_wheel(&p, &tm, &nodes, offset)))
 }
 
+/// The conformance kit's sample states of a wheel whose sliding tangent is `tangent`:
+/// stick, slide (from a committed stick state), separated and two-point contact.
 pub fn sample_states(tangent: SlidingTangent) -> Vec<Sample> {
     let (tm, nodes, offset) = sample_scene();
     let mut params: MovingAxleParams = ElementSpec {

@@ -87,6 +87,10 @@ railfem_framework::element_params! {
     }
 }
 
+impl railfem_framework::registry::ElementParams for HertzWheelParams {
+    const KIND: &'static str = "hertz_wheel";
+}
+
 railfem_framework::element_params! {
     /// Model-file keys of `rigid_wheel` (SI units).
     pub struct RigidWheelParams {
@@ -102,6 +106,10 @@ railfem_framework::element_params! {
         /// Static wheel load for ΔQ/Q (N); 0 = the load at the first converged state.
         static_load: f64 ["N"] = 0.0,
     }
+}
+
+impl railfem_framework::registry::ElementParams for RigidWheelParams {
+    const KIND: &'static str = "rigid_wheel";
 }
 
 /// Half the width of the rail head (m): 60E1's head is 72 mm wide. A contact point farther

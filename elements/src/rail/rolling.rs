@@ -89,8 +89,9 @@ pub struct PointInput<'a> {
     pub psi: f64,
     /// Height of the contact node above the tape circle in the wheel's profile plane (m).
     pub z_w: f64,
-    /// Gap (m, < 0) and outward wheel normal (wheel frame, unit).
+    /// Gap (m, < 0).
     pub gap: f64,
+    /// Outward wheel normal (wheel frame, unit).
     pub w: Vector3<f64>,
     /// `∇²g` in 3-D (1/m).
     pub hess: &'a Matrix3<f64>,
@@ -110,14 +111,16 @@ pub struct PointInput<'a> {
 pub struct PointCreep {
     /// `ξx`, `ξy` (−) and `φ` (1/m).
     pub creepage: [f64; 3],
-    /// Creep forces on the wheel along `e3` and `u` (N).
+    /// Creep force on the wheel along `e3` (N).
     pub fx: f64,
+    /// Creep force on the wheel along `u` (N).
     pub fy: f64,
     /// Normal force (N).
     pub f_n: f64,
     /// Whole contact force on the wheel (normal + creep), wheel frame, and its derivative
     /// with respect to the element DOFs.
     pub force: Vector3<f64>,
+    /// The derivative of `force` with respect to the element's 21 DOFs.
     pub d_force: SMatrix<f64, 3, 21>,
 }
 

@@ -30,9 +30,9 @@ use super::bridge::{
 use super::cant::Track;
 use super::irregularity::Irregularity;
 pub use super::rail_section::RailSection;
+use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::{self, fmt_num};
-use railfem_framework::model::ModelBuilder;
 use railfem_framework::moving::Path;
 use railfem_framework::DofSet;
 use serde::{Deserialize, Serialize};

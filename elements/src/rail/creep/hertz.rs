@@ -49,8 +49,11 @@ pub enum HertzError {
     /// A quantity that must be positive and finite is not.
     #[error("{name} = {value} must be positive and finite; give a {hint}")]
     NotPositive {
+        /// The quantity's name.
         name: &'static str,
+        /// Its value.
         value: f64,
+        /// What to give instead.
         hint: &'static str,
     },
     /// Poisson's ratio outside the physical range of the half-space theory.
@@ -61,7 +64,12 @@ pub enum HertzError {
         "relative curvature {name} = {value} 1/m is not positive: the bodies conform (line or \
          area contact), Hertz's point-contact ellipse does not apply; check the profile radii"
     )]
-    Conforming { name: &'static str, value: f64 },
+    Conforming {
+        /// `A` or `B`.
+        name: &'static str,
+        /// Its value (1/m).
+        value: f64,
+    },
     /// The ellipse is more slender than the solver resolves (curvature ratio above 1e12).
     #[error("curvature ratio {0} above 1e12: the contact is a line, not an ellipse")]
     TooSlender(f64),

@@ -60,7 +60,12 @@ pub enum KalkerError {
     Poisson(f64),
     /// A positive quantity (shear modulus, semi-axis, load) is not positive and finite.
     #[error("{name} = {value} must be positive and finite")]
-    NotPositive { name: &'static str, value: f64 },
+    NotPositive {
+        /// The quantity's name.
+        name: &'static str,
+        /// Its value.
+        value: f64,
+    },
     /// Friction coefficient outside 0–2.
     #[error("friction coefficient {0} is outside [0, 2]")]
     Friction(f64),
@@ -263,7 +268,9 @@ pub struct Creepages {
 /// Tangential contact forces (N) in the contact plane, `x` rolling, `y` lateral.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CreepForces {
+    /// Longitudinal creep force (N).
     pub fx: f64,
+    /// Lateral creep force (N).
     pub fy: f64,
 }
 

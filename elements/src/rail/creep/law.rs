@@ -29,15 +29,25 @@ pub enum TangentialLaw {
     /// Polach (2005) with reduction factors `ka`, `ks` and falling friction `a`, `b` (s/m);
     /// `spin` adds the spin term of his 1999 method ([`polach`]).
     Polach {
+        /// Reduction factor of Kalker's coefficients in the adhesion area `kA` (−).
         ka: f64,
+        /// Reduction factor in the slip area `kS` (−).
         ks: f64,
+        /// Falling friction: the ratio `A = μ∞/μ0` (−).
         a: f64,
+        /// Falling friction: the decay rate `B` (s/m).
         b: f64,
+        /// Whether the spin term of Polach (1999) is added.
         spin: bool,
     },
     /// Kalker's FASTSIM on the patch `grid`, with the grid's quadrature sums `sums`
     /// (made by [`TangentialLaw::fastsim`]).
-    Fastsim { grid: FastsimGrid, sums: PatchSums },
+    Fastsim {
+        /// The strip-and-element discretisation of the patch.
+        grid: FastsimGrid,
+        /// The grid's quadrature sums.
+        sums: PatchSums,
+    },
 }
 
 impl TangentialLaw {
@@ -54,10 +64,15 @@ impl TangentialLaw {
 /// slip `μ0`, falling friction `A = μ∞/μ0` and `B` (s/m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PolachSet {
+    /// Reduction factor in the adhesion area `kA` (−).
     pub ka: f64,
+    /// Reduction factor in the slip area `kS` (−).
     pub ks: f64,
+    /// Friction coefficient at zero slip velocity `μ0` (−).
     pub mu0: f64,
+    /// Ratio of friction at infinite to zero slip velocity `A = μ∞/μ0` (−).
     pub a: f64,
+    /// Exponential decay rate of friction with slip velocity `B` (s/m).
     pub b: f64,
 }
 

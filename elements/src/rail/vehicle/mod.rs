@@ -52,9 +52,10 @@ pub mod statics;
 pub use carriage::{BodyData, CarriageData, Suspension};
 
 use super::track_model;
+use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
-use railfem_framework::model::{Geometry, ModelBuilder};
+use railfem_framework::model::Geometry;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 use track_model::TrackModel;

@@ -1,8 +1,10 @@
 //! Example railfem plugin: `hysteretic_spring`, a uniaxial bilinear spring with linear
-//! kinematic hardening on one DOF, built as a `cdylib` and loaded at run time.
+//! kinematic hardening on one DOF, built as a `cdylib` and loaded at run time, beside one
+//! load kind ([`unbalance`]: `rotating_unbalance`) and one recorder kind
+//! ([`relative_motion`]: `relative_motion`), to show each extension point.
 //!
-//! What lives here: the element, its parameters, its conformance samples and the one line
-//! that exports it ([`railfem_framework::export_plugin!`]). Load the library with
+//! What lives here: the element, its parameters, its conformance samples and the one call
+//! that exports all three kinds ([`railfem_framework::export_plugin!`]). Load the library with
 //! `plugins = ["…/librailfem_plugin_hysteretic.so"]` in a model file or
 //! `railfem run MODEL --plugin PATH`. The crate is also an `rlib` so its own tests (and a
 //! host that prefers static linking) can use [`HYSTERETIC_SPRING`] directly.
@@ -346,7 +348,17 @@ pub const HYSTERETIC_SPRING: ElementKind = ElementKind {
     samples,
 };
 
-railfem_framework::export_plugin!(HYSTERETIC_SPRING);
+pub mod relative_motion;
+pub mod unbalance;
+
+pub use relative_motion::RELATIVE_MOTION;
+pub use unbalance::ROTATING_UNBALANCE;
+
+railfem_framework::export_plugin!(
+    elements: [HYSTERETIC_SPRING],
+    loads: [ROTATING_UNBALANCE],
+    recorders: [RELATIVE_MOTION],
+);
 
 #[cfg(test)]
 mod tests {
@@ -370,8 +382,15 @@ mod tests {
             railfem_framework::plugin::PluginAbi::CURRENT
         );
         let mut names = Vec::new();
-        railfem_plugin_register(&mut |k| names.push(k.name)).unwrap();
-        assert_eq!(names, vec!["hysteretic_spring"]);
+        railfem_plugin_register(&mut |k| names.push((k.what(), k.name()))).unwrap();
+        assert_eq!(
+            names,
+            vec![
+                ("element", "hysteretic_spring"),
+                ("load", "rotating_unbalance"),
+                ("recorder", "relative_motion")
+            ]
+        );
     }
 
     /// A grounded spring driven to δ = 3·uy, back to −3·uy: on the way back it unloads
