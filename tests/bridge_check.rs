@@ -246,6 +246,7 @@ fn fe_envelope_against_modal_reference() {
         cutoff: fc,
         tail: 0.3,
         vehicles: &[],
+        journal: None,
     };
     let stations: Vec<f64> = deck.stations.iter().map(|s| s.station).collect();
     let mut lp = LowPass::default();
@@ -392,6 +393,7 @@ fn resonance_speed_of_hslm_a4() {
         cutoff: fc,
         tail: 0.3,
         vehicles: &[],
+        journal: None,
     };
     let speeds: Vec<f64> = (0..=25).map(|k| 280.0 + 2.0 * k as f64).collect();
     let out = c.envelope(&speeds, 2.0, 0, 2).expect("envelope");

@@ -16,6 +16,7 @@
 use super::fe::{Deck, Stepper, Work};
 use super::filter::LowPass;
 use super::interaction::{AxleSuspension, AxleWork, VehicleModel};
+use super::resume::Journal;
 use super::trains::Train;
 use crate::framework::FemError;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -71,6 +72,9 @@ pub struct Check<'a> {
     /// Per train, its axles' suspensions (needed for [`VehicleModel::SprungMasses`]
     /// only; may be empty otherwise).
     pub vehicles: &'a [Vec<AxleSuspension>],
+    /// The journal that keeps finished runs and gives them back on resume
+    /// ([`super::resume`]); `None`: nothing is kept.
+    pub journal: Option<&'a Journal>,
 }
 
 /// Per-thread buffers.
@@ -173,7 +177,17 @@ impl Check<'_> {
                         let Some(&(i, m, v)) = jobs.get(k) else {
                             return;
                         };
-                        let o = self.run_model(i, m, v, &mut s);
+                        let kept = self.journal.and_then(|j| j.get(i, m, v));
+                        if kept.is_none() && self.journal.is_some_and(|j| !j.may_run()) {
+                            return;
+                        }
+                        let o = kept.unwrap_or_else(|| {
+                            let o = self.run_model(i, m, v, &mut s);
+                            if let Some(j) = self.journal {
+                                j.record(&o);
+                            }
+                            o
+                        });
                         if let Ok(mut g) = out.lock() {
                             g[k] = Some(o);
                         }
@@ -181,14 +195,25 @@ impl Check<'_> {
                 });
             }
         });
+        if let Some(e) = self.journal.and_then(Journal::take_error) {
+            return Err(e);
+        }
         let got = out.into_inner().unwrap_or_default();
         let done = got.iter().filter(|o| o.is_some()).count();
         if done < jobs.len() {
             return Err(FemError::InterruptedAfter {
-                after: format!(
-                    "{done} of {} train-speed runs (no envelope written)",
-                    jobs.len()
-                ),
+                after: match self.journal {
+                    Some(j) => format!(
+                        "{done} of {} train-speed runs of this pass; {} runs kept in {} (run the same command again to go on; no envelope written yet)",
+                        jobs.len(),
+                        j.len_now(),
+                        super::resume::FILE
+                    ),
+                    None => format!(
+                        "{done} of {} train-speed runs (no envelope written)",
+                        jobs.len()
+                    ),
+                },
             });
         }
         Ok(got.into_iter().flatten().collect())

@@ -18,6 +18,7 @@ pub mod interaction;
 pub mod modal;
 pub mod plan;
 pub mod report;
+pub mod resume;
 pub mod simplified;
 pub mod trains;
 pub mod vehicle_train;
@@ -183,8 +184,34 @@ pub fn plan_deck(p: &plan::Plan, file: &str) -> Result<fe::Deck, FemError> {
     }
 }
 
-/// Runs the check of `plan_path` on `threads` threads and writes its outputs into `out`.
+/// How a check runs: threads, and the journal's options ([`resume`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RunOptions {
+    /// Computing threads.
+    pub threads: usize,
+    /// Compute at most this many runs, then stop (the journal keeps them).
+    pub stop_after: Option<usize>,
+    /// Discard the journal instead of resuming from it.
+    pub restart: bool,
+}
+
+/// Runs the check of `plan_path` on `threads` threads and writes its outputs into `out`
+/// (resuming from a journal there).
 pub fn check(plan_path: &Path, out: &Path, threads: usize) -> Result<Results, FemError> {
+    check_with(
+        plan_path,
+        out,
+        RunOptions {
+            threads,
+            stop_after: None,
+            restart: false,
+        },
+    )
+}
+
+/// [`check`] with the journal's options.
+pub fn check_with(plan_path: &Path, out: &Path, o: RunOptions) -> Result<Results, FemError> {
+    let threads = o.threads;
     let t0 = Instant::now();
     let file = plan_path.display().to_string();
     let p = plan::Plan::read(plan_path)?;
@@ -208,6 +235,13 @@ pub fn check(plan_path: &Path, out: &Path, threads: usize) -> Result<Results, Fe
     for t in &trains {
         statics.push(fe::Stepper::static_peak(&deck, t, p.analysis.static_step)?.0);
     }
+    let text = std::fs::read_to_string(plan_path).unwrap_or_default();
+    let words = format!(
+        "{trains:?} {vehicles:?} {:?} {dt:e} {cutoff:e} {rayleigh:?} {}",
+        deck.frequencies, deck.n
+    );
+    let fp = resume::fingerprint(&[&text, &words]);
+    let journal = resume::Journal::open(out, fp, &statics, o.restart, o.stop_after)?;
     let c = envelope::Check {
         deck: &deck,
         stepper: &stepper,
@@ -216,6 +250,7 @@ pub fn check(plan_path: &Path, out: &Path, threads: usize) -> Result<Results, Fe
         cutoff,
         tail: p.analysis.tail_periods / n0,
         vehicles: &vehicles,
+        journal: Some(&journal),
     };
     let te = Instant::now();
     let models = p.analysis.model.list();
@@ -378,7 +413,22 @@ pub fn command(a: &crate::cli::Args) -> Result<i32, FemError> {
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT));
-    let r = check(&plan, &out, threads)?;
+    let stop_after = match a.num("stop-after")? {
+        None => None,
+        Some(n) if n >= 1.0 && n.fract() == 0.0 && n <= 1e9 => Some(n as usize),
+        Some(n) => {
+            return Err(FemError::input(
+                cl,
+                format!("--stop-after {n}: give a whole number of runs ≥ 1"),
+            ))
+        }
+    };
+    let opts = RunOptions {
+        threads,
+        stop_after,
+        restart: a.flag("restart"),
+    };
+    let r = check_with(&plan, &out, opts)?;
     let g = r.governing().copied();
     if let Some(g) = g {
         let limit = r.limit();
