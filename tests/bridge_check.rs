@@ -704,8 +704,7 @@ fn sprung_masses_of_vanishing_mass_are_moving_forces() {
         &axles,
         v,
         steps,
-        &mut ws,
-        &mut AxleWork::default(),
+        (&mut ws, &mut AxleWork::default()),
     );
     let peak = |h: &[Vec<f64>]| h.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
     let (py, pa) = (peak(&wf.deflection), peak(&wf.acceleration));
@@ -754,7 +753,7 @@ fn sprung_mass_on_a_beam_fe_against_modal_solution() {
     let steps = (l / v / dt).floor() as usize;
     let mut w = Work::default();
     let mut x = AxleWork::default();
-    interaction::run(&st, &deck, &train, &axles, v, steps, &mut w, &mut x);
+    interaction::run(&st, &deck, &train, &axles, v, steps, (&mut w, &mut x));
     let mid = deck
         .stations
         .iter()

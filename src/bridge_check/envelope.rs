@@ -112,8 +112,7 @@ impl Check<'_> {
                 axles,
                 v,
                 steps,
-                &mut s.work,
-                &mut s.axles,
+                (&mut s.work, &mut s.axles),
             ),
             _ => self.stepper.run(self.deck, train, v, steps, &mut s.work),
         }

@@ -268,8 +268,9 @@ pub struct AxleWork {
 }
 
 /// Runs `train` with the axle suspensions `axles` over `deck` at `v` (m/s) for `steps`
-/// steps from rest (the first axle on the path's start at t = 0); fills `w.deflection` and
-/// `w.acceleration` as [`Stepper::run`] does.
+/// steps from rest (the first axle on the path's start at t = 0); fills the deck's
+/// `w.deflection` and `w.acceleration` as [`Stepper::run`] does, and the axles' states in
+/// `x`.
 pub fn run(
     st: &Stepper,
     deck: &Deck,
@@ -277,8 +278,7 @@ pub fn run(
     axles: &[AxleSuspension],
     v: f64,
     steps: usize,
-    w: &mut Work,
-    x: &mut AxleWork,
+    (w, x): (&mut Work, &mut AxleWork),
 ) {
     let h = st.dt;
     let (a0, a1, a2) = (4.0 / (h * h), 2.0 / h, 4.0 / h);
