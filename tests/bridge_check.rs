@@ -415,7 +415,7 @@ fn resonance_speed_of_hslm_a4() {
 fn bad_plans_are_refused() {
     let dir = common::temp_dir("bridge-check-bad");
     let good = "[bridge]\nspans = [20.0]\nEI = 4.8e10\nmass = 15000.0\nkind = \"prestressed_concrete\"\ntrack = \"ballasted\"\n\n[speeds]\nmax_line_speed = 300.0\n";
-    let cases: [(&str, String, &[&str]); 4] = [
+    let cases: [(&str, String, &[&str]); 7] = [
         (
             "mass.toml",
             good.replace("mass = 15000.0", "mass = -1.0"),
@@ -435,6 +435,21 @@ fn bad_plans_are_refused() {
             "train.toml",
             format!("trains = [\"ICE9\"]\n{good}"),
             &["trains", "ICE9", "HSLM-A1"],
+        ),
+        (
+            "unsprung.toml",
+            format!("{good}[sprung_masses]\nunsprung_mass = -5.0\n"),
+            &["sprung_masses.unsprung_mass", "kg"],
+        ),
+        (
+            "model.toml",
+            format!("{good}[analysis]\nmodel = \"full_vehicles\"\n"),
+            &["model.toml", "full_vehicles"],
+        ),
+        (
+            "both.toml",
+            format!("[[train]]\nname = \"x\"\nfile = \"a.csv\"\nvehicle = \"v.toml\"\n{good}"),
+            &["train[0] \"x\"", "vehicle"],
         ),
     ];
     for (name, text, expect) in cases {
