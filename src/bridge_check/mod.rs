@@ -7,8 +7,10 @@
 //! One job per module: [`trains`] (HSLM and user trains), [`bridge`] (the description and
 //! the standard's rules for damping, limits and frequencies), [`modal`] (the modal
 //! reference solution), [`filter`] (the frequency cut-off), [`simplified`] (the DER and LIR methods of ERRI D214), [`fe`] (the finite element
-//! deck and its step), [`envelope`] (the speed sweep on threads), [`plan`] (the plan file)
-//! and [`report`] (CSV, figures, Markdown). User documentation: `docs/bridge-check.md`.
+//! deck and its step), [`interaction`] (moving sprung masses coupled to that step),
+//! [`vehicle_train`] (trains of vehicle files), [`envelope`] (the speed sweep on threads),
+//! [`resume`] (the journal of finished runs), [`plan`] (the plan file) and [`report`] (CSV,
+//! figures, Markdown). User documentation: `docs/bridge-check.md`.
 
 pub mod bridge;
 pub mod envelope;
