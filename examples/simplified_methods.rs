@@ -12,6 +12,7 @@ use railfem::bridge_check::bridge::{simply_supported_frequency, table_6_6, Bridg
 use railfem::bridge_check::envelope::{Check, KMH};
 use railfem::bridge_check::fe::{described_model, rayleigh, Deck, Stepper};
 use railfem::bridge_check::filter::{cutoff, LowPass};
+use railfem::bridge_check::interaction::VehicleModel;
 use railfem::bridge_check::modal::{response, Span};
 use railfem::bridge_check::simplified::{self, estimate, Method};
 use railfem::bridge_check::trains::hslm_a;
@@ -62,10 +63,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             statics: &statics,
             cutoff: fc_fe,
             tail: 1.0,
+            vehicles: &[],
+            journal: None,
         };
         let speeds: Vec<f64> = (0..=55).map(|k| 144.0 + 5.0 * k as f64).collect();
-        let jobs: Vec<(usize, f64)> = (0..trains.len())
-            .flat_map(|i| speeds.iter().map(move |&s| (i, s)))
+        let jobs: Vec<(usize, VehicleModel, f64)> = (0..trains.len())
+            .flat_map(|i| {
+                speeds
+                    .iter()
+                    .map(move |&s| (i, VehicleModel::MovingForces, s))
+            })
             .collect();
         let outcomes = c.run_all(&jobs, 2)?;
         for i in 1..=10 {

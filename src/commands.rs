@@ -704,8 +704,15 @@ pub struct BridgeCheckCmd {
     /// Computing threads [default: the available cores].
     #[arg(long, value_name = "N")]
     pub threads: Option<OsString>,
+    /// Compute at most N train-speed runs, then stop; the journal keeps them and a rerun
+    /// goes on [default: all].
+    #[arg(long, value_name = "N")]
+    pub stop_after: Option<OsString>,
+    /// Start afresh: discard the journal (bridge-check.checkpoint) instead of resuming.
+    #[arg(long)]
+    pub restart: bool,
     /// Output directory: envelope.csv, acceleration.svg/.png, dynamic-factor.svg/.png,
-    /// report.md, run.json [default: out/bridge_check].
+    /// report.md, run.json, bridge-check.checkpoint [default: out/bridge_check].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }

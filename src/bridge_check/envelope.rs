@@ -15,6 +15,8 @@
 
 use super::fe::{Deck, Stepper, Work};
 use super::filter::LowPass;
+use super::interaction::{AxleSuspension, AxleWork, VehicleModel};
+use super::resume::Journal;
 use super::trains::Train;
 use crate::framework::FemError;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -28,6 +30,8 @@ pub const KMH: f64 = 3.6;
 pub struct Outcome {
     /// Index of the train.
     pub train: usize,
+    /// How the train's axles were modelled.
+    pub model: VehicleModel,
     /// Speed (km/h).
     pub speed: f64,
     /// Peak filtered deck acceleration (m/s², magnitude).
@@ -65,12 +69,19 @@ pub struct Check<'a> {
     pub cutoff: f64,
     /// Free vibration after the last axle has left (s).
     pub tail: f64,
+    /// Per train, its axles' suspensions (needed for [`VehicleModel::SprungMasses`]
+    /// only; may be empty otherwise).
+    pub vehicles: &'a [Vec<AxleSuspension>],
+    /// The journal that keeps finished runs and gives them back on resume
+    /// ([`super::resume`]); `None`: nothing is kept.
+    pub journal: Option<&'a Journal>,
 }
 
 /// Per-thread buffers.
 #[derive(Default)]
 pub struct Scratch {
     work: Work,
+    axles: AxleWork,
     filter: LowPass,
 }
 
@@ -81,15 +92,33 @@ impl Check<'_> {
         (t / self.stepper.dt).ceil() as usize
     }
 
-    /// Runs train `i` at `speed` (km/h).
+    /// Runs train `i` at `speed` (km/h) as moving forces.
     pub fn run(&self, i: usize, speed: f64, s: &mut Scratch) -> Outcome {
+        self.run_model(i, VehicleModel::MovingForces, speed, s)
+    }
+
+    /// Runs train `i` at `speed` (km/h) with the axles modelled as `model`. A train
+    /// without suspensions in [`Check::vehicles`] runs as moving forces.
+    pub fn run_model(&self, i: usize, model: VehicleModel, speed: f64, s: &mut Scratch) -> Outcome {
         let train = &self.trains[i];
         let v = speed / KMH;
         let steps = self.steps(train, v);
         let dt = self.stepper.dt;
-        self.stepper.run(self.deck, train, v, steps, &mut s.work);
+        match (model, self.vehicles.get(i)) {
+            (VehicleModel::SprungMasses, Some(axles)) => super::interaction::run(
+                self.stepper,
+                self.deck,
+                train,
+                axles,
+                v,
+                steps,
+                (&mut s.work, &mut s.axles),
+            ),
+            _ => self.stepper.run(self.deck, train, v, steps, &mut s.work),
+        }
         let mut o = Outcome {
             train: i,
+            model,
             speed,
             acceleration: 0.0,
             acc_station: 0.0,
@@ -126,9 +155,13 @@ impl Check<'_> {
         o
     }
 
-    /// Runs `jobs` (train, km/h) on `threads` threads; the outcomes in the order of `jobs`.
-    /// Stops handing out jobs when an interrupt is requested.
-    pub fn run_all(&self, jobs: &[(usize, f64)], threads: usize) -> Result<Vec<Outcome>, FemError> {
+    /// Runs `jobs` (train, model, km/h) on `threads` threads; the outcomes in the order of
+    /// `jobs`. Stops handing out jobs when an interrupt is requested.
+    pub fn run_all(
+        &self,
+        jobs: &[(usize, VehicleModel, f64)],
+        threads: usize,
+    ) -> Result<Vec<Outcome>, FemError> {
         let next = AtomicUsize::new(0);
         let out: Mutex<Vec<Option<Outcome>>> = Mutex::new(vec![None; jobs.len()]);
         std::thread::scope(|sc| {
@@ -140,8 +173,20 @@ impl Check<'_> {
                             return;
                         }
                         let k = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(&(i, v)) = jobs.get(k) else { return };
-                        let o = self.run(i, v, &mut s);
+                        let Some(&(i, m, v)) = jobs.get(k) else {
+                            return;
+                        };
+                        let kept = self.journal.and_then(|j| j.get(i, m, v));
+                        if kept.is_none() && self.journal.is_some_and(|j| !j.may_run()) {
+                            return;
+                        }
+                        let o = kept.unwrap_or_else(|| {
+                            let o = self.run_model(i, m, v, &mut s);
+                            if let Some(j) = self.journal {
+                                j.record(&o);
+                            }
+                            o
+                        });
                         if let Ok(mut g) = out.lock() {
                             g[k] = Some(o);
                         }
@@ -149,21 +194,33 @@ impl Check<'_> {
                 });
             }
         });
+        if let Some(e) = self.journal.and_then(Journal::take_error) {
+            return Err(e);
+        }
         let got = out.into_inner().unwrap_or_default();
         let done = got.iter().filter(|o| o.is_some()).count();
         if done < jobs.len() {
             return Err(FemError::InterruptedAfter {
-                after: format!(
-                    "{done} of {} train-speed runs (no envelope written)",
-                    jobs.len()
-                ),
+                after: match self.journal {
+                    Some(j) => format!(
+                        "{done} of {} train-speed runs of this pass; {} runs kept in {} (run the same command again to go on; no envelope written yet)",
+                        jobs.len(),
+                        j.len_now(),
+                        super::resume::FILE
+                    ),
+                    None => format!(
+                        "{done} of {} train-speed runs (no envelope written)",
+                        jobs.len()
+                    ),
+                },
             });
         }
         Ok(got.into_iter().flatten().collect())
     }
 
-    /// The envelope: coarse pass over `speeds` (km/h) for every train, then `refine`
-    /// halvings of `step` around each local maximum. Outcomes sorted by train and speed.
+    /// The envelope of moving forces: coarse pass over `speeds` (km/h) for every train,
+    /// then `refine` halvings of `step` around each local maximum. Outcomes sorted by train
+    /// and speed.
     pub fn envelope(
         &self,
         speeds: &[f64],
@@ -171,45 +228,70 @@ impl Check<'_> {
         refine: usize,
         threads: usize,
     ) -> Result<Vec<Outcome>, FemError> {
+        self.envelope_of(&[VehicleModel::MovingForces], speeds, step, refine, threads)
+    }
+
+    /// The envelope of every train with every one of `models`, each (train, model) curve
+    /// refined on its own. Outcomes sorted by train, model and speed.
+    pub fn envelope_of(
+        &self,
+        models: &[VehicleModel],
+        speeds: &[f64],
+        step: f64,
+        refine: usize,
+        threads: usize,
+    ) -> Result<Vec<Outcome>, FemError> {
         let (lo, hi) = (speeds[0], *speeds.last().unwrap_or(&speeds[0]));
-        let jobs: Vec<(usize, f64)> = (0..self.trains.len())
-            .flat_map(|i| speeds.iter().map(move |&v| (i, v)))
+        let curves: Vec<(usize, VehicleModel)> = (0..self.trains.len())
+            .flat_map(|i| models.iter().map(move |&m| (i, m)))
+            .collect();
+        let jobs: Vec<(usize, VehicleModel, f64)> = curves
+            .iter()
+            .flat_map(|&(i, m)| speeds.iter().map(move |&v| (i, m, v)))
             .collect();
         let mut all = self.run_all(&jobs, threads)?;
-        // The maxima to refine: (train, best speed, best value).
-        let mut peaks: Vec<(usize, f64, f64)> = Vec::new();
-        for i in 0..self.trains.len() {
-            let row: Vec<&Outcome> = all.iter().filter(|o| o.train == i).collect();
-            let top = row.iter().fold(0.0f64, |m, o| m.max(o.acceleration));
+        // The maxima to refine: (train, model, best speed, best value).
+        let mut peaks: Vec<(usize, VehicleModel, f64, f64)> = Vec::new();
+        for &(i, m) in &curves {
+            let row: Vec<&Outcome> = all
+                .iter()
+                .filter(|o| o.train == i && o.model == m)
+                .collect();
+            let top = row.iter().fold(0.0f64, |t, o| t.max(o.acceleration));
             for k in 0..row.len() {
                 let a = row[k].acceleration;
                 let left = k == 0 || row[k - 1].acceleration <= a;
                 let right = k + 1 == row.len() || row[k + 1].acceleration < a;
                 if left && right && a >= 0.25 * top {
-                    peaks.push((i, row[k].speed, a));
+                    peaks.push((i, m, row[k].speed, a));
                 }
             }
         }
         let mut h = step;
         for _ in 0..refine {
             h /= 2.0;
-            let tagged: Vec<(usize, (usize, f64))> = peaks
+            let tagged: Vec<(usize, (usize, VehicleModel, f64))> = peaks
                 .iter()
                 .enumerate()
-                .flat_map(|(k, &(i, v, _))| [(k, (i, v - h)), (k, (i, v + h))])
-                .filter(|&(_, (_, v))| v >= lo && v <= hi)
+                .flat_map(|(k, &(i, m, v, _))| [(k, (i, m, v - h)), (k, (i, m, v + h))])
+                .filter(|&(_, (_, _, v))| v >= lo && v <= hi)
                 .collect();
-            let jobs: Vec<(usize, f64)> = tagged.iter().map(|t| t.1).collect();
+            let jobs: Vec<(usize, VehicleModel, f64)> = tagged.iter().map(|t| t.1).collect();
             let got = self.run_all(&jobs, threads)?;
             for ((k, _), o) in tagged.iter().zip(&got) {
-                if o.acceleration > peaks[*k].2 {
-                    peaks[*k] = (o.train, o.speed, o.acceleration);
+                if o.acceleration > peaks[*k].3 {
+                    peaks[*k] = (o.train, o.model, o.speed, o.acceleration);
                 }
             }
             all.extend(got);
         }
-        all.sort_by(|a, b| a.train.cmp(&b.train).then(a.speed.total_cmp(&b.speed)));
-        all.dedup_by(|a, b| a.train == b.train && a.speed == b.speed);
+        all.sort_by(|a, b| {
+            a.train
+                .cmp(&b.train)
+                .then(a.model.cmp(&b.model))
+                .then(a.speed.total_cmp(&b.speed))
+        });
+        all.dedup_by(|a, b| a.train == b.train && a.model == b.model && a.speed == b.speed);
         Ok(all)
     }
 }

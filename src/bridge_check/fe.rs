@@ -190,6 +190,31 @@ impl Deck {
         *self.path.cumulative.last().unwrap_or(&0.0)
     }
 
+    /// The deck's upward vertical displacement at `station` (m) as `Σ g·u[equation]`: the
+    /// terms `(equation, g)` into `g` (cleared first), i.e. minus the consistent nodal
+    /// forces of a unit downward load there (the same shape functions interpolate both).
+    pub fn unit_terms(&self, station: f64, g: &mut Vec<(usize, f64)>) {
+        g.clear();
+        let Some((s, xi)) = crate::framework::beam_chain::locate_on(&self.path.cumulative, station)
+        else {
+            return;
+        };
+        let (a, b) = self.path.ends[s];
+        let nf = MovingForce::nodal_forces(Vector3::new(0.0, 0.0, 1.0), a, b, xi);
+        let parts = [(0, nf.force_i, nf.moment_i), (1, nf.force_j, nf.moment_j)];
+        for (end, force, moment) in parts {
+            for d in 0..3 {
+                g.extend(self.dofs[s][end][d].iter().map(|&(e, c)| (e, c * force[d])));
+                g.extend(
+                    self.dofs[s][end][d + 3]
+                        .iter()
+                        .map(|&(e, c)| (e, c * moment[d])),
+                );
+            }
+        }
+        g.retain(|t| t.1 != 0.0);
+    }
+
     /// Adds the consistent nodal forces of a downward load `p` (N) at `station` (m) to `f`.
     pub fn add_load(&self, station: f64, p: f64, f: &mut [f64]) {
         let Some((s, xi)) = crate::framework::beam_chain::locate_on(&self.path.cumulative, station)
@@ -328,15 +353,16 @@ pub struct Stepper {
     m: Band,
     c: Band,
     keff: Band,
+    keff0: Band,
 }
 
 /// Per-run work vectors of a [`Stepper`] (one per thread, reused across runs).
 #[derive(Debug, Clone, Default)]
 pub struct Work {
-    q: Vec<f64>,
+    pub(crate) q: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
-    r: Vec<f64>,
+    pub(crate) r: Vec<f64>,
     p: Vec<f64>,
     s: Vec<f64>,
     /// Deflection histories per station (m, up).
@@ -358,22 +384,54 @@ impl Stepper {
             b,
             &[(1.0 + a1 * beta, &deck.k), (a0 + a1 * alpha, &deck.m)],
         );
+        let keff0 = keff.clone();
         keff.cholesky().map_err(|eq| {
             FemError::input(
                 "bridge-check deck",
                 format!("the effective matrix is not positive definite at equation {eq}: the deck is not supported; hold its ends"),
             )
         })?;
-        Ok(Stepper { dt, m, c, keff })
+        Ok(Stepper {
+            dt,
+            m,
+            c,
+            keff,
+            keff0,
+        })
     }
 
     /// Runs `train` over `deck` at `v` (m/s) for `steps` steps from rest, the first axle at
     /// the path's start at t = 0; fills `w.deflection` and `w.acceleration` at the deck's
     /// stations (`steps + 1` samples each).
     pub fn run(&self, deck: &Deck, train: &Train, v: f64, steps: usize, w: &mut Work) {
-        let n = deck.n;
         let h = self.dt;
-        let (a0, a1, a2) = (4.0 / (h * h), 2.0 / h, 4.0 / h);
+        self.start(deck, steps, w);
+        let length = deck.length();
+        // Axles on the deck: those with index in [first, last).
+        let (mut first, mut last) = (0usize, 0usize);
+        for i in 1..=steps {
+            let t = i as f64 * h;
+            let front = v * t;
+            while last < train.axles.len() && train.axles[last].position <= front {
+                last += 1;
+            }
+            while first < last && front - train.axles[first].position > length {
+                first += 1;
+            }
+            w.r.fill(0.0);
+            for ax in &train.axles[first..last] {
+                deck.add_load(front - ax.position, ax.load, &mut w.r);
+            }
+            self.history(w);
+            self.keff.solve(&mut w.r);
+            self.advance(w);
+            self.record(deck, i, w);
+        }
+    }
+
+    /// Zeroes the state and sizes the histories of `w` for `steps` steps.
+    pub(crate) fn start(&self, deck: &Deck, steps: usize, w: &mut Work) {
+        let n = deck.n;
         for x in [&mut w.q, &mut w.v, &mut w.a, &mut w.r, &mut w.p, &mut w.s] {
             x.clear();
             x.resize(n, 0.0);
@@ -387,47 +445,52 @@ impl Stepper {
             w.acceleration[j].clear();
             w.acceleration[j].resize(steps + 1, 0.0);
         }
-        let length = deck.length();
-        // Axles on the deck: those with index in [first, last).
-        let (mut first, mut last) = (0usize, 0usize);
-        for i in 1..=steps {
-            let t = i as f64 * h;
-            let front = v * t;
-            while last < train.axles.len() && train.axles[last].position <= front {
-                last += 1;
-            }
-            while first < last && front - train.axles[first].position > length {
-                first += 1;
-            }
-            // r = F(t_{n+1}) + M·(a0·q + a2·v + a) + C·(a1·q + v)
-            w.r.fill(0.0);
-            for ax in &train.axles[first..last] {
-                deck.add_load(front - ax.position, ax.load, &mut w.r);
-            }
-            for e in 0..n {
-                w.p[e] = a0 * w.q[e] + a2 * w.v[e] + w.a[e];
-                w.s[e] = a1 * w.q[e] + w.v[e];
-            }
-            self.m.mul_add(&w.p, &mut w.r);
-            self.c.mul_add(&w.s, &mut w.r);
-            self.keff.solve(&mut w.r);
-            // r is q_{n+1}: a_{n+1} = a0·Δq − a2·v_n − a_n, v_{n+1} = v_n + h/2·(a_n + a_{n+1}).
-            for e in 0..n {
-                let an = a0 * (w.r[e] - w.q[e]) - a2 * w.v[e] - w.a[e];
-                w.v[e] += 0.5 * h * (w.a[e] + an);
-                w.a[e] = an;
-                w.q[e] = w.r[e];
-            }
-            for (j, st) in deck.stations.iter().enumerate() {
-                let (mut y, mut acc) = (0.0, 0.0);
-                for &(e, c) in &st.uz {
-                    y += c * w.q[e];
-                    acc += c * w.a[e];
-                }
-                w.deflection[j][i] = y;
-                w.acceleration[j][i] = acc;
-            }
+    }
+
+    /// `w.r += M·(a0·q + a2·v + a) + C·(a1·q + v)`: the state's part of the step's
+    /// right-hand side, beside the loads of `t + h`.
+    pub(crate) fn history(&self, w: &mut Work) {
+        let h = self.dt;
+        let (a0, a1, a2) = (4.0 / (h * h), 2.0 / h, 4.0 / h);
+        for e in 0..w.q.len() {
+            w.p[e] = a0 * w.q[e] + a2 * w.v[e] + w.a[e];
+            w.s[e] = a1 * w.q[e] + w.v[e];
         }
+        self.m.mul_add(&w.p, &mut w.r);
+        self.c.mul_add(&w.s, &mut w.r);
+    }
+
+    /// With `w.r` the solved `q_{n+1}`: `a_{n+1} = a0·Δq − a2·v_n − a_n`,
+    /// `v_{n+1} = v_n + h/2·(a_n + a_{n+1})`, `q = q_{n+1}`.
+    pub(crate) fn advance(&self, w: &mut Work) {
+        let h = self.dt;
+        let (a0, a2) = (4.0 / (h * h), 4.0 / h);
+        for e in 0..w.q.len() {
+            let an = a0 * (w.r[e] - w.q[e]) - a2 * w.v[e] - w.a[e];
+            w.v[e] += 0.5 * h * (w.a[e] + an);
+            w.a[e] = an;
+            w.q[e] = w.r[e];
+        }
+    }
+
+    /// Stores the stations' deflection and acceleration of sample `i`.
+    pub(crate) fn record(&self, deck: &Deck, i: usize, w: &mut Work) {
+        for (j, st) in deck.stations.iter().enumerate() {
+            let (mut y, mut acc) = (0.0, 0.0);
+            for &(e, c) in &st.uz {
+                y += c * w.q[e];
+                acc += c * w.a[e];
+            }
+            w.deflection[j][i] = y;
+            w.acceleration[j][i] = acc;
+        }
+    }
+
+    /// The unfactored effective matrix, copied into `into` (allocated on first use).
+    pub(crate) fn effective<'b>(&self, into: &'b mut Option<Band>) -> &'b mut Band {
+        let b = into.get_or_insert_with(|| self.keff0.clone());
+        b.a.copy_from_slice(&self.keff0.a);
+        b
     }
 
     /// The largest static deflection (m, magnitude) of any station under `train` as it

@@ -7,18 +7,23 @@
 //! One job per module: [`trains`] (HSLM and user trains), [`bridge`] (the description and
 //! the standard's rules for damping, limits and frequencies), [`modal`] (the modal
 //! reference solution), [`filter`] (the frequency cut-off), [`simplified`] (the DER and LIR methods of ERRI D214), [`fe`] (the finite element
-//! deck and its step), [`envelope`] (the speed sweep on threads), [`plan`] (the plan file)
-//! and [`report`] (CSV, figures, Markdown). User documentation: `docs/bridge-check.md`.
+//! deck and its step), [`interaction`] (moving sprung masses coupled to that step),
+//! [`vehicle_train`] (trains of vehicle files), [`envelope`] (the speed sweep on threads),
+//! [`resume`] (the journal of finished runs), [`plan`] (the plan file) and [`report`] (CSV,
+//! figures, Markdown). User documentation: `docs/bridge-check.md`.
 
 pub mod bridge;
 pub mod envelope;
 pub mod fe;
 pub mod filter;
+pub mod interaction;
 pub mod modal;
 pub mod plan;
 pub mod report;
+pub mod resume;
 pub mod simplified;
 pub mod trains;
+pub mod vehicle_train;
 
 use crate::framework::FemError;
 use std::path::{Path, PathBuf};
@@ -58,6 +63,24 @@ pub struct Results {
     /// `(FE peak acceleration, modal peak acceleration, FE peak deflection, modal peak
     /// deflection)`.
     pub reference: Option<(f64, f64, f64, f64)>,
+    /// When the sprung-mass model ran: the governing train and speed as moving forces and
+    /// as sprung masses, in that order.
+    pub models_compared: Option<(envelope::Outcome, envelope::Outcome)>,
+    /// On a described single simply supported span: per train, the peak midspan
+    /// acceleration of ERRI D214's DER and LIR methods over the plan's speed range (m/s²),
+    /// and the speeds (km/h) of those peaks.
+    pub simplified: Vec<SimplifiedRow>,
+}
+
+/// A train's DER and LIR estimates over the speed range ([`simplified`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SimplifiedRow {
+    /// Index of the train.
+    pub train: usize,
+    /// DER's peak (m/s²) and its speed (km/h).
+    pub der: (f64, f64),
+    /// LIR's peak (m/s²) and its speed (km/h).
+    pub lir: (f64, f64),
 }
 
 impl Results {
@@ -75,8 +98,13 @@ impl Results {
 }
 
 /// The trains of a plan: the named built-ins (default HSLM-A1…A10, and HSLM-B on a simply
-/// supported span under 7 m), then the user's.
-pub fn plan_trains(p: &plan::Plan, file: &str) -> Result<Vec<trains::Train>, FemError> {
+/// supported span under 7 m), then the user's; with, when the plan runs the sprung-mass
+/// model, every train's axle suspensions (a vehicle file's own, else the plan's
+/// `[sprung_masses]`), and otherwise none.
+pub fn plan_trains(
+    p: &plan::Plan,
+    file: &str,
+) -> Result<(Vec<trains::Train>, Vec<Vec<interaction::AxleSuspension>>), FemError> {
     let span = p.bridge.spans.iter().fold(0.0f64, |m, &s| m.max(s));
     let names: Vec<String> = match &p.trains {
         Some(n) => n.clone(),
@@ -98,8 +126,21 @@ pub fn plan_trains(p: &plan::Plan, file: &str) -> Result<Vec<trains::Train>, Fem
         })?;
         out.push(t);
     }
+    let mut own = vec![None; out.len()];
     for u in &p.train {
-        out.push(trains::read_user_train(&u.file, &u.name)?);
+        match (&u.file, &u.vehicle) {
+            (Some(f), _) => {
+                out.push(trains::read_user_train(f, &u.name)?);
+                own.push(None);
+            }
+            (None, Some(v)) => {
+                let wr = p.sprung_masses.wheel_radius;
+                let (t, s) = vehicle_train::read(v, &u.name, u.count.unwrap_or(1), wr)?;
+                out.push(t);
+                own.push(Some(s));
+            }
+            (None, None) => {}
+        }
     }
     if out.is_empty() {
         return Err(FemError::input(
@@ -107,7 +148,16 @@ pub fn plan_trains(p: &plan::Plan, file: &str) -> Result<Vec<trains::Train>, Fem
             "no train to run; name built-in trains or add a [[train]]",
         ));
     }
-    Ok(out)
+    let mut suspensions = Vec::new();
+    if p.analysis.model != interaction::Models::MovingForces {
+        for (t, o) in out.iter().zip(own) {
+            suspensions.push(match o {
+                Some(s) => s,
+                None => p.sprung_masses.for_train(t, file)?,
+            });
+        }
+    }
+    Ok((out, suspensions))
 }
 
 /// The FE deck of a plan: described, or the model file's deck path.
@@ -136,12 +186,38 @@ pub fn plan_deck(p: &plan::Plan, file: &str) -> Result<fe::Deck, FemError> {
     }
 }
 
-/// Runs the check of `plan_path` on `threads` threads and writes its outputs into `out`.
+/// How a check runs: threads, and the journal's options ([`resume`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RunOptions {
+    /// Computing threads.
+    pub threads: usize,
+    /// Compute at most this many runs, then stop (the journal keeps them).
+    pub stop_after: Option<usize>,
+    /// Discard the journal instead of resuming from it.
+    pub restart: bool,
+}
+
+/// Runs the check of `plan_path` on `threads` threads and writes its outputs into `out`
+/// (resuming from a journal there).
 pub fn check(plan_path: &Path, out: &Path, threads: usize) -> Result<Results, FemError> {
+    check_with(
+        plan_path,
+        out,
+        RunOptions {
+            threads,
+            stop_after: None,
+            restart: false,
+        },
+    )
+}
+
+/// [`check`] with the journal's options.
+pub fn check_with(plan_path: &Path, out: &Path, o: RunOptions) -> Result<Results, FemError> {
+    let threads = o.threads;
     let t0 = Instant::now();
     let file = plan_path.display().to_string();
     let p = plan::Plan::read(plan_path)?;
-    let trains = plan_trains(&p, &file)?;
+    let (trains, vehicles) = plan_trains(&p, &file)?;
     let deck = plan_deck(&p, &file)?;
     let f = &deck.frequencies;
     let n0 = *f.first().ok_or_else(|| {
@@ -161,6 +237,13 @@ pub fn check(plan_path: &Path, out: &Path, threads: usize) -> Result<Results, Fe
     for t in &trains {
         statics.push(fe::Stepper::static_peak(&deck, t, p.analysis.static_step)?.0);
     }
+    let text = std::fs::read_to_string(plan_path).unwrap_or_default();
+    let words = format!(
+        "{trains:?} {vehicles:?} {:?} {dt:e} {cutoff:e} {rayleigh:?} {}",
+        deck.frequencies, deck.n
+    );
+    let fp = resume::fingerprint(&[&text, &words]);
+    let journal = resume::Journal::open(out, fp, &statics, o.restart, o.stop_after)?;
     let c = envelope::Check {
         deck: &deck,
         stepper: &stepper,
@@ -168,9 +251,18 @@ pub fn check(plan_path: &Path, out: &Path, threads: usize) -> Result<Results, Fe
         statics: &statics,
         cutoff,
         tail: p.analysis.tail_periods / n0,
+        vehicles: &vehicles,
+        journal: Some(&journal),
     };
     let te = Instant::now();
-    let outcomes = c.envelope(&p.coarse_speeds(), p.speeds.step, p.speeds.refine, threads)?;
+    let models = p.analysis.model.list();
+    let outcomes = c.envelope_of(
+        &models,
+        &p.coarse_speeds(),
+        p.speeds.step,
+        p.speeds.refine,
+        threads,
+    )?;
     let envelope_s = te.elapsed().as_secs_f64();
     let mut r = Results {
         plan: p,
@@ -186,8 +278,12 @@ pub fn check(plan_path: &Path, out: &Path, threads: usize) -> Result<Results, Fe
         seconds: (envelope_s, 0.0),
         threads,
         reference: None,
+        models_compared: None,
+        simplified: Vec::new(),
     };
     r.reference = governing_reference(&r, &deck, &c);
+    r.models_compared = compare_models(&r, &c);
+    r.simplified = simplified_rows(&r);
     r.seconds.1 = t0.elapsed().as_secs_f64();
     report::write(&r, out)?;
     Ok(r)
@@ -204,7 +300,10 @@ fn governing_reference(
     if b.model.is_some() || b.spans.len() != 1 || b.support != bridge::Support::SimplySupported {
         return None;
     }
-    let g = *r.governing()?;
+    let mut g = *r.governing()?;
+    if g.model != interaction::VehicleModel::MovingForces {
+        g = c.run(g.train, g.speed, &mut envelope::Scratch::default());
+    }
     let span = modal::Span {
         length: b.spans[0],
         ei: b.ei?,
@@ -230,6 +329,73 @@ fn governing_reference(
     Some((g.acceleration, acc, g.deflection, defl))
 }
 
+/// When the sprung-mass model ran: the governing train and speed under both models (the
+/// other model's run is repeated when the envelope does not hold that speed).
+fn compare_models(
+    r: &Results,
+    c: &envelope::Check,
+) -> Option<(envelope::Outcome, envelope::Outcome)> {
+    use interaction::VehicleModel::{MovingForces, SprungMasses};
+    if r.plan.analysis.model == interaction::Models::MovingForces {
+        return None;
+    }
+    let g = *r.governing()?;
+    let mut s = envelope::Scratch::default();
+    let mut of = |m| {
+        r.outcomes
+            .iter()
+            .find(|o| o.train == g.train && o.model == m && o.speed == g.speed)
+            .copied()
+            .unwrap_or_else(|| c.run_model(g.train, m, g.speed, &mut s))
+    };
+    Some((of(MovingForces), of(SprungMasses)))
+}
+
+/// On a described single simply supported span: DER and LIR of every train over the plan's
+/// speed range every 0.5 km/h (closed forms, ERRI D214; [`simplified`]), with the check's
+/// ζ and first frequency.
+fn simplified_rows(r: &Results) -> Vec<SimplifiedRow> {
+    let b = &r.plan.bridge;
+    let (Some(mass), None, [length]) = (b.mass, &b.model, b.spans.as_slice()) else {
+        return Vec::new();
+    };
+    if b.support != bridge::Support::SimplySupported {
+        return Vec::new();
+    }
+    let span = simplified::Span {
+        length: *length,
+        n0: r.frequencies[0],
+        mass,
+        zeta: r.damping.0,
+    };
+    let (lo, hi) = (r.plan.speeds.min, 1.2 * r.plan.speeds.max_line_speed);
+    let n = ((hi - lo) / 0.5).ceil() as usize;
+    r.trains
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let mut row = SimplifiedRow {
+                train: i,
+                der: (0.0, lo),
+                lir: (0.0, lo),
+            };
+            for k in 0..=n {
+                let kmh = (lo + 0.5 * k as f64).min(hi);
+                let v = kmh / envelope::KMH;
+                let der = simplified::estimate(simplified::Method::Der, &span, t, v);
+                let lir = simplified::estimate(simplified::Method::Lir, &span, t, v);
+                if der.acceleration > row.der.0 {
+                    row.der = (der.acceleration, kmh);
+                }
+                if lir.acceleration > row.lir.0 {
+                    row.lir = (lir.acceleration, kmh);
+                }
+            }
+            row
+        })
+        .collect()
+}
+
 /// `railfem bridge-check PLAN.toml [--threads N] [--out DIR]`.
 pub fn command(a: &crate::args::Args) -> Result<i32, FemError> {
     let cl = "command line";
@@ -249,7 +415,22 @@ pub fn command(a: &crate::args::Args) -> Result<i32, FemError> {
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT));
-    let r = check(&plan, &out, threads)?;
+    let stop_after = match a.num("stop-after")? {
+        None => None,
+        Some(n) if n >= 1.0 && n.fract() == 0.0 && n <= 1e9 => Some(n as usize),
+        Some(n) => {
+            return Err(FemError::input(
+                cl,
+                format!("--stop-after {n}: give a whole number of runs ≥ 1"),
+            ))
+        }
+    };
+    let opts = RunOptions {
+        threads,
+        stop_after,
+        restart: a.flag("restart"),
+    };
+    let r = check_with(&plan, &out, opts)?;
     let g = r.governing().copied();
     if let Some(g) = g {
         let limit = r.limit();

@@ -84,7 +84,7 @@ pub fn response(
         let big = n as f64 * PI * v / l;
         let wd = w * (1.0 - z * z).sqrt();
         // The harmonic's coefficients for the axles on the span at time t.
-        let coeffs = |t: f64| {
+        let at = |t: f64| {
             let (mut a, mut b) = (0.0, 0.0);
             for ax in &train.axles {
                 let tk = ax.position / v;
@@ -96,6 +96,18 @@ pub fn response(
             }
             (scale * a, scale * b)
         };
+        // They change only at the events: one pair per interval between them (taken at its
+        // middle, away from the rounding of the events' times), the interval of `t` being
+        // the one after the events up to `t`.
+        let n_ev = events.len();
+        let table: Vec<(f64, f64)> = (0..=n_ev)
+            .map(|k| match k {
+                0 => at(-1.0),
+                _ if k == n_ev => at(events[k - 1] + 1.0),
+                _ => at(0.5 * (events[k - 1] + events[k])),
+            })
+            .collect();
+        let coeffs = |t: f64| table[events.partition_point(|&e| e <= t)];
         let particular = |a: f64, b: f64| {
             let (p, q) = (w * w - big * big, 2.0 * z * w * big);
             let det = p * p + q * q;

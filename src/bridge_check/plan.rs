@@ -3,6 +3,7 @@
 //! `docs/bridge-check.md`; a bad one gets one line naming the file, the key and the fix.
 
 use super::bridge::BridgeSpec;
+use super::interaction::{Models, SprungDefaults};
 use crate::framework::FemError;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -35,14 +36,22 @@ fn default_refine() -> usize {
     2
 }
 
-/// A user's train: a name and an axle file (TOML or CSV, [`super::trains`]).
+/// A user's train: a name and either an axle file (TOML or CSV, [`super::trains`]) or a
+/// railfem vehicle file coupled `count` times ([`super::vehicle_train`]).
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct UserTrain {
     /// Name in the outputs.
     pub name: String,
     /// The axle file, relative to the plan.
-    pub file: PathBuf,
+    #[serde(default)]
+    pub file: Option<PathBuf>,
+    /// A vehicle file (docs/vehicles.md), relative to the plan.
+    #[serde(default)]
+    pub vehicle: Option<PathBuf>,
+    /// How many of the vehicle, coupled [default: 1].
+    #[serde(default)]
+    pub count: Option<usize>,
 }
 
 /// `[analysis]`: numerical settings.
@@ -62,6 +71,9 @@ pub struct Analysis {
     /// Travel between the positions of the static crossing (m) [default: 0.05].
     #[serde(default = "default_ds")]
     pub static_step: f64,
+    /// The trains as moving forces, moving sprung masses, or both [default: moving forces].
+    #[serde(default)]
+    pub model: Models,
 }
 
 fn default_spp() -> f64 {
@@ -84,6 +96,7 @@ impl Default for Analysis {
             modes: default_modes(),
             tail_periods: default_tail(),
             static_step: default_ds(),
+            model: Models::default(),
         }
     }
 }
@@ -105,6 +118,9 @@ pub struct Plan {
     /// Numerical settings.
     #[serde(default)]
     pub analysis: Analysis,
+    /// The suspension of the axles of trains without their own (sprung-mass model).
+    #[serde(default)]
+    pub sprung_masses: SprungDefaults,
 }
 
 impl Plan {
@@ -135,7 +151,8 @@ impl Plan {
             plan.bridge.model = Some(base.join(m));
         }
         for t in &mut plan.train {
-            t.file = base.join(&t.file);
+            t.file = t.file.as_ref().map(|f| base.join(f));
+            t.vehicle = t.vehicle.as_ref().map(|f| base.join(f));
         }
         plan.validate(&file)?;
         Ok(plan)
@@ -144,6 +161,29 @@ impl Plan {
     /// Checks the values; errors name `file` and the key.
     pub fn validate(&self, file: &str) -> Result<(), FemError> {
         self.bridge.validate(file)?;
+        self.sprung_masses.validate(file)?;
+        for (i, t) in self.train.iter().enumerate() {
+            let at = format!("{file}: train[{i}] \"{}\"", t.name);
+            match (&t.file, &t.vehicle) {
+                (Some(_), None) if t.count.is_none() => {}
+                (Some(_), None) => {
+                    return Err(FemError::input(
+                        at,
+                        "count goes with a vehicle file; remove it or give vehicle = \"FILE.toml\"",
+                    ))
+                }
+                (None, Some(_)) if t.count.is_none_or(|n| (1..=100).contains(&n)) => {}
+                (None, Some(_)) => {
+                    return Err(FemError::input(at, "give count between 1 and 100 vehicles"))
+                }
+                _ => {
+                    return Err(FemError::input(
+                        at,
+                        "give either file = \"AXLES.csv|toml\" or vehicle = \"VEHICLE.toml\"",
+                    ))
+                }
+            }
+        }
         let s = &self.speeds;
         let at = |k: &str| format!("{file}: {k}");
         if !(s.max_line_speed.is_finite() && s.max_line_speed > 0.0 && s.max_line_speed <= 600.0) {

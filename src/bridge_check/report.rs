@@ -4,6 +4,7 @@
 //! `report.md` (inputs, figures, the governing case and the verdict).
 
 use super::envelope::{Outcome, KMH};
+use super::interaction::VehicleModel;
 use super::Results;
 use crate::framework::plot::{Figure, Panel, Series, Style};
 use crate::framework::FemError;
@@ -19,13 +20,14 @@ const COLOURS: [&str; 12] = [
 /// The rows of `envelope.csv`.
 pub fn csv(r: &Results) -> String {
     let mut s = String::from(
-        "train [-],speed [km/h],acceleration [m/s²],acceleration station [m],acceleration time [s],deflection [m],deflection station [m],static deflection [m],dynamic factor [-],phi_dyn [-]\n",
+        "train [-],model [-],speed [km/h],acceleration [m/s²],acceleration station [m],acceleration time [s],deflection [m],deflection station [m],static deflection [m],dynamic factor [-],phi_dyn [-]\n",
     );
     for o in &r.outcomes {
         let _ = writeln!(
             s,
-            "{},{},{:.6},{:.3},{:.4},{:.6e},{:.3},{:.6e},{:.5},{:.5}",
+            "{},{},{},{:.6},{:.3},{:.4},{:.6e},{:.3},{:.6e},{:.5},{:.5}",
             r.trains[o.train].name,
+            o.model.name(),
             o.speed,
             o.acceleration,
             o.acc_station,
@@ -49,20 +51,34 @@ pub fn resonance_speeds(n0: f64, spacing: f64, lo: f64, hi: f64) -> Vec<f64> {
         .collect()
 }
 
+/// One curve per train and model: a train's colour, moving forces solid, sprung masses
+/// dashed (named so in the legend when both ran).
 fn curves(r: &Results, y: &dyn Fn(&Outcome) -> f64) -> Vec<Series> {
-    r.trains
-        .iter()
-        .enumerate()
-        .map(|(i, t)| {
+    let models = r.plan.analysis.model.list();
+    let mut out = Vec::new();
+    for (i, t) in r.trains.iter().enumerate() {
+        for &m in &models {
             let (xs, ys): (Vec<f64>, Vec<f64>) = r
                 .outcomes
                 .iter()
-                .filter(|o| o.train == i)
+                .filter(|o| o.train == i && o.model == m)
                 .map(|o| (o.speed, y(o)))
                 .unzip();
-            Series::new(&t.name, xs, ys, Style::Line, COLOURS[i % COLOURS.len()])
-        })
-        .collect()
+            let (name, style) = match (m, models.len()) {
+                (_, 1) => (t.name.clone(), Style::Line),
+                (VehicleModel::MovingForces, _) => (format!("{} forces", t.name), Style::Line),
+                (VehicleModel::SprungMasses, _) => (format!("{} sprung", t.name), Style::Dashed),
+            };
+            out.push(Series::new(
+                &name,
+                xs,
+                ys,
+                style,
+                COLOURS[i % COLOURS.len()],
+            ));
+        }
+    }
+    out
 }
 
 /// Writes every output into `out`.
@@ -239,28 +255,38 @@ pub fn markdown(r: &Results) -> String {
         r.seconds.0 * r.threads as f64 / r.outcomes.len().max(1) as f64 * 1e3,
         r.seconds.1
     );
-    s.push_str("## Figures\n\n![peak acceleration](acceleration.png)\n\n![dynamic factor](dynamic-factor.png)\n\n## Per train\n\n| train | peak acceleration [m/s²] | at speed [km/h] | station [m] | time [s] | max dynamic factor [-] |\n|---|---|---|---|---|---|\n");
+    s.push_str("## Figures\n\n![peak acceleration](acceleration.png)\n\n![dynamic factor](dynamic-factor.png)\n\n## Per train\n\n| train | model | peak acceleration [m/s²] | at speed [km/h] | station [m] | time [s] | max dynamic factor [-] |\n|---|---|---|---|---|---|---|\n");
     for (i, t) in r.trains.iter().enumerate() {
-        let row = r.outcomes.iter().filter(|o| o.train == i);
-        let best = row
-            .clone()
-            .max_by(|a, b| a.acceleration.total_cmp(&b.acceleration));
-        let phi = row.fold(0.0f64, |m, o| m.max(o.dynamic_factor()));
-        if let Some(o) = best {
-            let _ = writeln!(
-                s,
-                "| {} | {:.3} | {:.1} | {:.2} | {:.3} | {:.3} |",
-                t.name, o.acceleration, o.speed, o.acc_station, o.acc_time, phi
-            );
+        for m in r.plan.analysis.model.list() {
+            let row = r.outcomes.iter().filter(|o| o.train == i && o.model == m);
+            let best = row
+                .clone()
+                .max_by(|a, b| a.acceleration.total_cmp(&b.acceleration));
+            let phi = row.fold(0.0f64, |m, o| m.max(o.dynamic_factor()));
+            if let Some(o) = best {
+                let _ = writeln!(
+                    s,
+                    "| {} | {} | {:.3} | {:.1} | {:.2} | {:.3} | {:.3} |",
+                    t.name,
+                    m.name(),
+                    o.acceleration,
+                    o.speed,
+                    o.acc_station,
+                    o.acc_time,
+                    phi
+                );
+            }
         }
     }
+    simplified_table(r, &mut s);
     s.push_str("\n## Verdict\n\n");
     if let Some(g) = r.governing() {
         let pass = g.acceleration <= limit;
         let _ = writeln!(
             s,
-            "Governing: **{}** at **{:.1} km/h**: peak deck acceleration **{:.3} m/s²** at {:.2} m along the deck, {:.3} s after the first axle entered; deflection {:.3e} m (dynamic factor {:.3}).\n",
+            "Governing: **{}** ({}) at **{:.1} km/h**: peak deck acceleration **{:.3} m/s²** at {:.2} m along the deck, {:.3} s after the first axle entered; deflection {:.3e} m (dynamic factor {:.3}).\n",
             r.trains[g.train].name,
+            g.model.name().replace('_', " "),
             g.speed,
             g.acceleration,
             g.acc_station,
@@ -285,5 +311,48 @@ pub fn markdown(r: &Results) -> String {
             100.0 * (fd / md - 1.0)
         );
     }
+    if let Some((f, m)) = r.models_compared {
+        let _ = writeln!(
+            s,
+            "\nThe two models at the governing train and speed ({}, {:.1} km/h): moving forces {:.4} m/s², sprung masses {:.4} m/s² ({:+.2} % against the moving forces); deflection {:.4e} m and {:.4e} m ({:+.2} %).",
+            r.trains[f.train].name,
+            f.speed,
+            f.acceleration,
+            m.acceleration,
+            100.0 * (m.acceleration / f.acceleration - 1.0),
+            f.deflection,
+            m.deflection,
+            100.0 * (m.deflection / f.deflection - 1.0)
+        );
+    }
     s
+}
+
+/// The DER and LIR table of a simply supported span beside the FE peaks of moving forces.
+fn simplified_table(r: &Results, s: &mut String) {
+    if r.simplified.is_empty() {
+        return;
+    }
+    s.push_str("\n## Simplified methods (ERRI D214, first mode at midspan)\n\nDER and LIR over the speed range every 0.5 km/h beside the FE envelope's peak of moving forces (every station, modes up to the cut-off); neither method counts modes above the first.\n\n| train | FE peak [m/s²] | DER [m/s²] | at [km/h] | LIR [m/s²] | at [km/h] | DER/FE [-] | LIR/FE [-] |\n|---|---|---|---|---|---|---|---|\n");
+    for row in &r.simplified {
+        let fe = r
+            .outcomes
+            .iter()
+            .filter(|o| o.train == row.train && o.model == VehicleModel::MovingForces)
+            .fold(0.0f64, |m, o| m.max(o.acceleration));
+        if fe <= 0.0 {
+            continue;
+        }
+        let _ = writeln!(
+            s,
+            "| {} | {fe:.3} | {:.3} | {:.1} | {:.3} | {:.1} | {:.2} | {:.2} |",
+            r.trains[row.train].name,
+            row.der.0,
+            row.der.1,
+            row.lir.0,
+            row.lir.1,
+            row.der.0 / fe,
+            row.lir.0 / fe
+        );
+    }
 }
