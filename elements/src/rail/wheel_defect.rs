@@ -97,10 +97,11 @@ fn default_flat_angle() -> f64 {
 }
 
 /// A wheel's tread defect (the element key `defect`, a vehicle's `[[wheelset]] defects`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum WheelDefect {
     /// A round wheel (the default).
+    #[default]
     None,
     /// A wheel flat.
     Flat {
@@ -122,12 +123,6 @@ pub enum WheelDefect {
         /// The harmonics, summed.
         harmonics: Vec<Harmonic>,
     },
-}
-
-impl Default for WheelDefect {
-    fn default() -> Self {
-        WheelDefect::None
-    }
 }
 
 impl WheelDefect {
