@@ -490,3 +490,44 @@ fn bad_defects_are_refused() {
         &["dips", "middle", "left"],
     );
 }
+
+/// The point wheels read the tread defect. A wheelset (50 kN per wheel) with a polygon of
+/// order 20 and amplitude 0.1 mm on both wheels is moved slowly along rigid rails (static
+/// solves every 5 mm): the load does not change, so neither does the contact's compression,
+/// and the axle rises and falls with the tread deviation, `e(s) − e(s0)` with
+/// `e = a·cos(n·s/R)`, R the axle height (0.43 m) — exactly, to Newton's tolerance (1e-12 m
+/// asserted, as for the dips in `tests/point_wheels.rs`).
+#[test]
+fn point_wheels_follow_the_tread_at_low_speed() {
+    let (a, order, q) = (1e-4, 20.0, 50e3);
+    for kind in ["hertz_wheel", "rigid_wheel"] {
+        let mut v = build(&Case {
+            kind,
+            speed: 1.0,
+            wheel: serde_json::json!({"defect": {"type": "polygon", "harmonics": [{"order": 20, "amplitude": a}]}}),
+            ws_load: 2.0 * q,
+            ..Default::default()
+        })
+        .unwrap();
+        v.d.static_solve(0.0, 1).unwrap();
+        let u0 = v.disp(v.ks[0], 1);
+        let s0 = v.out(0, 0, "station");
+        let (mut worst, mut lo, mut hi) = (0.0f64, f64::INFINITY, f64::NEG_INFINITY);
+        // Static solves along the track: the axle's travel and its largest difference.
+        for j in 1..=60 {
+            v.d.static_solve(0.005 * j as f64, 1).unwrap();
+            let s = v.out(0, 0, "station");
+            let du = v.disp(v.ks[0], 1) - u0;
+            let e = |s: f64| a * (order * (s - s0) / R0).cos();
+            worst = worst.max((du - (e(s) - e(s0))).abs());
+            lo = lo.min(du);
+            hi = hi.max(du);
+        }
+        println!(
+            "{kind}: axle travel {:.4e} m (2a = {:.1e}), largest difference from e(s) − e(s0): {worst:.2e} m",
+            hi - lo,
+            2.0 * a
+        );
+        assert!(worst < 1e-12, "{kind}: {worst}");
+    }
+}
