@@ -671,3 +671,97 @@ fn vehicle_defects_reach_the_wheel_they_name() {
     assert!(flat.is_some());
     assert!(other.is_none() || other > flat, "{flat:?} {other:?}");
 }
+
+/// `moving_axle` reads the tread defect too. One sks700 carriage on `moving_axle` wheels
+/// (μ = 0.3) at 10 m/s on rigid rails, every wheel eccentric (a polygon of order 1,
+/// amplitude a = 1 mm), for 0.3 s (1.1 turns of the wheel): the front wheelset's axle rises
+/// and falls by the tread deviation `a·(cos φ − 1)`, so it never rises above its start and
+/// its travel is `2a`. The rolling radius (moving_axle's, from its wheel profile) does not
+/// enter these two. Tolerance, as in `tests/irregularity.rs`: the wheel–rail compression
+/// changes by at most `δ0·|ΔQ|/Q0` (δ0 the static compression, the axle's drop at t = 0),
+/// on each side; the 0.05 m samples catch the extremes of a 2.7 m wave to
+/// `1 − cos(π·0.05/2.7) = 1.7e-3` of 2a; 2e-8 m for Newton.
+#[test]
+fn moving_axle_follows_an_eccentric_tread() {
+    let a = 1e-3;
+    let dir = common::temp_dir("eccentric");
+    let model = dir.join("ecc.toml");
+    std::fs::write(
+        &model,
+        format!(
+            r#"
+[analysis]
+kind = "transient"
+dt = 0.005
+duration = 0.3
+gravity = [0.0, 0.0, -9.81]
+
+[track]
+segments = [{{type = "straight", length = 100.0}}]
+element_length = 0.6
+support = {{type = "rigid"}}
+
+[[vehicle]]
+preset = "sks700"
+carriages = 1
+start = 15.0
+speed = 10.0
+wheel = {{mu = 0.3, defect = {{type = "polygon", harmonics = [{{order = 1, amplitude = {a}}}]}}}}
+
+[[recorder]]
+type = "element"
+kind = "moving_axle"
+outputs = ["station", "Q"]
+file = "wheels.csv"
+
+[[recorder]]
+type = "node"
+node = 2007
+dofs = ["uy"]
+file = "front_wheelset.csv"
+"#
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = common::railfem(&[
+        "run",
+        model.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let u = common::Csv::read(&out.join("front_wheelset.csv")).column("2007_uy");
+    let wheels = common::Csv::read(&out.join("wheels.csv"));
+    let first = &wheels.rows[0];
+    let cols: Vec<usize> = (0..wheels.header.len())
+        .filter(|&j| {
+            common::strip_unit(&wheels.header[j]).ends_with("_station") && first[j] == 25.0
+        })
+        .collect();
+    assert_eq!(cols.len(), 2, "two front wheels at 25 m");
+    let q: Vec<f64> = wheels
+        .rows
+        .iter()
+        .map(|r| cols.iter().map(|&j| r[j + 1]).sum::<f64>())
+        .collect();
+    let (q0, u0) = (q[0], u[0]);
+    let dq = q.iter().map(|x| (x - q0).abs()).fold(0.0, f64::max);
+    let compression = -u0 * dq / q0;
+    let hi = u.iter().map(|x| x - u0).fold(f64::NEG_INFINITY, f64::max);
+    let lo = u.iter().map(|x| x - u0).fold(f64::INFINITY, f64::min);
+    println!(
+        "axle travel {:.5e} m (2a = {:.1e}), highest {hi:.2e} m; static compression {:.2e} m, ΔQ {dq:.0} N of {q0:.0} N",
+        hi - lo,
+        2.0 * a,
+        -u0
+    );
+    assert!(hi < compression + 2e-8, "rose above its start by {hi}");
+    let tol = 2.0 * compression + 1.7e-3 * 2.0 * a + 2e-8;
+    assert!(
+        ((hi - lo) - 2.0 * a).abs() < tol,
+        "travel {} vs 2a, tolerance {tol}",
+        hi - lo
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
