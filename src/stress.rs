@@ -598,6 +598,7 @@ pub fn joint_dip(speed: f64, depth: f64) -> Result<StressRow, FemError> {
         station: start + 1.0 + 0.5 * length,
         depth,
         length,
+        ..Default::default()
     };
     let case = format!("wheelset at {speed} m/s over a {depth} m dipped joint (1 m), rigid rail");
     let command = format!("railfem stress --case dip --speed {speed} --depth {depth}");

@@ -359,6 +359,7 @@ fn contact_is_lost_over_a_deep_short_dip_and_recovers() {
                     station: 13.0,
                     depth,
                     length: 1.0,
+                    ..Default::default()
                 }],
                 ..Default::default()
             },
@@ -437,6 +438,7 @@ fn axle_follows_the_dip_at_low_speed() {
         station: 21.0,
         depth: 1.5e-3,
         length: 2.0,
+        ..Default::default()
     };
     let q = 50e3;
     for kind in ["hertz_wheel", "rigid_wheel"] {

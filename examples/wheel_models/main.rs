@@ -32,6 +32,7 @@ fn main() -> Result<(), FemError> {
         station: 45.0,
         depth: 1e-3,
         length: 2.0,
+        ..Default::default()
     }];
     let rigid = TrackMesh {
         dips: dips.clone(),

@@ -61,6 +61,7 @@ use super::profiles::{Inclination, RailProfile, WheelProfile};
 use super::rail_point::{beam_axes, rail_point_matrix};
 use super::rolling::{frame_rotation, point_creep, PointInput, Rolling};
 use super::track_model::{OffsetFromStart, TrackModel};
+use super::wheel_defect::{TreadOffset, WheelDefect};
 use nalgebra::{DMatrix, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use railfem_framework::element::*;
 use railfem_framework::error::FemError;
@@ -133,6 +134,10 @@ railfem_framework::element_params! {
         fastsim_strips: usize ["-"] = 20,
         /// FASTSIM's elements along each strip (-), 2–400.
         fastsim_elements: usize ["-"] = 20,
+        /// Tread defect: {type = "none"}, a flat {type = "flat", length, depth, shape,
+        /// angle} or a polygon {type = "polygon", harmonics = [{order, amplitude, phase}]}
+        /// (docs/defects.md).
+        defect: WheelDefect [""] = serde_json::json!({"type": "none"}),
     }
 }
 
@@ -203,6 +208,8 @@ pub struct MovingAxle {
     station: f64,
     /// Rail-head offsets (dips and irregularity) measured from the wheel's first station.
     start_offset: OffsetFromStart,
+    /// The tread defect's deviation, measured from the wheel's first station.
+    tread: TreadOffset,
     /// Prescribed vertical displacement of the rail head under the wheel from the dips and
     /// the irregularity, measured from `start_offset` (wheel frame: 0, vertical, 0; m).
     rail_offset: Vector3<f64>,
@@ -342,6 +349,7 @@ impl Setup {
             "right" => 1,
             s => return Err(err(format!("`side` = \"{s}\"; use \"left\" or \"right\""))),
         };
+        params.defect.validate().map_err(err)?;
         for (key, v, min) in [
             ("k1", params.k1, 0.0),
             ("k3", params.k3, 0.0),
@@ -691,6 +699,7 @@ impl MovingAxle {
             xi: 0.0,
             station: f64::NAN,
             start_offset: OffsetFromStart::default(),
+            tread: TreadOffset::default(),
             rail_offset: Vector3::zeros(),
             frame: Matrix3::identity(),
             rho_rail: Vector3::zeros(),
@@ -845,7 +854,10 @@ impl MovingAxle {
         // sticking does not drag the wheelset after every lateral wiggle of the rail —
         // with no rolling kinematics (the paper's law) that would be a false slip of
         // v·dy/ds per second (docs/irregularities.md).
-        self.rail_offset = Vector3::new(0.0, vert, 0.0);
+        // A tread defect acts on the contact as a rail-top deviation of the same sign does
+        // ([`super::wheel_defect`]), read on the tape circle's radius r0.
+        let tread = self.tread.at(&self.setup.params.defect, s, self.r0);
+        self.rail_offset = Vector3::new(0.0, vert + tread, 0.0);
         let xc = self.track.rail_position(self.setup.rail, s) + w.column(0) * lat;
         self.r_cb = w.transpose() * (xc - xb);
         self.rho_rail = w.transpose() * (xc - self.track.track.at(s).position);

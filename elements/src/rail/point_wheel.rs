@@ -58,6 +58,7 @@
 use super::point_contact_law::{ContactForce, PointLaw};
 use super::rail_point::{beam_axes, rail_point_matrix};
 use super::track_model::{OffsetFromStart, TrackModel};
+use super::wheel_defect::{TreadOffset, WheelDefect};
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 use railfem_framework::element::*;
 use railfem_framework::error::FemError;
@@ -84,6 +85,10 @@ railfem_framework::element_params! {
         track: String [""] = "track",
         /// Static wheel load for ΔQ/Q (N); 0 = the load at the first converged state.
         static_load: f64 ["N"] = 0.0,
+        /// Tread defect: {type = "none"}, a flat {type = "flat", length, depth, shape,
+        /// angle} or a polygon {type = "polygon", harmonics = [{order, amplitude, phase}]}
+        /// (docs/defects.md).
+        defect: WheelDefect [""] = serde_json::json!({"type": "none"}),
     }
 }
 
@@ -105,6 +110,10 @@ railfem_framework::element_params! {
         track: String [""] = "track",
         /// Static wheel load for ΔQ/Q (N); 0 = the load at the first converged state.
         static_load: f64 ["N"] = 0.0,
+        /// Tread defect: {type = "none"}, a flat {type = "flat", length, depth, shape,
+        /// angle} or a polygon {type = "polygon", harmonics = [{order, amplitude, phase}]}
+        /// (docs/defects.md).
+        defect: WheelDefect [""] = serde_json::json!({"type": "none"}),
     }
 }
 
@@ -132,6 +141,8 @@ struct Setup {
     rail: usize,
     contact_offset: f64,
     static_load: f64,
+    /// The wheel's tread defect.
+    defect: WheelDefect,
 }
 
 impl Setup {
@@ -155,10 +166,11 @@ impl Setup {
     /// `None`: the keys are checked before the track is looked up).
     fn new(kind: Kind, origin: &str, rail_offset: Option<f64>) -> Result<Setup, FemError> {
         let err = |m: String| FemError::input(origin, m);
-        let (side, offset, static_load) = match &kind {
-            Kind::Hertz(p) => (&p.side, p.contact_offset, p.static_load),
-            Kind::Rigid(p) => (&p.side, p.contact_offset, p.static_load),
+        let (side, offset, static_load, defect) = match &kind {
+            Kind::Hertz(p) => (&p.side, p.contact_offset, p.static_load, p.defect.clone()),
+            Kind::Rigid(p) => (&p.side, p.contact_offset, p.static_load, p.defect.clone()),
         };
+        defect.validate().map_err(err)?;
         let rail = match side.to_ascii_lowercase().as_str() {
             "left" => 0,
             "right" => 1,
@@ -214,6 +226,7 @@ impl Setup {
                 rail,
                 contact_offset: offset,
                 static_load,
+                defect,
             });
         };
         if (offset - rail_offset).abs() > RAIL_HEAD_HALF_WIDTH {
@@ -230,6 +243,7 @@ impl Setup {
             rail,
             contact_offset: offset,
             static_load,
+            defect,
         })
     }
 }
@@ -251,6 +265,8 @@ pub struct PointWheel {
     irregularity: Vector3<f64>,
     /// Rail-head offsets (dips and irregularity) measured from the wheel's first station.
     start_offset: OffsetFromStart,
+    /// The tread defect's deviation, measured from the wheel's first station.
+    tread: TreadOffset,
     /// x_P − x_K and x_P − x_C in the wheel frame (m).
     r_pk: Vector3<f64>,
     rho: Vector3<f64>,
@@ -291,6 +307,7 @@ impl PointWheel {
             station: f64::NAN,
             irregularity: Vector3::zeros(),
             start_offset: OffsetFromStart::default(),
+            tread: TreadOffset::default(),
             r_pk: Vector3::zeros(),
             rho: Vector3::zeros(),
             rail_map: SMatrix::zeros(),
@@ -353,13 +370,16 @@ impl PointWheel {
             )));
         };
         self.station = s;
-        // The wheel starts just touching the rail where it stands (see "Initial state"):
-        // the irregularity is measured from its value at the first station.
-        self.irregularity = self.rail_irregularity(s);
         let w = kk.frame;
         let p = self.track.track.at(s);
-        // Height of K above the rail-top plane through the centre line.
+        // Height of K above the rail-top plane through the centre line: the rolling radius.
         let h = (kk.position - p.position).dot(&w.column(1));
+        // The wheel starts just touching the rail where it stands (see "Initial state"):
+        // the irregularity is measured from its value at the first station. A tread
+        // defect acts on the contact as a rail-top deviation of the same sign does
+        // ([`super::wheel_defect`]).
+        self.irregularity = self.rail_irregularity(s);
+        self.irregularity.y += self.tread.at(&self.setup.defect, s, h);
         let sign = if self.setup.rail == 0 { 1.0 } else { -1.0 };
         self.r_pk = Vector3::new(sign * self.setup.contact_offset, -h, 0.0);
         let xp = kk.position + w * self.r_pk;

@@ -29,6 +29,7 @@ use super::bridge::{
 };
 use super::cant::Track;
 use super::irregularity::Irregularity;
+pub use super::rail_defect::{DipShape, JointDip, RailSide};
 pub use super::rail_section::RailSection;
 use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
@@ -83,55 +84,10 @@ pub struct TrackMesh {
     /// Mesh only stations in `[from, to]` (m); default the whole track.
     #[serde(default)]
     pub window: Option<[f64; 2]>,
-    /// Dipped rail joints: vertical irregularities of the rail top under the wheels.
+    /// Dipped rail joints and isolated rail-top defects (squats, dips), per rail: vertical
+    /// irregularities of the rail top under the wheels ([`super::rail_defect`]).
     #[serde(default)]
     pub dips: Vec<JointDip>,
-}
-
-/// A dipped rail joint: the rail top of both rails lowered around `station` by
-///
-/// ```text
-/// w(x) = −depth · [½ (1 + cos(2π x / length))]²,   |x| = |s − station| ≤ length / 2,
-/// ```
-///
-/// zero outside. The squared raised cosine is C²: the dip starts and ends with zero height,
-/// slope and curvature, so a wheel entering it sees no force step. Its curvature is
-/// `w''(x) = −(depth·k²/2)·(sin²θ − cos θ − cos²θ)` with `θ = k·x`, `k = 2π/length`, largest
-/// at the centre, `depth·k²`. The dip is a geometric irregularity of the rail head: it moves
-/// the contact point C of a moving wheel (not the rail's beam line), as a prescribed function
-/// of the wheel's station, so it adds no stiffness.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct JointDip {
-    /// Station of the joint (m).
-    pub station: f64,
-    /// Depth at the joint (m, ≥ 0).
-    pub depth: f64,
-    /// Length of the dipped zone (m, > 0).
-    pub length: f64,
-}
-
-impl JointDip {
-    /// Rail-top height change at station `s` (m, negative down).
-    pub fn height(&self, s: f64) -> f64 {
-        let x = s - self.station;
-        if x.abs() >= 0.5 * self.length {
-            return 0.0;
-        }
-        let f = 0.5 * (1.0 + (2.0 * std::f64::consts::PI * x / self.length).cos());
-        -self.depth * f * f
-    }
-
-    /// Second derivative of [`JointDip::height`] along the track (1/m).
-    pub fn curvature(&self, s: f64) -> f64 {
-        let x = s - self.station;
-        if x.abs() >= 0.5 * self.length {
-            return 0.0;
-        }
-        let k = 2.0 * std::f64::consts::PI / self.length;
-        let (sn, c) = (k * x).sin_cos();
-        -0.5 * self.depth * k * k * (sn * sn - c - c * c)
-    }
 }
 
 fn default_element_length() -> f64 {
@@ -215,7 +171,7 @@ pub struct TrackModel {
     pub slab: Option<SlabLayout>,
     /// The bridge: spans, girder and pier node ids.
     pub bridge: Option<BridgeLayout>,
-    /// Dipped rail joints.
+    /// Dipped rail joints and isolated rail-top defects.
     pub dips: Vec<JointDip>,
     /// The track irregularity (`[track] irregularity`), if any.
     pub irregularity: Option<Arc<Irregularity>>,
@@ -244,9 +200,10 @@ impl TrackModel {
         p.position + p.frame.column(0) * self.rails[r].offset
     }
 
-    /// Rail-top height change of the dipped joints at station `s` (m, negative down).
-    pub fn rail_top_height(&self, s: f64) -> f64 {
-        self.dips.iter().map(|d| d.height(s)).sum()
+    /// Rail-top height change of the dips on rail `rail` (0 left, 1 right) at station `s`
+    /// (m, negative down).
+    pub fn rail_top_height(&self, rail: usize, s: f64) -> f64 {
+        self.dips.iter().map(|d| d.height_on(rail, s)).sum()
     }
 
     /// `[lateral (axis 1), vertical (axis 2)]` displacement of the head of rail `rail`
@@ -254,7 +211,7 @@ impl TrackModel {
     /// ([`super::irregularity`]) plus the dipped joints (vertical). A wheel's contact
     /// point C is moved by it; the rails' beam lines are not.
     pub fn rail_offset(&self, rail: usize, s: f64) -> [f64; 2] {
-        let dip = self.rail_top_height(s);
+        let dip = self.rail_top_height(rail, s);
         match &self.irregularity {
             None => [0.0, dip],
             Some(irr) => {
@@ -443,19 +400,8 @@ pub fn generate_with(
         irregularity,
     };
     for (i, d) in mesh.dips.iter().enumerate() {
-        if !(d.station.is_finite()
-            && d.depth.is_finite()
-            && d.depth >= 0.0
-            && d.length.is_finite()
-            && d.length > 0.0)
-        {
-            return Err(FemError::input(
-                &origin,
-                format!(
-                    "dips[{i}] = {d:?}: give a finite station (m), depth ≥ 0 m and length > 0 m"
-                ),
-            ));
-        }
+        d.validate()
+            .map_err(|m| FemError::input(&origin, format!("dips[{i}]: {m}")))?;
     }
     let fix = if rigid { DofSet::ALL } else { DofSet::NONE };
     for (r, rail) in model.rails.iter().enumerate() {

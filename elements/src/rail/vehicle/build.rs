@@ -508,6 +508,10 @@ pub fn build(
                         }
                     }
                     p.insert("side".into(), Value::String(side.into()));
+                    let defect = w.defects.side(j);
+                    if !defect.is_none() {
+                        p.insert("defect".into(), json!(defect));
+                    }
                     if let Some(c) = w.contact_offset {
                         p.insert("contact_offset".into(), json!(c));
                     }

@@ -303,6 +303,7 @@ impl CarriageData {
                     body: ws,
                     contact_offset: None,
                     wheel: Default::default(),
+                    defects: Default::default(),
                 });
             }
         }

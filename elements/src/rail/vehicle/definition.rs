@@ -7,6 +7,7 @@
 //! [`super::build`]); a suspension with `mirror = true` stands for itself and its mirror
 //! image at −y, built right after it ([`VehicleDef::normalized`]).
 
+use crate::rail::wheel_defect::WheelDefect;
 use railfem_framework::limits::fmt_num;
 use serde::{Deserialize, Serialize};
 
@@ -109,6 +110,33 @@ pub struct WheelsetDef {
     /// "rigid_wheel", any other key passed to both wheel elements.
     #[serde(default)]
     pub wheel: serde_json::Map<String, serde_json::Value>,
+    /// Tread defects of this wheelset's wheels, each passed to its wheel element as its
+    /// `defect` key (docs/defects.md).
+    #[serde(default)]
+    pub defects: WheelsetDefects,
+}
+
+/// The tread defects of a wheelset's two wheels.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WheelsetDefects {
+    /// The left wheel's defect (default none).
+    #[serde(default)]
+    pub left: WheelDefect,
+    /// The right wheel's defect (default none).
+    #[serde(default)]
+    pub right: WheelDefect,
+}
+
+impl WheelsetDefects {
+    /// The defect of side `j` (0 left, 1 right).
+    pub fn side(&self, j: usize) -> &WheelDefect {
+        if j == 0 {
+            &self.left
+        } else {
+            &self.right
+        }
+    }
 }
 
 /// A point of a body whose acceleration is recorded.

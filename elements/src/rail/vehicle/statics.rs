@@ -283,6 +283,7 @@ mod tests {
                 body: "ws".into(),
                 contact_offset: None,
                 wheel: Default::default(),
+                defects: Default::default(),
             }],
             sensors: vec![],
         };
