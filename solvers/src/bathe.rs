@@ -164,16 +164,11 @@ impl TimeIntegrator for Bathe {
         if self.stage == 0 {
             return TimeIntegrator::trial(&self.trapezoidal, h, lo, du, v0, a0, out);
         }
+        // The balance is at the sub-step's end: the weighted values are the end's.
         let Trial { v, a, a_w, v_w } = out;
-        let n = v.len();
-        let (hv, ha) = (&self.hist_v[lo..lo + n], &self.hist_a[lo..lo + n]);
-        let c3 = self.c3(h);
-        du.for_each(n, |i, d| {
-            v[i] = c3 * d + hv[i];
-            a[i] = c3 * v[i] + ha[i];
-            a_w[i] = a[i];
-            v_w[i] = v[i];
-        });
+        self.kinematics(h, lo, du, v0, a0, v, a);
+        a_w.copy_from_slice(a);
+        v_w.copy_from_slice(v);
     }
 
     fn kinematics(
@@ -196,6 +191,28 @@ impl TimeIntegrator for Bathe {
             v[i] = c3 * d + hv[i];
             a[i] = c3 * v[i] + ha[i];
         });
+    }
+
+    fn inertia_acceleration_at_rest(
+        &self,
+        h: f64,
+        lo: usize,
+        v0: &[f64],
+        a0: &[f64],
+        a_w: &mut [f64],
+    ) {
+        if self.stage == 0 {
+            return self
+                .trapezoidal
+                .inertia_acceleration_at_rest(h, lo, v0, a0, a_w);
+        }
+        // Δu = 0: v = c1·(u_n − u_γ), a = c3·v + (c1·v_n + c2·v_γ).
+        let n = a_w.len();
+        let (hv, ha) = (&self.hist_v[lo..lo + n], &self.hist_a[lo..lo + n]);
+        let c3 = self.c3(h);
+        for i in 0..n {
+            a_w[i] = c3 * hv[i] + ha[i];
+        }
     }
 
     fn next_at_rest(

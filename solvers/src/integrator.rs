@@ -167,6 +167,18 @@ impl TimeIntegrator for Integrator {
     }
 
     #[inline]
+    fn inertia_acceleration_at_rest(
+        &self,
+        h: f64,
+        _lo: usize,
+        v0: &[f64],
+        a0: &[f64],
+        a_w: &mut [f64],
+    ) {
+        self.next_at_rest(h, v0, a0, a_w, None);
+    }
+
+    #[inline]
     fn next_at_rest(&self, h: f64, v: &[f64], a: &[f64], a_w: &mut [f64], v_w: Option<&mut [f64]>) {
         let n = a_w.len();
         let (v, a) = (&v[..n], &a[..n]);

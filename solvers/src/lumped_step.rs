@@ -64,18 +64,12 @@ impl Driver {
             .expect("checked by lumped_linear_applies");
         let dq = &mut w.dq;
         let mut squares = -0.0f64;
-        let mut buf = [[0.0; BLOCK]; 4];
+        let mut baw = [0.0; BLOCK];
         for lo in (0..n).step_by(BLOCK) {
             let hi = (lo + BLOCK).min(n);
-            let [bv, ba, baw, bvw] = &mut buf;
-            let out = crate::time_integrator::Trial {
-                v: &mut bv[..hi - lo],
-                a: &mut ba[..hi - lo],
-                a_w: &mut baw[..hi - lo],
-                v_w: &mut bvw[..hi - lo],
-            };
             let (v0, a0) = (&s0.v[lo..hi], &s0.a[lo..hi]);
-            self.integrator.trial(dt, lo, Increment::Zero, v0, a0, out);
+            self.integrator
+                .inertia_acceleration_at_rest(dt, lo, v0, a0, &mut baw[..hi - lo]);
             for i in lo..hi {
                 let f_ref = (1.0 - af) * next.f_ext[i] + af * s0.f_ext[i];
                 let a_w = baw[i - lo];

@@ -122,6 +122,7 @@ pub trait TimeIntegrator: std::fmt::Debug + Send + Sync {
     fn trial(&self, h: f64, lo: usize, du: Increment<'_>, v0: &[f64], a0: &[f64], out: Trial<'_>);
 
     /// Velocity and acceleration at the stage's end only (a solved linear step).
+    #[allow(clippy::too_many_arguments)]
     fn kinematics(
         &self,
         h: f64,
@@ -131,6 +132,18 @@ pub trait TimeIntegrator: std::fmt::Debug + Send + Sync {
         a0: &[f64],
         v: &mut [f64],
         a: &mut [f64],
+    );
+
+    /// The acceleration the balance's inertia term takes at `Δu = 0` (`a_w` of
+    /// [`TimeIntegrator::trial`] with a zero increment): the first residual of the lumped
+    /// linear step, which needs nothing else of the trial state.
+    fn inertia_acceleration_at_rest(
+        &self,
+        h: f64,
+        lo: usize,
+        v0: &[f64],
+        a0: &[f64],
+        a_w: &mut [f64],
     );
 
     /// The weighted acceleration (and, when asked, velocity) that the *next* step of the
@@ -155,8 +168,12 @@ pub struct IntegratorEntry {
     /// `[analysis]` itself, as the built-in three have always read them).
     pub own_table: bool,
     /// The constructor, from the `[analysis]` table; `origin` names it in messages.
-    pub make: fn(&AnalysisSpec, &str) -> Result<Box<dyn TimeIntegrator>, FemError>,
+    pub make: Constructor,
 }
+
+/// An integrator's constructor: from the `[analysis]` table and the model's name for
+/// messages.
+pub type Constructor = fn(&AnalysisSpec, &str) -> Result<Box<dyn TimeIntegrator>, FemError>;
 
 inventory::collect!(IntegratorEntry);
 
