@@ -543,6 +543,10 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
             }
             Ok(0)
         }
+        "integrators" => {
+            print!("{}", crate::solvers::time_integrator::listing());
+            Ok(0)
+        }
         "curve" => curve(a),
         "critical-radius" => critical(a),
         "conformance" => conformance(a),

@@ -103,6 +103,8 @@ pub enum Command {
     /// List the registered recorder kinds (`[[recorder]] type`) and their keys (units,
     /// defaults).
     Recorders,
+    /// List the registered time integrators and their keys (units, defaults).
+    Integrators,
     /// The paper's curved-track validation (Fig. 6): FE against theory.
     Curve(CurveCmd),
     /// Critical radius, FE against theory (Figs. 7, 9); `--sweep` for a whole figure.
@@ -564,7 +566,7 @@ pub struct StressCmd {
     /// all, sdof, beam, penalty, speed, drop, stick-slip or dip [default: all].
     #[arg(long, value_name = "CASE")]
     pub case: Option<OsString>,
-    /// Integrator: newmark, hht:ALPHA or galpha:RHO_INF [default: newmark].
+    /// Integrator: newmark, hht:ALPHA, galpha:RHO_INF, bathe or bathe:GAMMA [default: newmark].
     #[arg(long, value_name = "S")]
     pub scheme: Option<OsString>,
     /// ω·Δt of the sdof and beam cases [default: 1].

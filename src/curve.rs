@@ -317,7 +317,7 @@ impl CurveCase {
             dt: self.dt,
             duration,
             gravity: Some([0.0, 0.0, -self.gravity]),
-            integrator: self.integrator,
+            integrator: self.integrator.clone(),
             rho_inf: self.rho_inf,
             alpha: (1.0 - self.rho_inf) / (1.0 + self.rho_inf),
             record_every: self.record_every.max(1),

@@ -63,12 +63,13 @@ impl StressRow {
     }
 }
 
-/// The integrator of a row: `newmark`, `hht:α` or `galpha:ρ∞`.
+/// The integrator of a row: `newmark`, `hht:α` or `galpha:ρ∞` (for `bathe` and
+/// `bathe:γ` see [`bathe_gamma`]).
 pub fn scheme(name: &str) -> Result<(IntegratorKind, f64, f64), FemError> {
     let bad = || {
         FemError::input(
             "command line",
-            format!("--scheme {name}: use newmark, hht:ALPHA (0..1/3) or galpha:RHO (0..1)"),
+            format!("--scheme {name}: use newmark, hht:ALPHA (0..1/3), galpha:RHO (0..1), bathe or bathe:GAMMA (0..1)"),
         )
     };
     let (kind, val) = match name.split_once(':') {
@@ -83,21 +84,48 @@ pub fn scheme(name: &str) -> Result<(IntegratorKind, f64, f64), FemError> {
     }
 }
 
+/// The splitting ratio γ of `bathe` (0.5) or `bathe:γ`; `None` for another scheme.
+pub fn bathe_gamma(name: &str) -> Result<Option<f64>, FemError> {
+    let bad = || {
+        FemError::input(
+            "command line",
+            format!("--scheme {name}: use bathe or bathe:GAMMA with GAMMA in (0, 1)"),
+        )
+    };
+    match name.split_once(':') {
+        None if name == "bathe" => Ok(Some(0.5)),
+        Some(("bathe", v)) => match v.parse::<f64>() {
+            Ok(g) if g > 0.0 && g < 1.0 => Ok(Some(g)),
+            _ => Err(bad()),
+        },
+        _ => Ok(None),
+    }
+}
+
 fn analysis(scheme_name: &str, dt: f64) -> Result<AnalysisSpec, FemError> {
-    let (integrator, alpha, rho_inf) = scheme(scheme_name)?;
     let mut a = AnalysisSpec {
         dt,
-        integrator,
-        alpha,
-        rho_inf,
         ..Default::default()
     };
+    if let Some(g) = bathe_gamma(scheme_name)? {
+        a.integrator = IntegratorKind::Registered("bathe".into());
+        let mut p = serde_json::Map::new();
+        p.insert("gamma".into(), g.into());
+        a.integrator_parameters = Some(p);
+    } else {
+        (a.integrator, a.alpha, a.rho_inf) = scheme(scheme_name)?;
+    }
     a.initial_static = false;
     Ok(a)
 }
 
-fn integrator_of(a: &AnalysisSpec) -> Integrator {
-    Integrator::from_spec(a)
+/// The SDOF row's discrete reference: the amplification matrix of the scheme `name`.
+fn amplification_of(name: &str, a: &AnalysisSpec, omega_dt: f64) -> Result<Matrix3<f64>, FemError> {
+    Ok(match (Integrator::from_spec(a), bathe_gamma(name)?) {
+        (Some(ig), _) => amplification(&ig, omega_dt),
+        (None, Some(g)) => bathe_amplification(g, omega_dt),
+        (None, None) => unreachable!("analysis() accepts no other scheme"),
+    })
 }
 
 /// The amplification matrix of the undamped SDOF on `[u, Δt·v, Δt²·a]` (see
@@ -109,6 +137,32 @@ pub fn amplification(ig: &Integrator, omega_dt: f64) -> Matrix3<f64> {
     let l = Matrix3::new(w2 * (1.0 - af), 0.0, 1.0 - am, 1.0, 0.0, -b, 0.0, 1.0, -g);
     let r = Matrix3::new(-w2 * af, 0.0, -am, 1.0, 1.0, 0.5 - b, 0.0, 1.0, 1.0 - g);
     l.try_inverse().unwrap_or_else(Matrix3::zeros) * r
+}
+
+/// The amplification matrix of the Bathe composite method (`solvers/src/bathe.rs`) on the
+/// undamped SDOF, on `[u, Δt·v, Δt²·a]` like [`amplification`], derived here from the two
+/// sub-steps in units of `Δt` (`Ω = ω·Δt`, `a = −Ω²·u` at each balance):
+///
+/// ```text
+/// sub-step 1, trapezoidal over γ:   u₁ − (γ/2)·v₁ = u₀ + (γ/2)·v₀
+///                                   (γ/2)·Ω²·u₁ + v₁ = v₀ + (γ/2)·a₀
+/// sub-step 2, three-point backward: v₂ − c3·u₂ = c1·u₀ + c2·u₁
+///   (c1 = (1−γ)/γ, c2 = −1/(γ(1−γ)),  Ω²·u₂ + c3·v₂ = −c1·v₀ − c2·v₁
+///    c3 = (2−γ)/(1−γ))              a₂ = −Ω²·u₂
+/// ```
+pub fn bathe_amplification(gamma: f64, omega_dt: f64) -> Matrix3<f64> {
+    use nalgebra::{Matrix2, Matrix2x3};
+    let (g, w2) = (gamma, omega_dt * omega_dt);
+    let inv = |m: Matrix2<f64>| m.try_inverse().unwrap_or_else(Matrix2::zeros);
+    // [u₁, v₁] from [u₀, v₀, a₀].
+    let s1 = inv(Matrix2::new(1.0, -g / 2.0, g * w2 / 2.0, 1.0))
+        * Matrix2x3::new(1.0, g / 2.0, 0.0, 0.0, 1.0, g / 2.0);
+    let (c1, c2, c3) = ((1.0 - g) / g, -1.0 / (g * (1.0 - g)), (2.0 - g) / (1.0 - g));
+    let from0 = Matrix2x3::new(c1, 0.0, 0.0, 0.0, -c1, 0.0);
+    let from1 = Matrix2::new(c2, 0.0, 0.0, -c2);
+    let s2 = inv(Matrix2::new(-c3, 1.0, w2, c3)) * (from0 + from1 * s1);
+    let (u, v) = (s2.row(0).into_owned(), s2.row(1).into_owned());
+    Matrix3::from_rows(&[u, v, u * -w2])
 }
 
 /// A mass `m` on a grounded spring `k` and dashpot `c` along ux (built-in `mass` and
@@ -148,7 +202,7 @@ pub fn sdof(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow,
     let (k, m, u0): (f64, f64, f64) = (1.0e6, 1.0, 1e-3);
     let dt = omega_dt / (k / m).sqrt();
     let an = analysis(scheme_name, dt)?;
-    let ig = integrator_of(&an);
+    let amp = amplification_of(scheme_name, &an, omega_dt)?;
     let mut d = sdof_driver(k, m, 0.0, an)?;
     d.state.q[0] = u0;
     d.initialize()?;
@@ -156,7 +210,6 @@ pub fn sdof(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow,
     let command = format!(
         "railfem stress --case sdof --omega-dt {omega_dt:e} --scheme {scheme_name} --steps {steps}"
     );
-    let amp = amplification(&ig, omega_dt);
     let mut x = nalgebra::Vector3::new(u0, 0.0, d.state.a[0] * dt * dt);
     let e0 = 0.5 * k * u0 * u0;
     let (mut worst_f, mut worst_e) = (0.0f64, 0.0f64);
@@ -795,8 +848,8 @@ pub fn full_suite() -> Result<Vec<StressRow>, FemError> {
     Ok(rows)
 }
 
-/// Cases of the full suite: 18 sdof, 4 beam, 8 penalty, 5 speed, 4 drop, 2 stick-slip, 3 dip.
-const SUITE_CASES: usize = 44;
+/// Cases of the full suite: 24 sdof, 4 beam, 8 penalty, 5 speed, 4 drop, 2 stick-slip, 3 dip.
+const SUITE_CASES: usize = 50;
 
 /// [`full_suite`] into `rows`, case by case. A stop request ([`crate::framework::interrupt`])
 /// is honoured between cases: `rows` then holds the completed cases and the error is
@@ -810,7 +863,7 @@ pub fn full_suite_into(rows: &mut Vec<StressRow>) -> Result<(), FemError> {
             format!("{} of {SUITE_CASES} cases", rows.len())
         })
     };
-    for scheme in ["newmark", "hht:0.1", "galpha:0.5"] {
+    for scheme in ["newmark", "hht:0.1", "galpha:0.5", "bathe"] {
         for om in [0.01, 0.1, 1.0, 10.0, 100.0, 1000.0] {
             add(rows, sdof(om, scheme, 2000)?)?;
         }

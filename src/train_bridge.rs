@@ -645,7 +645,7 @@ fn build_with(
         dt: case.dt,
         duration,
         gravity: Some([0.0, 0.0, -case.gravity]),
-        integrator: case.integrator,
+        integrator: case.integrator.clone(),
         rho_inf: case.rho_inf,
         alpha: (1.0 - case.rho_inf) / (1.0 + case.rho_inf),
         record_every: case.record_every.max(1),

@@ -34,6 +34,7 @@ fn every_command_has_help_naming_each_option_with_unit_or_default() {
         "run",
         "check",
         "elements",
+        "integrators",
         "curve",
         "critical-radius",
         "conformance",
@@ -466,6 +467,80 @@ fn usage_errors_are_one_line_with_the_fix_and_exit_2() {
         let err = refused_with(&format!("{argv:?}"), &railfem(argv), expect);
         assert!(err.starts_with("error: command line:"), "{err}");
     }
+}
+
+/// `[analysis] integrator` resolves through the integrator registry: `railfem integrators`
+/// lists the registered names with their keys; an unknown name, or an unknown key of a
+/// registered one, is refused with one line naming the file, the key and the valid
+/// choices (exit 2); `"bathe"` with its `gamma` runs.
+#[test]
+fn integrators_are_listed_and_resolved_by_name() {
+    let o = railfem(&["integrators"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(0));
+    for name in [
+        "bathe",
+        "generalized_alpha",
+        "hht",
+        "newmark",
+        "gamma [-] (default 0.5)",
+    ] {
+        assert!(text.contains(name), "{name} missing from:\n{text}");
+    }
+    let dir = temp_dir("integrators");
+    let sdof = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/models/sdof.toml"),
+    )
+    .unwrap();
+    let with = |integrator: &str, table: &str| {
+        sdof.replace(
+            "integrator = \"newmark\"\nbeta = 0.25\ngamma = 0.5\n",
+            &format!("integrator = \"{integrator}\"\n"),
+        )
+        .replace(
+            "initial_static = false\n",
+            &format!("initial_static = false\n{table}"),
+        )
+    };
+    let run = |name: &str, text: String| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        railfem(&[
+            "run",
+            path.to_str().unwrap(),
+            "--out",
+            dir.join("out").to_str().unwrap(),
+        ])
+    };
+    let o = run("unknown.toml", with("bathes", ""));
+    refused_with(
+        "unknown integrator",
+        &o,
+        &[
+            "unknown.toml",
+            "[analysis] integrator",
+            "did you mean `bathe`",
+            "newmark",
+        ],
+    );
+    let o = run(
+        "key.toml",
+        with("bathe", "\n[analysis.integrator_parameters]\ngama = 0.5\n"),
+    );
+    refused_with(
+        "unknown key",
+        &o,
+        &["key.toml", "`gama`", "valid keys: gamma"],
+    );
+    let o = run(
+        "bathe.toml",
+        with(
+            "bathe",
+            "\n[analysis.integrator_parameters]\ngamma = 0.5857864376\n",
+        ),
+    );
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A model file whose duration is absurd is refused before its first step: exit 2, one

@@ -243,10 +243,11 @@ fn lumped_linear_step_equals_the_general_attempt_to_the_bit() {
         (IntegratorKind::Newmark, "newmark"),
         (IntegratorKind::Hht, "hht"),
         (IntegratorKind::GeneralizedAlpha, "generalized-alpha"),
+        (IntegratorKind::Registered("bathe".into()), "bathe"),
     ] {
         let build = || {
             let mut model = geo.model(80).expect("model");
-            model.analysis.integrator = kind;
+            model.analysis.integrator = kind.clone();
             model.analysis.alpha = 0.05;
             model.analysis.rho_inf = 0.8;
             Driver::new(model).expect("driver")

@@ -578,7 +578,7 @@ fn cycling_contact_converges_with_the_active_set_held() {
         (IntegratorKind::Newmark, FirstActiveSet::Committed),
     ] {
         let case = TrainBridgeCase {
-            integrator,
+            integrator: integrator.clone(),
             ..strongest_study_case(100.0)
         };
         let mut m = build(&case).expect("model");

@@ -23,8 +23,9 @@ pub enum AnalysisKind {
     Modal,
 }
 
-/// Time integrator of a transient analysis.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+/// Time integrator of a transient analysis, by its registered name (`railfem integrators`
+/// lists them; the solvers crate resolves the name through its integrator registry).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum IntegratorKind {
     /// Newmark-β with the user's β and γ (default average acceleration, β = ¼, γ = ½).
@@ -34,6 +35,23 @@ pub enum IntegratorKind {
     Hht,
     /// Chung–Hulbert generalized-α, set by the high-frequency spectral radius `rho_inf`.
     GeneralizedAlpha,
+    /// Any other registered integrator (e.g. `"bathe"`), its parameters in
+    /// `[analysis.integrator_parameters]`. A name nobody registered is refused when the
+    /// model is built, with the list of registered names.
+    #[serde(untagged)]
+    Registered(String),
+}
+
+impl IntegratorKind {
+    /// The name a model file spells it with.
+    pub fn name(&self) -> &str {
+        match self {
+            IntegratorKind::Newmark => "newmark",
+            IntegratorKind::Hht => "hht",
+            IntegratorKind::GeneralizedAlpha => "generalized_alpha",
+            IntegratorKind::Registered(s) => s,
+        }
+    }
 }
 
 /// Newton–Raphson variant.
@@ -324,6 +342,11 @@ pub struct AnalysisSpec {
     pub alpha: f64,
     /// Generalized-α spectral radius at infinite frequency (0 ≤ ρ∞ ≤ 1).
     pub rho_inf: f64,
+    /// Parameters of a registered integrator other than the built-in three
+    /// (`[analysis.integrator_parameters]`), read by that integrator's typed parameter
+    /// struct (`railfem integrators` lists its keys).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub integrator_parameters: Option<serde_json::Map<String, serde_json::Value>>,
     /// Gravitational acceleration vector in global axes (m/s²), e.g. `[0, 0, -9.81]`.
     pub gravity: Option<[f64; 3]>,
     /// Solve static equilibrium under the t = 0 loads (gravity, the t = 0 pseudo-loads)
@@ -360,6 +383,7 @@ impl Default for AnalysisSpec {
             gamma: 0.5,
             alpha: 0.05,
             rho_inf: 0.8,
+            integrator_parameters: None,
             gravity: None,
             initial_static: true,
             steps: 1,

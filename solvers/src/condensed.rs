@@ -71,6 +71,7 @@
 
 use crate::chunks::{par_chunks, Shared};
 use crate::driver::{Attempt, Driver, State, StepWork};
+use crate::time_integrator::{Increment, TimeIntegrator, Trial, BLOCK};
 use railfem_framework::model::NewtonKind;
 use railfem_framework::parallel::threads;
 use std::time::Instant;
@@ -410,8 +411,7 @@ impl Driver {
         t1: f64,
         dt: f64,
     ) -> Result<(f64, f64, f64, f64), Exit> {
-        let ig = self.integrator;
-        let af = ig.alpha_f;
+        let af = self.integrator.force_weight();
         let n = w.q.len();
         let nt = threads(0);
         let finite = self.asm.dofmap.has_finite_rotations();
@@ -443,6 +443,7 @@ impl Driver {
             );
             let (du, f_ext) = (&w.du, &w.f_ext);
             let (aq, aaw, avw) = (&ahead.q, &ahead.a_w, &ahead.v_w);
+            let ig: &dyn TimeIntegrator = &*self.integrator;
             let parts = par_chunks(n, nt, |lo, hi| {
                 // SAFETY: chunks are disjoint.
                 let (q, v, a, a_w, v_w, f_ref) = unsafe {
@@ -457,20 +458,43 @@ impl Driver {
                 };
                 let mut same = reuse;
                 let (mut ext2, mut qq) = (0.0, 0.0);
-                for k in 0..hi - lo {
-                    let i = lo + k;
+                // A block at a time: the integrator's call, then the checks, while the
+                // block is in the cache.
+                for b in (lo..hi).step_by(BLOCK) {
+                    let e = (b + BLOCK).min(hi);
+                    let (kb, ke) = (b - lo, e - lo);
                     if predictor {
-                        if !finite {
-                            q[k] = s0.q[i];
+                        for k in kb..ke {
+                            let i = lo + k;
+                            if !finite {
+                                q[k] = s0.q[i];
+                            }
+                            let fr = (1.0 - af) * f_ext[i] + af * s0.f_ext[i];
+                            f_ref[k] = fr;
+                            ext2 += fr * fr;
+                            qq += q[k] * q[k];
                         }
-                        let fr = (1.0 - af) * f_ext[i] + af * s0.f_ext[i];
-                        f_ref[k] = fr;
-                        ext2 += fr * fr;
-                        qq += q[k] * q[k];
                     }
-                    let dui = if finite { du[i] } else { q[k] - s0.q[i] };
-                    (v[k], a[k], a_w[k], v_w[k]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
-                    if same {
+                    let inc = if finite {
+                        Increment::Given(&du[b..e])
+                    } else {
+                        Increment::Between {
+                            q: &q[kb..ke],
+                            q0: &s0.q[b..e],
+                        }
+                    };
+                    let out = Trial {
+                        v: &mut v[kb..ke],
+                        a: &mut a[kb..ke],
+                        a_w: &mut a_w[kb..ke],
+                        v_w: &mut v_w[kb..ke],
+                    };
+                    ig.trial(dt, b, inc, &s0.v[b..e], &s0.a[b..e], out);
+                    for k in kb..ke {
+                        if !same {
+                            break;
+                        }
+                        let i = lo + k;
                         same = q[k].to_bits() == aq[i].to_bits()
                             && a_w[k].to_bits() == aaw[i].to_bits()
                             && v_w[k].to_bits() == avw[i].to_bits();
@@ -480,9 +504,7 @@ impl Driver {
                     // The next predictor's kinematics, `Δu = 0` from this state.
                     // SAFETY: chunks are disjoint.
                     let (naw, nvw) = unsafe { (nawp.range(lo, hi), nvwp.range(lo, hi)) };
-                    for k in 0..hi - lo {
-                        (_, _, naw[k], nvw[k]) = ig.trial(dt, 0.0, v[k], a[k]);
-                    }
+                    ig.next_at_rest(dt, v, a, naw, Some(nvw));
                 }
                 (same, ext2, qq)
             });
@@ -707,12 +729,11 @@ impl Driver {
         ahead_dt: Option<f64>,
         [f_var, in_var, damp_var]: &mut [Vec<f64>; 3],
     ) -> Result<(usize, f64), Exit> {
-        let ig = self.integrator;
         let t1 = s0.t + dt;
         let nt = threads(0);
-        let af = ig.alpha_f;
+        let af = self.integrator.force_weight();
         let settings = self.model.analysis.newton;
-        let coef = ig.coefficients(dt);
+        let coef = self.integrator.coefficients(dt);
         let finite = self.asm.dofmap.has_finite_rotations();
         // `f̄_ext` and its norm: formed by the predictor's evaluation.
         let mut ext_norm: f64 = 0.0;
@@ -743,9 +764,24 @@ impl Driver {
                 if finite {
                     self.asm.dofmap.increment(&s0.q, &w.q, &mut w.du);
                 }
+                // The top equations are few and scattered: one call each.
                 for &i in &top {
-                    let dui = if finite { w.du[i] } else { w.q[i] - s0.q[i] };
-                    (w.v[i], w.a[i], w.a_w[i], w.v_w[i]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
+                    let (j, ig) = (i + 1, &*self.integrator);
+                    let inc = if finite {
+                        Increment::Given(&w.du[i..j])
+                    } else {
+                        Increment::Between {
+                            q: &w.q[i..j],
+                            q0: &s0.q[i..j],
+                        }
+                    };
+                    let out = Trial {
+                        v: &mut w.v[i..j],
+                        a: &mut w.a[i..j],
+                        a_w: &mut w.a_w[i..j],
+                        v_w: &mut w.v_w[i..j],
+                    };
+                    ig.trial(dt, i, inc, &s0.v[i..j], &s0.a[i..j], out);
                 }
                 self.asm
                     .update_variable(&mut self.model, &w.q, &w.v, &w.a, t1, dt, f_var, true)
@@ -864,7 +900,7 @@ impl Driver {
                     if it == settings.max_iter || (it >= 2 && rn > rn_prev) {
                         return Err(Exit::Fallback);
                     }
-                    self.factor_tangent(coef, dt).map_err(|_| Exit::Fallback)?;
+                    self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
                     self.summary.factorizations += 1;
                     let p = self.partition.as_mut().expect("partitioned");
                     if p.top_generation() != generation {
@@ -905,7 +941,7 @@ impl Driver {
             }
             // --- A new base at the full state `w.q` with the full residual `w.r`: factor,
             // condense the residual, solve the top system.
-            self.factor_tangent(coef, dt).map_err(|_| Exit::Fallback)?;
+            self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
             self.summary.factorizations += 1;
             self.top_products();
             let p = self.partition.as_mut().expect("partitioned");

@@ -30,13 +30,14 @@
 
 use crate::dense::DenseLu;
 use crate::energy::EnergyLedger;
-use crate::integrator::{Coefficients, Integrator};
+use crate::integrator::Coefficients;
 use crate::linear::{solver_for, LinearSolver, SolverError};
 use crate::lowrank::{LowRank, LowRankStats};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 pub use crate::state::State;
 use crate::static_lu::StaticLu;
 pub use crate::thresholds::{DENSE_LIMIT, DIRECT_DENSE_LIMIT, DIRECT_DENSE_LU_LIMIT};
+use crate::time_integrator::{Increment, TimeIntegrator, Trial};
 use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
@@ -223,12 +224,14 @@ pub struct Driver {
     pub asm: Assembler,
     /// The committed state.
     pub state: State,
-    /// The integrator.
-    pub integrator: Integrator,
+    /// The integrator ([`crate::time_integrator`]), resolved by name from the model.
+    pub integrator: Box<dyn TimeIntegrator>,
     solver: Box<dyn LinearSolver>,
     k_eff: CscMatrix,
-    /// `(dt, pattern id)` the current factor belongs to, when it is still valid.
-    pub(crate) factored: Option<(f64, u64)>,
+    /// The coefficients' [`Coefficients::key`] and the pattern id the current factor
+    /// belongs to, when it is still valid (for a one-stage integrator the key is a function
+    /// of `dt` alone; a composite one's stages of the same length may differ).
+    pub(crate) factored: Option<([f64; 3], u64)>,
     /// Length and increment `q_{n} − q_{n−1}` of the last converged transient step (for
     /// [`Predictor::Increment`]; `None` before the first, and always with the default
     /// predictor).
@@ -380,7 +383,7 @@ impl Driver {
             ));
         }
         let solver = direct_solver(n, asm.symmetric());
-        let integrator = Integrator::from_spec(&model.analysis);
+        let integrator = crate::time_integrator::resolve(&model.analysis, &model.origin)?;
         // Off the pattern the effective matrix is formed at the first factorization (across
         // ranks, only the columns the rank reads): no copy of the pattern before it.
         let k_eff = if asm.off_pattern() {
@@ -739,7 +742,7 @@ impl Driver {
     }
 
     /// Forms and factors the effective tangent `k·K + m·M + c·C`.
-    pub(crate) fn factor_tangent(&mut self, coef: Coefficients, dt: f64) -> Result<(), FemError> {
+    pub(crate) fn factor_tangent(&mut self, coef: Coefficients) -> Result<(), FemError> {
         let ta = Instant::now();
         if !self.asm.off_pattern() {
             self.asm.effective(coef, &mut self.k_eff);
@@ -748,7 +751,7 @@ impl Driver {
             let r = self.solver.factor(&self.k_eff);
             self.summary.timings.factor += t0.elapsed().as_secs_f64();
             r.map_err(|e| self.singular(e))?;
-            self.factored = Some((dt, self.k_eff.pattern_id));
+            self.factored = Some((coef.key(), self.k_eff.pattern_id));
             return Ok(());
         }
         // The constant part changes only with the coefficients (and never if every mass is
@@ -780,7 +783,7 @@ impl Driver {
         };
         self.summary.timings.factor += t0.elapsed().as_secs_f64();
         r.map_err(|e| self.singular(e))?;
-        self.factored = Some((dt, self.k_eff.pattern_id));
+        self.factored = Some((coef.key(), self.k_eff.pattern_id));
         Ok(())
     }
 
@@ -919,7 +922,7 @@ impl Driver {
                     break;
                 }
                 if !(linear && it > 0) {
-                    self.factor_tangent(Coefficients::STATIC, 0.0)?;
+                    self.factor_tangent(Coefficients::STATIC)?;
                     self.summary.factorizations += 1;
                 }
                 let mut dq = r.clone();
@@ -1109,7 +1112,6 @@ impl Driver {
         w: &mut StepWork,
     ) -> Result<(State, usize, f64), Attempt> {
         let n = self.neq();
-        let ig = self.integrator;
         let t1 = s0.t + dt;
         let mut next = self.begin_attempt(t1, dt, w)?;
         let StepWork {
@@ -1130,11 +1132,11 @@ impl Driver {
             inertia_ready,
             ..
         } = w;
-        let af = ig.alpha_f;
+        let af = self.integrator.force_weight();
         let settings = self.model.analysis.newton;
         let linear =
             self.asm.variable_elements().is_empty() && !self.asm.dofmap.has_finite_rotations();
-        let coef = ig.coefficients(dt);
+        let coef = self.integrator.coefficients(dt);
         let State {
             q,
             v,
@@ -1190,16 +1192,19 @@ impl Driver {
                 // The solved state: its velocity and acceleration (no residual follows),
                 // and the weighted acceleration a next step of the same Δt starts with
                 // (its first iterate is this q: Δu = 0).
-                for i in 0..n {
-                    (v[i], a[i]) = ig.kinematics(dt, q[i] - s0.q[i], s0.v[i], s0.a[i]);
-                    a_w_next[i] = ig.trial(dt, 0.0, v[i], a[i]).2;
-                }
+                let ig = &*self.integrator;
+                let du = Increment::Between { q, q0: &s0.q };
+                ig.kinematics(dt, 0, du, &s0.v, &s0.a, v, a);
+                ig.next_at_rest(dt, v, a, a_w_next, None);
             } else {
-                for i in 0..n {
-                    let dui = if finite { du[i] } else { q[i] - s0.q[i] };
-                    // The residual's inertia and damping act at the intermediate times.
-                    (v[i], a[i], a_w[i], v_w[i]) = ig.trial(dt, dui, s0.v[i], s0.a[i]);
-                }
+                let du = if finite {
+                    Increment::Given(du)
+                } else {
+                    Increment::Between { q, q0: &s0.q }
+                };
+                // The residual's inertia and damping act at the intermediate times.
+                let out = Trial { v, a, a_w, v_w };
+                self.integrator.trial(dt, 0, du, &s0.v, &s0.a, out);
             }
             let ta = Instant::now();
             let need_tangent = !linear
@@ -1320,7 +1325,7 @@ impl Driver {
                 ))));
             }
             // Factor when needed.
-            let valid = self.factored == Some((dt, self.asm.k_const.pattern_id));
+            let valid = self.factored == Some((coef.key(), self.asm.k_const.pattern_id));
             let refactor = match (linear, settings.kind) {
                 (true, _) => !valid,
                 (false, NewtonKind::Full) => true,
@@ -1328,7 +1333,7 @@ impl Driver {
                 (false, NewtonKind::Initial) => !valid,
             };
             if refactor {
-                self.factor_tangent(coef, dt)?;
+                self.factor_tangent(coef)?;
                 self.summary.factorizations += 1;
             }
             // The residual is solved in place (it is formed anew before it is read again).
@@ -1373,6 +1378,10 @@ impl Driver {
         Ok(report)
     }
 
+    /// A step of `dt` as the integrator's stages ([`TimeIntegrator::stages`]), each a
+    /// Newton solve committed on its own. A stage that does not converge is cut: the rest
+    /// of the step, from the last committed state, is taken as two half steps (each again
+    /// every stage), up to `max_cuts` halvings deep.
     fn substep(
         &mut self,
         dt: f64,
@@ -1380,6 +1389,30 @@ impl Driver {
         max_cuts: usize,
         rep: &mut StepReport,
     ) -> Result<(), FemError> {
+        let t_end = self.state.t + dt;
+        for stage in 0..self.integrator.stages() {
+            self.integrator.begin_stage(stage, dt, &self.state);
+            let h = self.integrator.stage_length(stage, dt);
+            if !self.stage(h, depth, max_cuts, rep)? {
+                rep.cuts += 1;
+                let rest = if stage == 0 { dt } else { t_end - self.state.t };
+                self.substep(rest / 2.0, depth + 1, max_cuts, rep)?;
+                return self.substep(rest / 2.0, depth + 1, max_cuts, rep);
+            }
+        }
+        Ok(())
+    }
+
+    /// One stage of length `dt`: its attempt (and, at the last halving, the held retry),
+    /// committed when it converges (`Ok(true)`); reverted when it does not (`Ok(false)`,
+    /// the caller cuts; an error once `max_cuts` halvings are spent).
+    fn stage(
+        &mut self,
+        dt: f64,
+        depth: usize,
+        max_cuts: usize,
+        rep: &mut StepReport,
+    ) -> Result<bool, FemError> {
         let mut outcome = self.attempt_any(dt);
         // The smallest sub-step failed: solve it again with the contact's active set held
         // (crate::held_active_set); when that fails too, the first attempt's failure stands.
@@ -1432,7 +1465,7 @@ impl Driver {
                 self.work.next = std::mem::replace(&mut self.state, s);
                 rep.iterations += it;
                 rep.residual = res;
-                Ok(())
+                Ok(true)
             }
             Err(Attempt::Fatal(e)) => {
                 self.asm.revert(&mut self.model);
@@ -1454,9 +1487,7 @@ impl Driver {
                         self.state.t
                     )));
                 }
-                rep.cuts += 1;
-                self.substep(dt / 2.0, depth + 1, max_cuts, rep)?;
-                self.substep(dt / 2.0, depth + 1, max_cuts, rep)
+                Ok(false)
             }
         }
     }

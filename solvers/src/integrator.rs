@@ -13,8 +13,11 @@
 //! `ΔF = F_ext(n+1) − F_M(n) − F_C(n) − F_K(n) − F_rigid` is removed by
 //! `M·ä + C·ḋ + K·Δd` with the current matrices.
 
+use crate::time_integrator::{Increment, IntegratorEntry, TimeIntegrator, Trial};
 use railfem_framework::model::{AnalysisSpec, IntegratorKind};
+use railfem_framework::registry::ParamDoc;
 pub use railfem_framework::Coefficients;
+use railfem_framework::FemError;
 
 /// The four coefficients of a generalized-α integrator.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,12 +68,14 @@ impl Integrator {
         }
     }
 
-    /// The integrator an `[analysis]` table asks for.
-    pub fn from_spec(a: &AnalysisSpec) -> Self {
+    /// The generalized-α integrator an `[analysis]` table asks for; `None` when it names
+    /// another registered integrator ([`crate::time_integrator::resolve`] finds any).
+    pub fn from_spec(a: &AnalysisSpec) -> Option<Self> {
         match a.integrator {
-            IntegratorKind::Newmark => Integrator::newmark(a.beta, a.gamma),
-            IntegratorKind::Hht => Integrator::hht(a.alpha),
-            IntegratorKind::GeneralizedAlpha => Integrator::generalized_alpha(a.rho_inf),
+            IntegratorKind::Newmark => Some(Integrator::newmark(a.beta, a.gamma)),
+            IntegratorKind::Hht => Some(Integrator::hht(a.alpha)),
+            IntegratorKind::GeneralizedAlpha => Some(Integrator::generalized_alpha(a.rho_inf)),
+            IntegratorKind::Registered(_) => None,
         }
     }
 
@@ -103,5 +108,169 @@ impl Integrator {
         let a_w = (1.0 - self.alpha_m) * a + self.alpha_m * an;
         let v_w = (1.0 - self.alpha_f) * v + self.alpha_f * vn;
         (v, a, a_w, v_w)
+    }
+}
+
+/// The family behind the trait: each slice call runs the per-equation formulas above in a
+/// loop of its own, so the values are those of the inline calls, to the bit.
+impl TimeIntegrator for Integrator {
+    fn name(&self) -> &'static str {
+        if self.alpha_m != 0.0 {
+            "generalized_alpha"
+        } else if self.alpha_f != 0.0 {
+            "hht"
+        } else {
+            "newmark"
+        }
+    }
+
+    fn coefficients(&self, h: f64) -> Coefficients {
+        Integrator::coefficients(self, h)
+    }
+
+    fn force_weight(&self) -> f64 {
+        self.alpha_f
+    }
+
+    #[inline]
+    fn trial(&self, h: f64, _lo: usize, du: Increment<'_>, v0: &[f64], a0: &[f64], out: Trial<'_>) {
+        let Trial { v, a, a_w, v_w } = out;
+        let n = v.len();
+        let (v0, a0, a, a_w, v_w) = (
+            &v0[..n],
+            &a0[..n],
+            &mut a[..n],
+            &mut a_w[..n],
+            &mut v_w[..n],
+        );
+        du.for_each(n, |i, d| {
+            (v[i], a[i], a_w[i], v_w[i]) = Integrator::trial(self, h, d, v0[i], a0[i]);
+        });
+    }
+
+    #[inline]
+    fn kinematics(
+        &self,
+        h: f64,
+        _lo: usize,
+        du: Increment<'_>,
+        v0: &[f64],
+        a0: &[f64],
+        v: &mut [f64],
+        a: &mut [f64],
+    ) {
+        let n = v.len();
+        let (v0, a0, a) = (&v0[..n], &a0[..n], &mut a[..n]);
+        du.for_each(n, |i, d| {
+            (v[i], a[i]) = Integrator::kinematics(self, h, d, v0[i], a0[i]);
+        });
+    }
+
+    #[inline]
+    fn inertia_acceleration_at_rest(
+        &self,
+        h: f64,
+        _lo: usize,
+        v0: &[f64],
+        a0: &[f64],
+        a_w: &mut [f64],
+    ) {
+        self.next_at_rest(h, v0, a0, a_w, None);
+    }
+
+    #[inline]
+    fn next_at_rest(&self, h: f64, v: &[f64], a: &[f64], a_w: &mut [f64], v_w: Option<&mut [f64]>) {
+        let n = a_w.len();
+        let (v, a) = (&v[..n], &a[..n]);
+        match v_w {
+            None => {
+                for i in 0..n {
+                    a_w[i] = Integrator::trial(self, h, 0.0, v[i], a[i]).2;
+                }
+            }
+            Some(v_w) => {
+                let v_w = &mut v_w[..n];
+                for i in 0..n {
+                    (_, _, a_w[i], v_w[i]) = Integrator::trial(self, h, 0.0, v[i], a[i]);
+                }
+            }
+        }
+    }
+}
+
+fn newmark_keys() -> Vec<ParamDoc> {
+    vec![
+        ParamDoc {
+            key: "beta",
+            unit: "-",
+            default: Some(serde_json::json!(0.25)),
+            doc: "Newmark β",
+        },
+        ParamDoc {
+            key: "gamma",
+            unit: "-",
+            default: Some(serde_json::json!(0.5)),
+            doc: "Newmark γ",
+        },
+    ]
+}
+
+fn hht_keys() -> Vec<ParamDoc> {
+    vec![ParamDoc {
+        key: "alpha",
+        unit: "-",
+        default: Some(serde_json::json!(0.05)),
+        doc: "HHT α in [0, 1/3] (0 is the trapezoidal rule); γ = ½ + α, β = ¼·(1 + α)²",
+    }]
+}
+
+fn generalized_alpha_keys() -> Vec<ParamDoc> {
+    vec![ParamDoc {
+        key: "rho_inf",
+        unit: "-",
+        default: Some(serde_json::json!(0.8)),
+        doc: "spectral radius at infinite frequency, in [0, 1]",
+    }]
+}
+
+fn make_newmark(a: &AnalysisSpec, _origin: &str) -> Result<Box<dyn TimeIntegrator>, FemError> {
+    Ok(Box::new(Integrator::newmark(a.beta, a.gamma)))
+}
+
+fn make_hht(a: &AnalysisSpec, _origin: &str) -> Result<Box<dyn TimeIntegrator>, FemError> {
+    Ok(Box::new(Integrator::hht(a.alpha)))
+}
+
+fn make_generalized_alpha(a: &AnalysisSpec, _o: &str) -> Result<Box<dyn TimeIntegrator>, FemError> {
+    Ok(Box::new(Integrator::generalized_alpha(a.rho_inf)))
+}
+
+inventory::submit! {
+    IntegratorEntry {
+        name: "newmark",
+        description: "Newmark-β (Newmark 1959); β = ¼, γ = ½ is the trapezoidal rule (average acceleration)",
+        params: newmark_keys,
+        own_table: false,
+        make: make_newmark,
+    }
+}
+
+inventory::submit! {
+    IntegratorEntry {
+        name: "hht",
+        description: "Hilber–Hughes–Taylor α (Hilber, Hughes & Taylor 1977): numerical damping of high modes",
+        params: hht_keys,
+        own_table: false,
+        make: make_hht,
+    }
+}
+
+inventory::submit! {
+    IntegratorEntry {
+        name: "generalized_alpha",
+        description: "Chung–Hulbert generalized-α (Chung & Hulbert 1993), set by ρ∞",
+        params: generalized_alpha_keys,
+        own_table: false,
+        make: make_generalized_alpha,
     }
 }

@@ -2,7 +2,9 @@
 //!
 //! What lives here: sparse and dense linear solvers ([`linear`], [`dense`], the replayed LU
 //! [`static_lu`]), the low-rank (Woodbury) solver for a few moving equations ([`lowrank`]), modal analysis ([`modal`]), the
-//! generalized-α family of integrators ([`integrator`]), the energy balance of a run
+//! generalized-α family of integrators ([`integrator`]) and the Bathe composite method
+//! ([`bathe`]) behind the integrator trait and registry ([`time_integrator`]), the energy
+//! balance of a run
 //! ([`energy`]) and the driver that runs static and
 //! transient analyses with Newton–Raphson and step cutting ([`driver`]; a lumped linear model's
 //! step in fused passes, [`lumped_step`]), and the checks made
@@ -13,6 +15,7 @@
 // Index loops mirror the formulas of the dense kernels and the driver (rustc 1.95 clippy).
 #![allow(clippy::needless_range_loop, clippy::explicit_counter_loop)]
 
+pub mod bathe;
 mod chunks;
 pub mod compact_factor;
 pub mod condensed;
@@ -32,6 +35,7 @@ pub mod preflight;
 pub mod state;
 pub mod static_lu;
 pub mod thresholds;
+pub mod time_integrator;
 pub mod top_chain;
 
 pub use driver::{Driver, ReferenceSystem, RunSummary, State, StepReport};

@@ -19,6 +19,7 @@
 //! vector, about as much as the step's pass over `K` when a dozen are summed).
 
 use crate::driver::{Attempt, Driver, State, StepWork};
+use crate::time_integrator::{Increment, BLOCK};
 use railfem_framework::FemError;
 use std::time::Instant;
 
@@ -45,8 +46,7 @@ impl Driver {
         w: &mut StepWork,
     ) -> Result<(State, usize, f64), Attempt> {
         let n = self.neq();
-        let ig = self.integrator;
-        let af = ig.alpha_f;
+        let af = self.integrator.force_weight();
         let t1 = s0.t + dt;
         let mut next = self.begin_attempt(t1, dt, w)?;
         w.inertia_ready = false;
@@ -64,13 +64,20 @@ impl Driver {
             .expect("checked by lumped_linear_applies");
         let dq = &mut w.dq;
         let mut squares = -0.0f64;
-        for i in 0..n {
-            let f_ref = (1.0 - af) * next.f_ext[i] + af * s0.f_ext[i];
-            let (_, _, a_w, _) = ig.trial(dt, 0.0, s0.v[i], s0.a[i]);
-            let inertia = m[i] * a_w;
-            let r = f_ref - inertia - ((1.0 - af) * f_now[i] + af * s0.f_int[i]);
-            dq[i] = r;
-            squares += r * r;
+        let mut baw = [0.0; BLOCK];
+        for lo in (0..n).step_by(BLOCK) {
+            let hi = (lo + BLOCK).min(n);
+            let (v0, a0) = (&s0.v[lo..hi], &s0.a[lo..hi]);
+            self.integrator
+                .inertia_acceleration_at_rest(dt, lo, v0, a0, &mut baw[..hi - lo]);
+            for i in lo..hi {
+                let f_ref = (1.0 - af) * next.f_ext[i] + af * s0.f_ext[i];
+                let a_w = baw[i - lo];
+                let inertia = m[i] * a_w;
+                let r = f_ref - inertia - ((1.0 - af) * f_now[i] + af * s0.f_int[i]);
+                dq[i] = r;
+                squares += r * r;
+            }
         }
         let rn = squares.sqrt();
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
@@ -79,8 +86,9 @@ impl Driver {
                 "residual is not finite at t = {t1} s"
             ))));
         }
-        if self.factored != Some((dt, self.asm.k_const.pattern_id)) {
-            self.factor_tangent(ig.coefficients(dt), dt)?;
+        let coef = self.integrator.coefficients(dt);
+        if self.factored != Some((coef.key(), self.asm.k_const.pattern_id)) {
+            self.factor_tangent(coef)?;
             self.summary.factorizations += 1;
         }
         self.solve_unchecked(dq)?;
@@ -92,18 +100,27 @@ impl Driver {
             .expect("checked by lumped_linear_applies");
         self.f_int_at.resize(n, 0.0);
         let mut bad = None;
-        for i in 0..n {
-            let d = dq[i];
-            if !d.is_finite() && bad.is_none() {
-                bad = Some(i);
+        for lo in (0..n).step_by(BLOCK) {
+            let hi = (lo + BLOCK).min(n);
+            for i in lo..hi {
+                let d = dq[i];
+                if !d.is_finite() && bad.is_none() {
+                    bad = Some(i);
+                }
+                let q = s0.q[i] + d;
+                next.q[i] = q;
+                self.f_int_at[i] = q;
             }
-            let q = s0.q[i] + d;
-            let (v, a) = ig.kinematics(dt, q - s0.q[i], s0.v[i], s0.a[i]);
-            next.q[i] = q;
-            next.v[i] = v;
-            next.a[i] = a;
-            w.mv[i] = m[i] * v;
-            self.f_int_at[i] = q;
+            let du = Increment::Between {
+                q: &next.q[lo..hi],
+                q0: &s0.q[lo..hi],
+            };
+            let (v0, a0) = (&s0.v[lo..hi], &s0.a[lo..hi]);
+            let (v, a) = (&mut next.v[lo..hi], &mut next.a[lo..hi]);
+            self.integrator.kinematics(dt, lo, du, v0, a0, v, a);
+            for i in lo..hi {
+                w.mv[i] = m[i] * next.v[i];
+            }
         }
         if let Some(i) = bad {
             self.f_int_at.clear();

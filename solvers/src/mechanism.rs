@@ -36,7 +36,11 @@ impl Driver {
         let (step, coef) = if static_first {
             (0.0, Coefficients::STATIC)
         } else {
-            (dt, self.integrator.coefficients(dt))
+            (
+                dt,
+                self.integrator
+                    .coefficients(self.integrator.stage_length(0, dt)),
+            )
         };
         self.asm.advance(&mut self.model, t, step)?;
         let zero = vec![0.0; n];
@@ -52,6 +56,6 @@ impl Driver {
         };
         self.asm
             .update(&mut self.model, &q, &v, &a, t, step, &mut f_int, true)?;
-        self.factor_tangent(coef, step)
+        self.factor_tangent(coef)
     }
 }

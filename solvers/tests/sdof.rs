@@ -151,7 +151,7 @@ fn spectral_radius_at_infinity() {
         (IntegratorKind::Hht, 0.1, 0.0, 0.9 / 1.1),
         (IntegratorKind::Hht, 0.3, 0.0, 0.7 / 1.3),
     ] {
-        let mut d = driver_with(k, m, dt, kind, alpha, rho);
+        let mut d = driver_with(k, m, dt, kind.clone(), alpha, rho);
         d.state.q[0] = 1.0;
         d.initialize().unwrap();
         let n = 200;
@@ -260,7 +260,7 @@ fn driver_step_is_the_amplification_matrix() {
             let a = amplification(&ig, om);
             for col in 0..3 {
                 let mut d = driver(k, m, dt);
-                d.integrator = ig;
+                d.integrator = Box::new(ig);
                 d.initialize().unwrap();
                 let x0 = [
                     (col == 0) as u8 as f64,
@@ -376,5 +376,236 @@ fn period_error_and_damping_match_closed_forms() {
                 assert!(xi.abs() < 1e-9, "{name}: ξ̄ = {xi}");
             }
         }
+    }
+}
+
+/// A driver of the SDOF with the Bathe composite method of splitting ratio `gamma`, from
+/// `u₀ = 1 mm` at rest.
+fn bathe_driver(k: f64, m: f64, dt: f64, gamma: f64) -> Driver {
+    let mut b = ModelBuilder::new("sdof");
+    b.node(1, [0.0; 3]);
+    b.element("test_sdof", 1, &[1], &serde_json::json!({"k": k, "m": m}));
+    let mut p = serde_json::Map::new();
+    p.insert("gamma".into(), gamma.into());
+    b.analysis(AnalysisSpec {
+        dt,
+        integrator: railfem_framework::model::IntegratorKind::Registered("bathe".into()),
+        integrator_parameters: Some(p),
+        initial_static: false,
+        ..Default::default()
+    });
+    let mut d = Driver::new(b.build().unwrap()).unwrap();
+    d.state.q[0] = 1e-3;
+    d.initialize().unwrap();
+    d
+}
+
+/// The Bathe method's amplification matrix on `[u, Δt·v]` of the undamped SDOF, from its
+/// two sub-steps written here (Bathe & Baig 2005; Bathe 2007; Bathe & Noh 2012 for γ),
+/// in units of Δt with `Ω = ω·Δt` and `a = −Ω²·u` at each balance:
+///
+/// - trapezoidal to γ: `u_γ = u₀ + (γ/2)(v₀ + v_γ)`, `v_γ = v₀ − (γ/2)Ω²(u₀ + u_γ)`;
+/// - three-point backward Euler to 1, with `c1 = (1−γ)/γ`, `c2 = −1/(γ(1−γ))`,
+///   `c3 = (2−γ)/(1−γ)`: `v₁ = c1·u₀ + c2·u_γ + c3·u₁`, `−Ω²·u₁ = c1·v₀ + c2·v_γ + c3·v₁`.
+///
+/// Returned as the trace and determinant, which fix its eigenvalues.
+fn bathe_trace_det(gamma: f64, om: f64) -> (f64, f64) {
+    use nalgebra::Matrix2;
+    let g = gamma;
+    let w2 = om * om;
+    let inv = |m: Matrix2<f64>| m.try_inverse().unwrap();
+    let s1 = inv(Matrix2::new(1.0, -g / 2.0, g * w2 / 2.0, 1.0))
+        * Matrix2::new(1.0, g / 2.0, -g * w2 / 2.0, 1.0);
+    let (c1, c2, c3) = ((1.0 - g) / g, -1.0 / (g * (1.0 - g)), (2.0 - g) / (1.0 - g));
+    let rhs = Matrix2::new(c1, 0.0, 0.0, -c1) + Matrix2::new(c2, 0.0, 0.0, -c2) * s1;
+    let a = inv(Matrix2::new(-c3, 1.0, w2, c3)) * rhs;
+    (a.trace(), a.determinant())
+}
+
+/// Spectral radius and relative period error `Ω/Ω̄ − 1` of the eigenvalues of a 2×2 map
+/// with trace `tr` and determinant `det` (`Ω̄` the principal argument; `NaN` when both are
+/// real).
+fn rho_and_period_error(tr: f64, det: f64, om: f64) -> (f64, f64) {
+    let disc = Complex::new(tr * tr - 4.0 * det, 0.0).sqrt();
+    let l1 = (Complex::new(tr, 0.0) + disc) / 2.0;
+    let l2 = (Complex::new(tr, 0.0) - disc) / 2.0;
+    let rho = l1.norm().max(l2.norm());
+    let arg = l1.arg().abs();
+    let pe = if l1.im == 0.0 {
+        f64::NAN
+    } else {
+        om / arg - 1.0
+    };
+    (rho, pe)
+}
+
+/// The driver's Bathe steps against the closed form above, at Δt/T = 0.01, 0.1 and 1 and
+/// for γ = ½ and 2 − √2. The driver's one-step map on `[u, Δt·v]` is read off its own
+/// trajectory: any 2×2 map satisfies `x₂ = tr·x₁ − det·x₀` (Cayley–Hamilton), so two
+/// steps from `u₀ = 1 mm` at rest give `tr` and `det` from the `u` and `Δt·v` rows. The
+/// values are then compared as spectral radius and period error: a solve of a 2×2 system
+/// of O(1) entries from values with round-off ~1e-16 relative, its condition at most
+/// 1/sin(Ω̄) ≈ 16 at Δt/T = 0.01, so 1e-10 leaves ample room and still catches a wrong
+/// coefficient. The closed form's own character is checked too: ρ ≈ 1 and period error
+/// below 0.02 % at Δt/T = 0.01, and at 0.1 a period error (1.6 %) between the trapezoidal
+/// rule's (`Ω/(2·arctan(Ω/2)) − 1`) with steps of Δt/2 (0.8 %, the same number of
+/// solves) and of Δt (3.2 %).
+#[test]
+fn bathe_spectral_radius_and_period_error_match_closed_form() {
+    let (k, m): (f64, f64) = (1.0e6, 1.0);
+    let w = (k / m).sqrt();
+    let period = 2.0 * std::f64::consts::PI / w;
+    for gamma in [0.5, 2.0 - 2f64.sqrt()] {
+        for ratio in [0.01, 0.1, 1.0] {
+            let dt = ratio * period;
+            let om = w * dt;
+            let mut d = bathe_driver(k, m, dt, gamma);
+            let mut x = vec![[d.state.q[0], d.state.v[0] * dt]];
+            for _ in 0..2 {
+                d.step(dt).unwrap();
+                x.push([d.state.q[0], d.state.v[0] * dt]);
+            }
+            // [x₁ −x₀]·[tr, det]ᵀ = x₂, row by row (u and Δt·v).
+            let lhs = nalgebra::Matrix2::new(x[1][0], -x[0][0], x[1][1], -x[0][1]);
+            let rhs = nalgebra::Vector2::new(x[2][0], x[2][1]);
+            let sol = lhs.lu().solve(&rhs).unwrap();
+            let (rho_d, pe_d) = rho_and_period_error(sol[0], sol[1], om);
+            let (tr, det) = bathe_trace_det(gamma, om);
+            let (rho_c, pe_c) = rho_and_period_error(tr, det, om);
+            println!(
+                "γ = {gamma:.4}, Δt/T = {ratio}: ρ driver {rho_d:.12} closed {rho_c:.12}; period error driver {pe_d:.9} closed {pe_c:.9}"
+            );
+            assert!(
+                (rho_d - rho_c).abs() < 1e-10,
+                "γ {gamma}, Δt/T {ratio}: ρ {rho_d} vs {rho_c}"
+            );
+            assert!(
+                (pe_d - pe_c).abs() < 1e-10 * (1.0 + pe_c.abs()),
+                "γ {gamma}, Δt/T {ratio}: period error {pe_d} vs {pe_c}"
+            );
+            if ratio == 0.01 {
+                assert!(rho_c > 1.0 - 1e-6 && pe_c < 2e-4, "{rho_c} {pe_c}");
+            }
+            if ratio == 0.1 {
+                let trapezoidal = |o: f64| o / (2.0 * (o / 2.0).atan()) - 1.0;
+                assert!(
+                    pe_c > trapezoidal(om / 2.0) && pe_c < trapezoidal(om),
+                    "period error {pe_c} at Δt/T = 0.1"
+                );
+            }
+        }
+    }
+}
+
+/// L-stability (Bathe 2007): as Δt/T → ∞ the two sub-steps' map goes to a nilpotent one
+/// (`u₁ → 0`, `v₁ → (c1 − c2)·u₀`), so the spectral radius goes to 0, as `≈ 0.8/(Δt/T)`
+/// by the closed form (0.0795 at 10, 7.96e-4 at 1000): the closed form's ρ decreases over
+/// Δt/T = 1, 10, 100, 1000 and is below 1e-3 at 1000, and the driver's ρ there (read off
+/// its trajectory as above) matches it within 1e-6 relative (the trajectory shrinks by
+/// 1e-3 a step, so its round-off is larger relative to `det ≈ ρ²`).
+#[test]
+fn bathe_spectral_radius_vanishes_at_large_steps() {
+    let (k, m): (f64, f64) = (1.0e6, 1.0);
+    let w = (k / m).sqrt();
+    let period = 2.0 * std::f64::consts::PI / w;
+    let mut last = 1.0;
+    for ratio in [1.0, 10.0, 100.0, 1000.0] {
+        let om = 2.0 * std::f64::consts::PI * ratio;
+        let (tr, det) = bathe_trace_det(0.5, om);
+        let (rho, _) = rho_and_period_error(tr, det, om);
+        assert!(rho < last, "ρ({ratio}) = {rho} not below {last}");
+        last = rho;
+    }
+    assert!(last < 1e-3, "ρ(1000) = {last}");
+    let dt = 1000.0 * period;
+    let mut d = bathe_driver(k, m, dt, 0.5);
+    let mut x = vec![[d.state.q[0], d.state.v[0] * dt]];
+    for _ in 0..2 {
+        d.step(dt).unwrap();
+        x.push([d.state.q[0], d.state.v[0] * dt]);
+    }
+    let lhs = nalgebra::Matrix2::new(x[1][0], -x[0][0], x[1][1], -x[0][1]);
+    let sol = lhs
+        .lu()
+        .solve(&nalgebra::Vector2::new(x[2][0], x[2][1]))
+        .unwrap();
+    let om = w * dt;
+    let (rho_d, _) = rho_and_period_error(sol[0], sol[1], om);
+    let (rho_c, _) = {
+        let (tr, det) = bathe_trace_det(0.5, om);
+        rho_and_period_error(tr, det, om)
+    };
+    assert!(
+        (rho_d - rho_c).abs() < 1e-6 * rho_c,
+        "ρ at Δt/T = 1000: driver {rho_d} vs closed form {rho_c}"
+    );
+}
+
+/// The energy ledger over Bathe's sub-steps: with no load and no damping, what the ledger
+/// books as the integrator's loss must be exactly the mechanical energy the discrete
+/// solution lost, `E₀ − (½mv² + ½ku²)` (conservation), and the trapezoidal sub-steps lose
+/// nothing (that rule conserves the energy of a linear system exactly), so the loss is
+/// booked on the backward Euler rows alone. Tolerance 1e-9 of E₀ (round-off over 200
+/// sub-steps).
+#[test]
+fn bathe_energy_ledger_books_the_sub_steps() {
+    let (k, m): (f64, f64) = (1.0e6, 1.0);
+    let period = 2.0 * std::f64::consts::PI / (k / m).sqrt();
+    let dt = 0.1 * period;
+    let mut d = bathe_driver(k, m, dt, 0.5);
+    let e0 = 0.5 * k * 1e-6;
+    for _ in 0..100 {
+        d.step(dt).unwrap();
+    }
+    let e = 0.5 * m * d.state.v[0].powi(2) + 0.5 * k * d.state.q[0].powi(2);
+    let ledger = d.energy.as_ref().unwrap();
+    let lost = ledger.totals().integrator;
+    assert!(
+        (lost - (e0 - e)).abs() < 1e-9 * e0,
+        "ledger {lost} vs lost {}",
+        e0 - e
+    );
+    // 100 steps at ρ = 0.999494: the energy fell by ρ^200 ≈ 0.904 (to within the
+    // oscillation of the non-normal map's energy within a period).
+    assert!(e / e0 < 0.95 && e / e0 > 0.85, "E/E₀ = {}", e / e0);
+    let rows = &ledger.history;
+    assert_eq!(rows.len(), 200, "one ledger row per sub-step");
+    for pair in rows.windows(2).skip(1).step_by(2) {
+        // pair = [end of a backward Euler row, end of the next trapezoidal row]
+        let trapezoidal_loss = pair[1].integrator - pair[0].integrator;
+        assert!(
+            trapezoidal_loss.abs() < 1e-9 * e0,
+            "trapezoidal sub-step booked {trapezoidal_loss} J"
+        );
+    }
+}
+
+/// A model naming an integrator nobody registered is refused when the driver is built,
+/// with the file, the key, a suggestion and the registered names.
+#[test]
+fn unknown_integrator_is_refused_with_the_list() {
+    let mut b = ModelBuilder::new("model.toml");
+    b.node(1, [0.0; 3]);
+    b.element(
+        "test_sdof",
+        1,
+        &[1],
+        &serde_json::json!({"k": 1.0, "m": 1.0}),
+    );
+    b.analysis(AnalysisSpec {
+        integrator: railfem_framework::model::IntegratorKind::Registered("bathes".into()),
+        ..Default::default()
+    });
+    let msg = match Driver::new(b.build().unwrap()) {
+        Err(FemError::Input { origin, message }) => format!("{origin}: {message}"),
+        other => panic!("expected an input error, got {:?}", other.map(|_| ())),
+    };
+    for part in [
+        "model.toml: [analysis] integrator",
+        "`bathes`",
+        "did you mean `bathe`",
+        "generalized_alpha, hht, newmark",
+    ] {
+        assert!(msg.contains(part), "{msg}");
     }
 }
