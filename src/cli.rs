@@ -1220,6 +1220,7 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
             )
         })?;
     }
+    c.window = crate::train_window::parse_options(a)?;
     let steps = count("steps")?;
     let out = a
         .out
@@ -1303,6 +1304,16 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
         r.wall,
         out.display()
     );
+    if let Some(w) = r.window {
+        println!(
+            "activity window: {} of {} block-steps held ({:.1} %), {} blocks joined, {} held behind",
+            w.held_block_steps,
+            w.block_steps,
+            100.0 * w.held_block_steps as f64 / w.block_steps.max(1) as f64,
+            w.joined,
+            w.left
+        );
+    }
     if let Some(p) = m.driver.partition_stats().filter(|p| p.ranks > 1) {
         println!(
             "partitioned solver across {} ranks: rank 0 owns {} of {} blocks; it sent {} B and received {} B in {} collectives",

@@ -543,6 +543,18 @@ pub struct TrainBridgeCmd {
     /// Target interior equations per block of the partitioned solver [default: 3000].
     #[arg(long, value_name = "N")]
     pub block_size: Option<OsString>,
+    /// Activity window: on holds the partitioned solver's blocks far from the train at
+    /// their state (straight track, no ground motion) [default: off].
+    #[arg(long, value_name = "on|off")]
+    pub window: Option<OsString>,
+    /// With --window on: a block joins when the train's front is within M metres of it
+    /// [default: two spans plus 3π times the rail's decay length].
+    #[arg(long, value_name = "M")]
+    pub window_ahead: Option<OsString>,
+    /// With --window on: a block behind the train is held once its velocity norm is below
+    /// X times its largest [default: 0.01].
+    #[arg(long, value_name = "X")]
+    pub window_tolerance: Option<OsString>,
     /// Output directory: wheels.csv, midspan.csv, summary.csv, run.json
     /// [default: out/train_bridge].
     #[arg(long, value_name = "DIR")]

@@ -43,6 +43,7 @@ pub mod stress;
 pub mod study;
 pub mod threshold;
 pub mod train_bridge;
+pub mod train_window;
 
 /// Loads a model file, building every element through the registry.
 pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework::FemError> {

@@ -33,5 +33,6 @@ pub mod state;
 pub mod static_lu;
 pub mod thresholds;
 pub mod top_chain;
+pub mod window;
 
 pub use driver::{Driver, ReferenceSystem, RunSummary, State, StepReport};
