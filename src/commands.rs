@@ -424,7 +424,7 @@ pub struct BenchCmd {
     /// beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the
     /// beam with each linear solver), threshold (dense against sparse solver by size) or
     /// floor (time per step against the memory-bandwidth floor) [default: beam].
-    #[arg(long, value_name = "beam|train-bridge|sprung|threshold|floor")]
+    #[arg(long, value_name = "beam|train-bridge|sprung|threshold|floor|window")]
     pub case: Option<OsString>,
     /// DOF counts, comma-separated [default: 1e4,1e5,1e6].
     #[arg(long, value_name = "N1,N2,..")]
@@ -439,9 +439,16 @@ pub struct BenchCmd {
     /// Output directory [default: out/bench].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Carriages of the train-bridge case [default: 1].
+    /// Carriages of the train-bridge case [default: 1]; with --case window a list
+    /// [default: 12].
     #[arg(long, value_name = "N")]
     pub cars: Option<OsString>,
+    /// Spans of the window case, comma-separated [default: 113].
+    #[arg(long, value_name = "N1,N2,..")]
+    pub spans: Option<OsString>,
+    /// Rail element length of the window case in m [default: 0.625].
+    #[arg(long, value_name = "H")]
+    pub element_length: Option<OsString>,
     /// Time step of the train-bridge case in s [default: 5e-4].
     #[arg(long, value_name = "DT")]
     pub dt: Option<OsString>,

@@ -18,6 +18,7 @@ pub mod assess;
 pub mod atomic_file;
 pub mod bench;
 pub mod bench_train;
+pub mod bench_window;
 pub mod bridge_check;
 pub mod cli;
 pub mod commands;
