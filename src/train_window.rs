@@ -14,7 +14,8 @@
 //! the pier it shares with span `k + 1` and tilts that span as a rigid body (one span), and
 //! the track and girders carry waves ahead of the train that a held block reflects instead
 //! of letting them pass. Measured on 2 carriages entering 10 spans (`tests/train_window.rs`,
-//! Δt = 2 ms), the largest ΔQ/Q error against the full model, as a fraction of its peak,
+//! Δt = 2 ms), the largest ΔQ/Q error against the full model, as a fraction of each
+//! wheel's own peak,
 //! falls with `ahead` as 0.73 % (one span + 3π/β = 36.5 m), 0.48 % (50 m), 0.29 % (66 m),
 //! 0.25 % (80 m), 0.12 % (120 m), 0.01 % (200 m): the default is **two spans + 3π/β**
 //! (66 m for 29.75 m spans), the shortest of these with a margin of almost two under the
