@@ -30,8 +30,9 @@
 //! active: the kinetic energy removed is then at most about `tolerance²` of the block's
 //! largest (exactly so for a mass matrix proportional to the identity), and its
 //! displacement is kept as it was, not returned to rest. Both errors act on the load only
-//! through the held block's boundary, a distance (the window) away; `railfem train-bridge
-//! --window` states them against the full model (`docs/performance.md`).
+//! through the held block's boundary, a distance (the window) away; the train–bridge
+//! case measures them against the full model (`tests/train_window.rs`, "The activity
+//! window" in `docs/performance.md`).
 //!
 //! The window itself ([`ActivityWindow`]) knows only stations: each block's extent along
 //! the track and the load's extent `[rear, front]`; the case maps nodes to stations.
@@ -179,7 +180,7 @@ impl ActivityWindow {
             return Err(FemError::input(
                 "activity window",
                 format!(
-                    "a wheel reached held block {b} (stations {:.3} to {:.3} m) at t = {} s; give a larger --window-ahead (or [analysis] window_ahead)",
+                    "a wheel reached held block {b} (stations {:.3} to {:.3} m) at t = {} s; give a larger --window-ahead",
                     self.extents[b][0], self.extents[b][1], driver.state.t
                 ),
             ));
