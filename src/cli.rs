@@ -722,12 +722,15 @@ fn bench(a: &Args) -> Result<i32, FemError> {
     let case = a.opt("case").unwrap_or("beam");
     if !matches!(
         case,
-        "beam" | "train-bridge" | "sprung" | "threshold" | "floor"
+        "beam" | "train-bridge" | "sprung" | "threshold" | "floor" | "window"
     ) {
         return Err(FemError::input(
             "command line",
-            format!("--case {case}: use beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the beam, per solver), threshold (dense against sparse solver by size) or floor (time per step against the memory-bandwidth floor)"),
+            format!("--case {case}: use beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the beam, per solver), threshold (dense against sparse solver by size), floor (time per step against the memory-bandwidth floor) or window (train-bridge step time against spans and carriages, activity window on and off)"),
         ));
+    }
+    if case == "window" {
+        return bench_window(a);
     }
     if case == "threshold" {
         let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/bench"));
@@ -839,6 +842,41 @@ fn bench(a: &Args) -> Result<i32, FemError> {
         return Ok(0);
     }
     crate::bench::run(&sizes, steps, mass, &out)?;
+    Ok(0)
+}
+
+/// `railfem bench --case window` ([`crate::bench_window`]): `--spans` and `--cars` lists
+/// (default 113 and 12), `--steps` timed steps (default 20), `--dt` (default 5e-4 s),
+/// `--element-length` (default 0.625 m), `--train-start` (default -15 m).
+fn bench_window(a: &Args) -> Result<i32, FemError> {
+    let list = |key: &str, default: &str| -> Result<Vec<usize>, FemError> {
+        let spec = a.opt(key).unwrap_or(default);
+        spec.split(',')
+            .map(|x| match x.trim().parse::<usize>() {
+                Ok(v) if v >= 1 => Ok(v),
+                _ => Err(FemError::input(
+                    "command line",
+                    format!("--{key} {spec}: give whole numbers >= 1, comma-separated"),
+                )),
+            })
+            .collect()
+    };
+    let (spans, cars) = (list("spans", "113")?, list("cars", "12")?);
+    let positive = |key: &str, default: f64| -> Result<f64, FemError> {
+        match a.num(key)? {
+            None => Ok(default),
+            Some(v) if v > 0.0 => Ok(v),
+            Some(v) => Err(FemError::input(
+                "command line",
+                format!("--{key} {v}: give a value > 0"),
+            )),
+        }
+    };
+    let steps = positive("steps", 20.0)?.round() as usize;
+    let (dt, h) = (positive("dt", 5e-4)?, positive("element-length", 0.625)?);
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/bench"));
+    let start = a.num("train-start")?.unwrap_or(-15.0);
+    crate::bench_window::run(&spans, &cars, steps.max(1), [dt, h, start], &out)?;
     Ok(0)
 }
 
@@ -1242,6 +1280,7 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
             )
         })?;
     }
+    c.window = crate::train_window::parse_options(a)?;
     let steps = count("steps")?;
     let out = a
         .out
@@ -1325,6 +1364,16 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
         r.wall,
         out.display()
     );
+    if let Some(w) = r.window {
+        println!(
+            "activity window: {} of {} block-steps held ({:.1} %), {} blocks joined, {} held behind",
+            w.held_block_steps,
+            w.block_steps,
+            100.0 * w.held_block_steps as f64 / w.block_steps.max(1) as f64,
+            w.joined,
+            w.left
+        );
+    }
     if let Some(p) = m.driver.partition_stats().filter(|p| p.ranks > 1) {
         println!(
             "partitioned solver across {} ranks: rank 0 owns {} of {} blocks; it sent {} B and received {} B in {} collectives",

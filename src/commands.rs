@@ -431,7 +431,7 @@ pub struct BenchCmd {
     /// beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the
     /// beam with each linear solver), threshold (dense against sparse solver by size) or
     /// floor (time per step against the memory-bandwidth floor) [default: beam].
-    #[arg(long, value_name = "beam|train-bridge|sprung|threshold|floor")]
+    #[arg(long, value_name = "beam|train-bridge|sprung|threshold|floor|window")]
     pub case: Option<OsString>,
     /// DOF counts, comma-separated [default: 1e4,1e5,1e6].
     #[arg(long, value_name = "N1,N2,..")]
@@ -446,9 +446,16 @@ pub struct BenchCmd {
     /// Output directory [default: out/bench].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
-    /// Carriages of the train-bridge case [default: 1].
+    /// Carriages of the train-bridge case [default: 1]; with --case window a list
+    /// [default: 12].
     #[arg(long, value_name = "N")]
     pub cars: Option<OsString>,
+    /// Spans of the window case, comma-separated [default: 113].
+    #[arg(long, value_name = "N1,N2,..")]
+    pub spans: Option<OsString>,
+    /// Rail element length of the window case in m [default: 0.625].
+    #[arg(long, value_name = "H")]
+    pub element_length: Option<OsString>,
     /// Time step of the train-bridge case in s [default: 5e-4].
     #[arg(long, value_name = "DT")]
     pub dt: Option<OsString>,
@@ -550,6 +557,18 @@ pub struct TrainBridgeCmd {
     /// Target interior equations per block of the partitioned solver [default: 3000].
     #[arg(long, value_name = "N")]
     pub block_size: Option<OsString>,
+    /// Activity window: on holds the partitioned solver's blocks far from the train at
+    /// their state (straight track, no ground motion) [default: off].
+    #[arg(long, value_name = "on|off")]
+    pub window: Option<OsString>,
+    /// With --window on: a block joins when the train's front is within M metres of it
+    /// [default: two spans plus 3π times the rail's decay length].
+    #[arg(long, value_name = "M")]
+    pub window_ahead: Option<OsString>,
+    /// With --window on: a block behind the train is held once its velocity norm is below
+    /// X times its largest [default: 0.01].
+    #[arg(long, value_name = "X")]
+    pub window_tolerance: Option<OsString>,
     /// Output directory: wheels.csv, midspan.csv, summary.csv, run.json
     /// [default: out/train_bridge].
     #[arg(long, value_name = "DIR")]

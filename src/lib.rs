@@ -18,6 +18,7 @@ pub mod assess;
 pub mod atomic_file;
 pub mod bench;
 pub mod bench_train;
+pub mod bench_window;
 pub mod bridge_check;
 pub mod cli;
 pub mod commands;
@@ -43,6 +44,7 @@ pub mod stress;
 pub mod study;
 pub mod threshold;
 pub mod train_bridge;
+pub mod train_window;
 
 /// Loads a model file, building every element through the registry.
 pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework::FemError> {

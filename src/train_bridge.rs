@@ -120,6 +120,8 @@ pub struct TrainBridgeCase {
     /// lets the first evaluation find them (docs/performance.md, "The first iteration's
     /// active set").
     pub first_active_set: crate::framework::model::FirstActiveSet,
+    /// The activity window (`--window`, [`crate::train_window`]): off by default.
+    pub window: crate::train_window::WindowChoice,
 }
 
 impl Default for TrainBridgeCase {
@@ -150,6 +152,7 @@ impl Default for TrainBridgeCase {
             geometry: Default::default(),
             train_start: -15.0,
             first_active_set: Default::default(),
+            window: Default::default(),
         }
     }
 }
@@ -421,7 +424,7 @@ impl TrainBridgeCase {
         self.cars as f64 * CarriageData::sks700().car_length + 20.0
     }
 
-    fn bridge(&self) -> BridgeSpec {
+    pub(crate) fn bridge(&self) -> BridgeSpec {
         BridgeSpec {
             span: self.span,
             pier_height: self.pier_height,
@@ -511,6 +514,7 @@ impl TrainBridgeCase {
         if let Some(d) = self.duration {
             pos(d, "duration")?;
         }
+        crate::train_window::validate(self)?;
         if self.cars == 0 || self.spans == 0 {
             return Err(FemError::input(o, "--cars and --spans must be at least 1"));
         }
@@ -778,6 +782,8 @@ pub struct TrainBridgeReport {
     pub iterations: usize,
     /// Wall time of the stepping (s).
     pub wall: f64,
+    /// The activity window's counters (`None`: no window).
+    pub window: Option<crate::solvers::window::WindowStats>,
 }
 
 fn output(d: &Driver, ei: usize, pos: &[usize; 4], buf: &mut Vec<f64>) -> [f64; 4] {
@@ -815,6 +821,7 @@ pub fn run(
     // Preload in increments (the wheels' power-law springs are soft at zero force).
     d.static_solve(0.0, 10)?;
     d.initialize()?;
+    let mut window = crate::train_window::open(d, case)?;
     let names = d.model.elements[m.wheel_index[0]].element.output_names();
     let find = |k: &str| {
         names
@@ -903,6 +910,10 @@ pub fn run(
     let mut interrupted = None;
     let mut bar = crate::progress::Progress::new("train-bridge", total as u64, "steps");
     for k in 1..=total {
+        if let Some(w) = window.as_mut() {
+            let [rear, front] = crate::train_window::train_extent(case, d.state.t);
+            w.update(d, rear, front)?;
+        }
         let r = d.step(dt)?;
         iterations += r.iterations;
         bar.set(k as u64);
@@ -1006,5 +1017,6 @@ pub fn run(
         steps: total,
         iterations,
         wall: start.elapsed().as_secs_f64(),
+        window: window.map(|w| w.stats()),
     })
 }

@@ -575,16 +575,19 @@ impl Driver {
             .map_err(|_| Exit::Fallback)?;
         let pr = Shared(w.r.as_mut_ptr());
         let (f_int, inertia, damp, f_ref_ext) = (&w.f_int, &w.inertia, &w.damp, &w.f_ref_ext);
+        let held = &self.frozen_rows;
         let sums = par_chunks(n, nt, |lo, hi| {
             // SAFETY: chunks are disjoint.
             let r = unsafe { pr.range(lo, hi) };
             let (mut sr, mut sf, mut si) = (0.0, 0.0, 0.0);
             for k in 0..hi - lo {
                 let i = lo + k;
-                let ri = f_ref_ext[i]
-                    - inertia[i]
-                    - damp[i]
-                    - ((1.0 - af) * f_int[i] + af * s0.f_int[i]);
+                // A row the activity window holds is a reaction ([`crate::window`]).
+                let ri = if held.get(i) == Some(&true) {
+                    0.0
+                } else {
+                    f_ref_ext[i] - inertia[i] - damp[i] - ((1.0 - af) * f_int[i] + af * s0.f_int[i])
+                };
                 r[k] = ri;
                 sr += ri * ri;
                 sf += f_int[i] * f_int[i];

@@ -283,6 +283,9 @@ pub struct Driver {
     mass_split: Option<Partitioned>,
     /// The columns to keep once the initial mass solve is done, when it reads more.
     narrow_after_mass: Option<Vec<bool>>,
+    /// One flag per equation: held by the activity window ([`crate::window`]), its
+    /// residual a reaction; empty when nothing is held.
+    pub(crate) frozen_rows: Vec<bool>,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -433,6 +436,7 @@ impl Driver {
             rows_per_rank: false,
             mass_split: None,
             narrow_after_mass: None,
+            frozen_rows: Vec::new(),
         };
         if let (Some(split), Some((ex, _))) = (split, shared) {
             d.take_rank_split(ex, split);
@@ -1261,6 +1265,7 @@ impl Driver {
                     - damp[i]
                     - ((1.0 - af) * f_int[i] + af * s0.f_int[i]);
             }
+            crate::window::zero_held(&self.frozen_rows, r);
             self.summary.timings.assembly += ta.elapsed().as_secs_f64();
             // A linear model takes its one correction whatever the force check says: the
             // check's reference is formed only for a nonlinear model or the trace.
@@ -1361,6 +1366,13 @@ impl Driver {
             halvings = 0;
         }
         unreachable!("the loop returns")
+    }
+
+    /// Zeroes the increment predictor's entries on the `held` rows ([`crate::window`]).
+    pub(crate) fn zero_held_increment(&mut self, held: &[bool]) {
+        if let Some((_, inc)) = &mut self.last_increment {
+            crate::window::zero_held(held, inc);
+        }
     }
 
     /// Advances one step of length `dt`, halving it up to `max_cuts` times when Newton does

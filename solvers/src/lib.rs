@@ -37,5 +37,6 @@ pub mod static_lu;
 pub mod thresholds;
 pub mod time_integrator;
 pub mod top_chain;
+pub mod window;
 
 pub use driver::{Driver, ReferenceSystem, RunSummary, State, StepReport};

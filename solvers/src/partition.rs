@@ -71,6 +71,7 @@ use std::ops::Range;
 use std::sync::Arc;
 use std::time::Instant;
 
+mod frozen;
 mod rows;
 
 const NONE: u32 = u32::MAX;
@@ -209,6 +210,9 @@ struct Block {
     /// they were last sent to rank 0.
     base_unsent: bool,
     promotion_unsent: bool,
+    /// Its interior is held at its present values: the solves skip its passes
+    /// ([`Partitioned::set_frozen_blocks`]).
+    frozen: bool,
 }
 
 /// Rank 0's copy of a block another rank owns: what the top system needs of it.
@@ -682,6 +686,7 @@ impl Partitioned {
             promotion: None,
             base_unsent: false,
             promotion_unsent: false,
+            frozen: false,
         });
     }
 
@@ -1113,11 +1118,23 @@ impl Partitioned {
                         .iter()
                         .map(|b| &b.boundary[..])
                         .collect();
+                    // A held block's interior does not follow its boundary: no correction
+                    // (`frozen.rs`).
+                    let held: Vec<Vec<f64>> = self.blocks[group.blocks.clone()]
+                        .iter()
+                        .map(|b| match b.frozen {
+                            true => vec![0.0; b.boundary.len() * b.boundary.len()],
+                            false => Vec::new(),
+                        })
+                        .collect();
                     let corrections: Vec<&[f64]> = group
                         .blocks
                         .clone()
-                        .map(|b| {
-                            if owned.contains(&b) {
+                        .zip(&held)
+                        .map(|(b, zero)| {
+                            if self.blocks[b].frozen {
+                                &zero[..]
+                            } else if owned.contains(&b) {
                                 &self.blocks[b].state().correction[..]
                             } else {
                                 &self.received[b].correction[..]
@@ -1194,7 +1211,9 @@ impl Partitioned {
         // Reduced position of a top equation.
         let rti = |g: usize| red[ti[g] as usize] as usize;
         for (b, blk) in self.blocks.iter().enumerate() {
-            if in_condensed[b] {
+            // A held block's interior is prescribed: its boundary keeps `A_BB` alone
+            // (`frozen.rs`).
+            if in_condensed[b] || blk.frozen {
                 continue;
             }
             let (correction, g_inv, w_p) = if owned.contains(&b) {
@@ -1288,8 +1307,15 @@ impl Partitioned {
         // equations).
         let parts = par_each(&mut self.blocks[owned], nt, |blk| {
             let Block {
-                base, promotion, ..
+                base,
+                promotion,
+                frozen,
+                ..
             } = blk;
+            if *frozen {
+                // A held interior's rows are reactions, not equations: nothing to condense.
+                return Ok((Vec::new(), Vec::new()));
+            }
             let st = base.as_mut().expect("block factored");
             let mut y: Vec<f64> = st.interior.iter().map(|&i| rhs[i]).collect();
             st.factor.solve_in_place(&mut y)?;
@@ -1484,8 +1510,22 @@ impl Partitioned {
                 base,
                 promotion,
                 promoted,
+                frozen,
                 ..
             } = blk;
+            if *frozen {
+                // A held interior does not move: its part of every column is zero.
+                if let (Some(direct), false) = (&direct, add) {
+                    for (out, &len) in direct.iter().zip(&lens) {
+                        // SAFETY: as below; no other block writes this block's interiors.
+                        let out = unsafe { out.range(0, len) };
+                        for &i in all.iter() {
+                            out[i] = 0.0;
+                        }
+                    }
+                }
+                return Ok(Vec::new());
+            }
             let st = base.as_mut().expect("block factored");
             let ni = st.interior.len();
             let mut z = vec![0.0; ni * nc];

@@ -1,0 +1,257 @@
+//! The activity window: the blocks of the partitioned solver far from a moving load are
+//! held at their state while the load is elsewhere, so that a step's per-block passes
+//! follow the train, not the whole structure.
+//!
+//! **What a held block is.** A block ([`crate::partition`]) is *held* (frozen) while its
+//! interior equations `I_h` are prescribed at their present values: `q_{I_h}` does not
+//! change, `v_{I_h} = a_{I_h} = 0` (set so when the block is held, and kept so by the
+//! integrator, whose kinematics of a zero increment from a state at rest are zero), and the
+//! residual rows `r_{I_h}` are reactions, left out of the convergence test
+//! ([`zero_held`]). The solves skip the block's forward and back passes
+//! ([`crate::partition::Partitioned::set_frozen_blocks`]).
+//!
+//! **What is exact.** Every equation that is not held — the active blocks' interiors, all
+//! separators and carriages, hence both rails across the boundary of a held block — is
+//! solved to the driver's tolerance with the true internal forces: a boundary row's
+//! residual contains `K_{B I_h}·q_{I_h}` with the held values, so the coupling of the held
+//! block to its active neighbours (the rails' continuity, the slab and girder across the
+//! cut) is that of the model, not an approximation of it. The top system keeps the held
+//! block's condensed interface stiffness `A_BB − A_{B I}·A_{II}⁻¹·A_{I B}` (it is not
+//! refactored when the window moves); that is the Newton tangent only, and changes the
+//! iterates' path, not the state they converge to.
+//!
+//! **What is approximate.** Only the held interiors' motion: (1) a block ahead of the load
+//! is held at its initial (static, self-weight) state until the load comes within the
+//! window's distance, so the small quasi-static deflection that the approaching load would
+//! cause there (the rail's, decaying as `e^{−βx}` with `β = (k/(4·EI))^{1/4}`, Hetényi's
+//! beam on elastic foundation), and the pier's share of the next span's load, are not
+//! followed; (2) a block behind the load is held once no load is on it any more and its
+//! velocity norm `|v_I|` has fallen below `tolerance` times the largest it reached while
+//! active: the kinetic energy removed is then at most about `tolerance²` of the block's
+//! largest (exactly so for a mass matrix proportional to the identity), and its
+//! displacement is kept as it was, not returned to rest. Both errors act on the load only
+//! through the held block's boundary, a distance (the window) away; the train–bridge
+//! case measures them against the full model (`tests/train_window.rs`, "The activity
+//! window" in `docs/performance.md`).
+//!
+//! The window itself ([`ActivityWindow`]) knows only stations: each block's extent along
+//! the track and the load's extent `[rear, front]`; the case maps nodes to stations.
+
+use crate::driver::Driver;
+use railfem_framework::error::FemError;
+
+/// Zeroes the held rows of a residual (their values are reactions): nothing when `held`
+/// is empty, so that a run without a window takes exactly the arithmetic it always took.
+pub fn zero_held(held: &[bool], r: &mut [f64]) {
+    if held.is_empty() {
+        return;
+    }
+    for (ri, &h) in r.iter_mut().zip(held) {
+        if h {
+            *ri = 0.0;
+        }
+    }
+}
+
+/// Settings of the activity window.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WindowSettings {
+    /// A block joins when its nearest station comes within this distance ahead of the
+    /// load's front (m).
+    pub ahead: f64,
+    /// A block left behind is held only once its last station is this far behind the
+    /// load's rear (m): the rail's deflection basin behind the last wheel.
+    pub behind: f64,
+    /// A block behind is held once `|v_I| ≤ tolerance·max |v_I|` over its active time.
+    pub tolerance: f64,
+}
+
+/// Where a block is in the window's life.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Phase {
+    /// Held at its initial state: the load has not come within `ahead`.
+    Ahead,
+    /// Solved; the largest velocity norm of its interior so far.
+    Active {
+        /// Largest `|v_I|` seen while active.
+        peak: f64,
+    },
+    /// Held at the state it was left in.
+    Behind,
+}
+
+/// Counters of a window over a run.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct WindowStats {
+    /// Block-steps held (each step, the blocks held during it).
+    pub held_block_steps: usize,
+    /// Block-steps in all.
+    pub block_steps: usize,
+    /// Blocks released from ahead, in all.
+    pub joined: usize,
+    /// Blocks held behind, in all.
+    pub left: usize,
+}
+
+/// The window over the blocks of a driver's partitioned solver (module documentation).
+#[derive(Debug, Clone)]
+pub struct ActivityWindow {
+    settings: WindowSettings,
+    /// Each block's `[first, last]` station (m).
+    extents: Vec<[f64; 2]>,
+    /// Each block's interior equations.
+    interiors: Vec<Vec<usize>>,
+    phases: Vec<Phase>,
+    /// The flags last handed to the driver (held blocks stay at rest by themselves).
+    held: Vec<bool>,
+    stats: WindowStats,
+}
+
+impl ActivityWindow {
+    /// The window for `driver`'s blocks, each node's station given by `station(node
+    /// index)`. The driver must have its partitioned solver's structure (after
+    /// [`Driver::initialize`]); every block starts [`Phase::Ahead`] and the first
+    /// [`ActivityWindow::update`] releases those within reach.
+    pub fn new(
+        driver: &Driver,
+        settings: WindowSettings,
+        station: impl Fn(usize) -> f64,
+    ) -> Result<ActivityWindow, String> {
+        let p = driver
+            .partition
+            .as_ref()
+            .filter(|p| p.block_count() > 0)
+            .ok_or("the activity window needs the partitioned solver (solver = \"partitioned\") with at least one block")?;
+        let mut extents = Vec::with_capacity(p.block_count());
+        let mut interiors = Vec::with_capacity(p.block_count());
+        for b in 0..p.block_count() {
+            let all = p.block_interior(b);
+            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+            for &i in all {
+                let s = station(driver.asm.dofmap.dof_of(i).0);
+                lo = lo.min(s);
+                hi = hi.max(s);
+            }
+            extents.push([lo, hi]);
+            interiors.push(all.to_vec());
+        }
+        let phases = vec![Phase::Ahead; extents.len()];
+        Ok(ActivityWindow {
+            settings,
+            extents,
+            interiors,
+            phases,
+            held: Vec::new(),
+            stats: WindowStats::default(),
+        })
+    }
+
+    /// Each block's phase.
+    pub fn phases(&self) -> &[Phase] {
+        &self.phases
+    }
+
+    /// Each block's `[first, last]` station (m).
+    pub fn extents(&self) -> &[[f64; 2]] {
+        &self.extents
+    }
+
+    /// The counters so far.
+    pub fn stats(&self) -> WindowStats {
+        self.stats
+    }
+
+    /// Moves the window to a load spanning stations `[rear, front]` and holds or releases
+    /// the driver's blocks accordingly (call before each step). A block ahead joins when
+    /// `first ≤ front + ahead`; an active block is held behind when `last < rear − behind`
+    /// and its velocity norm has decayed below the tolerance. A held block that the last
+    /// factorization found a variable element on (a wheel reached it: the window is too
+    /// short) is an input error naming the fix, never a silently wrong step.
+    pub fn update(&mut self, driver: &mut Driver, rear: f64, front: f64) -> Result<(), FemError> {
+        let WindowSettings {
+            ahead,
+            behind,
+            tolerance,
+        } = self.settings;
+        let p = driver.partition.as_ref().expect("checked at construction");
+        if let Some(b) =
+            (0..self.phases.len()).find(|&b| p.block_frozen(b) && p.block_has_promoted(b))
+        {
+            return Err(FemError::input(
+                "activity window",
+                format!(
+                    "a wheel reached held block {b} (stations {:.3} to {:.3} m) at t = {} s; give a larger --window-ahead",
+                    self.extents[b][0], self.extents[b][1], driver.state.t
+                ),
+            ));
+        }
+        let v = &driver.state.v;
+        for (b, phase) in self.phases.iter_mut().enumerate() {
+            let [lo, hi] = self.extents[b];
+            if *phase == Phase::Ahead && lo <= front + ahead {
+                *phase = Phase::Active { peak: 0.0 };
+                self.stats.joined += 1;
+            }
+            if let Phase::Active { peak } = phase {
+                let norm = self.interiors[b]
+                    .iter()
+                    .map(|&i| v[i] * v[i])
+                    .sum::<f64>()
+                    .sqrt();
+                *peak = peak.max(norm);
+                if hi < rear - behind && norm <= tolerance * *peak {
+                    *phase = Phase::Behind;
+                    self.stats.left += 1;
+                }
+            }
+        }
+        let frozen: Vec<bool> = self
+            .phases
+            .iter()
+            .map(|ph| !matches!(ph, Phase::Active { .. }))
+            .collect();
+        self.stats.block_steps += frozen.len();
+        self.stats.held_block_steps += frozen.iter().filter(|&&f| f).count();
+        if frozen == self.held {
+            return Ok(());
+        }
+        driver
+            .hold_blocks(&frozen)
+            .map_err(|m| FemError::input("activity window", m))?;
+        self.held = frozen;
+        Ok(())
+    }
+}
+
+impl Driver {
+    /// Holds the partitioned solver's blocks flagged in `frozen` (one flag per block) and
+    /// releases the others (module documentation): their interiors' velocities and
+    /// accelerations are set to zero, the increment predictor's entries too, and their
+    /// residual rows become reactions. Nothing flagged: the driver is exactly as without a
+    /// window.
+    pub fn hold_blocks(&mut self, frozen: &[bool]) -> Result<(), String> {
+        let n = self.neq();
+        let p = self
+            .partition
+            .as_mut()
+            .ok_or("held blocks need the partitioned solver")?;
+        p.set_frozen_blocks(frozen)?;
+        if !frozen.iter().any(|&f| f) {
+            self.frozen_rows.clear();
+            return Ok(());
+        }
+        let mut rows = vec![false; n];
+        for (b, _) in frozen.iter().enumerate().filter(|(_, &f)| f) {
+            for &i in p.block_interior(b) {
+                rows[i] = true;
+            }
+        }
+        for i in (0..n).filter(|&i| rows[i]) {
+            self.state.v[i] = 0.0;
+            self.state.a[i] = 0.0;
+        }
+        self.zero_held_increment(&rows);
+        self.frozen_rows = rows;
+        Ok(())
+    }
+}

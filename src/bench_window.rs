@@ -1,0 +1,168 @@
+//! `railfem bench --case window`: how the train–bridge step's cost grows with the bridge
+//! and with the train, with the activity window ([`crate::train_window`]) on and off.
+//!
+//! For each number of spans and of carriages the case is built twice and stepped with the
+//! window off and then on, back to back in the same process, so that both runs see the
+//! same machine: the ratio of their times is a same-run ratio. Each run solves the static
+//! preload, takes one untimed step (the transient's block factorizations, once per Δt) and
+//! then times `steps` steps: wall time per step, CPU time per step (all threads), and the
+//! load average before and after, printed and written to `window.csv` and `window.md`.
+
+use crate::framework::model::SolverChoice;
+use crate::framework::FemError;
+use crate::train_bridge::{build, TrainBridgeCase};
+use crate::train_window::{open, train_extent, WindowChoice, WindowOptions};
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+/// One timed run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WindowRow {
+    /// Spans and carriages.
+    pub spans: usize,
+    /// Carriages.
+    pub cars: usize,
+    /// Equations.
+    pub dofs: usize,
+    /// Whether the window was on.
+    pub window: bool,
+    /// Wall and CPU seconds per timed step.
+    pub wall_per_step: f64,
+    /// CPU seconds per timed step (all threads).
+    pub cpu_per_step: f64,
+    /// Newton iterations per timed step.
+    pub iterations_per_step: f64,
+    /// Fraction of block-steps held (0 without the window).
+    pub held: f64,
+    /// Load average (1 min) before the run.
+    pub load: String,
+}
+
+fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError> {
+    let mut m = build(case)?;
+    let d = &mut m.driver;
+    d.static_solve(0.0, 10)?;
+    d.initialize()?;
+    let mut window = open(d, case)?;
+    let mut step = |d: &mut crate::solvers::Driver| -> Result<usize, FemError> {
+        if let Some(w) = window.as_mut() {
+            let [rear, front] = train_extent(case, d.state.t);
+            w.update(d, rear, front)?;
+        }
+        Ok(d.step(case.dt)?.iterations)
+    };
+    step(d)?;
+    let load = crate::load_average::loadavg();
+    let (t0, c0) = (Instant::now(), crate::cpu_time::process_seconds());
+    let mut iterations = 0;
+    for _ in 0..steps {
+        iterations += step(d)?;
+    }
+    let wall = t0.elapsed().as_secs_f64();
+    let cpu = crate::cpu_time::process_seconds() - c0;
+    let held = window.as_ref().map_or(0.0, |w| {
+        let s = w.stats();
+        s.held_block_steps as f64 / s.block_steps.max(1) as f64
+    });
+    Ok(WindowRow {
+        spans: case.spans,
+        cars: case.cars,
+        dofs: m.dofs,
+        window: window.is_some(),
+        wall_per_step: wall / steps as f64,
+        cpu_per_step: cpu / steps as f64,
+        iterations_per_step: iterations as f64 / steps as f64,
+        held,
+        load,
+    })
+}
+
+/// Times every `(spans, cars)` of the lists, window off then on, with `steps` timed steps
+/// of `dt` on rails of element length `h`, the front carriage's centre starting at
+/// `train_start` from the first abutment; writes `window.csv` and `window.md` into `out`.
+pub fn run(
+    spans: &[usize],
+    cars: &[usize],
+    steps: usize,
+    [dt, h, train_start]: [f64; 3],
+    out: &Path,
+) -> Result<Vec<WindowRow>, FemError> {
+    std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
+    let mut rows = Vec::new();
+    for &ns in spans {
+        for &nc in cars {
+            for window in [
+                WindowChoice::Off,
+                WindowChoice::On(WindowOptions::default()),
+            ] {
+                let case = TrainBridgeCase {
+                    spans: ns,
+                    cars: nc,
+                    dt,
+                    element_length: h,
+                    train_start,
+                    solver: SolverChoice::Partitioned,
+                    window,
+                    ..Default::default()
+                };
+                let r = time_one(&case, steps)?;
+                println!(
+                    "{} spans, {} cars, {} DOF, window {}: {:.1} ms/step wall, {:.1} ms/step CPU, {:.2} iterations/step, {:.1} % of block-steps held; load {}",
+                    r.spans,
+                    r.cars,
+                    r.dofs,
+                    if r.window { "on" } else { "off" },
+                    1e3 * r.wall_per_step,
+                    1e3 * r.cpu_per_step,
+                    r.iterations_per_step,
+                    100.0 * r.held,
+                    r.load
+                );
+                rows.push(r);
+            }
+        }
+    }
+    let mut csv = String::from(
+        "spans [-],cars [-],dofs [-],window [-],wall_per_step [s],cpu_per_step [s],iterations_per_step [-],held [-]\n",
+    );
+    let mut md = String::from(
+        "| spans | cars | DOF | window | wall ms/step | CPU ms/step | iterations/step | held | on/off (CPU) | load before |\n|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for (k, r) in rows.iter().enumerate() {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{:.6e},{:.6e},{:.4},{:.4}",
+            r.spans,
+            r.cars,
+            r.dofs,
+            u8::from(r.window),
+            r.wall_per_step,
+            r.cpu_per_step,
+            r.iterations_per_step,
+            r.held
+        );
+        let ratio = match (r.window, k.checked_sub(1).map(|j| &rows[j])) {
+            (true, Some(off)) => format!("{:.2}", r.cpu_per_step / off.cpu_per_step),
+            _ => String::new(),
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.1} | {:.1} | {:.2} | {:.0} % | {ratio} | {} |",
+            r.spans,
+            r.cars,
+            r.dofs,
+            if r.window { "on" } else { "off" },
+            1e3 * r.wall_per_step,
+            1e3 * r.cpu_per_step,
+            r.iterations_per_step,
+            100.0 * r.held,
+            r.load
+        );
+    }
+    for (name, text) in [("window.csv", csv), ("window.md", md)] {
+        let p = out.join(name);
+        std::fs::write(&p, text).map_err(|e| FemError::output(&p, e))?;
+    }
+    Ok(rows)
+}
