@@ -19,6 +19,7 @@ pub mod atomic_file;
 pub mod bench;
 pub mod bench_train;
 pub mod bridge_check;
+pub mod choice;
 pub mod cli;
 pub mod commands;
 pub mod contact_tool;

@@ -16,7 +16,9 @@
 //! without writing the files; the Python bindings hand these to numpy.
 
 use crate::assembly::Assembler;
-use crate::comfort::{en12299_p95, n_mv, sperling_wz, Direction, EN12299_WINDOW_S, W_B, W_D};
+use crate::comfort::{
+    en12299_p95, n_mv, sperling_wz, ComfortMethod, Direction, EN12299_WINDOW_S, W_B, W_D,
+};
 use crate::dof::{Dof, DofSet};
 use crate::error::FemError;
 use crate::model::Model;
@@ -109,15 +111,11 @@ pub enum RecorderSpec {
         #[serde(default)]
         longitudinal: Vec<String>,
         /// `"sperling"` (Sperling's Wz) or `"en12299"` (the simplified N_MV).
-        #[serde(default = "default_comfort_method")]
-        method: String,
+        #[serde(default)]
+        method: ComfortMethod,
         /// Output file name, relative to the output directory.
         file: String,
     },
-}
-
-fn default_comfort_method() -> String {
-    "sperling".to_string()
 }
 
 /// Bytes a comfort recorder keeps or allocates per column and recorded step: the
@@ -232,7 +230,7 @@ impl RecorderSpec {
                     &o,
                     ids.len(),
                     [vertical, lateral, longitudinal],
-                    method,
+                    *method,
                 )?;
             }
             RecorderSpec::Element { outputs, .. } => {
@@ -270,18 +268,10 @@ fn validate_comfort(
     o: &str,
     nodes: usize,
     [vertical, lateral, longitudinal]: [&Vec<String>; 3],
-    method: &str,
+    method: ComfortMethod,
 ) -> Result<(), FemError> {
     let bad = |m: String| FemError::input(o, m);
-    let en = match method {
-        "sperling" => false,
-        "en12299" => true,
-        _ => {
-            return Err(bad(format!(
-                "`method` = \"{method}\" is not offered; give \"sperling\" (Sperling's Wz) or \"en12299\" (the simplified mean comfort N_MV)"
-            )))
-        }
-    };
+    let en = method == ComfortMethod::En12299;
     if vertical.is_empty() && lateral.is_empty() && longitudinal.is_empty() {
         return Err(bad(
             "names no direction; add `vertical = [\"uz\"]` and/or `lateral = [\"uy\"]` (translational DOFs)".into(),
@@ -553,7 +543,7 @@ impl Recorders {
                         }
                     }
                     comfort = Some(ComfortHistory {
-                        en12299: method == "en12299",
+                        en12299: *method == ComfortMethod::En12299,
                         values: vec![Vec::new(); cols.len()],
                         columns: cols,
                         time: Vec::new(),
