@@ -65,7 +65,7 @@ fn a_comfort_method_outside_the_list_is_refused_with_the_list() {
 }
 
 /// The wheel's string choices (`moving_axle` through a vehicle's `wheel` table), the
-/// train's `suspension_tangent` and its `record.comfort_method`.
+/// train's `suspension_tangent`, its `record.comfort_method` and its `preset`.
 #[test]
 fn the_wheel_and_train_choices_are_refused_with_their_lists() {
     for (case, to, key, list) in [
@@ -96,6 +96,13 @@ fn the_wheel_and_train_choices_are_refused_with_their_lists() {
     ] {
         check_train(case, "wheel = {mu = 0.3}", to, &[], &[key, list]);
     }
+    check_train(
+        "preset",
+        "preset = \"sks700\"",
+        "preset = \"ice3\"",
+        &[],
+        &["`vehicle[0].preset`: unknown variant `ice3`, expected `sks700`"],
+    );
 }
 
 /// A `suspension` element's `tangent` (the same enum as the train's).

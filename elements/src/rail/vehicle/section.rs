@@ -90,6 +90,14 @@ struct TrainKeys {
     vehicles: Option<Vec<Value>>,
 }
 
+/// The built-in vehicles a `[[vehicle]]` entry names with `preset`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum Preset {
+    /// The sks700 carriage of the paper (`"sks700"`).
+    Sks700,
+}
+
 fn default_name() -> String {
     "train".into()
 }
@@ -206,17 +214,9 @@ fn unit(
     if !inline.is_empty() {
         return Ok((definition_from(&Value::Object(inline), o, at)?, count));
     }
-    match map.get("preset").map(|p| p.as_str()) {
-        Some(Some("sks700")) | None => {}
-        Some(other) => {
-            return Err(FemError::input(
-                o,
-                format!(
-                    "unknown preset `{}`; the presets are: sks700",
-                    other.unwrap_or("?")
-                ),
-            ))
-        }
+    if let Some(p) = map.get("preset") {
+        // One preset so far; a closed choice all the same, refused with the list.
+        let Preset::Sks700 = from_value::<Preset>(p, o, &keypath::join(at, "preset"))?;
     }
     match map.get("carriage") {
         None => Ok((sks700()?, count)),
