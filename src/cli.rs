@@ -7,6 +7,7 @@
 
 pub use crate::args::Args;
 use crate::commands::Cli;
+use crate::elements::rail::creep::law::{PolachSpin, Tangential};
 use crate::framework::error::nearest;
 use crate::framework::FemError;
 use clap::parser::ValueSource;
@@ -626,9 +627,9 @@ fn curve(a: &Args) -> Result<i32, FemError> {
         case.lengths = [60.0, 300.0, 700.0, 300.0, 60.0];
     }
     if let Some(t) = a.opt("tangential") {
-        case.tangential = t.to_string();
+        case.tangential = crate::choice::parse("command line", "--tangential", t)?;
     }
-    case.polach_spin = polach_spin(a, &case.tangential)?;
+    case.polach_spin = polach_spin(a, case.tangential)?;
     case.geometry = geometry(a)?;
     case.first_active_set = first_active_set(a, case.first_active_set)?;
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from("out/curve"));
@@ -639,7 +640,7 @@ fn curve(a: &Args) -> Result<i32, FemError> {
     println!(
         "curve: R = {} m, Ct = {} m, V = {} m/s, mu = {}, dt = {} s{}: {} steps, {} Newton iterations, {:.2} s",
         case.radius, case.ct, case.speed, case.mu, case.dt,
-        if case.tangential == "coulomb" { String::new() } else { format!(", tangential {}", case.tangential) },
+        if case.tangential == Tangential::Coulomb { String::new() } else { format!(", tangential {}", case.tangential.name()) },
         r.steps, r.iterations, r.wall
     );
     println!(
@@ -1038,13 +1039,11 @@ fn critical(a: &Args) -> Result<i32, FemError> {
             ))
         }
     };
-    let tangential = a.opt("tangential").unwrap_or("coulomb");
-    if !["coulomb", "kalker_linear", "polach", "fastsim"].contains(&tangential) {
-        return Err(FemError::input(
-            "command line",
-            format!("--tangential {tangential}: use coulomb, kalker_linear, polach or fastsim"),
-        ));
-    }
+    let tangential: Tangential = crate::choice::parse(
+        "command line",
+        "--tangential",
+        a.opt("tangential").unwrap_or("coulomb"),
+    )?;
     if a.flags.iter().any(|f| f == "sweep") {
         if let Some(t) = a.opt("tangential").filter(|t| *t != "coulomb") {
             return Err(FemError::input(
@@ -1138,7 +1137,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
         clothoid: a.num("clothoid")?.unwrap_or(2000.0),
         dt: a.num("dt")?.unwrap_or(0.01),
         geometry: geometry(a)?,
-        tangential: tangential.to_string(),
+        tangential,
         polach_spin: polach_spin(a, tangential)?,
     };
     let out = a.out.clone();
@@ -1150,7 +1149,7 @@ fn critical(a: &Args) -> Result<i32, FemError> {
     println!(
         "{:?}: V = {} m/s, Ct = {} m, mu = {}{}: FE {} (gross sliding {}), theory (statics) {}, Eq. 25 as printed {}",
         case.criterion, case.speed, case.ct, case.mu,
-        if case.tangential == "coulomb" { String::new() } else { format!(", tangential {}", case.tangential) },
+        if case.tangential == Tangential::Coulomb { String::new() } else { format!(", tangential {}", case.tangential.name()) },
         f(r.fe), f(r.fe_gross), f(r.theory), f(r.theory_printed)
     );
     if let (Some(fe), Some(th)) = (r.fe, r.theory) {
@@ -1402,23 +1401,18 @@ fn train_bridge(a: &Args) -> Result<i32, FemError> {
 
 /// `--polach-spin off|polach_1999` (the `moving_axle` key `polach_spin`), checked against
 /// the law it belongs to: only `--tangential polach` has the term.
-fn polach_spin(a: &Args, tangential: &str) -> Result<Option<String>, FemError> {
+fn polach_spin(a: &Args, tangential: Tangential) -> Result<Option<PolachSpin>, FemError> {
     let Some(v) = a.opt("polach-spin") else {
         return Ok(None);
     };
-    if !["off", "polach_1999"].contains(&v) {
+    let spin = crate::choice::parse("command line", "--polach-spin", v)?;
+    if tangential != Tangential::Polach {
         return Err(FemError::input(
             "command line",
-            format!("--polach-spin {v}: use off (Polach 2005, the default) or polach_1999 (his spin term)"),
+            format!("--polach-spin {v} with --tangential {}: the spin term belongs to Polach's law; add --tangential polach or drop --polach-spin", tangential.name()),
         ));
     }
-    if tangential != "polach" {
-        return Err(FemError::input(
-            "command line",
-            format!("--polach-spin {v} with --tangential {tangential}: the spin term belongs to Polach's law; add --tangential polach or drop --polach-spin"),
-        ));
-    }
-    Ok(Some(v.to_string()))
+    Ok(Some(spin))
 }
 
 /// A model file's partitioned solver shared among the ranks of `mpirun -n P` (P > 1): each

@@ -58,15 +58,11 @@ pub struct CriticalCase {
     pub geometry: Geometry,
     /// Tangential law of the wheels (`moving_axle` key `tangential`): "coulomb" (the
     /// paper's), "kalker_linear" or "polach" (docs/creep.md).
-    #[serde(default = "coulomb")]
-    pub tangential: String,
+    #[serde(default)]
+    pub tangential: crate::elements::rail::creep::law::Tangential,
     /// Polach's spin term (`moving_axle` key `polach_spin`); `None`: the element's default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub polach_spin: Option<String>,
-}
-
-fn coulomb() -> String {
-    "coulomb".into()
+    pub polach_spin: Option<crate::elements::rail::creep::law::PolachSpin>,
 }
 
 /// What one run found (radii in m; `None` when not reached).
@@ -190,10 +186,10 @@ pub fn run_with_sections(
         lengths: [lead, case.clothoid, 200.0, 50.0, 50.0],
         start: 20.0,
         duration: (lead + case.clothoid + 150.0 - 20.0) / case.speed,
-        sliding_tangent: "consistent".into(),
+        sliding_tangent: crate::elements::rail::contact_law::SlidingTangent::Consistent,
         geometry: case.geometry,
-        tangential: case.tangential.clone(),
-        polach_spin: case.polach_spin.clone(),
+        tangential: case.tangential,
+        polach_spin: case.polach_spin,
         ..CurveCase::default()
     };
     let mut m = curve.build()?;
@@ -419,7 +415,7 @@ pub fn sweep(
                     clothoid,
                     dt,
                     geometry,
-                    tangential: coulomb(),
+                    tangential: crate::elements::rail::creep::law::Tangential::Coulomb,
                     polach_spin: None,
                 });
             }
@@ -559,7 +555,7 @@ pub fn write_sweep(
                 clothoid: 0.0,
                 dt: 0.0,
                 geometry: Geometry::Linear,
-                tangential: coulomb(),
+                tangential: crate::elements::rail::creep::law::Tangential::Coulomb,
                 polach_spin: None,
             };
             let (st, _) = theory_radius(&case, 1.507, 9.81);

@@ -13,6 +13,7 @@
 
 use crate::elements::rail::alignment::{Alignment, Segment};
 use crate::elements::rail::cant::{Cant, Track};
+use crate::elements::rail::creep::law::Tangential;
 use crate::elements::rail::lean::{self, ArcPoint};
 use crate::elements::rail::theory::{self, Carriage, Operation, TrackParams, Variant};
 use crate::elements::rail::track_model::{self, TrackMesh};
@@ -58,7 +59,7 @@ pub struct CurveCase {
     /// Record every n-th step.
     pub record_every: usize,
     /// Sliding tangent of the wheels: "symmetric" (Eq. 8) or "consistent".
-    pub sliding_tangent: String,
+    pub sliding_tangent: crate::elements::rail::contact_law::SlidingTangent,
     /// Write ParaView output (`paraview/carriage.pvd`) every this many steps (0: none).
     pub vtk_every: usize,
     /// Distance into the arc after which the comparison with theory starts (m): the
@@ -79,10 +80,10 @@ pub struct CurveCase {
     pub anti_roll: f64,
     /// Tangential law of the wheels (`moving_axle` key `tangential`): "coulomb" (the
     /// paper's), "kalker_linear" or "polach" (docs/creep.md).
-    pub tangential: String,
+    pub tangential: crate::elements::rail::creep::law::Tangential,
     /// Polach's spin term (`moving_axle` key `polach_spin`, with `tangential = "polach"`):
     /// `None` leaves the element's default ("off").
-    pub polach_spin: Option<String>,
+    pub polach_spin: Option<crate::elements::rail::creep::law::PolachSpin>,
 }
 
 impl CurveCase {
@@ -123,13 +124,13 @@ impl Default for CurveCase {
             rho_inf: 0.8,
             duration: 0.0,
             record_every: 10,
-            sliding_tangent: "symmetric".into(),
+            sliding_tangent: crate::elements::rail::contact_law::SlidingTangent::Symmetric,
             settle: 400.0,
             vtk_every: 0,
             geometry: Geometry::Linear,
             first_active_set: crate::framework::model::FirstActiveSet::Found,
             anti_roll: 0.0,
-            tangential: "coulomb".into(),
+            tangential: crate::elements::rail::creep::law::Tangential::Coulomb,
             polach_spin: None,
         }
     }
@@ -288,11 +289,11 @@ impl CurveCase {
             "mu": self.mu, "k": self.penalty, "k_v": self.penalty,
             "sliding_tangent": self.sliding_tangent,
         });
-        if self.tangential != "coulomb" {
-            wheel["tangential"] = serde_json::Value::String(self.tangential.clone());
+        if self.tangential != Tangential::Coulomb {
+            wheel["tangential"] = serde_json::json!(self.tangential);
         }
-        if let Some(s) = &self.polach_spin {
-            wheel["polach_spin"] = serde_json::Value::String(s.clone());
+        if let Some(s) = self.polach_spin {
+            wheel["polach_spin"] = serde_json::json!(s);
         }
         let spec = TrainSpec {
             name: "sks700".into(),
@@ -305,7 +306,7 @@ impl CurveCase {
             wheel,
             first_node_id: 0,
             geometry: Some(self.geometry),
-            suspension_tangent: "symmetric".into(),
+            suspension_tangent: crate::elements::suspension::SuspensionTangent::Symmetric,
         };
         let end = track.length() - 15.0 - self.start;
         let duration = if self.duration > 0.0 {
@@ -327,7 +328,7 @@ impl CurveCase {
                 // (spin, contact masters); predicting it from the last step saves about
                 // one Newton iteration per step (docs/performance.md). Coulomb keeps the
                 // paper's run as it was.
-                predictor: if self.tangential == "coulomb" {
+                predictor: if self.tangential == Tangential::Coulomb {
                     Predictor::Previous
                 } else {
                     Predictor::Increment

@@ -20,6 +20,7 @@ pub mod bench;
 pub mod bench_train;
 pub mod bench_window;
 pub mod bridge_check;
+pub mod choice;
 pub mod cli;
 pub mod commands;
 pub mod contact_tool;

@@ -19,6 +19,14 @@ fn main() {
         }
         eprintln!("railfem: internal error{at}: {msg} — please report this with the model file");
     }));
+    // A file size limit (`ulimit -f`, `prlimit --fsize`) kills a process that writes past
+    // it with SIGXFSZ unless the signal is ignored; ignored, the write returns EFBIG and
+    // the run stops as on a full disk: exit code 2, one line naming the file, whole lines.
+    #[cfg(unix)]
+    // SAFETY: setting a signal's disposition to SIG_IGN before any thread is started.
+    unsafe {
+        libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+    }
     let argv: Vec<std::ffi::OsString> = std::env::args_os().skip(1).collect();
     let code = match std::panic::catch_unwind(|| {
         railfem::cli::parse(&argv).and_then(|a| railfem::cli::run(&a))

@@ -347,7 +347,7 @@ pub fn sprung_run(
     );
     b.load(LoadSpec::Nodal {
         node: mass_node,
-        dof: "uz".into(),
+        dof: Dof::Uz,
         value: -SPRUNG_MASS * GRAVITY,
         series: TimeSeries::Constant,
     });

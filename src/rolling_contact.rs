@@ -97,7 +97,7 @@ pub struct Case {
     /// None: straight track.
     pub curve_radius: Option<f64>,
     /// Tangential law of the wheels.
-    pub tangential: String,
+    pub tangential: crate::elements::rail::creep::law::Tangential,
     /// Rail profile nodes of the 60E1 head.
     pub rail_nodes: usize,
 }
@@ -113,7 +113,7 @@ impl Case {
             offset: 2e-3,
             suspended: None,
             curve_radius: None,
-            tangential: "kalker_linear".into(),
+            tangential: crate::elements::rail::creep::law::Tangential::KalkerLinear,
             rail_nodes: 41,
         }
     }
@@ -207,7 +207,8 @@ pub fn write_model(case: &Case, dir: &Path) -> Result<PathBuf, FemError> {
     };
     let wheel = format!(
         "{{model = \"moving_axle\", {wheel_keys}rail_nodes = {}, tangential = \"{}\"}}",
-        case.rail_nodes, case.tangential
+        case.rail_nodes,
+        case.tangential.name()
     );
     let track = match case.curve_radius {
         None => format!(

@@ -272,7 +272,7 @@ pub fn beam(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow,
     let mid = ne as u64 / 2 + 1;
     b.load(LoadSpec::Nodal {
         node: mid,
-        dof: "uy".into(),
+        dof: Dof::Uy,
         value: -f,
         series: TimeSeries::Constant,
     });
@@ -327,7 +327,7 @@ struct WheelsetSpec {
     mesh: TrackMesh,
     wheel: serde_json::Value,
     fix: DofSet,
-    loads: Vec<(&'static str, f64, TimeSeries)>,
+    loads: Vec<(Dof, f64, TimeSeries)>,
     analysis: AnalysisSpec,
 }
 
@@ -369,7 +369,7 @@ fn wheelset(s: &WheelsetSpec) -> Result<Wheelset, FemError> {
     for (dof, value, series) in &s.loads {
         b.load(LoadSpec::Nodal {
             node: 1,
-            dof: dof.to_string(),
+            dof: *dof,
             value: *value,
             series: series.clone(),
         });
@@ -428,7 +428,7 @@ pub fn penalty(penalty: f64, steps: usize) -> Result<StressRow, FemError> {
         mesh: TrackMesh::default(),
         wheel: serde_json::json!({"k": penalty, "k_v": penalty, "mu": 0.3}),
         fix: DofSet::of(&[Dof::Ux, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]),
-        loads: vec![("uy", -2.0 * N_WHEEL, TimeSeries::Constant)],
+        loads: vec![(Dof::Uy, -2.0 * N_WHEEL, TimeSeries::Constant)],
         analysis: wheel_analysis("newmark", dt)?,
     }) {
         Ok(w) => w,
@@ -490,7 +490,7 @@ pub fn speed(speed: f64, duration: f64) -> Result<StressRow, FemError> {
         },
         wheel: serde_json::json!({"mu": 0.3}),
         fix: DofSet::of(&[Dof::Rx]),
-        loads: vec![("uy", -2.0 * N_WHEEL, TimeSeries::Constant)],
+        loads: vec![(Dof::Uy, -2.0 * N_WHEEL, TimeSeries::Constant)],
         analysis: {
             let mut a = wheel_analysis("galpha:0", dt)?;
             a.newton.tol = 1e-9;
@@ -579,7 +579,7 @@ pub fn drop(
         mesh: TrackMesh::default(),
         wheel: serde_json::json!({"mu": 0.0, "k": penalty, "k_v": penalty}),
         fix: DofSet::of(&[Dof::Ux, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]),
-        loads: vec![("uy", -w, TimeSeries::Constant)],
+        loads: vec![(Dof::Uy, -w, TimeSeries::Constant)],
         analysis: {
             // Residual floor 1e-3 N (5e-8 of the weight): at the instant of re-contact the
             // penalty switches on inside a step and 1e-6 N is below what the contact
@@ -665,7 +665,7 @@ pub fn joint_dip(speed: f64, depth: f64) -> Result<StressRow, FemError> {
         },
         wheel: serde_json::json!({"mu": 0.3}),
         fix: DofSet::of(&[Dof::Ux, Dof::Uz, Dof::Rx, Dof::Ry, Dof::Rz]),
-        loads: vec![("uy", -2.0 * N_WHEEL, TimeSeries::Constant)],
+        loads: vec![(Dof::Uy, -2.0 * N_WHEEL, TimeSeries::Constant)],
         analysis: wheel_analysis("newmark", dt)?,
     }) {
         Ok(w) => w,
@@ -750,9 +750,9 @@ pub fn stick_slip(overshoot: f64, steps: usize) -> Result<(StressRow, SlipReport
         wheel: serde_json::json!({"mu": mu, "sliding_tangent": "consistent"}),
         fix: DofSet::of(&[Dof::Uz, Dof::Ry, Dof::Rz]),
         loads: vec![
-            ("uy", -2.0 * N_WHEEL, TimeSeries::Constant),
+            (Dof::Uy, -2.0 * N_WHEEL, TimeSeries::Constant),
             (
-                "ux",
+                Dof::Ux,
                 lateral,
                 TimeSeries::Table {
                     points: vec![[0.0, 0.0], [0.2, 1.0], [10.0, 1.0]],

@@ -638,7 +638,7 @@ fn build_with(
         wheel: serde_json::json!({"mu": case.mu, "k": case.penalty, "k_v": case.penalty}),
         first_node_id: 0,
         geometry: Some(case.geometry),
-        suspension_tangent: "symmetric".into(),
+        suspension_tangent: crate::elements::suspension::SuspensionTangent::Symmetric,
     };
     let car_len = CarriageData::sks700().car_length;
     let duration = case.duration.unwrap_or(

@@ -128,7 +128,7 @@ fn midspan_under_point_load(soft: bool) -> f64 {
     assert_eq!(br.spans[0].end - br.spans[0].start, SPAN);
     b.load(LoadSpec::Nodal {
         node: mid,
-        dof: "uz".into(),
+        dof: railfem::framework::Dof::Uz,
         value: -P,
         series: TimeSeries::Constant,
     });
@@ -208,7 +208,7 @@ fn slab_track_matches_hetenyi() {
     for r in 0..2 {
         b.load(LoadSpec::Nodal {
             node: tm.rails[r].first_id + i0 as u64,
-            dof: "uz".into(),
+            dof: railfem::framework::Dof::Uz,
             value: -P / 10.0,
             series: TimeSeries::Constant,
         });
@@ -271,7 +271,7 @@ fn adjacent_spans_are_independent() {
     assert!(br.pier_tops[1].is_some() && br.pier_tops[0].is_none());
     b.load(LoadSpec::Nodal {
         node: br.midspan_node(0).unwrap(),
-        dof: "uz".into(),
+        dof: railfem::framework::Dof::Uz,
         value: -P,
         series: TimeSeries::Constant,
     });

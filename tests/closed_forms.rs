@@ -41,7 +41,7 @@ fn cantilever_tip(dof: Dof, value: f64) -> [f64; 6] {
     b.element("beam3d", 1, &[1, 2], &beam_params());
     b.load(LoadSpec::Nodal {
         node: 2,
-        dof: dof.name().to_string(),
+        dof,
         value,
         series: TimeSeries::Constant,
     });
@@ -327,7 +327,7 @@ fn equivalence_builder() -> ModelBuilder {
     );
     b.load(LoadSpec::Nodal {
         node: 4,
-        dof: "uz".into(),
+        dof: railfem::framework::Dof::Uz,
         value: -1234.5,
         series: TimeSeries::Sine {
             amplitude: 1.0,

@@ -104,14 +104,14 @@ fn build_with(
     );
     b.load(LoadSpec::Nodal {
         node: 1,
-        dof: "uy".into(),
+        dof: railfem::framework::Dof::Uy,
         value: -2.0 * N_WHEEL,
         series: TimeSeries::Constant,
     });
     if torque != 0.0 {
         b.load(LoadSpec::Nodal {
             node: 1,
-            dof: "rx".into(),
+            dof: railfem::framework::Dof::Rx,
             value: torque,
             series: TimeSeries::Constant,
         });

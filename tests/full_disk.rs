@@ -2,10 +2,11 @@
 //! be written, the run stops with exit code 2 and one line naming the file and the fix,
 //! and every file it wrote ends on a whole line.
 //!
-//! The disk is "full" by a file size limit on the child process (`setrlimit(RLIMIT_FSIZE)`,
-//! what `prlimit --fsize` sets), with SIGXFSZ ignored so that a write past the limit
-//! returns `EFBIG` instead of killing the process: the same path through the code as
-//! `ENOSPC`, and no privilege or mounted file system needed.
+//! The disk is "full" in two ways that need no privilege or mounted file system: a file
+//! size limit on the child process (`setrlimit(RLIMIT_FSIZE)`, what `prlimit --fsize`
+//! sets), with SIGXFSZ left at its default, fatal disposition — railfem ignores it itself,
+//! so that a write past the limit returns `EFBIG` instead of killing the process; and a
+//! recorder file that is a link to `/dev/full`, whose every write fails with `ENOSPC`.
 
 #![cfg(target_os = "linux")]
 
@@ -22,7 +23,9 @@ fn railfem_limited(args: &[&str], limit: u64) -> std::process::Output {
     // SAFETY: between fork and exec only async-signal-safe calls (signal, setrlimit).
     unsafe {
         cmd.pre_exec(move || {
-            libc::signal(libc::SIGXFSZ, libc::SIG_IGN);
+            // As a shell leaves it: a write past the limit kills the process unless the
+            // process ignores the signal itself.
+            libc::signal(libc::SIGXFSZ, libc::SIG_DFL);
             let r = libc::rlimit {
                 rlim_cur: limit as libc::rlim_t,
                 rlim_max: limit as libc::rlim_t,
@@ -132,5 +135,47 @@ fn a_run_json_that_cannot_be_written_stops_the_run_in_one_line() {
     );
     assert!(!out.join("run.json").exists());
     assert!(whole_lines(&out) >= 4);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `ENOSPC` itself: the displacement recorder's file is a link to `/dev/full`, which
+/// accepts the open and fails every write with "No space left on device". The run stops
+/// with exit code 2 and one line naming that file, and the other recorder's file (a
+/// regular file) ends on a whole line.
+#[test]
+fn a_recorder_on_a_full_device_stops_the_run_in_one_line() {
+    if !Path::new("/dev/full").exists() {
+        eprintln!("no /dev/full on this system: skipped");
+        return;
+    }
+    let dir = temp_dir("full-disk-dev-full");
+    let model = sdof(&dir, 2.0);
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let disp = out.join("disp.csv");
+    std::os::unix::fs::symlink("/dev/full", &disp).unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args([
+            "run",
+            model.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "-q",
+        ])
+        .output()
+        .expect("run railfem");
+    let line = refused_with(
+        "/dev/full",
+        &o,
+        &[
+            &format!("output {}", disp.display()),
+            "No space left on device",
+            "make room there or write elsewhere (--out)",
+        ],
+    );
+    assert!(!line.contains("vel.csv"), "{line}");
+    // Reading /dev/full gives zeros without end: drop the link before looking at the rest.
+    std::fs::remove_file(&disp).unwrap();
+    assert!(whole_lines(&out) > 10);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -20,9 +20,10 @@ fn section(geometry: &str, e: f64, a: f64, i: f64, j: f64) -> serde_json::Value 
 }
 
 fn nodal(node: u64, dof: &str, value: f64) -> LoadSpec {
+    let dof = railfem::framework::Dof::parse(dof).expect("a DOF name");
     LoadSpec::Nodal {
         node,
-        dof: dof.to_string(),
+        dof,
         value,
         series: TimeSeries::Constant,
     }
@@ -350,7 +351,7 @@ fn right_angle_cantilever(
     }
     b.load(LoadSpec::Nodal {
         node: n as u64 + 1,
-        dof: "uz".into(),
+        dof: railfem::framework::Dof::Uz,
         value: 50.0,
         series: TimeSeries::Table {
             points: vec![[0.0, 0.0], [1.0, 1.0], [2.0, 0.0], [1e6, 0.0]],
@@ -483,7 +484,7 @@ fn partitioned_solver_composes_rotations_like_the_direct_one() {
         }
         b.load(LoadSpec::Nodal {
             node: 17,
-            dof: "uz".into(),
+            dof: railfem::framework::Dof::Uz,
             value: 40.0,
             series: TimeSeries::Table {
                 points: vec![[0.0, 0.0], [0.05, 1.0], [0.1, 0.0], [1e6, 0.0]],

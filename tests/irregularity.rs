@@ -314,9 +314,9 @@ fn bad_irregularities_are_refused() {
         "{psd = \"fra7\", seed = 1, wavelengths = [1, 25]}",
         None,
         &[
-            "irregularity[0]",
-            "`psd` = \"fra7\" is not offered",
-            "fra1, fra2, fra3, fra4, fra5, fra6, german_low, german_high",
+            "`track.irregularity[0].psd`",
+            "unknown spectrum `fra7`",
+            "`fra1`, `fra2`, `fra3`, `fra4`, `fra5`, `fra6`, `german_low`, `german_high`",
         ],
     );
     bad_case(

@@ -165,3 +165,99 @@ fn above_the_bound_check_says_the_mechanism_check_was_skipped() {
     assert_eq!(checked, ran);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A massless cantilever tip (node 2) carrying a 100 kg point mass (node 3) 0.5 m above it
+/// through a rigid link, starting a transient from rest. Every translation and rotation
+/// of node 2 but rz has mass on its diagonal (m, m, m for u; m·h² for rx, ry), so no
+/// diagonal shows a fault; but the mass matrix on (uy, rx) is m·[1 −h; −h h²], whose
+/// determinant is 0: eliminating uy leaves rx the pivot m·h² − (m·h)²/m = 0. `run` factors
+/// this matrix first (the initial acceleration) and stops there; `check` makes the same
+/// factorization and stops with the same line. Rotary inertia of node 2's own (a `mass`
+/// element with `inertia`) makes the block regular, and both accept the model.
+fn offset_mass(own_inertia: &str) -> String {
+    format!(
+        r#"
+[analysis]
+kind = "transient"
+dt = 0.01
+duration = 0.03
+
+[[node]]
+id = 1
+xyz = [0.0, 0.0, 0.0]
+fix = "all"
+
+[[node]]
+id = 2
+xyz = [2.5, 0.0, 0.0]
+
+[[node]]
+id = 3
+xyz = [2.5, 0.0, 0.5]
+
+[[element]]
+type = "beam3d"
+id = 1
+nodes = [1, 2]
+E = 2.1e11
+G = 8.1e10
+A = 7.686e-3
+Iy = 3.038e-5
+Iz = 5.123e-6
+J = 2.0e-6
+
+[[element]]
+type = "mass"
+id = 2
+nodes = [3]
+m = 100.0
+
+{own_inertia}
+
+[[link]]
+master = 2
+slave = 3
+
+[[load]]
+type = "nodal"
+node = 2
+dof = "uz"
+value = 1.0e4
+series = {{type = "table", points = [[0.0, 0.0], [1.0, 1.0]]}}
+"#
+    )
+}
+
+#[test]
+fn check_factors_the_initial_mass_as_run_does() {
+    let dir = temp_dir("mass-singular");
+    let path = dir.join("offset_mass.toml");
+    std::fs::write(&path, offset_mass("")).unwrap();
+    let want = [
+        "offset_mass.toml",
+        "the mass matrix is singular at node 2 rx (equation 3)",
+        "rotary inertia",
+    ];
+    let p = path.to_str().unwrap();
+    let checked = refused_with("check", &railfem(&["check", p]), &want);
+    let out = dir.join("out");
+    let ran = refused_with(
+        "run",
+        &railfem(&["run", p, "--out", out.to_str().unwrap(), "-q"]),
+        &want,
+    );
+    assert_eq!(checked, ran);
+    // Rotary inertia of the master's own: check and run both accept the model.
+    std::fs::write(
+        &path,
+        offset_mass(
+            "[[element]]\ntype = \"mass\"\nid = 3\nnodes = [2]\nm = 0.0\ninertia = [1.0, 1.0, 1.0]",
+        ),
+    )
+    .unwrap();
+    let o = railfem(&["check", p]);
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let o = railfem(&["run", p, "--out", out.to_str().unwrap(), "-q"]);
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -40,7 +40,7 @@ struct Setup {
     /// `moving_axle` keys shared by both wheels.
     wheel: serde_json::Value,
     /// Loads on K: (dof, value, series).
-    loads: Vec<(&'static str, f64, TimeSeries)>,
+    loads: Vec<(Dof, f64, TimeSeries)>,
     /// DOFs of K held fixed.
     fix: DofSet,
     /// Grounded springs and dashpots on K, [ux, uy, uz, rx, ry, rz] in the wheel frame.
@@ -120,7 +120,7 @@ fn build(s: &Setup) -> Wheelset {
     for (dof, value, series) in &s.loads {
         b.load(LoadSpec::Nodal {
             node: K_ID,
-            dof: dof.to_string(),
+            dof: *dof,
             value: *value,
             series: series.clone(),
         });
@@ -215,7 +215,7 @@ fn vertical_load_halves_and_follows_the_power_law() {
     }
     let mut ws = build(&Setup {
         wheel: serde_json::json!({"a": a, "b": b, "c": c, "mu": 0.3}),
-        loads: vec![("uy", -1.0, table(&pts))],
+        loads: vec![(Dof::Uy, -1.0, table(&pts))],
         ..Default::default()
     });
     for (i, &p) in levels.iter().enumerate() {
@@ -285,13 +285,13 @@ fn pushed_wheelset(fix: DofSet) -> Wheelset {
         loads: vec![
             // Vertical load ramped over t ∈ [−1, 0], then held.
             (
-                "uy",
+                Dof::Uy,
                 -2.0 * N_WHEEL,
                 table(&[(-1.0, 0.0), (0.0, 1.0), (100.0, 1.0)]),
             ),
             // Device: d = t mm for t ≥ 0.
             (
-                "ux",
+                Dof::Ux,
                 K_DEVICE * 1e-3,
                 table(&[(-1.0, 0.0), (0.0, 0.0), (100.0, 100.0)]),
             ),
@@ -482,7 +482,7 @@ fn lift_off_frees_the_wheelset_and_recontact_restores_equilibrium() {
         fix: DofSet::of(&[Dof::Rx]),
         spring: Some(([0.0; 6], [0.0, c, 0.0, 0.0, 0.0, 0.0])),
         loads: vec![(
-            "uy",
+            Dof::Uy,
             1.0,
             table(&[
                 (0.0, down),
@@ -639,7 +639,7 @@ fn rolling_on_flexible_rail_forces_constant_across_elements() {
         },
         wheel: serde_json::json!({"mu": MU}),
         fix: DofSet::of(&[Dof::Rx]),
-        loads: vec![("uy", -2.0 * N_WHEEL, TimeSeries::Constant)],
+        loads: vec![(Dof::Uy, -2.0 * N_WHEEL, TimeSeries::Constant)],
         analysis,
         ..Default::default()
     });
@@ -699,7 +699,7 @@ fn curve_validation_is_penalty_independent() {
             duration: 7.5,
             penalty: 1e10 * scale,
             record_every: 50,
-            sliding_tangent: "consistent".into(),
+            sliding_tangent: railfem::elements::rail::contact_law::SlidingTangent::Consistent,
             ..Default::default()
         };
         let r = run(&case, None, &mut |_| {}).unwrap();
@@ -772,8 +772,8 @@ fn partitioned_solver_reproduces_the_direct_solution() {
             wheel: serde_json::json!({"mu": MU, "sliding_tangent": "consistent"}),
             fix: DofSet::of(&[Dof::Rx]),
             loads: vec![
-                ("uy", -2.0 * N_WHEEL, TimeSeries::Constant),
-                ("ux", 0.4 * N_WHEEL, TimeSeries::Constant),
+                (Dof::Uy, -2.0 * N_WHEEL, TimeSeries::Constant),
+                (Dof::Ux, 0.4 * N_WHEEL, TimeSeries::Constant),
             ],
             analysis,
             ..Default::default()

@@ -493,7 +493,11 @@ fn bad_point_wheels_are_refused() {
         check_bad_model(
             "side.toml",
             &wheel_model(kind, "side = \"middle\"", true),
-            &[kind, "`side` = \"middle\"", "use \"left\" or \"right\""],
+            &[
+                kind,
+                "`side`",
+                "unknown variant `middle`, expected `left` or `right`",
+            ],
         );
         check_bad_model(
             "offtrack.toml",

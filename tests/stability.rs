@@ -418,7 +418,7 @@ fn broken_model(how: &str) -> Driver {
     b.element("test_broken", 9, &[1], &serde_json::json!({"how": how}));
     b.load(railfem::framework::loads::LoadSpec::Nodal {
         node: 1,
-        dof: "ux".into(),
+        dof: railfem::framework::Dof::Ux,
         value: 100.0,
         series: railfem::framework::loads::TimeSeries::Constant,
     });

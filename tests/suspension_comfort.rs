@@ -561,7 +561,11 @@ k = [0.0, 1.0e5, 1.0e6, 0.0, 0.0, 0.0]
             "",
             tr,
             "[[recorder]]\ntype = \"comfort\"\nnode = 1\nvertical = [\"uz\"]\nmethod = \"iso2631\"\nfile = \"c.csv\"",
-            vec!["recorder[0]", "`method`", "\"sperling\"", "\"en12299\""],
+            vec![
+                "`recorder[0].method`",
+                "unknown variant `iso2631`",
+                "expected `sperling` or `en12299`",
+            ],
         ),
         (
             "two_dofs.toml",

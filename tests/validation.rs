@@ -53,7 +53,7 @@ fn fig7_sliding_radius_matches_theory() {
             clothoid: 1000.0,
             dt: 0.01,
             geometry: Default::default(),
-            tangential: "coulomb".into(),
+            tangential: Default::default(),
             polach_spin: None,
         };
         let r = critical::run(&case).expect("runs");
@@ -87,7 +87,7 @@ fn fig9_separation_radius_matches_statics_about_the_contact() {
         clothoid: 2000.0,
         dt: 0.01,
         geometry: Default::default(),
-        tangential: "coulomb".into(),
+        tangential: Default::default(),
         polach_spin: None,
     };
     let r = critical::run(&case).expect("runs");

@@ -33,7 +33,7 @@ fn lever(geometry: Geometry) -> (f64, f64, f64) {
     );
     b.load(LoadSpec::Nodal {
         node: 1,
-        dof: "rz".into(),
+        dof: railfem::framework::Dof::Rz,
         value: 0.4 * k * l * l,
         series: TimeSeries::Constant,
     });
@@ -144,7 +144,7 @@ fn separation_with_lean_follows_the_lean_statics() {
         clothoid: 2000.0,
         dt: 0.01,
         geometry: Geometry::Nonlinear,
-        tangential: "coulomb".into(),
+        tangential: Default::default(),
         polach_spin: None,
     };
     let r = critical::run(&case).expect("runs");

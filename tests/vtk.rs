@@ -85,7 +85,7 @@ fn binary_vtu_reads_back_with_displacements_and_element_forces() {
     b.element("beam3d", 2, &[2, 3], &beam);
     b.load(LoadSpec::Nodal {
         node: 3,
-        dof: "uz".into(),
+        dof: railfem::framework::Dof::Uz,
         value: -P,
         series: TimeSeries::Constant,
     });

@@ -75,6 +75,18 @@ use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params
 use railfem_framework::rotation::{compose, exp, log, rotation_vector_from_spin, skew};
 use railfem_framework::{serde_json, FemError};
 
+/// Which tangent a nonlinear suspension returns (its `tangent`; a train's
+/// `suspension_tangent`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SuspensionTangent {
+    /// The exact tangent, unsymmetric where the springs are corotated (`"consistent"`).
+    Consistent,
+    /// Its symmetric part, which keeps a symmetric model's Cholesky factorization
+    /// (`"symmetric"`).
+    Symmetric,
+}
+
 railfem_framework::element_params! {
     /// Model-file keys of `suspension` (SI units).
     pub struct SuspensionParams {
@@ -93,7 +105,7 @@ railfem_framework::element_params! {
         /// Position of node J relative to node I in the reference state, in nodal axes; [] = from the node coordinates (carried vehicle nodes give it, their coordinates being global).
         j_from_i: Vec<f64> ["m"] = Vec::<f64>::new(),
         /// "consistent" (exact, unsymmetric) or "symmetric" (its symmetric part, keeps Cholesky).
-        tangent: String [""] = "consistent".to_string(),
+        tangent: SuspensionTangent [""] = "consistent",
         /// Force–deflection tables by axis ("1", "2", "3"): `{3 = [[d, F], …]}`, piecewise linear, replacing that axis's `k` (the preload still adds).
         force_table: ForceTables ["m, N"] = ForceTables::new(),
         /// Bump stops by axis: `{3 = {gap = g or [compression, extension], k = k_stop}}`, free inside the gap, added to the spring.
@@ -166,15 +178,7 @@ impl Suspension {
         }
         let laws =
             build_laws(&AXES, &params.k, &params.force_table, &params.bump_stop).map_err(bad)?;
-        let symmetric = match params.tangent.as_str() {
-            "consistent" => false,
-            "symmetric" => true,
-            other => {
-                return Err(bad(format!(
-                    "`tangent` = \"{other}\" is not known; give \"consistent\" or \"symmetric\""
-                )))
-            }
-        };
+        let symmetric = params.tangent == SuspensionTangent::Symmetric;
         let x0 = match params.j_from_i.as_slice() {
             [] => [pos[0], pos[1]],
             &[x, y, z] if x.is_finite() && y.is_finite() && z.is_finite() => {

@@ -149,7 +149,7 @@ pub fn build(c: &Case) -> Result<Built, FemError> {
     let load = |b: &mut ModelBuilder, id: u64, value: f64| {
         b.load(LoadSpec::Nodal {
             node: id,
-            dof: "uy".into(),
+            dof: railfem::framework::Dof::Uy,
             value: -value,
             series: c.series.clone(),
         });

@@ -48,6 +48,17 @@ use thiserror::Error;
 /// The frequency band (Hz) over which Sperling's weightings are applied.
 pub const BAND_HZ: (f64, f64) = (0.5, 30.0);
 
+/// The ride-comfort index a `comfort` recorder writes (`method` in a model file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ComfortMethod {
+    /// Sperling's ride index Wz per node and DOF (`"sperling"`).
+    #[default]
+    Sperling,
+    /// EN 12299's simplified mean comfort N_MV per node (`"en12299"`).
+    En12299,
+}
+
 /// Which of Sperling's weightings applies to a direction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Direction {

@@ -16,9 +16,46 @@ use serde_json::Value;
 /// names the full key path of the offending value, serde's reason and the fix.
 pub fn from_value<T: DeserializeOwned>(v: &Value, origin: &str, at: &str) -> Result<T, FemError> {
     serde_path_to_error::deserialize(v).map_err(|e| {
-        let path = join(at, &e.path().to_string());
         let reason = e.inner().to_string();
+        let mut rel = e.path().to_string();
+        if let Some(key) = variant_key(v, e.path(), &reason) {
+            rel = join(if rel == "." { "" } else { &rel }, &key);
+        }
+        let path = join(at, &rel);
         FemError::input(origin, message(&path, &reason))
+    })
+}
+
+/// The key below `path` that holds the unknown variant `reason` names, where the path
+/// stops short of it. Inside an internally tagged enum (`[[load]]`, `[[recorder]]`: the
+/// `type` key picks the variant) serde reads the table into a buffer first, and the path
+/// ends at the table (`recorder[3]`); the key is then the one whose string is the refused
+/// value (`method`), searched in the table's own keys and their arrays (`dofs[1]`).
+fn variant_key(v: &Value, path: &serde_path_to_error::Path, reason: &str) -> Option<String> {
+    use serde_path_to_error::Segment;
+    let bad = reason
+        .strip_prefix("unknown variant `")?
+        .split('`')
+        .next()?;
+    let mut here = v;
+    for seg in path {
+        here = match seg {
+            Segment::Seq { index } => here.get(*index)?,
+            Segment::Map { key } => here.get(key)?,
+            _ => return None,
+        };
+    }
+    if here.as_str() == Some(bad) {
+        return None;
+    }
+    let obj = here.as_object()?;
+    obj.iter().find_map(|(k, x)| match x {
+        Value::String(s) if s == bad => Some(k.clone()),
+        Value::Array(a) => a
+            .iter()
+            .position(|y| y.as_str() == Some(bad))
+            .map(|i| format!("{k}[{i}]")),
+        _ => None,
     })
 }
 
@@ -41,6 +78,8 @@ fn message(path: &str, reason: &str) -> String {
         "remove or rename the key"
     } else if reason.starts_with("missing field") {
         "add the key"
+    } else if reason.starts_with("unknown variant") || reason.contains("expected one of") {
+        "give one of the values listed"
     } else {
         "give a value of the expected kind"
     };
@@ -91,6 +130,27 @@ mod tests {
             "{e}"
         );
         assert_eq!(join("a", "[1].b"), "a[1].b");
+        // Inside an internally tagged enum the path stops at the table: the key holding
+        // the refused value is named all the same.
+        #[derive(Debug, Deserialize)]
+        #[serde(tag = "type", rename_all = "snake_case")]
+        #[allow(dead_code)]
+        enum Tagged {
+            Comfort { method: Method },
+        }
+        #[derive(Debug, Deserialize)]
+        #[serde(rename_all = "snake_case")]
+        enum Method {
+            Sperling,
+        }
+        let v = serde_json::json!([{"type": "comfort", "method": "iso"}]);
+        let e = from_value::<Vec<Tagged>>(&v, "m.toml", "recorder")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("`recorder[0].method`: unknown variant `iso`, expected `sperling`"),
+            "{e}"
+        );
         assert_eq!(join("", "."), "");
     }
 }

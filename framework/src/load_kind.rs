@@ -254,7 +254,7 @@ mod tests {
         let specs = [
             LoadSpec::Nodal {
                 node: 1,
-                dof: "uz".into(),
+                dof: Dof::Uz,
                 value: 1.0,
                 series: TimeSeries::default(),
             },

@@ -147,8 +147,8 @@ pub enum LoadSpec {
     Nodal {
         /// Node id.
         node: u64,
-        /// DOF name (`"ux"` … `"rz"`).
-        dof: String,
+        /// The DOF (`"ux"` … `"rz"` in a model file).
+        dof: Dof,
         /// Magnitude (N or N·m).
         value: f64,
         /// Time series multiplying the value (default constant).
@@ -316,14 +316,7 @@ impl LoadSpec {
                         format!("node {node} does not exist; define it in a [[node]] table or fix `node`"),
                     )
                 })?;
-                let d = Dof::parse(dof).ok_or_else(|| {
-                    FemError::input(
-                        &o,
-                        format!(
-                            "`dof` = \"{dof}\" is not a DOF; use one of ux, uy, uz, rx, ry, rz"
-                        ),
-                    )
-                })?;
+                let d = *dof;
                 if !value.is_finite() {
                     return Err(FemError::input(&o, "`value` is not finite"));
                 }

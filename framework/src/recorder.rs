@@ -13,7 +13,7 @@
 //! DOF, or EN 12299's `N_MV` per node; [`crate::comfort`]). Plugins add kinds of their own
 //! ([`crate::recorder_kind`]).
 
-use crate::comfort::EN12299_WINDOW_S;
+use crate::comfort::{ComfortMethod, EN12299_WINDOW_S};
 use crate::dof::{Dof, DofSet};
 use crate::error::FemError;
 use crate::lookup::ModelLookup;
@@ -77,8 +77,8 @@ pub enum RecorderSpec {
         #[serde(default)]
         longitudinal: Vec<String>,
         /// `"sperling"` (Sperling's Wz) or `"en12299"` (the simplified N_MV).
-        #[serde(default = "default_comfort_method")]
-        method: String,
+        #[serde(default)]
+        method: ComfortMethod,
         /// Output file name, relative to the output directory.
         file: String,
     },
@@ -87,10 +87,6 @@ pub enum RecorderSpec {
     /// serde form of its own.
     #[serde(skip)]
     Registered(RecorderEntry),
-}
-
-fn default_comfort_method() -> String {
-    "sperling".to_string()
 }
 
 /// Bytes a comfort recorder keeps or allocates per column and recorded step: the
@@ -244,7 +240,7 @@ impl RecorderSpec {
                     &o,
                     ids.len(),
                     [vertical, lateral, longitudinal],
-                    method,
+                    *method,
                 )?;
             }
             RecorderSpec::Element { outputs, .. } => {
@@ -283,18 +279,10 @@ fn validate_comfort(
     o: &str,
     nodes: usize,
     [vertical, lateral, longitudinal]: [&Vec<String>; 3],
-    method: &str,
+    method: ComfortMethod,
 ) -> Result<(), FemError> {
     let bad = |m: String| FemError::input(o, m);
-    let en = match method {
-        "sperling" => false,
-        "en12299" => true,
-        _ => {
-            return Err(bad(format!(
-                "`method` = \"{method}\" is not offered; give \"sperling\" (Sperling's Wz) or \"en12299\" (the simplified mean comfort N_MV)"
-            )))
-        }
-    };
+    let en = method == ComfortMethod::En12299;
     if vertical.is_empty() && lateral.is_empty() && longitudinal.is_empty() {
         return Err(bad(
             "names no direction; add `vertical = [\"uz\"]` and/or `lateral = [\"uy\"]` (translational DOFs)".into(),

@@ -5,7 +5,7 @@
 //! numpy. After a failed write (a full disk, a size limit) every file ends on a whole line.
 
 use crate::assembly::Assembler;
-use crate::comfort::{en12299_p95, n_mv, sperling_wz, Direction, W_B, W_D};
+use crate::comfort::{en12299_p95, n_mv, sperling_wz, ComfortMethod, Direction, W_B, W_D};
 use crate::dof::{Dof, DofSet};
 use crate::error::FemError;
 use crate::model::Model;
@@ -260,7 +260,7 @@ impl Recorders {
                         }
                     }
                     comfort = Some(ComfortHistory {
-                        en12299: method == "en12299",
+                        en12299: *method == ComfortMethod::En12299,
                         values: vec![Vec::new(); cols.len()],
                         columns: cols,
                         time: Vec::new(),

@@ -196,7 +196,7 @@ pub fn critical_radius<'py>(
         clothoid,
         dt,
         geometry: self::geometry(geometry, "critical_radius()")?,
-        tangential: "coulomb".into(),
+        tangential: Default::default(),
         polach_spin: None,
     };
     let r = guarded(py, || {

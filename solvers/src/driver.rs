@@ -483,6 +483,26 @@ impl Driver {
         }
     }
 
+    /// The message of a zero pivot in the mass matrix of the initial acceleration
+    /// ([`Driver::solve_initial_mass`]): a combination of DOFs without inertia of its own,
+    /// though each DOF has some mass (a DOF without any is solved statically).
+    fn singular_mass(&self, e: SolverError) -> FemError {
+        match e {
+            SolverError::Singular { equation } => {
+                let (n, d) = self
+                    .asm
+                    .dofmap
+                    .dof_of(equation.min(self.neq().saturating_sub(1)));
+                FemError::Singular(format!(
+                    "{}: the mass matrix is singular at {} (equation {equation}) once the equations before it are held: that DOF has mass only through others (a point mass carried at an offset by a rigid link, say), so the initial acceleration M·a = f has no solution; give the node rotary inertia of its own (a `mass` element with `inertia`), or put the mass on the node itself",
+                    self.model.origin,
+                    self.model.dof_name(n, d)
+                ))
+            }
+            e => self.singular(e),
+        }
+    }
+
     /// Replaces the partitioned solver's settings (block size, threads); no effect in the
     /// direct mode. Takes effect at the next factorization, which rebuilds every block.
     pub fn set_partition_options(&mut self, options: PartitionOptions) {
@@ -998,6 +1018,25 @@ impl Driver {
             self.a_key = None;
             self.factored = None;
         }
+        self.solve_initial_mass(&mut rhs)?;
+        self.state.a = rhs;
+        self.state.f_int = f_int;
+        self.state.f_ext = f;
+        if let Some(keep) = self.narrow_after_mass.take() {
+            self.asm.keep_constant_columns(&keep);
+        }
+        self.asm.commit(&mut self.model);
+        self.initialized = true;
+        Ok(())
+    }
+
+    /// Solves `M·a = rhs` in place for the initial acceleration (`rhs` holds the force
+    /// balance `f_ext − f_int − C·v` of the initial state): the constant mass matrix and the
+    /// variable elements' mass at their last update, with a unit diagonal on the massless
+    /// equations (whose acceleration is set to 0). The first factorization of a transient
+    /// that starts from rest; `railfem check` makes it too ([`Driver::first_factorization`]).
+    pub(crate) fn solve_initial_mass(&mut self, rhs: &mut [f64]) -> Result<(), FemError> {
+        let n = self.neq();
         // Mass matrix with unit diagonal on massless equations; across ranks only the
         // columns this rank's share of the mass solve reads.
         let mut variable_mass = Vec::new();
@@ -1040,23 +1079,15 @@ impl Driver {
         }
         if let Some(mut p) = mass_solver {
             p.factor(&m, [0.0, 1.0, 0.0], &variable_mass)
-                .map_err(|e| self.singular(e))?;
-            p.solve_in_place(&mut rhs).map_err(|e| self.singular(e))?;
+                .map_err(|e| self.singular_mass(e))?;
+            p.solve_in_place(rhs).map_err(|e| self.singular_mass(e))?;
         } else {
             let mut solver = direct_solver(n, true);
-            solver.factor(&m).map_err(|e| self.singular(e))?;
+            solver.factor(&m).map_err(|e| self.singular_mass(e))?;
             solver
-                .solve_in_place(&mut rhs)
-                .map_err(|e| self.singular(e))?;
+                .solve_in_place(rhs)
+                .map_err(|e| self.singular_mass(e))?;
         }
-        self.state.a = rhs;
-        self.state.f_int = f_int;
-        self.state.f_ext = f;
-        if let Some(keep) = self.narrow_after_mass.take() {
-            self.asm.keep_constant_columns(&keep);
-        }
-        self.asm.commit(&mut self.model);
-        self.initialized = true;
         Ok(())
     }
 

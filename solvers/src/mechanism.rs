@@ -9,7 +9,11 @@
 //! the run factors first (`K` at the initial state for a static or modal analysis and the
 //! initial static equilibrium of a transient; otherwise `K_eff = c_K·K + c_M·M + c_C·C`
 //! of the first step, with the integrator's coefficients), with the variable elements
-//! evaluated at the initial state, and factors it with the run's solver.
+//! evaluated at the initial state, and factors it with the run's solver. A transient also
+//! factors the mass matrix of its initial acceleration before its first step (after the
+//! static equilibrium, if it has one), as `run` does: a mass matrix singular on a
+//! combination of DOFs (a rotation whose only inertia is a point mass carried at an offset
+//! by a rigid link) is refused by `check` in the same words.
 //!
 //! A factorization costs time and memory the preflight does not, so `check` makes it up
 //! to [`MECHANISM_CHECK_EQUATIONS`] equations and says above that it was skipped and how
@@ -18,6 +22,7 @@
 use crate::driver::Driver;
 use crate::integrator::Coefficients;
 use railfem_framework::error::FemError;
+use railfem_framework::model::AnalysisKind;
 
 /// Most equations for which `railfem check` makes the trial factorization unasked. A
 /// banded beam or bridge model of this size factors in well under a second.
@@ -32,30 +37,41 @@ impl Driver {
         let t = self.state.t;
         let dt = self.model.analysis.dt;
         let static_first = self.static_first()?;
-        // Static: the tangent at `q` with zero velocities, as `static_solve` forms it.
-        let (step, coef) = if static_first {
-            (0.0, Coefficients::STATIC)
-        } else {
-            (
-                dt,
-                self.integrator
-                    .coefficients(self.integrator.stage_length(0, dt)),
-            )
-        };
-        self.asm.advance(&mut self.model, t, step)?;
+        let transient = self.model.analysis.kind == AnalysisKind::Transient;
         let zero = vec![0.0; n];
         let mut f_int = vec![0.0; n];
-        let (q, v, a) = if static_first {
-            (self.state.q.clone(), zero.clone(), zero)
-        } else {
-            (
+        if static_first {
+            // Static: the tangent at `q` with zero velocities, as `static_solve` forms it.
+            self.asm.advance(&mut self.model, t, 0.0)?;
+            let q = self.state.q.clone();
+            self.asm
+                .update(&mut self.model, &q, &zero, &zero, t, 0.0, &mut f_int, true)?;
+            self.factor_tangent(Coefficients::STATIC)?;
+        }
+        if transient {
+            // The initial acceleration's mass matrix, formed and factored as `initialize`
+            // does after the variable elements' update at the initial state.
+            let (q, v, a) = (
                 self.state.q.clone(),
                 self.state.v.clone(),
                 self.state.a.clone(),
-            )
-        };
-        self.asm
-            .update(&mut self.model, &q, &v, &a, t, step, &mut f_int, true)?;
-        self.factor_tangent(coef)
+            );
+            self.asm.advance(&mut self.model, t, 0.0)?;
+            self.asm
+                .update(&mut self.model, &q, &v, &a, t, 0.0, &mut f_int, false)?;
+            let mut rhs = zero;
+            self.solve_initial_mass(&mut rhs)?;
+            if !static_first {
+                // The first step's `K_eff` with the integrator's coefficients.
+                self.asm.advance(&mut self.model, t, dt)?;
+                self.asm
+                    .update(&mut self.model, &q, &v, &a, t, dt, &mut f_int, true)?;
+                let coef = self
+                    .integrator
+                    .coefficients(self.integrator.stage_length(0, dt));
+                self.factor_tangent(coef)?;
+            }
+        }
+        Ok(())
     }
 }

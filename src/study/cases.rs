@@ -217,14 +217,7 @@ pub fn curve(plan: &Plan, case: &Case) -> Result<CurveCase, FemError> {
                 })?;
             }
             "tangential" => {
-                let t = v.label();
-                if !["coulomb", "kalker_linear", "polach"].contains(&t.as_str()) {
-                    return Err(FemError::input(
-                        "study case",
-                        format!("`tangential` = {t}: use coulomb, kalker_linear or polach"),
-                    ));
-                }
-                c.tangential = t;
+                c.tangential = crate::choice::parse("study case", "`tangential` =", &v.label())?;
             }
             "geometry" => {
                 let t = v.label();

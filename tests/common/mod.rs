@@ -254,7 +254,7 @@ pub fn solve_under_point_load(
     use railfem::framework::model::{AnalysisKind, AnalysisSpec};
     b.load(LoadSpec::Nodal {
         node,
-        dof: "uz".into(),
+        dof: railfem::framework::Dof::Uz,
         value,
         series: TimeSeries::Constant,
     });

@@ -66,9 +66,9 @@ railfem_framework::element_params! {
         /// Shear area for shear along local z (m²), ≥ 0; 0 = no shear deformation (Euler–Bernoulli).
         Asz: f64 ["m^2"] = 0.0,
         /// Mass matrix: "consistent" (cubic Hermite), "lumped" (diagonal, ρAL/2 per node and translation plus the section's rotary inertia) or "lumped_translational" (ρAL/2 per node and translation only, no rotary inertia: OpenSees' elasticBeamColumn default).
-        mass: String [""] = "consistent",
+        mass: BeamMass [""] = "consistent",
         /// Kinematics: "linear" (small displacements), "pdelta" (linear plus the P-Δ effect of the axial force, as OpenSees geomTransf PDelta) or "corotational" (finite 3-D rotations; translational mass only).
-        geometry: String [""] = "linear",
+        geometry: BeamGeometry [""] = "linear",
     }
 }
 
@@ -94,14 +94,15 @@ impl Beam3dParams {
             orient: Vec::new(),
             Asy: 0.0,
             Asz: 0.0,
-            mass: "consistent".into(),
-            geometry: "linear".into(),
+            mass: BeamMass::Consistent,
+            geometry: BeamGeometry::Linear,
         }
     }
 }
 
-/// The kinematics a beam uses (key `geometry`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// The kinematics a beam uses (key `geometry`: `"linear"`, `"pdelta"`, `"corotational"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum BeamGeometry {
     /// Small displacements and rotations: [`Beam3d`].
     Linear,
@@ -112,18 +113,12 @@ pub enum BeamGeometry {
 }
 
 impl BeamGeometry {
-    /// Parses the `geometry` key; the error names the key and the choices.
-    pub fn parse(name: &str, origin: &str) -> Result<BeamGeometry, FemError> {
-        match name {
-            "linear" => Ok(BeamGeometry::Linear),
-            "pdelta" => Ok(BeamGeometry::PDelta),
-            "corotational" => Ok(BeamGeometry::Corotational),
-            other => Err(FemError::input(
-                origin,
-                format!(
-                    "beam3d: `geometry` = \"{other}\" is not a beam geometry; use \"linear\", \"pdelta\" or \"corotational\""
-                ),
-            )),
+    /// The name as a model file writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            BeamGeometry::Linear => "linear",
+            BeamGeometry::PDelta => "pdelta",
+            BeamGeometry::Corotational => "corotational",
         }
     }
 }
@@ -185,8 +180,10 @@ fn shear_parameter(ei: f64, gas: f64, l: f64) -> f64 {
     }
 }
 
-/// Which mass matrix a beam uses.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Which mass matrix a beam uses (key `mass`: `"consistent"`, `"lumped"`,
+/// `"lumped_translational"`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum BeamMass {
     /// Consistent: cubic Hermite interpolation of `v, w`, linear of `u, θx`.
     Consistent,
@@ -461,16 +458,7 @@ impl Beam3d {
                 ));
             }
         }
-        let kind = match params.mass.as_str() {
-            "consistent" => BeamMass::Consistent,
-            "lumped" => BeamMass::Lumped,
-            "lumped_translational" => BeamMass::LumpedTranslational,
-            other => {
-                return bad(format!(
-                    "beam3d: `mass` = \"{other}\" is not a mass matrix type; use \"consistent\", \"lumped\" or \"lumped_translational\""
-                ))
-            }
-        };
+        let kind = params.mass;
         let d = xj - xi;
         // Scaled norms: |d| of a beam 1e200 m long is finite although |d|² is not.
         let scaled_norm = |v: &Vector3<f64>| match v.amax() {
@@ -489,10 +477,10 @@ impl Beam3d {
         if length <= 1e-12 * scale {
             return bad(format!(
                 "beam3d{}: zero-length beam (`nodes` I at {} and J at {}, {} m apart); connect two distinct points",
-                if params.geometry == "linear" {
+                if params.geometry == BeamGeometry::Linear {
                     String::new()
                 } else {
-                    format!(" (geometry = \"{}\")", params.geometry)
+                    format!(" (geometry = \"{}\")", params.geometry.name())
                 },
                 fmt_vec(xi.as_slice()),
                 fmt_vec(xj.as_slice()),
@@ -642,7 +630,7 @@ impl Element for Beam3d {
 /// Factory of `beam3d`: two nodes I, J; see [`Beam3d::new`] for the checks.
 fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Element>, FemError> {
     let p: Beam3dParams = spec.parse()?;
-    let geometry = BeamGeometry::parse(&p.geometry, &spec.origin)?;
+    let geometry = p.geometry;
     let n = support::resolve_nodes(spec, ctx, &[2], "beam3d", "node I, node J")?;
     let (xi, xj) = (ctx.node_position(n[0]), ctx.node_position(n[1]));
     let linear = Beam3d::new(p, [n[0], n[1]], xi, xj, &spec.origin)?;
@@ -655,7 +643,7 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
             xi,
             xj,
             &linear.axes,
-            linear.params.mass != "consistent",
+            linear.params.mass != BeamMass::Consistent,
         )),
     })
 }

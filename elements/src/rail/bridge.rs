@@ -223,6 +223,14 @@ fn default_pier_elements() -> usize {
 }
 
 impl BridgeSpec {
+    /// DOFs of the girders, bearings and piers, from the keys alone: spans + 1 piers of
+    /// `pier_elements` + 1 nodes, two girder ends and a bearing per joint, six DOFs each
+    /// (the rails and the slab are the track mesh's). The bridge's size guard and the
+    /// model's size estimate count it so.
+    pub fn estimated_dofs(&self) -> f64 {
+        6.0 * (self.spans as f64 + 1.0) * (self.pier_elements as f64 + 3.0)
+    }
+
     /// `spans` spans from station `start` (m), every other key at its model-file default:
     /// 29.75 m spans of [`RailSection::pc_box_girder`] on pot bearings, 10 m piers of four
     /// elements, the default slab track.
@@ -415,15 +423,12 @@ impl BridgeSpec {
                 "`pier_elements` must be at least 1",
             ));
         }
-        // Size guard: spans + 1 piers of pier_elements + 1 nodes, two girder ends and a
-        // bearing per joint, six DOFs each (the rails and slab are the mesh's guard).
-        let nodes = (self.spans as f64 + 1.0) * (self.pier_elements as f64 + 3.0);
         limits::check_memory(
             &format!(
                 "`spans` = {} with `pier_elements` = {}",
                 self.spans, self.pier_elements
             ),
-            6.0 * nodes,
+            self.estimated_dofs(),
             "bridge DOFs",
             limits::BYTES_PER_DOF,
             "give fewer `spans` or `pier_elements`",

@@ -55,10 +55,11 @@ use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent, S
 use super::creep::fastsim::FastsimGrid;
 use super::creep::hertz::{hertz_ellipse, Curvatures};
 use super::creep::kalker::kalker_coefficients;
-use super::creep::law::{EllipseShape, Material, TangentialLaw};
+use super::creep::law::{EllipseShape, Material, PolachSpin, Tangential, TangentialLaw};
 use super::hertz_spring::HertzSpring;
 use super::profiles::{Inclination, RailProfile, WheelProfile};
 use super::rail_point::{beam_axes, rail_point_matrix};
+use super::railline::RailSide;
 use super::rolling::{frame_rotation, point_creep, PointInput, Rolling};
 use super::track_model::{OffsetFromStart, TrackModel};
 use super::wheel_defect::{TreadOffset, WheelDefect};
@@ -75,7 +76,7 @@ railfem_framework::element_params! {
     /// `shared/spec/vehicle-track-profiles.md` (documented assumptions, not the paper's).
     pub struct MovingAxleParams {
         /// Which wheel of the wheelset: "left" (axis 1 positive) or "right".
-        side: String [""],
+        side: RailSide [""],
         /// Lateral distance of the wheel's tape-circle contact point from the centre line (m).
         contact_offset: f64 ["m"] = 0.75,
         /// Wheel profile: "s1002" or a CSV file (header states the units).
@@ -87,7 +88,7 @@ railfem_framework::element_params! {
         /// Number of rail profile nodes (30–60 in the paper's Figure 4).
         rail_nodes: usize ["-"] = 41,
         /// Rail inclination: "none", "1:40" or "1:20".
-        inclination: String [""] = "1:40",
+        inclination: Inclination [""] = "1:40",
         /// Lateral spring k1 between A and B (N/m).
         k1: f64 ["N/m"] = 1.0e9,
         /// Longitudinal spring k3 between A and B (N/m).
@@ -105,7 +106,7 @@ railfem_framework::element_params! {
         /// Coefficient of friction μ (-).
         mu: f64 ["-"] = 0.3,
         /// Sliding tangent: "symmetric" (Ju & Rowlands, Eq. 8) or "consistent".
-        sliding_tangent: String [""] = "symmetric",
+        sliding_tangent: SlidingTangent [""] = "symmetric",
         /// Name of the track resource the wheel rides on.
         track: String [""] = "track",
         /// Static wheel load for ΔQ/Q (N); 0 = the load at the first converged state.
@@ -113,7 +114,7 @@ railfem_framework::element_params! {
         /// Tangential law: "coulomb" (the paper's penalty friction), "kalker_linear"
         /// (Kalker's linear creep, Shen–Hedrick–Elkins saturation), "polach" (Polach 2005)
         /// or "fastsim" (Kalker's FASTSIM, 1982).
-        tangential: String [""] = "coulomb",
+        tangential: Tangential [""] = "coulomb",
         /// Shear modulus G of wheel and rail steel (Pa), creep laws only.
         shear_modulus: f64 ["Pa"] = 8.0e10,
         /// Poisson's ratio ν of wheel and rail steel (-), creep laws only.
@@ -129,7 +130,7 @@ railfem_framework::element_params! {
         /// Polach's spin term: "off" (the law of 2005: spin does not enter) or "polach_1999"
         /// (the spin-corrected lateral creepage and force of his 1999 method; about 1.8× the
         /// Newton iterations in the curve case, docs/creep.md).
-        polach_spin: String [""] = "off",
+        polach_spin: PolachSpin [""] = "off",
         /// FASTSIM's strips across the contact patch (-), 2–400.
         fastsim_strips: usize ["-"] = 20,
         /// FASTSIM's elements along each strip (-), 2–400.
@@ -344,11 +345,7 @@ fn bad(spec: &ElementSpec, m: impl Into<String>) -> FemError {
 impl Setup {
     fn new(params: MovingAxleParams, origin: &str, rail_offset: f64) -> Result<Setup, FemError> {
         let err = |m: String| FemError::input(origin, m);
-        let side = match params.side.to_ascii_lowercase().as_str() {
-            "left" => 0,
-            "right" => 1,
-            s => return Err(err(format!("`side` = \"{s}\"; use \"left\" or \"right\""))),
-        };
+        let side = params.side.index();
         params.defect.validate().map_err(err)?;
         for (key, v, min) in [
             ("k1", params.k1, 0.0),
@@ -383,25 +380,8 @@ impl Setup {
         if !(params.contact_offset.is_finite() && params.contact_offset > 0.0) {
             return Err(err("`contact_offset` must be > 0 m".into()));
         }
-        let tangent = match params.sliding_tangent.as_str() {
-            "symmetric" => SlidingTangent::Symmetric,
-            "consistent" => SlidingTangent::Consistent,
-            s => {
-                return Err(err(format!(
-                    "`sliding_tangent` = \"{s}\"; use \"symmetric\" or \"consistent\""
-                )))
-            }
-        };
-        let incl = match params.inclination.as_str() {
-            "none" | "0" => Inclination::None,
-            "1:40" => Inclination::OneIn40,
-            "1:20" => Inclination::OneIn20,
-            s => {
-                return Err(err(format!(
-                    "`inclination` = \"{s}\"; use \"none\", \"1:40\" or \"1:20\""
-                )))
-            }
-        };
+        let tangent = params.sliding_tangent;
+        let incl = params.inclination;
         // Sampling counts: beyond a few thousand points the profile is no more accurate
         // (the spline error of 120 points is already below 1e-6 m) and only costs memory.
         // Below the minimum the built-in sampling is meaningless (a not-a-knot spline needs
@@ -504,25 +484,17 @@ impl Setup {
 
 /// The tangential law named by the keys, checked: None for "coulomb".
 fn creep_law(p: &MovingAxleParams) -> Result<Option<(TangentialLaw, Material)>, String> {
-    let law = match p.tangential.as_str() {
-        "coulomb" => return Ok(None),
-        "kalker_linear" => TangentialLaw::KalkerLinear,
-        "polach" => TangentialLaw::Polach {
+    let law = match p.tangential {
+        Tangential::Coulomb => return Ok(None),
+        Tangential::KalkerLinear => TangentialLaw::KalkerLinear,
+        Tangential::Polach => TangentialLaw::Polach {
             ka: p.polach_ka,
             ks: p.polach_ks,
             a: p.polach_a,
             b: p.polach_b,
-            spin: match p.polach_spin.as_str() {
-                "off" => false,
-                "polach_1999" => true,
-                s => {
-                    return Err(format!(
-                        "`polach_spin` = \"{s}\"; use \"off\" (Polach 2005, the default) or \"polach_1999\" (his spin term)"
-                    ))
-                }
-            },
+            spin: p.polach_spin == PolachSpin::Polach1999,
         },
-        "fastsim" => {
+        Tangential::Fastsim => {
             let range = FastsimGrid::MIN..=FastsimGrid::MAX;
             for (key, v) in [
                 ("fastsim_strips", p.fastsim_strips),
@@ -540,11 +512,6 @@ fn creep_law(p: &MovingAxleParams) -> Result<Option<(TangentialLaw, Material)>, 
                 strips: p.fastsim_strips,
                 elements: p.fastsim_elements,
             })
-        }
-        s => {
-            return Err(format!(
-                "`tangential` = \"{s}\"; use \"coulomb\", \"kalker_linear\", \"polach\" or \"fastsim\""
-            ))
         }
     };
     // Steels and other engineering metals have 2e10 < G < 2e11 Pa; outside 1e9..1e12 the
@@ -1742,7 +1709,7 @@ fn creep_samples(law: &str) -> Vec<Sample> {
     }
     .parse()
     .expect("defaults parse");
-    params.sliding_tangent = "consistent".into();
+    params.sliding_tangent = SlidingTangent::Consistent;
     let rolled = rolled_nodes(&nodes);
     let state = |yaw: f64, slip: f64, dz: f64, dy: f64| -> Vec<f64> {
         let mut u = rolling_history();
@@ -1871,7 +1838,7 @@ fn rebuild_sample(params: &serde_json::Value) -> Result<Box<dyn Element>, FemErr
     let spec = sample_spec(params, "conformance sample");
     let p: MovingAxleParams = spec.parse()?;
     let (tm, nodes, offset) = sample_scene();
-    if p.tangential != "coulomb" {
+    if p.tangential != Tangential::Coulomb {
         return Ok(Box::new(sample_rolling_wheel(&p, &tm, &nodes, offset)));
     }
     Ok(Box::new(sample_wheel(&p, &tm, &nodes, offset)))
@@ -1893,10 +1860,7 @@ pub fn sample_states(tangent: SlidingTangent) -> Vec<Sample> {
     }
     .parse()
     .expect("defaults parse");
-    params.sliding_tangent = match tangent {
-        SlidingTangent::Symmetric => "symmetric".into(),
-        SlidingTangent::Consistent => "consistent".into(),
-    };
+    params.sliding_tangent = tangent;
     params.k = 1e9;
     params.k_v = 1e9;
     let make = |params: &MovingAxleParams| -> Box<dyn Element> {

@@ -57,6 +57,7 @@
 
 use super::point_contact_law::{ContactForce, PointLaw};
 use super::rail_point::{beam_axes, rail_point_matrix};
+use super::railline::RailSide;
 use super::track_model::{OffsetFromStart, TrackModel};
 use super::wheel_defect::{TreadOffset, WheelDefect};
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
@@ -71,7 +72,7 @@ railfem_framework::element_params! {
     /// Model-file keys of `hertz_wheel` (SI units).
     pub struct HertzWheelParams {
         /// Which wheel of the wheelset: "left" (axis 1 positive) or "right".
-        side: String [""],
+        side: RailSide [""],
         /// Lateral distance of the wheel's contact point from the centre line (m); must lie
         /// over the rail head (within 36 mm of the rail's beam line).
         contact_offset: f64 ["m"] = 0.75,
@@ -100,7 +101,7 @@ railfem_framework::element_params! {
     /// Model-file keys of `rigid_wheel` (SI units).
     pub struct RigidWheelParams {
         /// Which wheel of the wheelset: "left" (axis 1 positive) or "right".
-        side: String [""],
+        side: RailSide [""],
         /// Lateral distance of the wheel's contact point from the centre line (m); must lie
         /// over the rail head (within 36 mm of the rail's beam line).
         contact_offset: f64 ["m"] = 0.75,
@@ -167,15 +168,11 @@ impl Setup {
     fn new(kind: Kind, origin: &str, rail_offset: Option<f64>) -> Result<Setup, FemError> {
         let err = |m: String| FemError::input(origin, m);
         let (side, offset, static_load, defect) = match &kind {
-            Kind::Hertz(p) => (&p.side, p.contact_offset, p.static_load, p.defect.clone()),
-            Kind::Rigid(p) => (&p.side, p.contact_offset, p.static_load, p.defect.clone()),
+            Kind::Hertz(p) => (p.side, p.contact_offset, p.static_load, p.defect.clone()),
+            Kind::Rigid(p) => (p.side, p.contact_offset, p.static_load, p.defect.clone()),
         };
         defect.validate().map_err(err)?;
-        let rail = match side.to_ascii_lowercase().as_str() {
-            "left" => 0,
-            "right" => 1,
-            s => return Err(err(format!("`side` = \"{s}\"; use \"left\" or \"right\""))),
-        };
+        let rail = side.index();
         let stiff = |key: &str, v: f64| -> Result<(), FemError> {
             if v.is_finite() && v > 0.0 {
                 Ok(())

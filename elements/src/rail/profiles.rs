@@ -1000,12 +1000,15 @@ impl WheelProfile {
 /// field side to match the conicity of the wheel tread.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum Inclination {
-    /// Upright rail.
+    /// Upright rail (`"none"` in a model file).
     #[default]
+    #[serde(rename = "none")]
     None,
-    /// 1:40 (common in Europe and on high-speed lines).
+    /// 1:40 (common in Europe and on high-speed lines; `"1:40"`).
+    #[serde(rename = "1:40")]
     OneIn40,
-    /// 1:20.
+    /// 1:20 (`"1:20"`).
+    #[serde(rename = "1:20")]
     OneIn20,
 }
 

@@ -101,31 +101,49 @@ fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemE
 
 /// The track's part of the model's size estimate: the meshed length over `element_length`
 /// stations, each as [`super::track_model::check_mesh_size`] counts it (two rail nodes on a
-/// rigid support, 12 DOFs on discrete supports, 18 with a slab or girder).
-fn estimate_track(v: &Value, _base: &std::path::Path) -> Vec<SizePart> {
+/// rigid support, 12 DOFs on discrete supports, 18 with a slab or girder).; a bridge's
+/// girders and piers ([`super::bridge::BridgeSpec::estimated_dofs`]); and every
+/// irregularity entry's samples or rows ([`super::irregularity::estimate`]).
+fn estimate_track(v: &Value, base: &std::path::Path) -> Vec<SizePart> {
     let Ok(t) = railfem_framework::keypath::from_value::<TrackSection>(v, "", "") else {
         return Vec::new();
     };
-    let length = match t.window {
-        Some([a, b]) => b - a,
-        None => t.segments.iter().map(SegmentSpec::length).sum(),
-    };
+    let range = t
+        .window
+        .unwrap_or([0.0, t.segments.iter().map(SegmentSpec::length).sum()]);
+    let length = range[1] - range[0];
     let h = t
         .element_length
         .unwrap_or(TrackMesh::default().element_length);
     let stations = length / h + 1.0;
-    let per_station = match t.support.unwrap_or(RailSupport::Rigid) {
+    let support = t.support.unwrap_or(RailSupport::Rigid);
+    let per_station = match &support {
         RailSupport::Rigid => 2.0 * limits::BYTES_PER_NODE,
         RailSupport::Discrete { .. } => 12.0 * limits::BYTES_PER_DOF,
         _ => 18.0 * limits::BYTES_PER_DOF,
     };
-    vec![SizePart {
+    let mut parts = vec![SizePart {
         what: format!(
             "[track]: {} rail stations",
             limits::fmt_num(stations.ceil())
         ),
         bytes: stations * per_station,
-    }]
+    }];
+    if let RailSupport::Bridge(b) = &support {
+        let dofs = b.estimated_dofs();
+        parts.push(SizePart {
+            what: format!(
+                "[track] bridge: {} spans, {} DOFs of girders and piers",
+                b.spans,
+                limits::fmt_num(dofs)
+            ),
+            bytes: dofs * limits::BYTES_PER_DOF,
+        });
+    }
+    if let Some(irr) = &t.irregularity {
+        parts.extend(super::irregularity::estimate::estimate(irr, base, range));
+    }
+    parts
 }
 
 railfem_framework::inventory::submit! {

@@ -21,6 +21,47 @@ use super::fastsim::{fastsim, FastsimGrid, PatchSums};
 use super::kalker::CreepCoefficients;
 use std::f64::consts::PI;
 
+/// The tangential law a wheel's `tangential` key names (model files, curve and study
+/// cases); the constants come from the other keys ([`TangentialLaw`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Tangential {
+    /// The paper's penalty friction (Coulomb): no creep law (`"coulomb"`).
+    #[default]
+    Coulomb,
+    /// [`TangentialLaw::KalkerLinear`] (`"kalker_linear"`).
+    KalkerLinear,
+    /// [`TangentialLaw::Polach`] (`"polach"`).
+    Polach,
+    /// [`TangentialLaw::Fastsim`] (`"fastsim"`).
+    Fastsim,
+}
+
+impl Tangential {
+    /// The name as a model file writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Tangential::Coulomb => "coulomb",
+            Tangential::KalkerLinear => "kalker_linear",
+            Tangential::Polach => "polach",
+            Tangential::Fastsim => "fastsim",
+        }
+    }
+}
+
+/// Polach's spin term (`polach_spin`): off (his law of 2005) or the spin-corrected lateral
+/// creepage and force of his 1999 method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum PolachSpin {
+    /// Spin does not enter (`"off"`).
+    #[default]
+    #[serde(rename = "off")]
+    Off,
+    /// The 1999 method's spin term (`"polach_1999"`).
+    #[serde(rename = "polach_1999")]
+    Polach1999,
+}
+
 /// A tangential law and its constants.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum TangentialLaw {

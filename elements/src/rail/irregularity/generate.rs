@@ -74,6 +74,14 @@ impl PsdRequest {
         (n, n.next_power_of_two().max(8))
     }
 
+    /// Bytes a profile of `length` sampled every `step` (m) costs while it is made: its
+    /// samples, doubled for the transform's power of two, at [`BYTES_PER_SAMPLE`]. The
+    /// guard of [`PsdRequest::validate`] and the model's size estimate
+    /// ([`super::estimate`]) both count it so.
+    pub fn estimated_bytes(length: f64, step: f64) -> f64 {
+        2.0 * (length / step + 1.0) * BYTES_PER_SAMPLE
+    }
+
     /// Checks the numbers; the message says what to fix.
     pub fn validate(&self) -> Result<(), String> {
         let [lo, hi] = self.wavelengths;
@@ -100,7 +108,7 @@ impl PsdRequest {
         let samples = l / h + 1.0;
         limits::check_memory(
             &format!("`length` = {} m at `step` = {} m", fmt_num(l), fmt_num(h)),
-            2.0 * samples,
+            PsdRequest::estimated_bytes(l, h) / BYTES_PER_SAMPLE,
             "irregularity samples (rounded up to a power of two)",
             BYTES_PER_SAMPLE,
             "give a larger `step` or a shorter `length`",

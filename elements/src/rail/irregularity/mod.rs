@@ -19,9 +19,11 @@
 //! curvature is continuous. Outside a table's stations the end value is held (no jump).
 //!
 //! Submodules: [`psd`] (the standard spectra), [`generate`] (random profiles with a given
-//! spectrum, the Welch estimator), [`csv`] (tables in files).
+//! spectrum, the Welch estimator), [`csv`] (tables in files), [`estimate`] (their part of
+//! the model's size estimate).
 
 pub mod csv;
+pub mod estimate;
 pub mod generate;
 pub mod psd;
 
@@ -136,7 +138,7 @@ pub struct IrregularitySpec {
     pub file: Option<String>,
     /// A standard spectrum ([`PsdClass::NAMES`]).
     #[serde(default)]
-    pub psd: Option<String>,
+    pub psd: Option<PsdClass>,
     /// Seed of the random phases.
     #[serde(default)]
     pub seed: Option<u64>,
@@ -280,13 +282,8 @@ pub fn from_value(
                 let part = IrregularityPart::from_table(&t, f).map_err(e)?;
                 out.parts.push(part);
             }
-            (None, Some(p)) => {
-                let class = PsdClass::parse(p).ok_or_else(|| {
-                    e(format!(
-                        "`psd` = \"{p}\" is not offered; the spectra are: {}",
-                        PsdClass::NAMES.join(", ")
-                    ))
-                })?;
+            (None, Some(class)) => {
+                let class = *class;
                 let seed = spec
                     .seed
                     .ok_or_else(|| e("a generated profile needs `seed` (an integer ≥ 0)".into()))?;
@@ -418,7 +415,7 @@ mod tests {
         };
         bad(
             serde_json::json!({"psd": "fra9", "seed": 1, "wavelengths": [1, 50]}),
-            "fra1, fra2, fra3, fra4, fra5, fra6, german_low, german_high",
+            "`track.irregularity[0].psd`: unknown spectrum `fra9`, expected one of `fra1`, `fra2`, `fra3`, `fra4`, `fra5`, `fra6`, `german_low`, `german_high`",
         );
         bad(
             serde_json::json!({"psd": "fra4", "seed": 1, "wavelengths": [50, 1]}),

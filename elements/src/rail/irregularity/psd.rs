@@ -131,8 +131,10 @@ pub const GERMAN_HIGH: GermanConstants = GermanConstants {
 /// Half the distance between the rolling circles in the German cross-level spectrum (m).
 pub const GERMAN_B: f64 = 0.75;
 
-/// A standard spectrum.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// A standard spectrum. In a model file it is one of [`PsdClass::NAMES`] (`psd = "fra4"`);
+/// any other name is refused with the list.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
+#[serde(try_from = "String")]
 pub enum PsdClass {
     /// FRA track class 1 (worst) to 6 (best).
     Fra(u8),
@@ -140,6 +142,18 @@ pub enum PsdClass {
     GermanLow,
     /// German high-speed, high disturbance.
     GermanHigh,
+}
+
+impl TryFrom<String> for PsdClass {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        PsdClass::parse(&s).ok_or_else(|| {
+            format!(
+                "unknown spectrum `{s}`, expected one of {}",
+                PsdClass::NAMES.map(|n| format!("`{n}`")).join(", ")
+            )
+        })
+    }
 }
 
 impl PsdClass {

@@ -19,6 +19,7 @@ use super::definition::{wheel_model, VehicleDef};
 use super::statics;
 use super::track_model::TrackModel;
 use super::{TrainIds, SPIN_STIFFNESS};
+use crate::suspension::SuspensionTangent;
 use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
@@ -89,7 +90,7 @@ pub struct Train {
     /// Geometry; default the model's.
     pub geometry: Option<Geometry>,
     /// Tangent of nonlinear suspensions.
-    pub suspension_tangent: String,
+    pub suspension_tangent: SuspensionTangent,
 }
 
 /// Vehicle-axes direction names to element keys: `spring_damper` (ux lateral, uy vertical,
@@ -184,15 +185,6 @@ pub fn build(
     };
     if train.vehicles.is_empty() {
         return Err(fail("", "the train has no vehicles; give at least one"));
-    }
-    if !["symmetric", "consistent"].contains(&train.suspension_tangent.as_str()) {
-        return Err(fail(
-            "",
-            &format!(
-                "`suspension_tangent` = \"{}\" is not known; give \"symmetric\" or \"consistent\"",
-                train.suspension_tangent
-            ),
-        ));
     }
     if !(train.speed.is_finite() && train.start.is_finite() && train.accel.is_finite()) {
         return Err(fail("", "`speed`, `start` and `accel` must be finite"));
@@ -332,7 +324,7 @@ pub fn build(
             }
             next_elem
         };
-    let tangent = train.suspension_tangent.clone();
+    let tangent = train.suspension_tangent;
     // `suspension` keys between master `lower` and master `upper` (each (station offset,
     // height)), attached at `at` = (lateral, height, station offset); k, c, k_rot in element
     // axes.

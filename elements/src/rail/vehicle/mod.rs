@@ -52,6 +52,7 @@ pub mod statics;
 pub use carriage::{BodyData, CarriageData, Suspension};
 
 use super::track_model;
+use crate::suspension::SuspensionTangent;
 use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::fmt_num;
@@ -92,11 +93,11 @@ pub struct TrainSpec {
     /// Tangent of the nonlinear suspensions: "symmetric" (keeps a symmetric model's
     /// Cholesky factorization) or "consistent".
     #[serde(default = "default_suspension_tangent")]
-    pub suspension_tangent: String,
+    pub suspension_tangent: SuspensionTangent,
 }
 
-fn default_suspension_tangent() -> String {
-    "symmetric".to_string()
+fn default_suspension_tangent() -> SuspensionTangent {
+    SuspensionTangent::Symmetric
 }
 
 fn default_name() -> String {
@@ -129,12 +130,6 @@ pub const SPIN_STIFFNESS: f64 = 1.0e4;
 fn validate(spec: &TrainSpec, track: &TrackModel) -> Result<(), String> {
     let c = &spec.carriage;
     c.validate()?;
-    if !["symmetric", "consistent"].contains(&spec.suspension_tangent.as_str()) {
-        return Err(format!(
-            "`suspension_tangent` = \"{}\" is not known; give \"symmetric\" or \"consistent\"",
-            spec.suspension_tangent
-        ));
-    }
     if spec.carriages == 0 {
         return Err("`carriages` must be at least 1".into());
     }
@@ -211,7 +206,7 @@ pub fn build_train_at(
         wheel,
         first_node_id: spec.first_node_id,
         geometry: spec.geometry,
-        suspension_tangent: spec.suspension_tangent.clone(),
+        suspension_tangent: spec.suspension_tangent,
     };
     build::build(b, track, &train, origin)
 }

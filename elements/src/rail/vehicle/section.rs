@@ -11,7 +11,9 @@ use super::build::{self, CouplerDef, Train};
 use super::definition::VehicleDef;
 use super::track_model::TrackModel;
 use super::{build_train_at, CarriageData, TrainSpec};
+use crate::suspension::SuspensionTangent;
 use railfem_framework::builder::ModelBuilder;
+use railfem_framework::comfort::ComfortMethod;
 use railfem_framework::error::FemError;
 use railfem_framework::keypath::{self, from_value};
 use railfem_framework::limits;
@@ -58,7 +60,7 @@ struct Record {
     #[serde(default)]
     comfort: Option<String>,
     #[serde(default)]
-    comfort_method: Option<String>,
+    comfort_method: Option<ComfortMethod>,
 }
 
 #[derive(Deserialize)]
@@ -80,7 +82,7 @@ struct TrainKeys {
     #[serde(default)]
     geometry: Option<Geometry>,
     #[serde(default = "default_tangent")]
-    suspension_tangent: String,
+    suspension_tangent: SuspensionTangent,
     #[serde(default)]
     coupler: Option<CouplerDef>,
     #[serde(default)]
@@ -89,11 +91,19 @@ struct TrainKeys {
     vehicles: Option<Vec<Value>>,
 }
 
+/// The built-in vehicles a `[[vehicle]]` entry names with `preset`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum Preset {
+    /// The sks700 carriage of the paper (`"sks700"`).
+    Sks700,
+}
+
 fn default_name() -> String {
     "train".into()
 }
-fn default_tangent() -> String {
-    "symmetric".into()
+fn default_tangent() -> SuspensionTangent {
+    SuspensionTangent::Symmetric
 }
 
 /// Deep merge of `patch` into `base` (tables merge key by key, anything else replaces).
@@ -205,17 +215,9 @@ fn unit(
     if !inline.is_empty() {
         return Ok((definition_from(&Value::Object(inline), o, at)?, count));
     }
-    match map.get("preset").map(|p| p.as_str()) {
-        Some(Some("sks700")) | None => {}
-        Some(other) => {
-            return Err(FemError::input(
-                o,
-                format!(
-                    "unknown preset `{}`; the presets are: sks700",
-                    other.unwrap_or("?")
-                ),
-            ))
-        }
+    if let Some(p) = map.get("preset") {
+        // One preset so far; a closed choice all the same, refused with the list.
+        let Preset::Sks700 = from_value::<Preset>(p, o, &keypath::join(at, "preset"))?;
     }
     match map.get("carriage") {
         None => Ok((sks700()?, count)),
@@ -309,7 +311,7 @@ pub fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(
             wheel: keys.wheel.clone(),
             first_node_id: keys.first_node_id,
             geometry: keys.geometry,
-            suspension_tangent: keys.suspension_tangent.clone(),
+            suspension_tangent: keys.suspension_tangent,
         };
         let ids = build::build(b, &track, &train, &named)?;
         publish_sensors(b, &keys.name, &ids);
@@ -468,12 +470,9 @@ fn record(
                 "the ride-comfort index is taken at the train's sensors and it has none; add [[vehicle.sensor]] entries (name, body, at) or remove `record.comfort`",
             ));
         }
-        let method = r
-            .comfort_method
-            .clone()
-            .unwrap_or_else(|| "sperling".into());
+        let method = r.comfort_method.unwrap_or_default();
         // Sperling has no longitudinal weighting; EN 12299 uses all three axes.
-        let longitudinal = if method == "en12299" {
+        let longitudinal = if method == ComfortMethod::En12299 {
             vec!["uz".to_string()]
         } else {
             Vec::new()
