@@ -72,8 +72,8 @@ fn unknown_geometry_names_the_key_and_the_choices() {
         &[
             "element[0] (id 7",
             "`geometry`",
-            "\"corotatonal\"",
-            "\"linear\", \"pdelta\" or \"corotational\"",
+            "`corotatonal`",
+            "`linear`, `pdelta`, `corotational`",
         ],
     );
 }
