@@ -70,97 +70,13 @@
 //! partitioned solver, variable elements and a constant `A` uses this path.
 
 use crate::chunks::{par_chunks, Shared};
+pub use crate::condensed_cache::CondensedStats;
+use crate::condensed_cache::TopProducts;
 use crate::driver::{Attempt, Driver, State, StepWork};
 use crate::time_integrator::{Increment, TimeIntegrator, Trial, BLOCK};
 use railfem_framework::model::NewtonKind;
 use railfem_framework::parallel::threads;
 use std::time::Instant;
-
-/// Counters of the condensed Newton.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct CondensedStats {
-    /// Steps completed by the condensed Newton.
-    pub steps: usize,
-    /// Iterations on the top system alone (no full residual).
-    pub top_iterations: usize,
-    /// Full evaluations (the first of each step and each verification).
-    pub full_evaluations: usize,
-    /// Verifications whose full test did not pass (the screen passed too early).
-    pub rejected: usize,
-    /// Verified steps whose exact force or displacement tolerance exceeded the screen's
-    /// estimate by more than its factor 2 (see the module documentation).
-    pub margin_exceeded: usize,
-    /// Steps handed back to the full-residual Newton.
-    pub fallbacks: usize,
-    /// Predictor evaluations whose products the previous step's verification had formed
-    /// (no pass over the constant matrices).
-    pub predictors_reused: usize,
-}
-
-/// Caches kept between steps.
-#[derive(Debug, Default)]
-pub struct CondensedCache {
-    /// Equations every factorization of the step keeps on top (those of the variable
-    /// elements), read by the driver's factorization.
-    pub(crate) promote_always: Vec<usize>,
-    /// The constant matrices between top equations, for the top generation they were built.
-    products: Option<TopProducts>,
-    /// `|f_int|`, `|M·a_w|` at the last converged step.
-    last_norms: Option<(f64, f64)>,
-    stats: CondensedStats,
-    /// What the last accepted verification formed for the next step's predictor.
-    ahead: Ahead,
-    /// `false`: the verification forms no products for the next step or the energy
-    /// balance ([`Driver::set_products_ahead`]; a comparison switch).
-    no_products_ahead: bool,
-    /// Scratch for the variable elements' forces, resisting, inertia and damping: zero
-    /// between uses (only the variable elements' equations are ever written, and they are
-    /// zeroed again after each read).
-    var_scratch: [Vec<f64>; 3],
-}
-
-/// The next step's predictor products, formed in the verification's pass over the constant
-/// matrices (module documentation, *Per step*).
-#[derive(Debug, Default)]
-struct Ahead {
-    /// `Δt` the products were formed for; `None`: nothing valid.
-    dt: Option<f64>,
-    /// The displacement `q` of the accepted state and `K_const·q`.
-    q: Vec<f64>,
-    kq: Vec<f64>,
-    /// The next predictor's weighted kinematics `a_w`, `v_w` (at `Δu = 0` from the accepted
-    /// state) and `M_const·a_w`, `C_const·v_w`.
-    a_w: Vec<f64>,
-    v_w: Vec<f64>,
-    inertia: Vec<f64>,
-    damp: Vec<f64>,
-}
-
-impl Ahead {
-    fn resize(&mut self, n: usize) {
-        for x in [
-            &mut self.q,
-            &mut self.kq,
-            &mut self.a_w,
-            &mut self.v_w,
-            &mut self.inertia,
-            &mut self.damp,
-        ] {
-            x.resize(n, 0.0);
-        }
-    }
-}
-
-/// `K`, `M`, `C` restricted to the top equations (top numbering, column-compressed).
-#[derive(Debug)]
-struct TopProducts {
-    generation: u64,
-    col_ptr: Vec<usize>,
-    rows: Vec<u32>,
-    k: Vec<f64>,
-    m: Vec<f64>,
-    c: Vec<f64>,
-}
 
 /// How a condensed attempt ended when it did not give a state.
 enum Exit {

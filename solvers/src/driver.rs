@@ -266,7 +266,7 @@ pub struct Driver {
     /// the full-residual Newton (same answers to round-off; for comparisons).
     pub condense_residual: bool,
     /// The condensed Newton's caches and counters.
-    pub(crate) condensed: crate::condensed::CondensedCache,
+    pub(crate) condensed: crate::condensed_cache::CondensedCache,
     /// The step attempt's vectors, kept between steps.
     pub(crate) work: StepWork,
     /// Whether the held retry holds the contact's active sets ([`crate::held_active_set`]).
@@ -1296,7 +1296,7 @@ impl Driver {
                     - damp[i]
                     - ((1.0 - af) * f_int[i] + af * s0.f_int[i]);
             }
-            crate::window::zero_held(&self.frozen_rows, r);
+            zero_held(&self.frozen_rows, r);
             self.summary.timings.assembly += ta.elapsed().as_secs_f64();
             // A linear model takes its one correction whatever the force check says: the
             // check's reference is formed only for a nonlinear model or the trace.
@@ -1402,7 +1402,7 @@ impl Driver {
     /// Zeroes the increment predictor's entries on the `held` rows ([`crate::window`]).
     pub(crate) fn zero_held_increment(&mut self, held: &[bool]) {
         if let Some((_, inc)) = &mut self.last_increment {
-            crate::window::zero_held(held, inc);
+            zero_held(held, inc);
         }
     }
 
@@ -1849,5 +1849,18 @@ impl Driver {
         self.summary.wall = start.elapsed().as_secs_f64();
         let kept = rec.map(Recorders::histories).unwrap_or_default();
         Ok((self.summary, kept))
+    }
+}
+
+/// Zeroes the held rows of a residual (their values are reactions): nothing when `held`
+/// is empty, so that a run without a window takes exactly the arithmetic it always took.
+fn zero_held(held: &[bool], r: &mut [f64]) {
+    if held.is_empty() {
+        return;
+    }
+    for (ri, &h) in r.iter_mut().zip(held) {
+        if h {
+            *ri = 0.0;
+        }
     }
 }

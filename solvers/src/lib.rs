@@ -19,6 +19,7 @@ pub mod bathe;
 mod chunks;
 pub mod compact_factor;
 pub mod condensed;
+pub mod condensed_cache;
 pub mod dense;
 pub mod driver;
 pub mod energy;

@@ -7,7 +7,7 @@
 //! change, `v_{I_h} = a_{I_h} = 0` (set so when the block is held, and kept so by the
 //! integrator, whose kinematics of a zero increment from a state at rest are zero), and the
 //! residual rows `r_{I_h}` are reactions, left out of the convergence test
-//! ([`zero_held`]). The solves skip the block's forward and back passes
+//! (the driver's `zero_held`). The solves skip the block's forward and back passes
 //! ([`crate::partition::Partitioned::set_frozen_blocks`]).
 //!
 //! **What is exact.** Every equation that is not held — the active blocks' interiors, all
@@ -39,19 +39,6 @@
 
 use crate::driver::Driver;
 use railfem_framework::error::FemError;
-
-/// Zeroes the held rows of a residual (their values are reactions): nothing when `held`
-/// is empty, so that a run without a window takes exactly the arithmetic it always took.
-pub fn zero_held(held: &[bool], r: &mut [f64]) {
-    if held.is_empty() {
-        return;
-    }
-    for (ri, &h) in r.iter_mut().zip(held) {
-        if h {
-            *ri = 0.0;
-        }
-    }
-}
 
 /// Settings of the activity window.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -18,6 +18,7 @@ pub mod fe;
 pub mod filter;
 pub mod interaction;
 pub mod modal;
+pub mod outcome;
 pub mod plan;
 pub mod report;
 pub mod resume;

@@ -14,8 +14,8 @@
 //! naming the journal, the line and the fix (delete the row, or start afresh with
 //! `--restart`). A last line cut by a kill (no line end) is dropped: that run runs again.
 
-use super::envelope::Outcome;
 use super::interaction::VehicleModel;
+use super::outcome::Outcome;
 use crate::framework::FemError;
 use crate::study::cases::fnv1a;
 use crate::study::checkpoint::{line, row_sum};
