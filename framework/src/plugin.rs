@@ -289,7 +289,8 @@ fn loaded_list() -> &'static Mutex<Vec<Loaded>> {
     LIST.get_or_init(|| Mutex::new(Vec::new()))
 }
 
-/// The plugins loaded so far: canonical path and the element kinds each registered.
+/// The plugins loaded so far: canonical path and the names of the kinds (element, load and
+/// recorder) each registered.
 pub fn loaded() -> Vec<(PathBuf, Vec<&'static str>)> {
     loaded_list()
         .lock()

@@ -83,8 +83,9 @@ fn elements(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 }
 
 /// Loads an element plugin (a shared library built with `export_plugin!`) and returns
-/// the names of the element kinds it registered. Loading the same file again does
-/// nothing. A library that cannot be loaded raises `ValueError` with the loader's message.
+/// the names of the element kinds it registered (its load and recorder kinds, if any, are
+/// registered too and read by model files). Loading the same file again does nothing. A
+/// library that cannot be loaded raises `ValueError` with the loader's message.
 #[pyfunction]
 fn load_plugin(py: Python<'_>, path: PathBuf) -> PyResult<Vec<String>> {
     railfem::elements::link();
@@ -94,7 +95,13 @@ fn load_plugin(py: Python<'_>, path: PathBuf) -> PyResult<Vec<String>> {
     Ok(railfem::framework::plugin::loaded()
         .into_iter()
         .find(|(p, _)| *p == canon)
-        .map(|(_, kinds)| kinds.into_iter().map(String::from).collect())
+        .map(|(_, kinds)| {
+            kinds
+                .into_iter()
+                .filter(|k| railfem::framework::registry::find(k).is_some())
+                .map(String::from)
+                .collect()
+        })
         .unwrap_or_default())
 }
 
