@@ -71,16 +71,89 @@ pub const LIMIT_ENERGY: f64 = 1e-8;
 /// Steps of the energy check.
 pub const ENERGY_STEPS: usize = 50;
 
-/// The checks, in table order.
-pub const CHECKS: [&str; 8] = [
-    "tangent",
-    "symmetry",
-    "rigid_body",
-    "mass",
-    "revert",
-    "serde",
-    "finite",
-    "energy",
+/// One check of the kit. Its name ([`Check::name`]) is the column of the table `railfem
+/// conformance` prints; a failure line names the check and what its number measures
+/// ([`Check::measure`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Check {
+    /// Tangent against central differences of the resisting force ([`LIMIT_TANGENT`]).
+    Tangent,
+    /// Symmetry of the tangent of an element declaring `symmetric` ([`LIMIT_SYMMETRY`]).
+    Symmetry,
+    /// No force under a rigid-body motion ([`LIMIT_RIGID`]).
+    RigidBody,
+    /// Mass matrix symmetric, positive and of the declared total ([`LIMIT_MASS`]).
+    Mass,
+    /// `revert` restores the committed state exactly.
+    Revert,
+    /// The parameters survive a serde round trip.
+    Serde,
+    /// Force and tangent finite at the sample.
+    Finite,
+    /// Energy balance of a short dynamic run ([`LIMIT_ENERGY`]).
+    Energy,
+    /// The kind's sample generator itself (no samples, or it panicked): nothing else ran.
+    Samples,
+}
+
+impl Check {
+    /// The check's name as the table and the failure lines print it (`"rigid_body"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Check::Tangent => "tangent",
+            Check::Symmetry => "symmetry",
+            Check::RigidBody => "rigid_body",
+            Check::Mass => "mass",
+            Check::Revert => "revert",
+            Check::Serde => "serde",
+            Check::Finite => "finite",
+            Check::Energy => "energy",
+            Check::Samples => "samples",
+        }
+    }
+
+    /// What the check's measured number is, for the line of a failure: every number the
+    /// kit compares with a limit is relative (dimensionless); a check that fails on
+    /// something else (a dissipation that decreased, a non-finite value) says so in its
+    /// note instead.
+    pub fn measure(self) -> &'static str {
+        match self {
+            Check::Tangent => "relative difference from central differences",
+            Check::Symmetry => "relative asymmetry",
+            Check::RigidBody => "relative force under a rigid-body motion",
+            Check::Mass => "relative mass error",
+            Check::Revert => "relative difference after revert",
+            Check::Serde => "relative difference after the serde round trip",
+            Check::Energy => "relative energy-balance error",
+            Check::Finite | Check::Samples => "relative measure",
+        }
+    }
+}
+
+impl std::fmt::Display for Check {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+/// A check compares equal to its name, so results can be looked up as
+/// `r.check == "rigid_body"` as well as `r.check == Check::RigidBody`.
+impl PartialEq<&str> for Check {
+    fn eq(&self, other: &&str) -> bool {
+        self.name() == *other
+    }
+}
+
+/// The checks run on every sample, in table order.
+pub const CHECKS: [Check; 8] = [
+    Check::Tangent,
+    Check::Symmetry,
+    Check::RigidBody,
+    Check::Mass,
+    Check::Revert,
+    Check::Serde,
+    Check::Finite,
+    Check::Energy,
 ];
 
 /// Outcome of one check on one sample.
@@ -101,8 +174,8 @@ pub struct CheckResult {
     pub kind: String,
     /// Sample name (empty when the kind has no samples).
     pub sample: String,
-    /// Check name, one of [`CHECKS`] (or `"samples"`).
-    pub check: &'static str,
+    /// The check ([`CHECKS`], or [`Check::Samples`] when the kind could not be sampled).
+    pub check: Check,
     /// Pass, fail or skipped.
     pub outcome: Outcome,
     /// The measured number (relative, dimensionless); NaN when not measured.
@@ -172,7 +245,7 @@ impl Report {
                 .iter()
                 .filter(|r| &r.kind == k && &r.sample == s)
                 .collect();
-            if let Some(r) = mine.iter().find(|r| r.check == "samples") {
+            if let Some(r) = mine.iter().find(|r| r.check == Check::Samples) {
                 out.push_str(&format!(" FAIL  {}", r.note));
             } else {
                 for c in CHECKS {
@@ -191,13 +264,13 @@ impl Report {
         }
         let fails = self.failures();
         for f in &fails {
-            if f.check != "samples" {
+            if f.check != Check::Samples {
                 let measured = if f.value.is_nan() {
                     String::new()
                 } else {
                     format!(
                         "{} {} (limit {}) ",
-                        measure_of(f.check),
+                        f.check.measure(),
                         num(f.value),
                         num(f.limit)
                     )
@@ -224,22 +297,6 @@ impl Report {
             fails.len()
         ));
         out
-    }
-}
-
-/// What a check's measured number is, for the line of a failure: every number the kit
-/// compares with a limit is relative (dimensionless); a check that fails on something else
-/// (a dissipation that decreased, a non-finite value) says so in its note instead.
-fn measure_of(check: &str) -> &'static str {
-    match check {
-        "tangent" => "relative difference from central differences",
-        "symmetry" => "relative asymmetry",
-        "rigid_body" => "relative force under a rigid-body motion",
-        "mass" => "relative mass error",
-        "revert" => "relative difference after revert",
-        "serde" => "relative difference after the serde round trip",
-        "energy" => "relative energy-balance error",
-        _ => "relative measure",
     }
 }
 
@@ -274,7 +331,7 @@ pub fn check_kind(kind: &ElementKind) -> Vec<CheckResult> {
             return vec![fail_row(
                 kind,
                 "",
-                "samples",
+                Check::Samples,
                 format!("the sample generator panicked: {}", panic_text(p.as_ref())),
             )]
         }
@@ -283,7 +340,7 @@ pub fn check_kind(kind: &ElementKind) -> Vec<CheckResult> {
         return vec![fail_row(
             kind,
             "",
-            "samples",
+            Check::Samples,
             "no sample states: give the kind a sample generator (elastic, yielded, …)".into(),
         )];
     }
@@ -293,17 +350,17 @@ pub fn check_kind(kind: &ElementKind) -> Vec<CheckResult> {
     for (i, name) in names.iter().enumerate() {
         let cx = Cx { kind, index: i };
         type CheckFn = fn(&Cx) -> Result<Measured, String>;
-        let checks: [(&'static str, CheckFn); 8] = [
-            ("tangent", check_tangent),
-            ("symmetry", check_symmetry),
-            ("rigid_body", check_rigid),
-            ("mass", check_mass),
-            ("revert", check_revert),
-            ("serde", check_serde),
-            ("finite", check_finite),
-            ("energy", check_energy),
+        let checks: [CheckFn; 8] = [
+            check_tangent,
+            check_symmetry,
+            check_rigid,
+            check_mass,
+            check_revert,
+            check_serde,
+            check_finite,
+            check_energy,
         ];
-        for (check, f) in checks {
+        for (check, f) in CHECKS.into_iter().zip(checks) {
             let r = catch_unwind(AssertUnwindSafe(|| f(&cx)));
             let row = match r {
                 Ok(Ok(m)) => CheckResult {
@@ -340,7 +397,7 @@ pub fn check_kind(kind: &ElementKind) -> Vec<CheckResult> {
     out
 }
 
-fn fail_row(kind: &ElementKind, sample: &str, check: &'static str, note: String) -> CheckResult {
+fn fail_row(kind: &ElementKind, sample: &str, check: Check, note: String) -> CheckResult {
     CheckResult {
         kind: kind.name.to_string(),
         sample: sample.to_string(),
@@ -1511,7 +1568,7 @@ mod tests {
         results
             .iter()
             .filter(|r| !r.passed())
-            .map(|r| r.check)
+            .map(|r| r.check.name())
             .collect()
     }
 
@@ -1567,7 +1624,7 @@ mod tests {
     fn kinds_without_samples_fail_visibly() {
         let r = check_kind(&kind("empty", build_spring, Vec::new));
         assert_eq!(r.len(), 1);
-        assert_eq!(r[0].check, "samples");
+        assert_eq!(r[0].check, Check::Samples);
         assert!(!r[0].passed());
     }
 
@@ -1585,7 +1642,7 @@ mod tests {
         let row = |value: f64, limit: f64, note: &str| CheckResult {
             kind: "k".into(),
             sample: "s".into(),
-            check: "energy",
+            check: Check::Energy,
             outcome: Outcome::Fail,
             value,
             limit,
