@@ -1,6 +1,6 @@
 //! The simplified methods of ERRI D214 (DER, LIR; `railfem::bridge_check::simplified`)
 //! against the modal reference of `railfem bridge-check` for HSLM-A1…A10 on three simply
-//! supported spans (docs/validation.md, "Simplified methods: DER and LIR"): per train, the
+//! supported spans (docs/validation/closed-forms.md, "Simplified methods: DER and LIR"): per train, the
 //! peak acceleration over 144–420 km/h (5 km/h steps) of the check's finite element deck
 //! (10 elements, every node, Rayleigh damping, cut off), of the modal reference at midspan
 //! (10 modes, constant ζ, cut off as the check does), of its first mode alone, and of DER

@@ -1,6 +1,6 @@
 //! The paper's Section 4 on shortened tracks: FE against the simple theory (Eqs. 21–26).
 //! The full cases run from the command line (`railfem curve`, `railfem critical-radius`)
-//! and are reported in docs/validation.md.
+//! and are reported in docs/validation/paper.md.
 
 use railfem::critical::{self, Criterion, CriticalCase};
 use railfem::curve::{self, CurveCase};
