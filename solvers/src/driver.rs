@@ -367,10 +367,10 @@ impl Driver {
         .map_err(|m| FemError::input(&model.origin, m))?;
         let mut split = None;
         let asm = match &shared {
-            None => Assembler::new(&mut model)?,
+            None => Assembler::new(&mut model, crate::thresholds::resolve)?,
             Some((ex, own)) => {
                 let options = own.unwrap_or_else(|| Self::model_partition_options(&model));
-                Assembler::new_on_columns(&mut model, &mut |c| {
+                Assembler::new_on_columns(&mut model, crate::thresholds::resolve, &mut |c| {
                     let s = RankSplit::on_pattern(c, ex, options)?;
                     let columns = s.until_mass.clone();
                     split = Some(s);
