@@ -72,7 +72,7 @@
 use crate::chunks::{par_chunks, Shared};
 pub use crate::condensed_cache::CondensedStats;
 use crate::condensed_cache::TopProducts;
-use crate::driver::{Attempt, Driver, State, StepWork};
+use crate::driver::{Accepted, Driver, State, StepWork};
 use crate::time_integrator::{Increment, TimeIntegrator, Trial, BLOCK};
 use railfem_framework::model::NewtonKind;
 use railfem_framework::parallel::threads;
@@ -249,46 +249,60 @@ impl Driver {
         self.condensed.ahead.dt = None;
     }
 
-    /// A step attempt: the condensed Newton when it applies, the full-residual one
-    /// otherwise or when the condensed one hands the step back.
-    pub(crate) fn attempt_any(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
-        if self.condense_residual && self.condensed_applicable() {
-            let s0 = std::mem::take(&mut self.state);
-            let mut sw = std::mem::take(&mut self.work);
-            let n = self.neq();
-            let finite = self.asm.dofmap.has_finite_rotations();
-            let energy = self.energy.is_some() && !self.condensed.no_products_ahead;
-            let mut w = Full::take(&mut sw, n, finite, energy);
-            // Whatever happens, the next predictor's products are valid only when this
-            // attempt's accepted verification forms them again.
-            let ahead_dt = self.condensed.ahead.dt.take();
-            let t1 = s0.t + dt;
-            let r = self.attempt_condensed(dt, &s0, &mut w, ahead_dt);
-            self.release_first_iteration();
-            self.state = s0;
-            self.condensed.promote_always.clear();
-            match r {
-                Ok((iters, rn)) => {
-                    self.condensed.ahead.dt = (!self.condensed.no_products_ahead).then_some(dt);
-                    let s = w.give_back(&mut sw, Some(t1));
-                    sw.mv_ready = energy;
-                    sw.cv_ready = energy;
-                    self.work = sw;
-                    self.condensed.stats.steps += 1;
-                    return Ok((s.expect("state asked for"), iters, rn));
-                }
-                Err(Exit::Fallback) => {
-                    w.give_back(&mut sw, None);
-                    self.work = sw;
-                    self.asm.revert(&mut self.model);
-                    self.factored = None;
-                    self.condensed.stats.fallbacks += 1;
-                }
+    /// The condensed Newton's attempt ([`crate::step_method::CondensedNewton`]): the
+    /// accepted state, or `None` when it does not apply to this step or hands the step back
+    /// (the elements reverted; the caller takes the step by the full-residual Newton).
+    pub(crate) fn attempt_condensed_or_fall_back(&mut self, dt: f64) -> Option<Accepted> {
+        if !self.condensed_applicable() {
+            return None;
+        }
+        let s0 = std::mem::take(&mut self.state);
+        let mut sw = std::mem::take(&mut self.work);
+        let n = self.neq();
+        let finite = self.asm.dofmap.has_finite_rotations();
+        let energy = self.energy.is_some() && !self.condensed.no_products_ahead;
+        let mut w = Full::take(&mut sw, n, finite, energy);
+        // Whatever happens, the next predictor's products are valid only when this
+        // attempt's accepted verification forms them again.
+        let ahead_dt = self.condensed.ahead.dt.take();
+        let t1 = s0.t + dt;
+        let r = self.attempt_condensed(dt, &s0, &mut w, ahead_dt);
+        self.release_first_iteration();
+        self.state = s0;
+        self.condensed.promote_always.clear();
+        match r {
+            Ok((iterations, residual)) => {
+                self.condensed.ahead.dt = (!self.condensed.no_products_ahead).then_some(dt);
+                let s = w.give_back(&mut sw, Some(t1));
+                sw.mv_ready = energy;
+                sw.cv_ready = energy;
+                self.work = sw;
+                self.condensed.stats.steps += 1;
+                Some(Accepted {
+                    state: s.expect("state asked for"),
+                    iterations,
+                    residual,
+                })
+            }
+            Err(Exit::Fallback) => {
+                w.give_back(&mut sw, None);
+                self.work = sw;
+                self.asm.revert(&mut self.model);
+                self.factored = None;
+                self.condensed.stats.fallbacks += 1;
+                None
             }
         }
-        let r = self.attempt(dt);
-        self.release_first_iteration();
-        r
+    }
+
+    /// Whether the condensed Newton can apply to any step of this driver (the partitioned
+    /// solver, full Newton from the committed state, variable elements): the driver then
+    /// picks it ([`Driver::default_step_method`]); each step checks the rest.
+    pub(crate) fn may_condense(&self) -> bool {
+        self.partition.is_some()
+            && self.model.analysis.newton.predictor.is_previous()
+            && self.model.analysis.newton.kind == NewtonKind::Full
+            && !self.asm.variable_elements().is_empty()
     }
 
     fn condensed_applicable(&self) -> bool {

@@ -35,6 +35,8 @@ use crate::linear::{solver_for, LinearSolver, SolverError};
 use crate::lowrank::{LowRank, LowRankStats};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 pub use crate::state::State;
+pub use crate::step_method::{Accepted, Attempt};
+use crate::step_method::StepMethod;
 use crate::static_lu::StaticLu;
 pub use crate::thresholds::{DENSE_LIMIT, DIRECT_DENSE_LIMIT, DIRECT_DENSE_LU_LIMIT};
 use crate::time_integrator::{Increment, TimeIntegrator, Trial};
@@ -197,25 +199,6 @@ pub struct RunSummary {
     pub timings: Timings,
 }
 
-/// Why one attempt at a step failed (it may be retried with a smaller step).
-#[derive(Debug)]
-pub(crate) enum Attempt {
-    /// Newton did not converge: the largest residual and where.
-    NotConverged {
-        residual: f64,
-        dof: String,
-        iterations: usize,
-    },
-    /// A hard error: stop at once.
-    Fatal(FemError),
-}
-
-impl From<FemError> for Attempt {
-    fn from(e: FemError) -> Self {
-        Attempt::Fatal(e)
-    }
-}
-
 /// Runs a model.
 pub struct Driver {
     /// The model (owned: elements are updated in place).
@@ -286,6 +269,9 @@ pub struct Driver {
     /// One flag per equation: held by the activity window ([`crate::window`]), its
     /// residual a reaction; empty when nothing is held.
     pub(crate) frozen_rows: Vec<bool>,
+    /// How each attempt at a step is solved ([`crate::step_method`]): picked before the
+    /// first step ([`Driver::default_step_method`]) unless given; taken out while it runs.
+    pub(crate) method: Option<Box<dyn StepMethod>>,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -437,6 +423,7 @@ impl Driver {
             mass_split: None,
             narrow_after_mass: None,
             frozen_rows: Vec::new(),
+            method: None,
         };
         if let (Some(split), Some((ex, _))) = (split, shared) {
             d.take_rank_split(ex, split);
@@ -1091,22 +1078,69 @@ impl Driver {
         Ok(())
     }
 
-    /// One attempt at a step of length `dt` from the committed state. The committed state
-    /// is moved out for the attempt (and back after it) rather than copied, and the
-    /// attempt's vectors are the driver's [`StepWork`], kept between steps.
-    pub(crate) fn attempt(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
+    /// One attempt of the full Newton ([`crate::step_method::FullNewton`]) at a step of
+    /// length `dt` from the committed state. The committed state is moved out for the
+    /// attempt (and back after it) rather than copied, and the attempt's vectors are the
+    /// driver's [`StepWork`], kept between steps.
+    pub(crate) fn attempt_full_newton(&mut self, dt: f64) -> Result<Accepted, Attempt> {
+        self.attempt_with(dt, Self::attempt_from)
+    }
+
+    /// One attempt of the lumped linear step ([`crate::lumped_step`]), as
+    /// [`Driver::attempt_full_newton`] takes the committed state and the work vectors.
+    pub(crate) fn attempt_lumped(&mut self, dt: f64) -> Result<Accepted, Attempt> {
+        self.attempt_with(dt, Self::attempt_lumped_linear)
+    }
+
+    /// Runs `f` on the committed state moved out of the driver and the step's work vectors.
+    fn attempt_with(
+        &mut self,
+        dt: f64,
+        f: fn(&mut Driver, f64, &State, &mut StepWork) -> Result<(State, usize, f64), Attempt>,
+    ) -> Result<Accepted, Attempt> {
         let s0 = std::mem::take(&mut self.state);
         // Messages formed during the attempt name the time of the committed state.
         self.state.t = s0.t;
         let mut w = std::mem::take(&mut self.work);
-        let r = if self.lumped_linear_applies() {
-            self.attempt_lumped_linear(dt, &s0, &mut w)
-        } else {
-            self.attempt_from(dt, &s0, &mut w)
-        };
+        let r = f(self, dt, &s0, &mut w);
         self.state = s0;
         self.work = w;
-        r
+        r.map(|(state, iterations, residual)| Accepted {
+            state,
+            iterations,
+            residual,
+        })
+    }
+
+    /// The start of a step method's attempt at a step of length `dt`
+    /// ([`crate::step_method`]): the model moved to `t1 = t + dt` (carriers advanced,
+    /// elements re-pick their nodes) and a copy of the committed state with `t = t1` and the
+    /// external force of `t1`, to iterate on.
+    pub fn begin_step(&mut self, dt: f64) -> Result<State, FemError> {
+        let t1 = self.state.t + dt;
+        let mut next = self.state.clone();
+        next.t = t1;
+        let tl = Instant::now();
+        self.asm.advance(&mut self.model, t1, dt)?;
+        self.asm
+            .external_force(&self.model, t1, 1.0, &mut next.f_ext)?;
+        self.summary.timings.loads += tl.elapsed().as_secs_f64();
+        Ok(next)
+    }
+
+    /// Forms and factors the effective tangent `k·K + m·M + c·C` of the elements' last
+    /// update with `coef` (the integrator's [`TimeIntegrator::coefficients`]), for a step
+    /// method's next [`Driver::solve_correction`]; counted in [`RunSummary::factorizations`].
+    pub fn factor_effective(&mut self, coef: Coefficients) -> Result<(), FemError> {
+        self.factor_tangent(coef)?;
+        self.summary.factorizations += 1;
+        Ok(())
+    }
+
+    /// Solves `K_eff·x = b` in place with the last factor ([`Driver::factor_effective`]);
+    /// an error naming the DOF if the solution is not finite.
+    pub fn solve_correction(&mut self, b: &mut [f64]) -> Result<(), FemError> {
+        self.solve(b)
     }
 
     /// The start of every attempt: the next state's vectors (the ones the last committed
@@ -1214,7 +1248,7 @@ impl Driver {
         let finite = self.asm.dofmap.has_finite_rotations();
         // The first iteration with the contact's statuses of the last converged step
         // (`FirstActiveSet`); released before the second evaluation (and by
-        // `attempt_any` whatever the outcome).
+        // the step method whatever the outcome).
         self.hold_first_iteration(linear);
         for it in 0..=settings.max_iter {
             if finite {
@@ -1412,6 +1446,7 @@ impl Driver {
         if !self.initialized {
             self.initialize()?;
         }
+        self.ensure_step_method();
         let max_cuts = self.model.analysis.newton.max_cuts;
         let mut report = StepReport::default();
         self.substep(dt, 0, max_cuts, &mut report)?;
@@ -1456,20 +1491,27 @@ impl Driver {
         max_cuts: usize,
         rep: &mut StepReport,
     ) -> Result<bool, FemError> {
-        let mut outcome = self.attempt_any(dt);
-        // The smallest sub-step failed: solve it again with the contact's active set held
-        // (crate::held_active_set); when that fails too, the first attempt's failure stands.
+        let mut method = match self.method.take() {
+            Some(m) => m,
+            None => self.default_step_method(),
+        };
+        let mut outcome = method.attempt(self, dt);
+        // The smallest sub-step failed: the method's last resort (the held active set,
+        // crate::held_active_set); when that fails too, the first attempt's failure stands.
         let mut held_note = String::new();
         if let (true, Err(Attempt::NotConverged { iterations, .. })) = (depth >= max_cuts, &outcome)
         {
             let spent = *iterations;
             self.asm.revert(&mut self.model);
             self.factored = None;
-            match self.attempt_held(dt) {
+            match method.last_resort(self, dt) {
                 None => {}
-                Some(Ok((s, it, res))) => {
+                Some(Ok(a)) => {
                     self.summary.held += 1;
-                    outcome = Ok((s, spent + it, res));
+                    outcome = Ok(Accepted {
+                        iterations: spent + a.iterations,
+                        ..a
+                    });
                 }
                 Some(Err(f)) => {
                     held_note = format!("; {}", f.why);
@@ -1482,8 +1524,13 @@ impl Driver {
                 }
             }
         }
+        self.method = Some(method);
         match outcome {
-            Ok((s, it, res)) => {
+            Ok(Accepted {
+                state: s,
+                iterations: it,
+                residual: res,
+            }) => {
                 self.asm.commit(&mut self.model);
                 if let Some(e) = self.energy.as_mut() {
                     // A linear step formed its state's M·v with its K·q.

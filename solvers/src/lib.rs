@@ -6,8 +6,10 @@
 //! ([`bathe`]) behind the integrator trait and registry ([`time_integrator`]), the energy
 //! balance of a run
 //! ([`energy`]) and the driver that runs static and
-//! transient analyses with Newton–Raphson and step cutting ([`driver`]; a lumped linear model's
-//! step in fused passes, [`lumped_step`]), and the checks made
+//! transient analyses with Newton–Raphson and step cutting ([`driver`]), each attempt at a
+//! step solved by a step method behind a trait ([`step_method`]: full Newton, the condensed
+//! Newton [`condensed`], a lumped linear model's step in fused passes [`lumped_step`], the
+//! held active set's retry [`held_active_set`]), and the checks made
 //! before its first step ([`preflight`]); the committed state ([`state`]) and the solver
 //! switch-over sizes ([`thresholds`]). What does not:
 //! elements (railfem-elements) and the model itself (railfem-framework).
@@ -35,9 +37,11 @@ pub mod partition;
 pub mod preflight;
 pub mod state;
 pub mod static_lu;
+pub mod step_method;
 pub mod thresholds;
 pub mod time_integrator;
 pub mod top_chain;
 pub mod window;
 
 pub use driver::{Driver, ReferenceSystem, RunSummary, State, StepReport};
+pub use step_method::{Accepted, Attempt, StepMethod};
