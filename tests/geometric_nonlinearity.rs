@@ -608,7 +608,10 @@ fn finite_rotation_marks_from_outside_elements() {
     // A mark on a missing node.
     let mut m = build();
     m.mark_finite_rotation(99);
-    let e = Assembler::new(&mut m, railfem::solvers::thresholds::resolve).err().expect("refused").to_string();
+    let e = Assembler::new(&mut m, railfem::solvers::thresholds::resolve)
+        .err()
+        .expect("refused")
+        .to_string();
     assert!(
         e.contains("node index 99") && e.contains("mark an existing node"),
         "{e}"

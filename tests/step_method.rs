@@ -3,9 +3,9 @@
 //! with `Driver::set_step_method`, gives the driver's own full Newton's answer, and the
 //! driver picks its built-in methods by the model.
 
+use railfem::bench::{BenchBeam, BenchMass};
 use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
-use railfem::bench::{BenchBeam, BenchMass};
 use railfem::framework::model::{AnalysisKind, AnalysisSpec, Rayleigh};
 use railfem::framework::{Dof, DofSet};
 use railfem::solvers::step_method::{Accepted, Attempt, StepMethod};
@@ -25,7 +25,7 @@ struct PlainNewton {
     attempts: std::sync::Arc<std::sync::atomic::AtomicUsize>,
 }
 
-impl StepMethod for PlainNewton {
+impl StepMethod<Driver> for PlainNewton {
     fn name(&self) -> &'static str {
         "plain Newton"
     }

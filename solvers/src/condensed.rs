@@ -72,7 +72,8 @@
 use crate::chunks::{par_chunks, Shared};
 pub use crate::condensed_cache::CondensedStats;
 use crate::condensed_cache::TopProducts;
-use crate::driver::{Accepted, Driver, State, StepWork};
+use crate::driver::{Accepted, Attempt, Driver, State, StepWork};
+use crate::step_method::{CondensedNewton, FullNewton, StepMethod};
 use crate::time_integrator::{Increment, TimeIntegrator, Trial, BLOCK};
 use railfem_framework::model::NewtonKind;
 use railfem_framework::parallel::threads;
@@ -288,25 +289,15 @@ impl Driver {
                 w.give_back(&mut sw, None);
                 self.work = sw;
                 self.asm.revert(&mut self.model);
-                self.factored = None;
+                self.linear.factored = None;
                 self.condensed.stats.fallbacks += 1;
                 None
             }
         }
     }
 
-    /// Whether the condensed Newton can apply to any step of this driver (the partitioned
-    /// solver, full Newton from the committed state, variable elements): the driver then
-    /// picks it ([`Driver::default_step_method`]); each step checks the rest.
-    pub(crate) fn may_condense(&self) -> bool {
-        self.partition.is_some()
-            && self.model.analysis.newton.predictor.is_previous()
-            && self.model.analysis.newton.kind == NewtonKind::Full
-            && !self.asm.variable_elements().is_empty()
-    }
-
     fn condensed_applicable(&self) -> bool {
-        let Some(p) = &self.partition else {
+        let Some(p) = &self.linear.partition else {
             return false;
         };
         // Its iterations start from the committed state; another predictor takes the
@@ -542,7 +533,7 @@ impl Driver {
     }
 
     fn top_products(&mut self) {
-        let p = self.partition.as_ref().expect("partitioned");
+        let p = self.linear.partition.as_ref().expect("partitioned");
         let gen = p.top_generation();
         if self
             .condensed
@@ -584,7 +575,7 @@ impl Driver {
         if self.asm.constant_columns_kept() {
             // A promoted equation's column is kept by its block's owner alone, which sends
             // it (the top set is sorted: a top row is its position there).
-            let p = self.partition.as_mut().expect("partitioned");
+            let p = self.linear.partition.as_mut().expect("partitioned");
             let top = p.top_equations().to_vec();
             let top_row = |i: usize| top.binary_search(&i).ok();
             let columns = p
@@ -723,7 +714,7 @@ impl Driver {
                     .add_variable_inertia_damping(&w.a_w, &w.v_w, in_var, damp_var);
                 let nt_top = top.len();
                 let delta: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
-                let p = self.partition.as_mut().expect("partitioned");
+                let p = self.linear.partition.as_mut().expect("partitioned");
                 let mut rt = vec![0.0; nt_top];
                 p.top_constant_times(&delta, &mut rt);
                 // rt = g − S_A·δ + (A_TT·δ − Δc_T) − Δv_T
@@ -773,7 +764,7 @@ impl Driver {
                     let tr = Instant::now();
                     let delta_now: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
                     par_fill(&mut w.dq, 0.0, nt);
-                    let p = self.partition.as_mut().expect("partitioned");
+                    let p = self.linear.partition.as_mut().expect("partitioned");
                     let res = if last_from_base {
                         p.back_substitute(&[(Some(&w.r), &delta_now)], &mut [&mut w.dq], true)
                     } else {
@@ -835,7 +826,7 @@ impl Driver {
                     }
                     self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
                     self.summary.factorizations += 1;
-                    let p = self.partition.as_mut().expect("partitioned");
+                    let p = self.linear.partition.as_mut().expect("partitioned");
                     if p.top_generation() != generation {
                         return Err(Exit::Fallback);
                     }
@@ -877,7 +868,7 @@ impl Driver {
             self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
             self.summary.factorizations += 1;
             self.top_products();
-            let p = self.partition.as_mut().expect("partitioned");
+            let p = self.linear.partition.as_mut().expect("partitioned");
             generation = p.top_generation();
             top = p.top_equations().to_vec();
             if self
@@ -936,5 +927,18 @@ impl Driver {
                 q[i] += d;
             }
         }
+    }
+}
+
+impl StepMethod<Driver> for CondensedNewton {
+    fn name(&self) -> &'static str {
+        "condensed Newton"
+    }
+
+    fn attempt(&mut self, d: &mut Driver, dt: f64) -> Result<Accepted, Attempt> {
+        if let Some(accepted) = d.attempt_condensed_or_fall_back(dt) {
+            return Ok(accepted);
+        }
+        FullNewton.attempt(d, dt)
     }
 }

@@ -7,7 +7,7 @@
 //! status (open, stick, slide along `+u` or `−u`) and kinked where its status changes, and
 //! iterates that cross kinks can come back to where they were (issue 15: a wheel alternating
 //! between sliding points whose lateral force has turned and points pressed in deep). When
-//! the smallest sub-step still does not converge, the held retry ([`crate::step_method::HeldActiveSet`]) solves it as an
+//! the smallest sub-step still does not converge, the held retry ([`HeldActiveSet`]) solves it as an
 //! active-set method does:
 //!
 //! 1. hold every contact element's statuses at those of the last converged step
@@ -50,7 +50,7 @@
 //! that Δt's own error (docs/scale-out.md, the study's rerun).
 
 use crate::driver::{Accepted, Attempt, Driver};
-use crate::step_method::{LastResortFailure, StepMethod};
+use crate::step_method::{HeldActiveSet, LastResortFailure, StepMethod};
 use railfem_framework::element::ActiveSet;
 use railfem_framework::model::FirstActiveSet;
 
@@ -112,7 +112,7 @@ impl Driver {
     pub(crate) fn attempt_held(
         &mut self,
         dt: f64,
-        method: &mut dyn StepMethod,
+        method: &mut dyn StepMethod<Driver>,
     ) -> Option<Result<Accepted, LastResortFailure>> {
         if !self.hold_active_sets(ActiveSet::Committed) {
             return None;
@@ -151,11 +151,11 @@ impl Driver {
                         ActiveSet::LastFoundStickingReversals
                     });
                     self.asm.revert(&mut self.model);
-                    self.factored = None;
+                    self.linear.factored = None;
                 }
                 Err(attempt) => {
                     self.asm.revert(&mut self.model);
-                    self.factored = None;
+                    self.linear.factored = None;
                     self.hold_active_sets(ActiveSet::Found);
                     let attempt = match attempt {
                         Attempt::NotConverged {
@@ -189,5 +189,23 @@ impl Driver {
                 2 * HELD_ROUNDS
             ),
         }))
+    }
+}
+
+impl StepMethod<Driver> for HeldActiveSet<Driver> {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn attempt(&mut self, d: &mut Driver, dt: f64) -> Result<Accepted, Attempt> {
+        self.inner.attempt(d, dt)
+    }
+
+    fn last_resort(
+        &mut self,
+        d: &mut Driver,
+        dt: f64,
+    ) -> Option<Result<Accepted, LastResortFailure>> {
+        d.attempt_held(dt, &mut *self.inner)
     }
 }

@@ -1,7 +1,8 @@
 //! railfem-solvers: linear solvers, time integrators and the analysis driver.
 //!
 //! What lives here: sparse and dense linear solvers ([`linear`], [`dense`], the replayed LU
-//! [`static_lu`]), the low-rank (Woodbury) solver for a few moving equations ([`lowrank`]), modal analysis ([`modal`]), the
+//! [`static_lu`]) and the driver's linear backend that holds them with the effective matrix
+//! and the factor cache ([`linear_backend`]), the low-rank (Woodbury) solver for a few moving equations ([`lowrank`]), modal analysis ([`modal`]), the
 //! generalized-α family of integrators ([`integrator`]) and the Bathe composite method
 //! ([`bathe`]) behind the integrator trait and registry ([`time_integrator`]), the energy
 //! balance of a run
@@ -29,6 +30,7 @@ pub mod exchange;
 pub mod held_active_set;
 pub mod integrator;
 pub mod linear;
+pub mod linear_backend;
 pub mod lowrank;
 pub mod lumped_step;
 pub mod mechanism;
