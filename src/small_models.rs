@@ -7,7 +7,7 @@
 //! moves onto new beam nodes every 2.5 m (every 16 steps of 2 ms). The same model runs with
 //! `solver = "direct"` (the tangent refactored every step; every element crossing rebuilds
 //! the pattern), `"low_rank"` (the beam factored once, the rider by a Woodbury solve) and,
-//! from [`crate::framework::model::PARTITIONED_FROM`] equations, `"partitioned"`. Per
+//! from [`crate::solvers::thresholds::PARTITIONED_FROM`] equations, `"partitioned"`. Per
 //! solver the report gives the time per step (after the initial static solve and first
 //! step), the factorizations, and the largest difference of the displacement histories
 //! from the direct solver's, relative to the largest displacement.
@@ -138,7 +138,7 @@ pub fn run(sizes: &[usize], steps: usize, out: &Path) -> Result<Vec<SprungRow>, 
         eprintln!("{}", row_line(&direct));
         rows.push(direct);
         let mut others = vec![SolverChoice::LowRank];
-        if n >= crate::framework::model::PARTITIONED_FROM {
+        if n >= crate::solvers::thresholds::PARTITIONED_FROM {
             others.push(SolverChoice::Partitioned);
         }
         for s in others {

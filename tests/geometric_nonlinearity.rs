@@ -564,14 +564,14 @@ fn finite_rotation_marks_from_outside_elements() {
         b.build().expect("model")
     };
     let mut m = build();
-    let asm = Assembler::new(&mut m).expect("assembler");
+    let asm = Assembler::new(&mut m, railfem::solvers::thresholds::resolve).expect("assembler");
     assert!(
         !asm.dofmap.has_finite_rotations() && !(1..=5).any(|n| asm.dofmap.finite_rotation(n - 1))
     );
     let mut m = build();
     let slave = m.node(4).unwrap();
     m.mark_finite_rotation(slave);
-    let asm = Assembler::new(&mut m).expect("assembler");
+    let asm = Assembler::new(&mut m, railfem::solvers::thresholds::resolve).expect("assembler");
     let master = m.node(3).unwrap();
     assert!(asm.dofmap.finite_rotation(slave) && asm.dofmap.finite_rotation(master));
     assert!(!asm.dofmap.finite_rotation(m.node(2).unwrap()));
@@ -608,7 +608,10 @@ fn finite_rotation_marks_from_outside_elements() {
     // A mark on a missing node.
     let mut m = build();
     m.mark_finite_rotation(99);
-    let e = Assembler::new(&mut m).err().expect("refused").to_string();
+    let e = Assembler::new(&mut m, railfem::solvers::thresholds::resolve)
+        .err()
+        .expect("refused")
+        .to_string();
     assert!(
         e.contains("node index 99") && e.contains("mark an existing node"),
         "{e}"

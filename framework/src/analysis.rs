@@ -99,10 +99,11 @@ impl Predictor {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum SolverChoice {
-    /// `partitioned` for large models with moving or nonlinear elements (at least
-    /// [`PARTITIONED_FROM`] equations); `low_rank` for a transient below that size whose
-    /// moving or nonlinear elements have at most [`LOW_RANK_MAX_DOFS`] DOFs in all and
-    /// which is too large for the dense solver; `direct` otherwise.
+    /// Decided by the model's size: `partitioned` for large models with moving or
+    /// nonlinear elements, `low_rank` for a smaller transient whose moving or nonlinear
+    /// elements have few DOFs in all, `direct` otherwise. The sizes are the solvers
+    /// crate's (`railfem_solvers::thresholds`), which resolves the choice
+    /// ([`SolverResolver`]).
     #[default]
     Auto,
     /// One sparse factorization of the whole effective tangent (variable elements inside
@@ -192,45 +193,24 @@ impl From<Geometry> for String {
     }
 }
 
-/// Equation count from which `solver = "auto"` picks the partitioned solver.
-pub const PARTITIONED_FROM: usize = 50_000;
-
-/// Largest total DOF count of the moving and nonlinear elements for which `solver = "auto"`
-/// picks the low-rank solver (below [`PARTITIONED_FROM`] equations): a few riders on a
-/// bridge. The bordered solve costs `O(n·s)` per solve and `O(s³)` per iteration for `s`
-/// such equations, against a sparse refactorization per iteration.
-pub const LOW_RANK_MAX_DOFS: usize = 64;
-
-/// Systems of at most this many equations are factored densely by the driver. Measured
-/// (`railfem bench --case threshold`, docs/performance.md, "Small models and the bandwidth
-/// floor"): on a beam's effective tangent the dense LU's factorization + solve costs 0.79,
-/// 0.85, 0.99, 1.10, 1.26 times the sparse solver's at n = 6, 12, 18, 24, 30 equations and
-/// 6.2 times at 198; on vehicles (66 equations a carriage) 2.7 times at 66. One solve alone
-/// crosses over sooner (dense 1.2 times slower at 12). 16 is where the two are even.
-pub const DENSE_UP_TO: usize = 16;
-
-/// Equation count above which `solver = "auto"` may pick the low-rank solver: up to it the
-/// driver factors the whole tangent densely, which is as cheap.
-pub const LOW_RANK_FROM: usize = DENSE_UP_TO;
-
-impl SolverChoice {
-    /// The solver a model of `n` equations runs with: `auto` resolved (never returns
-    /// `Auto`). `variable_dofs` is the total DOF count of the moving and nonlinear
-    /// elements (`None`: there are none), `transient` whether the analysis is one.
-    pub fn resolve(self, n: usize, variable_dofs: Option<usize>, transient: bool) -> SolverChoice {
-        match (self, variable_dofs) {
-            (SolverChoice::Auto, None) => SolverChoice::Direct,
-            (SolverChoice::Auto, Some(_)) if n >= PARTITIONED_FROM => SolverChoice::Partitioned,
-            (SolverChoice::Auto, Some(d))
-                if transient && n > LOW_RANK_FROM && d <= LOW_RANK_MAX_DOFS =>
-            {
-                SolverChoice::LowRank
-            }
-            (SolverChoice::Auto, Some(_)) => SolverChoice::Direct,
-            (other, _) => other,
-        }
-    }
+/// What the linear solver of a model is chosen from: the user's choice and the model's
+/// size, known once its equations are numbered (by the assembler).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SolverInputs {
+    /// The model's `[analysis] solver`.
+    pub choice: SolverChoice,
+    /// Number of equations.
+    pub equations: usize,
+    /// Total DOF count of the moving and nonlinear elements (`None`: there are none).
+    pub variable_dofs: Option<usize>,
+    /// Whether the analysis is a transient one.
+    pub transient: bool,
 }
+
+/// Resolves `auto` into the solver a model runs with (never returns
+/// [`SolverChoice::Auto`]): the solvers crate's `railfem_solvers::thresholds::resolve`,
+/// which holds the sizes the choice is made by.
+pub type SolverResolver = fn(&SolverInputs) -> SolverChoice;
 
 /// Newton–Raphson settings (`[analysis.newton]`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

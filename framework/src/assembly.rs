@@ -26,7 +26,7 @@ use crate::dofmap::DofMap;
 use crate::element::{DissipationKind, ElementError, NodeKinematics, StepContext, TrialState};
 use crate::error::FemError;
 use crate::loads::{Load, MovingForce};
-use crate::model::Model;
+use crate::model::{Model, SolverResolver};
 use crate::sparse::CscMatrix;
 use nalgebra::{DMatrix, Vector3};
 
@@ -190,8 +190,11 @@ fn kinematic_vector(kin: &NodeKinematics, d: usize, lin: &Vector3<f64>, ang: &Ve
 
 impl Assembler {
     /// Numbers equations, classifies elements, builds the pattern and the constant parts.
-    pub fn new(model: &mut Model) -> Result<Assembler, FemError> {
-        Self::new_choosing(model, None)
+    /// `resolve` picks the linear solver from the model's choice and size
+    /// ([`crate::model::SolverResolver`]; the solvers crate's `thresholds::resolve`): any
+    /// solver but the direct one keeps the variable elements off the global pattern.
+    pub fn new(model: &mut Model, resolve: SolverResolver) -> Result<Assembler, FemError> {
+        Self::new_choosing(model, resolve, None)
     }
 
     /// [`Assembler::new`], and when `choose` is given and the constant part can be kept on
@@ -199,6 +202,7 @@ impl Assembler {
     /// only ([`Assembler::new_on_columns`]).
     pub(crate) fn new_choosing(
         model: &mut Model,
+        resolve: SolverResolver,
         choose: Option<&mut ColumnChooser<'_>>,
     ) -> Result<Assembler, FemError> {
         let kin = model.kinematics(0.0);
@@ -266,11 +270,12 @@ impl Assembler {
             })
             .map(|e| e.element.ndof())
             .reduce(|a, b| a + b);
-        a.solver = model.analysis.solver.resolve(
-            n,
+        a.solver = resolve(&crate::model::SolverInputs {
+            choice: model.analysis.solver,
+            equations: n,
             variable_dofs,
-            model.analysis.kind == crate::model::AnalysisKind::Transient,
-        );
+            transient: model.analysis.kind == crate::model::AnalysisKind::Transient,
+        });
         a.off_pattern = a.solver != crate::model::SolverChoice::Direct;
         for (ci, c) in model.carriers.iter().enumerate() {
             for cn in &c.nodes {
@@ -290,7 +295,7 @@ impl Assembler {
     }
 
     /// The linear solver the model runs with: the model's `[analysis] solver` with `auto`
-    /// resolved ([`crate::model::SolverChoice::resolve`]); anything but `Direct` keeps the
+    /// resolved by the [`crate::model::SolverResolver`] it was built with; anything but `Direct` keeps the
     /// variable elements off the global pattern.
     pub fn solver(&self) -> crate::model::SolverChoice {
         self.solver

@@ -7,8 +7,7 @@
 
 pub use crate::analysis::{
     AnalysisKind, AnalysisSpec, FirstActiveSet, Geometry, IntegratorKind, NewtonKind,
-    NewtonSettings, Predictor, Rayleigh, SolverChoice, DENSE_UP_TO, LOW_RANK_FROM,
-    LOW_RANK_MAX_DOFS, PARTITIONED_FROM,
+    NewtonSettings, Predictor, Rayleigh, SolverChoice, SolverInputs, SolverResolver,
 };
 use crate::dof::DofSet;
 use crate::element::{Element, NodeKinematics};

@@ -72,7 +72,8 @@
 use crate::chunks::{par_chunks, Shared};
 pub use crate::condensed_cache::CondensedStats;
 use crate::condensed_cache::TopProducts;
-use crate::driver::{Attempt, Driver, State, StepWork};
+use crate::driver::{Accepted, Attempt, Driver, State, StepWork};
+use crate::step_method::{CondensedNewton, FullNewton, StepMethod};
 use crate::time_integrator::{Increment, TimeIntegrator, Trial, BLOCK};
 use railfem_framework::model::NewtonKind;
 use railfem_framework::parallel::threads;
@@ -249,50 +250,54 @@ impl Driver {
         self.condensed.ahead.dt = None;
     }
 
-    /// A step attempt: the condensed Newton when it applies, the full-residual one
-    /// otherwise or when the condensed one hands the step back.
-    pub(crate) fn attempt_any(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
-        if self.condense_residual && self.condensed_applicable() {
-            let s0 = std::mem::take(&mut self.state);
-            let mut sw = std::mem::take(&mut self.work);
-            let n = self.neq();
-            let finite = self.asm.dofmap.has_finite_rotations();
-            let energy = self.energy.is_some() && !self.condensed.no_products_ahead;
-            let mut w = Full::take(&mut sw, n, finite, energy);
-            // Whatever happens, the next predictor's products are valid only when this
-            // attempt's accepted verification forms them again.
-            let ahead_dt = self.condensed.ahead.dt.take();
-            let t1 = s0.t + dt;
-            let r = self.attempt_condensed(dt, &s0, &mut w, ahead_dt);
-            self.release_first_iteration();
-            self.state = s0;
-            self.condensed.promote_always.clear();
-            match r {
-                Ok((iters, rn)) => {
-                    self.condensed.ahead.dt = (!self.condensed.no_products_ahead).then_some(dt);
-                    let s = w.give_back(&mut sw, Some(t1));
-                    sw.mv_ready = energy;
-                    sw.cv_ready = energy;
-                    self.work = sw;
-                    self.condensed.stats.steps += 1;
-                    return Ok((s.expect("state asked for"), iters, rn));
-                }
-                Err(Exit::Fallback) => {
-                    w.give_back(&mut sw, None);
-                    self.work = sw;
-                    self.asm.revert(&mut self.model);
-                    self.factored = None;
-                    self.condensed.stats.fallbacks += 1;
-                }
+    /// The condensed Newton's attempt ([`crate::step_method::CondensedNewton`]): the
+    /// accepted state, or `None` when it does not apply to this step or hands the step back
+    /// (the elements reverted; the caller takes the step by the full-residual Newton).
+    pub(crate) fn attempt_condensed_or_fall_back(&mut self, dt: f64) -> Option<Accepted> {
+        if !self.condensed_applicable() {
+            return None;
+        }
+        let s0 = std::mem::take(&mut self.state);
+        let mut sw = std::mem::take(&mut self.work);
+        let n = self.neq();
+        let finite = self.asm.dofmap.has_finite_rotations();
+        let energy = self.energy.is_some() && !self.condensed.no_products_ahead;
+        let mut w = Full::take(&mut sw, n, finite, energy);
+        // Whatever happens, the next predictor's products are valid only when this
+        // attempt's accepted verification forms them again.
+        let ahead_dt = self.condensed.ahead.dt.take();
+        let t1 = s0.t + dt;
+        let r = self.attempt_condensed(dt, &s0, &mut w, ahead_dt);
+        self.release_first_iteration();
+        self.state = s0;
+        self.condensed.promote_always.clear();
+        match r {
+            Ok((iterations, residual)) => {
+                self.condensed.ahead.dt = (!self.condensed.no_products_ahead).then_some(dt);
+                let s = w.give_back(&mut sw, Some(t1));
+                sw.mv_ready = energy;
+                sw.cv_ready = energy;
+                self.work = sw;
+                self.condensed.stats.steps += 1;
+                Some(Accepted {
+                    state: s.expect("state asked for"),
+                    iterations,
+                    residual,
+                })
+            }
+            Err(Exit::Fallback) => {
+                w.give_back(&mut sw, None);
+                self.work = sw;
+                self.asm.revert(&mut self.model);
+                self.linear.factored = None;
+                self.condensed.stats.fallbacks += 1;
+                None
             }
         }
-        let r = self.attempt(dt);
-        self.release_first_iteration();
-        r
     }
 
     fn condensed_applicable(&self) -> bool {
-        let Some(p) = &self.partition else {
+        let Some(p) = &self.linear.partition else {
             return false;
         };
         // Its iterations start from the committed state; another predictor takes the
@@ -528,7 +533,7 @@ impl Driver {
     }
 
     fn top_products(&mut self) {
-        let p = self.partition.as_ref().expect("partitioned");
+        let p = self.linear.partition.as_ref().expect("partitioned");
         let gen = p.top_generation();
         if self
             .condensed
@@ -570,7 +575,7 @@ impl Driver {
         if self.asm.constant_columns_kept() {
             // A promoted equation's column is kept by its block's owner alone, which sends
             // it (the top set is sorted: a top row is its position there).
-            let p = self.partition.as_mut().expect("partitioned");
+            let p = self.linear.partition.as_mut().expect("partitioned");
             let top = p.top_equations().to_vec();
             let top_row = |i: usize| top.binary_search(&i).ok();
             let columns = p
@@ -709,7 +714,7 @@ impl Driver {
                     .add_variable_inertia_damping(&w.a_w, &w.v_w, in_var, damp_var);
                 let nt_top = top.len();
                 let delta: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
-                let p = self.partition.as_mut().expect("partitioned");
+                let p = self.linear.partition.as_mut().expect("partitioned");
                 let mut rt = vec![0.0; nt_top];
                 p.top_constant_times(&delta, &mut rt);
                 // rt = g − S_A·δ + (A_TT·δ − Δc_T) − Δv_T
@@ -759,7 +764,7 @@ impl Driver {
                     let tr = Instant::now();
                     let delta_now: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
                     par_fill(&mut w.dq, 0.0, nt);
-                    let p = self.partition.as_mut().expect("partitioned");
+                    let p = self.linear.partition.as_mut().expect("partitioned");
                     let res = if last_from_base {
                         p.back_substitute(&[(Some(&w.r), &delta_now)], &mut [&mut w.dq], true)
                     } else {
@@ -821,7 +826,7 @@ impl Driver {
                     }
                     self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
                     self.summary.factorizations += 1;
-                    let p = self.partition.as_mut().expect("partitioned");
+                    let p = self.linear.partition.as_mut().expect("partitioned");
                     if p.top_generation() != generation {
                         return Err(Exit::Fallback);
                     }
@@ -863,7 +868,7 @@ impl Driver {
             self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
             self.summary.factorizations += 1;
             self.top_products();
-            let p = self.partition.as_mut().expect("partitioned");
+            let p = self.linear.partition.as_mut().expect("partitioned");
             generation = p.top_generation();
             top = p.top_equations().to_vec();
             if self
@@ -922,5 +927,18 @@ impl Driver {
                 q[i] += d;
             }
         }
+    }
+}
+
+impl StepMethod<Driver> for CondensedNewton {
+    fn name(&self) -> &'static str {
+        "condensed Newton"
+    }
+
+    fn attempt(&mut self, d: &mut Driver, dt: f64) -> Result<Accepted, Attempt> {
+        if let Some(accepted) = d.attempt_condensed_or_fall_back(dt) {
+            return Ok(accepted);
+        }
+        FullNewton.attempt(d, dt)
     }
 }

@@ -32,10 +32,13 @@ use crate::dense::DenseLu;
 use crate::energy::EnergyLedger;
 use crate::integrator::Coefficients;
 use crate::linear::{solver_for, LinearSolver, SolverError};
+use crate::linear_backend::LinearBackend;
 use crate::lowrank::{LowRank, LowRankStats};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 pub use crate::state::State;
 use crate::static_lu::StaticLu;
+pub use crate::step_method::{Accepted, Attempt};
+use crate::step_method::{CondensedNewton, FullNewton, HeldActiveSet, LumpedLinear, StepMethod};
 pub use crate::thresholds::{DENSE_LIMIT, DIRECT_DENSE_LIMIT, DIRECT_DENSE_LU_LIMIT};
 use crate::time_integrator::{Increment, TimeIntegrator, Trial};
 use railfem_framework::assembly::Assembler;
@@ -197,25 +200,6 @@ pub struct RunSummary {
     pub timings: Timings,
 }
 
-/// Why one attempt at a step failed (it may be retried with a smaller step).
-#[derive(Debug)]
-pub(crate) enum Attempt {
-    /// Newton did not converge: the largest residual and where.
-    NotConverged {
-        residual: f64,
-        dof: String,
-        iterations: usize,
-    },
-    /// A hard error: stop at once.
-    Fatal(FemError),
-}
-
-impl From<FemError> for Attempt {
-    fn from(e: FemError) -> Self {
-        Attempt::Fatal(e)
-    }
-}
-
 /// Runs a model.
 pub struct Driver {
     /// The model (owned: elements are updated in place).
@@ -226,12 +210,9 @@ pub struct Driver {
     pub state: State,
     /// The integrator ([`crate::time_integrator`]), resolved by name from the model.
     pub integrator: Box<dyn TimeIntegrator>,
-    solver: Box<dyn LinearSolver>,
-    k_eff: CscMatrix,
-    /// The coefficients' [`Coefficients::key`] and the pattern id the current factor
-    /// belongs to, when it is still valid (for a one-stage integrator the key is a function
-    /// of `dt` alone; a composite one's stages of the same length may differ).
-    pub(crate) factored: Option<([f64; 3], u64)>,
+    /// The linear solver, the effective matrix and the factor cache
+    /// ([`crate::linear_backend`]).
+    pub(crate) linear: LinearBackend,
     /// Length and increment `q_{n} − q_{n−1}` of the last converged transient step (for
     /// [`Predictor::Increment`]; `None` before the first, and always with the default
     /// predictor).
@@ -241,15 +222,6 @@ pub struct Driver {
     initialized: bool,
     /// Print each Newton iteration's residual to stderr (`RAILFEM_TRACE=1`).
     pub trace: bool,
-    /// The partitioned solver, when the assembler keeps variable elements off the pattern.
-    pub(crate) partition: Option<Partitioned>,
-    /// The low-rank solver, used instead of the partitioned one when the model resolves to
-    /// `solver = "low_rank"` ([`crate::lowrank`]).
-    lowrank: Option<LowRank>,
-    /// Coefficients `k_eff` holds the constant part for (partitioned mode).
-    a_key: Option<[f64; 3]>,
-    /// Variable elements' effective triplets (partitioned mode).
-    triplets: Vec<(usize, usize, f64)>,
     /// The displacement the last linear attempt formed its internal force at (`K·q`, kept
     /// as the state's `f_int`): the next step's first residual starts from the same `q`
     /// and takes `f_int` from the state instead of a pass over `K`.
@@ -286,6 +258,9 @@ pub struct Driver {
     /// One flag per equation: held by the activity window ([`crate::window`]), its
     /// residual a reaction; empty when nothing is held.
     pub(crate) frozen_rows: Vec<bool>,
+    /// How each attempt at a step is solved ([`crate::step_method`]): picked before the
+    /// first step ([`Driver::default_step_method`]) unless given; taken out while it runs.
+    pub(crate) method: Option<Box<dyn StepMethod<Driver>>>,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -316,7 +291,7 @@ impl Driver {
         options: Option<PartitionOptions>,
     ) -> Result<Driver, FemError> {
         let mut d = Self::build(model, Some((exchange.clone(), options)))?;
-        if d.partition.is_none() || d.rows_per_rank {
+        if d.linear.partition.is_none() || d.rows_per_rank {
             return Ok(d);
         }
         if let Some(o) = options {
@@ -367,10 +342,10 @@ impl Driver {
         .map_err(|m| FemError::input(&model.origin, m))?;
         let mut split = None;
         let asm = match &shared {
-            None => Assembler::new(&mut model)?,
+            None => Assembler::new(&mut model, crate::thresholds::resolve)?,
             Some((ex, own)) => {
                 let options = own.unwrap_or_else(|| Self::model_partition_options(&model));
-                Assembler::new_on_columns(&mut model, &mut |c| {
+                Assembler::new_on_columns(&mut model, crate::thresholds::resolve, &mut |c| {
                     let s = RankSplit::on_pattern(c, ex, options)?;
                     let columns = s.until_mass.clone();
                     split = Some(s);
@@ -414,16 +389,10 @@ impl Driver {
             model,
             asm,
             integrator,
-            solver,
-            k_eff,
-            factored: None,
+            linear: LinearBackend::new(solver, k_eff, partition, lowrank),
             last_increment: None,
             initialized: false,
             trace: std::env::var_os("RAILFEM_TRACE").is_some(),
-            partition,
-            lowrank,
-            a_key: None,
-            triplets: Vec::new(),
             f_int_at: Vec::new(),
             energy: Some(EnergyLedger::default()),
             condense_residual: true,
@@ -437,6 +406,7 @@ impl Driver {
             mass_split: None,
             narrow_after_mass: None,
             frozen_rows: Vec::new(),
+            method: None,
         };
         if let (Some(split), Some((ex, _))) = (split, shared) {
             d.take_rank_split(ex, split);
@@ -463,7 +433,7 @@ impl Driver {
     /// Work counters of the driver's linear solver (symbolic analyses, numeric
     /// factorizations, solves, factor size).
     pub fn solver_stats(&self) -> crate::linear::SolverStats {
-        self.solver.stats()
+        self.linear.solver.stats()
     }
 
     fn singular(&self, e: SolverError) -> FemError {
@@ -512,9 +482,9 @@ impl Driver {
             !self.rows_per_rank,
             "set the partition options before `keep_own_rows`"
         );
-        if self.partition.is_some() {
-            self.partition = Some(self.new_partitioned(self.asm.symmetric(), options));
-            self.factored = None;
+        if self.linear.partition.is_some() {
+            self.linear.partition = Some(self.new_partitioned(self.asm.symmetric(), options));
+            self.linear.factored = None;
         }
     }
 
@@ -538,13 +508,13 @@ impl Driver {
         &mut self,
         exchange: std::sync::Arc<dyn crate::exchange::Exchange>,
     ) -> Result<(), FemError> {
-        let Some(p) = self.partition.as_mut() else {
+        let Some(p) = self.linear.partition.as_mut() else {
             return Err(FemError::input(
                 &self.model.origin,
                 format!(
                     "the solve across {} ranks needs the partitioned solver, and this model uses the {} one; set `solver = \"partitioned\"` in [analysis] (or run one process)",
                     exchange.size(),
-                    if self.lowrank.is_some() { "low-rank" } else { "direct" }
+                    if self.linear.lowrank.is_some() { "low-rank" } else { "direct" }
                 ),
             ));
         };
@@ -558,7 +528,7 @@ impl Driver {
         }
         p.set_exchange(exchange.clone());
         self.exchange = Some(exchange);
-        self.factored = None;
+        self.linear.factored = None;
         Ok(())
     }
 
@@ -580,7 +550,7 @@ impl Driver {
         if self.exchange.is_none() || self.rows_per_rank {
             return self.rows_per_rank;
         }
-        let Some(p) = self.partition.as_mut() else {
+        let Some(p) = self.linear.partition.as_mut() else {
             return false;
         };
         p.prepare(&self.asm.k_const);
@@ -632,7 +602,7 @@ impl Driver {
     /// Rows whose residual this rank forms and counts in the norms: every equation, or
     /// with [`Driver::keep_own_rows`] its owned ones (the ranks' add up to all of them).
     pub fn rows_owned(&self) -> usize {
-        match (&self.partition, self.rows_per_rank) {
+        match (&self.linear.partition, self.rows_per_rank) {
             (Some(p), true) => p.rows_owned(),
             _ => self.neq(),
         }
@@ -665,7 +635,7 @@ impl Driver {
         if !self.rows_per_rank {
             return None;
         }
-        let sums = self.partition.as_mut()?.sums_of_squares(xs)?;
+        let sums = self.linear.partition.as_mut()?.sums_of_squares(xs)?;
         Some(sums.into_iter().map(f64::sqrt).collect())
     }
 
@@ -696,13 +666,12 @@ impl Driver {
     /// chose by size, [`DIRECT_DENSE_LIMIT`]); the next iteration factors anew. For
     /// comparisons of solvers on one model; no effect in the partitioned or low-rank modes.
     pub fn set_linear_solver(&mut self, solver: Box<dyn LinearSolver>) {
-        self.solver = solver;
-        self.factored = None;
+        self.linear.set_solver(solver);
     }
 
     /// Work counters of the low-rank solver, if the driver uses it.
     pub fn lowrank_stats(&self) -> Option<LowRankStats> {
-        self.lowrank.as_ref().map(LowRank::stats)
+        self.linear.lowrank.as_ref().map(LowRank::stats)
     }
 
     /// Bytes the driver holds, by part (capacities, as allocated; `railfem bench`'s memory
@@ -744,11 +713,11 @@ impl Driver {
                 .as_ref()
                 .map_or(0, |(_, v)| 8 * v.capacity());
         let mut parts = self.asm.memory();
-        parts.push(("effective matrix", self.k_eff.heap_bytes()));
+        parts.push(("effective matrix", self.linear.k_eff.heap_bytes()));
         parts.push(("state vectors", vecs(&self.state)));
         parts.push(("step work vectors", work));
-        parts.push(("variable triplets", 24 * self.triplets.capacity()));
-        if let Some(p) = &self.partition {
+        parts.push(("variable triplets", 24 * self.linear.triplets.capacity()));
+        if let Some(p) = &self.linear.partition {
             parts.extend(p.memory());
         }
         parts
@@ -757,27 +726,38 @@ impl Driver {
     /// Stored entries of the effective matrix the driver last handed to its linear solver
     /// (across ranks, only the columns this rank's share reads).
     pub fn effective_matrix_entries(&self) -> usize {
-        self.k_eff.nnz()
+        self.linear.k_eff.nnz()
     }
 
     /// Work counters and times of the partitioned solver, if the driver uses it.
     pub fn partition_stats(&self) -> Option<PartitionStats> {
-        self.partition.as_ref().map(Partitioned::stats)
+        self.linear.partition.as_ref().map(Partitioned::stats)
     }
 
     /// Forms and factors the effective tangent `k·K + m·M + c·C`.
     pub(crate) fn factor_tangent(&mut self, coef: Coefficients) -> Result<(), FemError> {
-        let ta = Instant::now();
         if !self.asm.off_pattern() {
-            self.asm.effective(coef, &mut self.k_eff);
+            // Analysed once per pattern (counted as factorization time); the values of this
+            // factorization are filled in on it.
+            let pattern = &self.asm.k_const;
+            let symbolic = match self.linear.symbolic_of(pattern.pattern_id) {
+                Some(s) => s,
+                None => {
+                    let t0 = Instant::now();
+                    let s = self.linear.analyse(pattern);
+                    self.summary.timings.factor += t0.elapsed().as_secs_f64();
+                    s.map_err(|e| self.singular(e))?
+                }
+            };
+            let ta = Instant::now();
+            self.asm.effective(coef, self.linear.values_mut(&symbolic));
             self.summary.timings.assembly += ta.elapsed().as_secs_f64();
             let t0 = Instant::now();
-            let r = self.solver.factor(&self.k_eff);
+            let r = self.linear.factor(&symbolic, coef.key());
             self.summary.timings.factor += t0.elapsed().as_secs_f64();
-            r.map_err(|e| self.singular(e))?;
-            self.factored = Some((coef.key(), self.k_eff.pattern_id));
-            return Ok(());
+            return r.map_err(|e| self.singular(e));
         }
+        let ta = Instant::now();
         // The constant part changes only with the coefficients (and never if every mass is
         // constant); the variable elements come as triplets.
         let key = if self.asm.constant_part_is_constant() {
@@ -785,29 +765,35 @@ impl Driver {
         } else {
             [f64::NAN; 3]
         };
-        if self.a_key != Some(key) || self.k_eff.pattern_id != self.asm.k_const.pattern_id {
+        if self.linear.a_key != Some(key)
+            || self.linear.k_eff.pattern_id != self.asm.k_const.pattern_id
+        {
             // Across ranks, only the columns this rank's blocks (and rank 0's top) read.
             match self.columns_read() {
-                Some(keep) => self.asm.effective_columns(coef, &keep, &mut self.k_eff),
-                None => self.asm.effective(coef, &mut self.k_eff),
+                Some(keep) => self
+                    .asm
+                    .effective_columns(coef, &keep, &mut self.linear.k_eff),
+                None => self.asm.effective(coef, &mut self.linear.k_eff),
             }
-            self.a_key = Some(key);
+            self.linear.a_key = Some(key);
         }
-        self.triplets.clear();
-        self.asm.variable_triplets(coef, &mut self.triplets);
+        self.linear.triplets.clear();
+        self.asm.variable_triplets(coef, &mut self.linear.triplets);
         // The condensed Newton keeps every equation of the variable elements on top.
         let always = &self.condensed.promote_always;
-        self.triplets.extend(always.iter().map(|&e| (e, e, 0.0)));
+        self.linear
+            .triplets
+            .extend(always.iter().map(|&e| (e, e, 0.0)));
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         let t0 = Instant::now();
-        let r = match (self.lowrank.as_mut(), self.partition.as_mut()) {
-            (Some(l), _) => l.factor(&self.k_eff, key, &self.triplets),
-            (None, Some(p)) => p.factor(&self.k_eff, key, &self.triplets),
+        let r = match (self.linear.lowrank.as_mut(), self.linear.partition.as_mut()) {
+            (Some(l), _) => l.factor(&self.linear.k_eff, key, &self.linear.triplets),
+            (None, Some(p)) => p.factor(&self.linear.k_eff, key, &self.linear.triplets),
             (None, None) => unreachable!("off the pattern the driver has a bordered solver"),
         };
         self.summary.timings.factor += t0.elapsed().as_secs_f64();
         r.map_err(|e| self.singular(e))?;
-        self.factored = Some((coef.key(), self.k_eff.pattern_id));
+        self.linear.factored = Some((coef.key(), self.linear.k_eff.pattern_id));
         Ok(())
     }
 
@@ -816,7 +802,7 @@ impl Driver {
     /// made first from the constant pattern if needed. `None` (every column) otherwise.
     fn columns_read(&mut self) -> Option<Vec<bool>> {
         self.exchange.as_ref()?;
-        let p = self.partition.as_mut()?;
+        let p = self.linear.partition.as_mut()?;
         p.prepare(&self.asm.k_const);
         p.columns_read()
     }
@@ -833,11 +819,7 @@ impl Driver {
     /// ([`Driver::non_finite_solution`] names the equation).
     pub(crate) fn solve_unchecked(&mut self, b: &mut [f64]) -> Result<(), FemError> {
         let t0 = Instant::now();
-        let r = match (self.lowrank.as_mut(), self.partition.as_mut()) {
-            (Some(l), _) => l.solve_in_place(b),
-            (None, Some(p)) => p.solve_in_place(b),
-            (None, None) => self.solver.solve_in_place(b),
-        };
+        let r = self.linear.solve_in_place(b);
         self.summary.timings.solve += t0.elapsed().as_secs_f64();
         r.map_err(|e| self.singular(e))
     }
@@ -857,7 +839,7 @@ impl Driver {
     /// rank of the job calls it at the same point; every rank names the equation one
     /// process would, [`Partitioned::largest_over_rows`]).
     fn largest(&mut self, r: &[f64]) -> (f64, String) {
-        let across = match (self.rows_per_rank, self.partition.as_mut()) {
+        let across = match (self.rows_per_rank, self.linear.partition.as_mut()) {
             (true, Some(p)) => p.largest_over_rows(r),
             _ => None,
         };
@@ -970,7 +952,7 @@ impl Driver {
         self.state.t = t;
         self.state.f_int = f_int;
         self.state.f_ext = f_full;
-        self.factored = None;
+        self.linear.factored = None;
         // A static solve moves the state without inertia: the balance starts again.
         if let Some(e) = self.energy.as_mut() {
             e.reset();
@@ -1012,11 +994,11 @@ impl Driver {
         // the next factorization has other coefficients and factors every block anew. Drop
         // them, and the matrix they were made from, before the mass is factored, so that two
         // sets of factors are never held at once.
-        if let Some(p) = self.partition.as_mut() {
+        if let Some(p) = self.linear.partition.as_mut() {
             p.release_factors();
-            self.k_eff = CscMatrix::from_columns(Vec::new());
-            self.a_key = None;
-            self.factored = None;
+            self.linear.k_eff = CscMatrix::from_columns(Vec::new());
+            self.linear.a_key = None;
+            self.linear.factored = None;
         }
         self.solve_initial_mass(&mut rhs)?;
         self.state.a = rhs;
@@ -1091,22 +1073,69 @@ impl Driver {
         Ok(())
     }
 
-    /// One attempt at a step of length `dt` from the committed state. The committed state
-    /// is moved out for the attempt (and back after it) rather than copied, and the
-    /// attempt's vectors are the driver's [`StepWork`], kept between steps.
-    pub(crate) fn attempt(&mut self, dt: f64) -> Result<(State, usize, f64), Attempt> {
+    /// One attempt of the full Newton ([`crate::step_method::FullNewton`]) at a step of
+    /// length `dt` from the committed state. The committed state is moved out for the
+    /// attempt (and back after it) rather than copied, and the attempt's vectors are the
+    /// driver's [`StepWork`], kept between steps.
+    pub(crate) fn attempt_full_newton(&mut self, dt: f64) -> Result<Accepted, Attempt> {
+        self.attempt_with(dt, Self::attempt_from)
+    }
+
+    /// One attempt of the lumped linear step ([`crate::lumped_step`]), as
+    /// [`Driver::attempt_full_newton`] takes the committed state and the work vectors.
+    pub(crate) fn attempt_lumped(&mut self, dt: f64) -> Result<Accepted, Attempt> {
+        self.attempt_with(dt, Self::attempt_lumped_linear)
+    }
+
+    /// Runs `f` on the committed state moved out of the driver and the step's work vectors.
+    fn attempt_with(
+        &mut self,
+        dt: f64,
+        f: fn(&mut Driver, f64, &State, &mut StepWork) -> Result<(State, usize, f64), Attempt>,
+    ) -> Result<Accepted, Attempt> {
         let s0 = std::mem::take(&mut self.state);
         // Messages formed during the attempt name the time of the committed state.
         self.state.t = s0.t;
         let mut w = std::mem::take(&mut self.work);
-        let r = if self.lumped_linear_applies() {
-            self.attempt_lumped_linear(dt, &s0, &mut w)
-        } else {
-            self.attempt_from(dt, &s0, &mut w)
-        };
+        let r = f(self, dt, &s0, &mut w);
         self.state = s0;
         self.work = w;
-        r
+        r.map(|(state, iterations, residual)| Accepted {
+            state,
+            iterations,
+            residual,
+        })
+    }
+
+    /// The start of a step method's attempt at a step of length `dt`
+    /// ([`crate::step_method`]): the model moved to `t1 = t + dt` (carriers advanced,
+    /// elements re-pick their nodes) and a copy of the committed state with `t = t1` and the
+    /// external force of `t1`, to iterate on.
+    pub fn begin_step(&mut self, dt: f64) -> Result<State, FemError> {
+        let t1 = self.state.t + dt;
+        let mut next = self.state.clone();
+        next.t = t1;
+        let tl = Instant::now();
+        self.asm.advance(&mut self.model, t1, dt)?;
+        self.asm
+            .external_force(&self.model, t1, 1.0, &mut next.f_ext)?;
+        self.summary.timings.loads += tl.elapsed().as_secs_f64();
+        Ok(next)
+    }
+
+    /// Forms and factors the effective tangent `k·K + m·M + c·C` of the elements' last
+    /// update with `coef` (the integrator's [`TimeIntegrator::coefficients`]), for a step
+    /// method's next [`Driver::solve_correction`]; counted in [`RunSummary::factorizations`].
+    pub fn factor_effective(&mut self, coef: Coefficients) -> Result<(), FemError> {
+        self.factor_tangent(coef)?;
+        self.summary.factorizations += 1;
+        Ok(())
+    }
+
+    /// Solves `K_eff·x = b` in place with the last factor ([`Driver::factor_effective`]);
+    /// an error naming the DOF if the solution is not finite.
+    pub fn solve_correction(&mut self, b: &mut [f64]) -> Result<(), FemError> {
+        self.solve(b)
     }
 
     /// The start of every attempt: the next state's vectors (the ones the last committed
@@ -1214,7 +1243,7 @@ impl Driver {
         let finite = self.asm.dofmap.has_finite_rotations();
         // The first iteration with the contact's statuses of the last converged step
         // (`FirstActiveSet`); released before the second evaluation (and by
-        // `attempt_any` whatever the outcome).
+        // the step method whatever the outcome).
         self.hold_first_iteration(linear);
         for it in 0..=settings.max_iter {
             if finite {
@@ -1246,7 +1275,7 @@ impl Driver {
                 && match settings.kind {
                     NewtonKind::Full => true,
                     NewtonKind::Modified => it == 0,
-                    NewtonKind::Initial => self.factored.is_none(),
+                    NewtonKind::Initial => self.linear.factored.is_none(),
                 };
             if linear && it > 0 {
                 // No variable element to update: K·q, M·v and the next inertia force in
@@ -1361,7 +1390,7 @@ impl Driver {
                 ))));
             }
             // Factor when needed.
-            let valid = self.factored == Some((coef.key(), self.asm.k_const.pattern_id));
+            let valid = self.linear.factored == Some((coef.key(), self.asm.k_const.pattern_id));
             let refactor = match (linear, settings.kind) {
                 (true, _) => !valid,
                 (false, NewtonKind::Full) => true,
@@ -1412,6 +1441,7 @@ impl Driver {
         if !self.initialized {
             self.initialize()?;
         }
+        self.ensure_step_method();
         let max_cuts = self.model.analysis.newton.max_cuts;
         let mut report = StepReport::default();
         self.substep(dt, 0, max_cuts, &mut report)?;
@@ -1456,20 +1486,27 @@ impl Driver {
         max_cuts: usize,
         rep: &mut StepReport,
     ) -> Result<bool, FemError> {
-        let mut outcome = self.attempt_any(dt);
-        // The smallest sub-step failed: solve it again with the contact's active set held
-        // (crate::held_active_set); when that fails too, the first attempt's failure stands.
+        let mut method = match self.method.take() {
+            Some(m) => m,
+            None => self.default_step_method(),
+        };
+        let mut outcome = method.attempt(self, dt);
+        // The smallest sub-step failed: the method's last resort (the held active set,
+        // crate::held_active_set); when that fails too, the first attempt's failure stands.
         let mut held_note = String::new();
         if let (true, Err(Attempt::NotConverged { iterations, .. })) = (depth >= max_cuts, &outcome)
         {
             let spent = *iterations;
             self.asm.revert(&mut self.model);
-            self.factored = None;
-            match self.attempt_held(dt) {
+            self.linear.factored = None;
+            match method.last_resort(self, dt) {
                 None => {}
-                Some(Ok((s, it, res))) => {
+                Some(Ok(a)) => {
                     self.summary.held += 1;
-                    outcome = Ok((s, spent + it, res));
+                    outcome = Ok(Accepted {
+                        iterations: spent + a.iterations,
+                        ..a
+                    });
                 }
                 Some(Err(f)) => {
                     held_note = format!("; {}", f.why);
@@ -1482,8 +1519,13 @@ impl Driver {
                 }
             }
         }
+        self.method = Some(method);
         match outcome {
-            Ok((s, it, res)) => {
+            Ok(Accepted {
+                state: s,
+                iterations: it,
+                residual: res,
+            }) => {
                 self.asm.commit(&mut self.model);
                 if let Some(e) = self.energy.as_mut() {
                     // A linear step formed its state's M·v with its K·q.
@@ -1491,7 +1533,11 @@ impl Driver {
                     let cv = self.work.cv_ready.then_some(&mut self.work.cv);
                     // A rank forming its own rows sums the balance over them, in block
                     // order across the ranks.
-                    let ranks = self.partition.as_mut().filter(|_| self.rows_per_rank);
+                    let ranks = self
+                        .linear
+                        .partition
+                        .as_mut()
+                        .filter(|_| self.rows_per_rank);
                     e.record(&self.asm, &self.model, &self.state, &s, mv, cv, ranks);
                 }
                 // The increment for the next step's predictor, in last step's vector.
@@ -1520,7 +1566,7 @@ impl Driver {
                 iterations,
             }) => {
                 self.asm.revert(&mut self.model);
-                self.factored = None;
+                self.linear.factored = None;
                 rep.iterations += iterations;
                 if depth >= max_cuts {
                     return Err(FemError::Convergence(format!(
@@ -1844,11 +1890,70 @@ impl Driver {
         if let (Some(dir), AnalysisKind::Transient) = (out, spec.kind) {
             self.write_energy(dir)?;
         }
-        let st = self.solver.stats();
+        let st = self.linear.solver.stats();
         self.summary.symbolic = st.symbolic_analyses;
         self.summary.wall = start.elapsed().as_secs_f64();
         let kept = rec.map(Recorders::histories).unwrap_or_default();
         Ok((self.summary, kept))
+    }
+}
+
+impl StepMethod<Driver> for FullNewton {
+    fn name(&self) -> &'static str {
+        "full Newton"
+    }
+
+    fn attempt(&mut self, d: &mut Driver, dt: f64) -> Result<Accepted, Attempt> {
+        let r = d.attempt_full_newton(dt);
+        d.release_first_iteration();
+        r
+    }
+}
+
+impl Driver {
+    /// The method the driver picks for a model ([`crate::step_method`]): the lumped linear
+    /// step where it applies ([`Driver::lumped_linear_applies`]), the condensed Newton with
+    /// the partitioned solver and variable elements ([`Driver::condense_residual`] on), else
+    /// full Newton; each with the held active set's retry.
+    pub fn default_step_method(&self) -> Box<dyn StepMethod<Driver>> {
+        let inner: Box<dyn StepMethod<Driver>> = if self.lumped_linear_applies() {
+            Box::new(LumpedLinear)
+        } else if self.condense_residual && self.may_condense() {
+            Box::new(CondensedNewton)
+        } else {
+            Box::new(FullNewton)
+        };
+        Box::new(HeldActiveSet::wrap(inner))
+    }
+
+    /// Replaces the step method (before the first step, or between steps). The driver's
+    /// own methods come wrapped in [`HeldActiveSet`]; wrap `method` too to keep that
+    /// retry.
+    pub fn set_step_method(&mut self, method: Box<dyn StepMethod<Driver>>) {
+        self.method = Some(method);
+    }
+
+    /// The name of the step method the driver runs with (its pick if none was given yet).
+    pub fn step_method_name(&mut self) -> &'static str {
+        self.ensure_step_method();
+        self.method.as_ref().map_or("", |m| m.name())
+    }
+
+    /// Picks the default step method if none was picked or given yet.
+    pub(crate) fn ensure_step_method(&mut self) {
+        if self.method.is_none() {
+            self.method = Some(self.default_step_method());
+        }
+    }
+
+    /// Whether the condensed Newton can apply to any step of this driver (the partitioned
+    /// solver, full Newton from the committed state, variable elements): the driver then
+    /// picks it ([`Driver::default_step_method`]); each step checks the rest.
+    pub(crate) fn may_condense(&self) -> bool {
+        self.linear.partition.is_some()
+            && self.model.analysis.newton.predictor.is_previous()
+            && self.model.analysis.newton.kind == NewtonKind::Full
+            && !self.asm.variable_elements().is_empty()
     }
 }
 

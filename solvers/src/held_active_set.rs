@@ -7,7 +7,7 @@
 //! status (open, stick, slide along `+u` or `−u`) and kinked where its status changes, and
 //! iterates that cross kinks can come back to where they were (issue 15: a wheel alternating
 //! between sliding points whose lateral force has turned and points pressed in deep). When
-//! the smallest sub-step still does not converge, [`Driver::attempt_held`] solves it as an
+//! the smallest sub-step still does not converge, the held retry ([`HeldActiveSet`]) solves it as an
 //! active-set method does:
 //!
 //! 1. hold every contact element's statuses at those of the last converged step
@@ -49,19 +49,14 @@
 //! time-discrete frictional contact has several (strong shaking at Δt = 5 ms), by up to
 //! that Δt's own error (docs/scale-out.md, the study's rerun).
 
-use crate::driver::{Attempt, Driver, State};
+use crate::driver::{Accepted, Attempt, Driver};
+use crate::step_method::{HeldActiveSet, LastResortFailure, StepMethod};
 use railfem_framework::element::ActiveSet;
 use railfem_framework::model::FirstActiveSet;
 
 /// Rounds of holding and checking with [`ActiveSet::LastFound`], and then as many with
 /// [`ActiveSet::LastFoundStickingReversals`], before the retry gives up.
 pub const HELD_ROUNDS: usize = 8;
-
-/// How a held retry ended when it did not give a state: why, for the error message.
-pub(crate) struct HeldFailure {
-    pub attempt: Attempt,
-    pub why: String,
-}
 
 impl Driver {
     /// Holds (or, with [`ActiveSet::Found`], releases) the active set of every variable
@@ -117,15 +112,20 @@ impl Driver {
     pub(crate) fn attempt_held(
         &mut self,
         dt: f64,
-    ) -> Option<Result<(State, usize, f64), HeldFailure>> {
+        method: &mut dyn StepMethod<Driver>,
+    ) -> Option<Result<Accepted, LastResortFailure>> {
         if !self.hold_active_sets(ActiveSet::Committed) {
             return None;
         }
         let mut iterations = 0;
         let mut changes = 0;
         for round in 1..=2 * HELD_ROUNDS {
-            match self.attempt_any(dt) {
-                Ok((s, it, res)) => {
+            match method.attempt(self, dt) {
+                Ok(Accepted {
+                    state: s,
+                    iterations: it,
+                    residual: res,
+                }) => {
                     iterations += it;
                     changes = self.active_set_changes();
                     if self.trace {
@@ -136,7 +136,11 @@ impl Driver {
                     }
                     if changes == 0 {
                         self.hold_active_sets(ActiveSet::Found);
-                        return Some(Ok((s, iterations, res)));
+                        return Some(Ok(Accepted {
+                            state: s,
+                            iterations,
+                            residual: res,
+                        }));
                     }
                     // Converged with some points held outside their law's range: hold the
                     // statuses found there (after HELD_ROUNDS rounds, reversed slides as
@@ -147,11 +151,11 @@ impl Driver {
                         ActiveSet::LastFoundStickingReversals
                     });
                     self.asm.revert(&mut self.model);
-                    self.factored = None;
+                    self.linear.factored = None;
                 }
                 Err(attempt) => {
                     self.asm.revert(&mut self.model);
-                    self.factored = None;
+                    self.linear.factored = None;
                     self.hold_active_sets(ActiveSet::Found);
                     let attempt = match attempt {
                         Attempt::NotConverged {
@@ -165,7 +169,7 @@ impl Driver {
                         },
                         fatal => fatal,
                     };
-                    return Some(Err(HeldFailure {
+                    return Some(Err(LastResortFailure {
                         attempt,
                         why: "Newton did not converge with the contact's active set held either"
                             .into(),
@@ -174,7 +178,7 @@ impl Driver {
             }
         }
         self.hold_active_sets(ActiveSet::Found);
-        Some(Err(HeldFailure {
+        Some(Err(LastResortFailure {
             attempt: Attempt::NotConverged {
                 residual: f64::NAN,
                 dof: String::new(),
@@ -185,5 +189,23 @@ impl Driver {
                 2 * HELD_ROUNDS
             ),
         }))
+    }
+}
+
+impl StepMethod<Driver> for HeldActiveSet<Driver> {
+    fn name(&self) -> &'static str {
+        self.inner.name()
+    }
+
+    fn attempt(&mut self, d: &mut Driver, dt: f64) -> Result<Accepted, Attempt> {
+        self.inner.attempt(d, dt)
+    }
+
+    fn last_resort(
+        &mut self,
+        d: &mut Driver,
+        dt: f64,
+    ) -> Option<Result<Accepted, LastResortFailure>> {
+        d.attempt_held(dt, &mut *self.inner)
     }
 }

@@ -89,6 +89,15 @@ pub trait LinearSolver: Send {
     /// one.
     fn factor(&mut self, a: &CscMatrix) -> Result<(), SolverError>;
 
+    /// The symbolic analysis (fill-reducing ordering, symbolic factor) of `a`'s pattern,
+    /// unless the solver holds that of the same pattern already; [`LinearSolver::factor`]
+    /// of a matrix of this pattern then factors numerically only. The values are not read.
+    /// The default does nothing (a dense solver has no symbolic step).
+    fn analyse(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
+        let _ = a;
+        Ok(())
+    }
+
     /// Solve `A x = b` in place (`b` becomes `x`) with the last factorization.
     fn solve_in_place(&mut self, b: &mut [f64]) -> Result<(), SolverError>;
 
@@ -451,7 +460,7 @@ impl SparseCholesky {
         self.compact = None;
     }
 
-    fn analyse(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
+    fn analyse_pattern(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
         self.reset();
         validate_pattern(a)?;
         let lower = TrianglePattern::build(a, None, false);
@@ -524,13 +533,20 @@ impl SparseCholesky {
 }
 
 impl LinearSolver for SparseCholesky {
+    fn analyse(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
+        if matches!(&self.pattern, Some(p) if same_pattern(a, p.pattern_id, p.n, p.full_nnz)) {
+            return Ok(());
+        }
+        self.analyse_pattern(a)
+    }
+
     fn factor(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
         self.factored = false;
         self.compact = None;
         let reuse = matches!(&self.pattern, Some(p) if same_pattern(a, p.pattern_id, p.n, p.full_nnz))
             && a.values.len() == a.row_idx.len();
         if !reuse {
-            self.analyse(a)?;
+            self.analyse_pattern(a)?;
         }
         let (Some(permuted), Some(symbolic)) = (self.pattern.as_mut(), self.symbolic.as_ref())
         else {
@@ -740,7 +756,7 @@ impl SparseLu {
         self
     }
 
-    fn analyse(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
+    fn analyse_pattern(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
         self.pattern = None;
         self.symbolic = None;
         validate_pattern(a)?;
@@ -787,13 +803,20 @@ impl SparseLu {
 }
 
 impl LinearSolver for SparseLu {
+    fn analyse(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
+        if matches!(self.pattern, Some((id, n, nnz)) if same_pattern(a, id, n, nnz)) {
+            return Ok(());
+        }
+        self.analyse_pattern(a)
+    }
+
     fn factor(&mut self, a: &CscMatrix) -> Result<(), SolverError> {
         self.factored = false;
         let reuse = matches!(self.pattern, Some((id, n, nnz)) if same_pattern(a, id, n, nnz))
             && a.values.len() == a.row_idx.len()
             && a.col_ptr[a.n] == a.row_idx.len();
         if !reuse {
-            self.analyse(a)?;
+            self.analyse_pattern(a)?;
         }
         self.check_values(a)?;
         let Some(symbolic) = self.symbolic.as_ref() else {

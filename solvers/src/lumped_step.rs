@@ -18,7 +18,8 @@
 //! passes over the equation vectors are fewer (at 10⁵ equations each pass moves 0.8 MB per
 //! vector, about as much as the step's pass over `K` when a dozen are summed).
 
-use crate::driver::{Attempt, Driver, State, StepWork};
+use crate::driver::{Accepted, Attempt, Driver, State, StepWork};
+use crate::step_method::{LumpedLinear, StepMethod};
 use crate::time_integrator::{Increment, BLOCK};
 use railfem_framework::FemError;
 use std::time::Instant;
@@ -87,7 +88,7 @@ impl Driver {
             ))));
         }
         let coef = self.integrator.coefficients(dt);
-        if self.factored != Some((coef.key(), self.asm.k_const.pattern_id)) {
+        if self.linear.factored != Some((coef.key(), self.asm.k_const.pattern_id)) {
             self.factor_tangent(coef)?;
             self.summary.factorizations += 1;
         }
@@ -131,5 +132,15 @@ impl Driver {
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         next.t = t1;
         Ok((next, 1, rn))
+    }
+}
+
+impl StepMethod<Driver> for LumpedLinear {
+    fn name(&self) -> &'static str {
+        "lumped linear step"
+    }
+
+    fn attempt(&mut self, d: &mut Driver, dt: f64) -> Result<Accepted, Attempt> {
+        d.attempt_lumped(dt)
     }
 }

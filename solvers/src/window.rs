@@ -105,6 +105,7 @@ impl ActivityWindow {
         station: impl Fn(usize) -> f64,
     ) -> Result<ActivityWindow, String> {
         let p = driver
+            .linear
             .partition
             .as_ref()
             .filter(|p| p.block_count() > 0)
@@ -160,7 +161,11 @@ impl ActivityWindow {
             behind,
             tolerance,
         } = self.settings;
-        let p = driver.partition.as_ref().expect("checked at construction");
+        let p = driver
+            .linear
+            .partition
+            .as_ref()
+            .expect("checked at construction");
         if let Some(b) =
             (0..self.phases.len()).find(|&b| p.block_frozen(b) && p.block_has_promoted(b))
         {
@@ -219,6 +224,7 @@ impl Driver {
     pub fn hold_blocks(&mut self, frozen: &[bool]) -> Result<(), String> {
         let n = self.neq();
         let p = self
+            .linear
             .partition
             .as_mut()
             .ok_or("held blocks need the partitioned solver")?;

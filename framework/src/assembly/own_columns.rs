@@ -22,7 +22,7 @@
 
 use super::Assembler;
 use crate::error::FemError;
-use crate::model::{Model, SolverChoice};
+use crate::model::{Model, SolverChoice, SolverResolver};
 use crate::sparse::CscMatrix;
 
 /// What a rank of a shared model is shown before the constant values are formed
@@ -81,9 +81,10 @@ impl Assembler {
     /// of times (once).
     pub fn new_on_columns(
         model: &mut Model,
+        resolve: SolverResolver,
         choose: &mut ColumnChooser<'_>,
     ) -> Result<Assembler, FemError> {
-        Self::new_choosing(model, Some(choose))
+        Self::new_choosing(model, resolve, Some(choose))
     }
 
     /// The build's choice of columns ([`Assembler::new_on_columns`]): asks `choose` when the
