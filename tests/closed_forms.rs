@@ -344,7 +344,7 @@ fn equivalence_builder() -> ModelBuilder {
     b.recorder(RecorderSpec::Node {
         node: None,
         nodes: vec![2, 4],
-        dofs: vec!["uz".into(), "ry".into()],
+        dofs: DofSet::of(&[Dof::Uz, Dof::Ry]),
         quantity: Quantity::Disp,
         file: "nodes.csv".into(),
     });
