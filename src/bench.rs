@@ -582,7 +582,7 @@ pub fn export(
                     loads,
                     "{k},{t:.17e},{},{},{f:.17e}",
                     d.model.nodes[n].id,
-                    Dof::ALL[dof].name()
+                    dof.name()
                 );
             }
         }

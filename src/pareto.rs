@@ -305,7 +305,7 @@ pub fn force_run(ne: usize, dt: f64, scheme: Scheme) -> Result<(f64, f64, usize)
     let mid = (ne / 2 + 1) as u64;
     let (mut worst, mut peak) = (0.0f64, 0.0f64);
     let wall = drive(model, dt, steps, t0, &mut |d| {
-        let fe = -d.node_value(mid, Dof::Uz.index()).unwrap_or(f64::NAN);
+        let fe = -d.displacement(mid, Dof::Uz).unwrap_or(f64::NAN);
         let exact = fryba_midspan(d.state.t, 200);
         worst = worst.max((fe - exact).abs());
         peak = peak.max(exact.abs());
@@ -358,7 +358,7 @@ pub fn sprung_run(
     let mid = (ne / 2 + 1) as u64;
     let (mut worst, mut peak) = (0.0f64, 0.0f64);
     let wall = drive(model, dt, steps, t0, &mut |d| {
-        let fe = d.node_value(mid, Dof::Uz.index()).unwrap_or(f64::NAN);
+        let fe = d.displacement(mid, Dof::Uz).unwrap_or(f64::NAN);
         let exact = sample_at(reference, t_end, d.state.t);
         worst = worst.max((fe - exact).abs());
     })?;

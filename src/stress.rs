@@ -289,7 +289,7 @@ pub fn beam(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow,
         if let Err(e) = d.step(dt) {
             return Ok(StressRow::failed(case, command, e));
         }
-        sum += d.node_value(mid, 1).unwrap_or(f64::NAN);
+        sum += d.displacement(mid, Dof::Uy).unwrap_or(f64::NAN);
     }
     let mean = sum / steps as f64;
     Ok(StressRow {

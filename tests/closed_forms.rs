@@ -51,7 +51,7 @@ fn cantilever_tip(dof: Dof, value: f64) -> [f64; 6] {
     });
     let mut d = Driver::new(b.build().expect("model")).expect("driver");
     d.static_solve(0.0, 1).expect("static solve");
-    std::array::from_fn(|k| d.node_value(2, k).expect("node 2"))
+    std::array::from_fn(|k| d.displacement(2, Dof::ALL[k]).expect("node 2"))
 }
 
 fn assert_rel(got: f64, want: f64, tol: f64, what: &str) {
@@ -245,7 +245,7 @@ fn moving_force_error(ne: usize, dt: f64) -> f64 {
         d.step(dt).expect("step");
         let t = d.state.t;
         // The force acts along −Z, Frýba's w is along the force.
-        let fe = -d.node_value(mid, Dof::Uz.index()).expect("midspan");
+        let fe = -d.displacement(mid, Dof::Uz).expect("midspan");
         let exact = common::fryba(L / 2.0, t, p, v, L, EI, MASS, 50);
         worst = worst.max((fe - exact).abs());
         peak = peak.max(exact.abs());

@@ -246,7 +246,7 @@ fn rail_on_discrete_supports_is_exact_at_the_nodes_on_every_mesh() {
             let d = common::solve_under_point_load(b, node_at(at), -p);
             let mut worst = 0.0f64;
             for (s, w) in x.iter().zip(&exact) {
-                let fe = d.node_value(node_at(*s), Dof::Uz.index()).unwrap();
+                let fe = d.displacement(node_at(*s), Dof::Uz).unwrap();
                 worst = worst.max((fe - w).abs() / peak);
             }
             println!(

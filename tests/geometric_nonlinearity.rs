@@ -69,7 +69,10 @@ fn solve_static(b: ModelBuilder, steps: usize) -> Driver {
 }
 
 fn tip(d: &Driver, node: u64) -> [f64; 6] {
-    std::array::from_fn(|k| d.node_value(node, k).expect("tip node"))
+    std::array::from_fn(|k| {
+        d.displacement(node, railfem::framework::Dof::ALL[k])
+            .expect("tip node")
+    })
 }
 
 /// The exact inextensible elastica of a cantilever of length 1 and `EI = 1` under a tip
@@ -244,7 +247,8 @@ fn column_drift(geometry: &str, n: usize, p: f64, h: f64) -> f64 {
     b.load(nodal(top, "uz", -p));
     b.load(nodal(top, "ux", h));
     let d = solve_static(b, 4);
-    d.node_value(top, 0).expect("top")
+    d.displacement(top, railfem::framework::Dof::Ux)
+        .expect("top")
 }
 
 /// Beam-column theory (small deflection) for a cantilever with axial compression P and tip
@@ -382,9 +386,12 @@ fn right_angle_cantilever(
         }
     }
     let rot = d
-        .node_value(2 * n as u64 + 1, 3)
+        .displacement(2 * n as u64 + 1, railfem::framework::Dof::Rx)
         .unwrap()
-        .hypot(d.node_value(2 * n as u64 + 1, 4).unwrap());
+        .hypot(
+            d.displacement(2 * n as u64 + 1, railfem::framework::Dof::Ry)
+                .unwrap(),
+        );
     let ledger = d.energy.as_ref().expect("ledger").relative_error();
     (energy, ledger, rot)
 }
@@ -693,13 +700,21 @@ fn rotated_free_bar_dissipates_as_generalized_alpha_predicts() {
             u = u1;
             acc = a1;
             d.step(dt).expect("step");
-            let x1 = Vector3::from_fn(|c, _| d.node_value(1, c).unwrap());
-            let x2 = Vector3::x() + Vector3::from_fn(|c, _| d.node_value(2, c).unwrap());
+            let x1 = Vector3::from_fn(|c, _| {
+                d.displacement(1, railfem::framework::Dof::ALL[c]).unwrap()
+            });
+            let x2 = Vector3::x()
+                + Vector3::from_fn(|c, _| {
+                    d.displacement(2, railfem::framework::Dof::ALL[c]).unwrap()
+                });
             let s = (x2 - x1).norm() - 1.0;
             worst = worst.max((s - u).abs());
             last = s;
             for node in [1u64, 2] {
-                let psi = Vector3::from_fn(|c, _| d.node_value(node, 3 + c).unwrap());
+                let psi = Vector3::from_fn(|c, _| {
+                    d.displacement(node, railfem::framework::Dof::ALL[3 + c])
+                        .unwrap()
+                });
                 assert!(
                     (psi - psi0).norm() < 1e-9,
                     "ρ∞ = {rho}: triad of node {node} moved"

@@ -205,7 +205,7 @@ fn spring_forces(d: &Driver, body: &Body) -> [f64; 6] {
     let k = body.k();
     let mut f = [0.0; 6];
     for (i, fi) in f.iter_mut().enumerate() {
-        *fi = k[i] * d.node_value(1, i).unwrap();
+        *fi = k[i] * d.displacement(1, railfem::framework::Dof::ALL[i]).unwrap();
     }
     f
 }
@@ -444,7 +444,10 @@ fn rail_on_supports(load_index: usize) -> (Vec<f64>, Vec<f64>) {
     let first = tm.rails[0].first_id;
     let d = common::solve_under_point_load(b, first + load_index as u64, -P_LOAD);
     let w = (0..tm.stations.len())
-        .map(|i| d.node_value(first + i as u64, 2).unwrap())
+        .map(|i| {
+            d.displacement(first + i as u64, railfem::framework::Dof::Uz)
+                .unwrap()
+        })
         .collect();
     (tm.stations.clone(), w)
 }

@@ -44,7 +44,9 @@ fn lever(geometry: Geometry) -> (f64, f64, f64) {
     });
     let mut d = Driver::new(b.build().expect("model")).expect("driver");
     d.static_solve(0.0, 4).expect("static solve");
-    let phi = d.node_value(1, 5).expect("hinge rz");
+    let phi = d
+        .displacement(1, railfem::framework::Dof::Rz)
+        .expect("hinge rz");
     // The tip is not in the equations under nonlinear links: reconstruct it from the
     // master (what the adapter does), and read the spring's force, which the element
     // computed from the slave's displacement it was given.

@@ -1656,16 +1656,11 @@ impl Driver {
         }
     }
 
-    /// Value of nodal DOF `dof` (0..6) of node user id `node` in the committed state.
-    pub fn node_value(&self, node: u64, dof: usize) -> Option<f64> {
-        let i = self.model.node(node)?;
-        Some(self.asm.dofmap.value(&self.state.q, i, dof))
-    }
-
     /// Displacement (m, rad) of DOF `dof` of node user id `node` in the committed state, in
     /// the node's axes; `None` for an unknown node.
     pub fn displacement(&self, node: u64, dof: railfem_framework::Dof) -> Option<f64> {
-        self.node_value(node, dof.index())
+        let i = self.model.node(node)?;
+        Some(self.asm.dofmap.value(&self.state.q, i, dof.index()))
     }
 
     /// Velocity (m/s, rad/s) of DOF `dof` of node user id `node` in the committed state.
