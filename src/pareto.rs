@@ -248,7 +248,6 @@ pub fn sample_at(hist: &[f64], t_end: f64, t: f64) -> f64 {
 /// ids `1..=ne`; only vertical bending is free (ux, uy, rx, rz held at every node; uz held
 /// at both ends). Section: E = 210 GPa, ρ = 7850 kg/m³, `Iy = EI/E`, `A = m/ρ`.
 pub(crate) fn span(ne: usize) -> ModelBuilder {
-    crate::elements::link();
     let mut b = ModelBuilder::new(format!("pareto span ({ne} elements)"));
     let plane = DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Rz]);
     for i in 0..=ne {

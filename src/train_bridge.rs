@@ -571,7 +571,6 @@ fn build_with(
     case: &TrainBridgeCase,
     shared: Option<(Arc<dyn Exchange>, Option<PartitionOptions>)>,
 ) -> Result<TrainBridgeModel, FemError> {
-    crate::elements::link();
     case.validate()?;
     // The train's size first: its length sets the track's.
     limits::check_memory(

@@ -42,7 +42,6 @@ fn bridge_spec(spans: usize) -> BridgeSpec {
 
 /// A straight bridge of `spans` spans with 10 m approaches, meshed at 0.5 m, static.
 fn bridge_model(spans: usize, gravity: bool) -> (ModelBuilder, Arc<TrackModel>) {
-    railfem::elements::link();
     let len = 2.0 * APPROACH + spans as f64 * SPAN;
     let track = Arc::new(Track::new(Alignment::straight(len), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("bridge test");
@@ -105,7 +104,6 @@ fn soften(tm_spec: &mut BridgeSpec) {
 }
 
 fn midspan_under_point_load(soft: bool) -> f64 {
-    railfem::elements::link();
     let len = 2.0 * APPROACH + SPAN;
     let track = Arc::new(Track::new(Alignment::straight(len), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("bridge test");
@@ -184,7 +182,6 @@ fn single_span_self_weight() {
 /// the finite length (e^{−β·100} ≈ 1e-34). Tolerance 0.5 % of w(0) along the profile.
 #[test]
 fn slab_track_matches_hetenyi() {
-    railfem::elements::link();
     let len = 200.0;
     let h = 0.1;
     let k_sub = 1.0e8;

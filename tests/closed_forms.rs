@@ -34,7 +34,6 @@ fn beam_params() -> serde_json::Value {
 /// Solves the one-element cantilever (node 1 clamped at the origin, node 2 free at
 /// `(L, 0, 0)`) statically under one nodal load on node 2; returns the six tip DOFs.
 fn cantilever_tip(dof: Dof, value: f64) -> [f64; 6] {
-    railfem::elements::link();
     let mut b = ModelBuilder::new("cantilever");
     b.node_fixed(1, [0.0; 3], DofSet::ALL);
     b.node(2, [L, 0.0, 0.0]);
@@ -147,7 +146,6 @@ mod bridge {
 /// free; `restrain_out_of_plane` additionally fixes ux, uy, rx, rz at every node so that
 /// only vertical bending (uz, ry) remains.
 fn simply_supported(ne: usize, restrain_out_of_plane: bool) -> ModelBuilder {
-    railfem::elements::link();
     use bridge::*;
     let mut b = ModelBuilder::new("simply supported beam");
     let out_of_plane = DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Rz]);
@@ -297,7 +295,6 @@ fn moving_force_matches_fryba_series() {
 /// (4 `beam3d`), a `mass` and a grounded `spring_damper` under the middle of the first
 /// span, a sine nodal load and a moving force, with a node and an element recorder.
 fn equivalence_builder() -> ModelBuilder {
-    railfem::elements::link();
     let mut b = ModelBuilder::new("builder");
     b.node_fixed(
         1,

@@ -37,7 +37,6 @@ fn cantilever(
     dir: [f64; 3],
     params: &serde_json::Value,
 ) -> ModelBuilder {
-    railfem::elements::link();
     let mut b = ModelBuilder::new(name);
     for k in 0..=n {
         let s = len * k as f64 / n as f64;
@@ -179,7 +178,6 @@ fn cantilever_elastica_with_20_corotational_elements() {
 /// 0.35 between themselves; we ask for the mean of them within 0.5 per coordinate (0.5 % of R).
 #[test]
 fn bathe_bolourchi_45_degree_bend() {
-    railfem::elements::link();
     let published = [
         // (load, [(x, y, z) per source])
         (300.0, vec![[58.84, 22.33, 40.08], [58.64, 22.14, 40.35]]),
@@ -331,7 +329,6 @@ fn right_angle_cantilever(
     dt: f64,
 ) -> (Vec<f64>, f64, f64) {
     use railfem::elements::beam3d::Beam3dCorotational;
-    railfem::elements::link();
     let mut b = ModelBuilder::new("right-angle cantilever");
     let n = 4;
     for k in 0..=2 * n {
@@ -473,7 +470,6 @@ fn end_moment_rolls_the_cantilever_into_a_circle() {
 fn partitioned_solver_composes_rotations_like_the_direct_one() {
     use railfem::framework::model::SolverChoice;
     let run = |solver: SolverChoice| -> Vec<f64> {
-        railfem::elements::link();
         let mut b = ModelBuilder::new("mixed");
         b.node_fixed(1, [0.0, 0.0, -3.0], DofSet::ALL);
         for k in 1..=6u64 {
@@ -637,7 +633,6 @@ fn finite_rotation_marks_from_outside_elements() {
 fn rotated_free_bar_dissipates_as_generalized_alpha_predicts() {
     use nalgebra::Vector3;
     use railfem::framework::rotation;
-    railfem::elements::link();
     let (k, m, s0): (f64, f64, f64) = (1e4, 2.0, 1e-3); // EA/L (N/m), end mass (kg), initial stretch (m)
     let mr = m / 2.0;
     let omega = (k / mr).sqrt();

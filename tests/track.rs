@@ -42,7 +42,6 @@ const G: f64 = 9.81;
 /// stations that include every segment joint.
 #[test]
 fn model_file_track_is_the_paper_track() {
-    railfem::elements::link();
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("track_modelfile");
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("paper.toml");
@@ -153,7 +152,6 @@ impl Body {
 /// acceleration `accel`, holding `body`; gravity −9.81 Z. `initial_static = false`: the body
 /// starts undeformed and at rest in the moving frame, so the run has a real transient.
 fn carried_body(track: Track, start: f64, speed: f64, accel: f64, body: &Body) -> Driver {
-    railfem::elements::link();
     let path: Arc<dyn Path> = Arc::new(track);
     let p = path.at(start);
     let mut b = ModelBuilder::new("carried body");
@@ -421,7 +419,6 @@ const ELEMENT: f64 = 0.3;
 /// straight), solves statically, and returns the stations and the left rail's vertical
 /// deflections.
 fn rail_on_supports(load_index: usize) -> (Vec<f64>, Vec<f64>) {
-    railfem::elements::link();
     let track = Arc::new(Track::new(Alignment::straight(RAIL_LENGTH), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("rail on supports");
     let k = K_SUPPORT;

@@ -18,7 +18,6 @@ use serde_json::json;
 /// and the tip moves straight up by `L·φ`. Rotations about one fixed axis commute, so the
 /// additive update of the present driver is exact here.
 fn lever(geometry: Geometry) -> (f64, f64, f64) {
-    railfem::elements::link();
     let (l, k) = (2.0, 1e6);
     let mut b = ModelBuilder::new("lever");
     let free_rz = DofSet::from_bits(DofSet::ALL.bits() & !(1 << 5));

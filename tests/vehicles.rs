@@ -232,7 +232,6 @@ record = {{wheels = "wheels.csv"}}
 /// contact springs): the car body moves with the front wheelset to within 1e-6 m.
 #[test]
 fn static_solve_preloads_hold_the_bodies_in_nonlinear_geometry() {
-    railfem::elements::link();
     let sag = |geometry: &str| -> (f64, f64) {
         let text = format!(
             r#"
@@ -296,7 +295,6 @@ speed = 0.0
 /// the rail top.
 #[test]
 fn sensors_are_published_by_name() {
-    railfem::elements::link();
     let text = format!(
         r#"
 [track]
