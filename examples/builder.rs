@@ -16,7 +16,6 @@ use railfem::framework::{Dof, DofSet, FemError};
 use railfem::solvers::Driver;
 
 fn main() -> Result<(), FemError> {
-    railfem::elements::link();
     let (span, n_per_span, ei, m) = (12.5, 10, 2.943e10, 2303.0);
     let (speed, e) = (27.78, 2.1e11);
     let i = ei / e;

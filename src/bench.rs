@@ -161,7 +161,6 @@ impl BenchBeam {
     /// The model: nodes along global x, beams, the moving force (entering at x = 0 just
     /// after t = 0, so there is no initial static solve) and the Newmark analysis.
     pub fn model(&self, steps: usize) -> Result<Model, FemError> {
-        crate::elements::link();
         let mut b = ModelBuilder::new(format!("bench ({} spans)", self.spans));
         self.add_beam(&mut b);
         b.load(LoadSpec::MovingForce {
@@ -582,7 +581,7 @@ pub fn export(
                     loads,
                     "{k},{t:.17e},{},{},{f:.17e}",
                     d.model.nodes[n].id,
-                    Dof::ALL[dof].name()
+                    dof.name()
                 );
             }
         }

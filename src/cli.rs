@@ -413,7 +413,6 @@ fn print_kind(name: &str, description: &str, params: Vec<crate::framework::regis
 }
 
 fn dispatch(a: &Args) -> Result<i32, FemError> {
-    crate::elements::link();
     for p in &a.plugins {
         crate::framework::plugin::load(p)?;
     }

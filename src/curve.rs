@@ -265,7 +265,6 @@ impl CurveCase {
 
     /// Builds the model.
     pub fn build(&self) -> Result<CurveModel, FemError> {
-        crate::elements::link();
         if !(self.speed.is_finite() && self.speed > 0.0) {
             return Err(FemError::input(
                 "curve case",

@@ -49,7 +49,6 @@ pub mod train_window;
 
 /// Loads a model file, building every element through the registry.
 pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework::FemError> {
-    elements::link();
     framework::modelfile::read(path)?.build()
 }
 
@@ -60,7 +59,6 @@ pub fn model_from_value(
     name: &str,
     base: &std::path::Path,
 ) -> Result<framework::Model, framework::FemError> {
-    elements::link();
     framework::modelfile::from_value(value, name, base)?.build()
 }
 

@@ -7,7 +7,6 @@
 //! ([`crate::framework::matrix_market`]) as `K.mtx`, `M.mtx`, `C.mtx` and `f.mtx`, and
 //! writes the DOF map `dofs.csv`: which node and DOF each equation (row of `K`) is.
 
-use crate::framework::dof::Dof;
 use crate::framework::matrix_market::{write_matrix, write_vector};
 use crate::framework::FemError;
 use std::fmt::Write as _;
@@ -36,9 +35,8 @@ pub fn write(path: &Path, out: &Path) -> Result<usize, FemError> {
     csv.push_str(DOF_HEADER);
     csv.push('\n');
     for eq in 0..n {
-        let (node, k) = d.asm.dofmap.dof_of(eq);
-        let dof = Dof::from_index(k).map(|x| x.name()).unwrap_or("?");
-        let unit = if k < 3 { "m" } else { "rad" };
+        let (node, dof) = d.asm.dofmap.dof_of(eq);
+        let unit = if dof.index() < 3 { "m" } else { "rad" };
         let _ = writeln!(csv, "{},{},{dof},{unit}", eq + 1, d.model.nodes[node].id);
     }
     let p = out.join(FILES[4]);

@@ -348,7 +348,7 @@ pub fn fe_run(case: &Case, ne: usize, dt: f64) -> Result<Histories, FemError> {
     let record = |d: &Driver, out: &mut Histories| {
         out.t.push(d.state.t);
         out.midspan
-            .push(d.node_value(mid, Dof::Uz.index()).unwrap_or(f64::NAN) - w0);
+            .push(d.displacement(mid, Dof::Uz).unwrap_or(f64::NAN) - w0);
         let acc = match mass_index {
             Some(i) => d.asm.dofmap.value(&d.state.a, i, Dof::Uz.index()),
             None => {

@@ -192,7 +192,10 @@ pub fn simulate(s: &Settings, duration: f64) -> Result<History, FemError> {
                 buf[iq]
             })
             .collect();
-        let w = |id: u64| d.node_value(id, 2).unwrap_or(f64::NAN);
+        let w = |id: u64| {
+            d.displacement(id, crate::framework::Dof::Uz)
+                .unwrap_or(f64::NAN)
+        };
         let mid = spans
             .iter()
             .map(|&(first, last, mid)| 0.5 * (w(first) + w(last)) - w(mid))

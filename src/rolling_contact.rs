@@ -324,8 +324,14 @@ pub fn run(case: &Case, dir: &Path) -> Result<History, FemError> {
         let (_, right) = read(1);
         h.t.push(d.state.t);
         h.station.push(station);
-        h.y.push(d.node_value(AXLE_NODE, 0).unwrap_or(f64::NAN));
-        h.yaw.push(d.node_value(AXLE_NODE, 4).unwrap_or(f64::NAN));
+        h.y.push(
+            d.displacement(AXLE_NODE, crate::framework::Dof::Ux)
+                .unwrap_or(f64::NAN),
+        );
+        h.yaw.push(
+            d.displacement(AXLE_NODE, crate::framework::Dof::Ry)
+                .unwrap_or(f64::NAN),
+        );
         h.contact_left.push(left);
         h.contact_right.push(right);
     };

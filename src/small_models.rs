@@ -28,7 +28,6 @@ pub const SPEED: f64 = 80.0;
 /// x = 0, under gravity (initial static solve), Newmark average acceleration at
 /// [`crate::bench::DT`], running with `solver`.
 pub fn sprung_beam(dof: usize, steps: usize, solver: SolverChoice) -> Result<Model, FemError> {
-    crate::elements::link();
     let geo = BenchBeam::for_dof(dof);
     let mut b = ModelBuilder::new(format!("sprung mass on a beam ({} spans)", geo.spans));
     geo.add_beam(&mut b);

@@ -168,7 +168,6 @@ pub fn bathe_amplification(gamma: f64, omega_dt: f64) -> Matrix3<f64> {
 /// A mass `m` on a grounded spring `k` and dashpot `c` along ux (built-in `mass` and
 /// `spring_damper`; every other DOF fixed), run with `analysis`.
 pub fn sdof_driver(k: f64, m: f64, c: f64, analysis: AnalysisSpec) -> Result<Driver, FemError> {
-    crate::elements::link();
     let mut b = ModelBuilder::new("sdof");
     b.node_fixed(
         1,
@@ -198,7 +197,6 @@ pub fn sdof_driver(k: f64, m: f64, c: f64, analysis: AnalysisSpec) -> Result<Dri
 /// HHT-α and generalized-α exceed it in their first steps when ω·Δt ≫ 1 (velocity
 /// overshoot, see docs/stability.md) before their spectral radius < 1 removes it.
 pub fn sdof(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow, FemError> {
-    crate::elements::link();
     let (k, m, u0): (f64, f64, f64) = (1.0e6, 1.0, 1e-3);
     let dt = omega_dt / (k / m).sqrt();
     let an = analysis(scheme_name, dt)?;
@@ -241,7 +239,6 @@ pub fn sdof(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow,
 /// to a step oscillates about the static one; the resolved modes average out over the
 /// run of `steps` steps, so this is a check only when the run spans several periods).
 pub fn beam(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow, FemError> {
-    crate::elements::link();
     let (l, ne): (f64, usize) = (10.0, 20);
     let (e, a, iz, rho): (f64, f64, f64, f64) = (2.1e11, 7.7e-3, 3.04e-5, 7850.0);
     let w1 = std::f64::consts::PI.powi(2) * (e * iz / (rho * a * l.powi(4))).sqrt();
@@ -289,7 +286,7 @@ pub fn beam(omega_dt: f64, scheme_name: &str, steps: usize) -> Result<StressRow,
         if let Err(e) = d.step(dt) {
             return Ok(StressRow::failed(case, command, e));
         }
-        sum += d.node_value(mid, 1).unwrap_or(f64::NAN);
+        sum += d.displacement(mid, Dof::Uy).unwrap_or(f64::NAN);
     }
     let mean = sum / steps as f64;
     Ok(StressRow {
@@ -332,7 +329,6 @@ struct WheelsetSpec {
 }
 
 fn wheelset(s: &WheelsetSpec) -> Result<Wheelset, FemError> {
-    crate::elements::link();
     let track = Arc::new(
         Alignment::new(vec![Segment::Straight { length: s.length }])
             .and_then(|al| Track::new(al, Cant::none()))

@@ -145,7 +145,6 @@ pub fn measure(family: &'static str, model: Model) -> Result<ThresholdRow, FemEr
 
 /// Both families over the sizes; the table on stdout and in `out/threshold.md`.
 pub fn run(out: &Path) -> Result<Vec<ThresholdRow>, FemError> {
-    crate::elements::link();
     let mut rows = Vec::new();
     for n in [
         6, 12, 18, 24, 30, 36, 48, 72, 96, 120, 150, 198, 246, 300, 402, 498, 750, 1002, 1500, 1998,

@@ -571,7 +571,6 @@ fn build_with(
     case: &TrainBridgeCase,
     shared: Option<(Arc<dyn Exchange>, Option<PartitionOptions>)>,
 ) -> Result<TrainBridgeModel, FemError> {
-    crate::elements::link();
     case.validate()?;
     // The train's size first: its length sets the track's.
     limits::check_memory(
@@ -796,7 +795,10 @@ fn output(d: &Driver, ei: usize, pos: &[usize; 4], buf: &mut Vec<f64>) -> [f64; 
 fn midspan_deflection(d: &Driver, tm: &TrackModel, k: usize) -> f64 {
     let br = tm.bridge.as_ref().expect("a bridge");
     let s = &br.spans[k];
-    let w = |id: u64| d.node_value(id, 2).unwrap_or(f64::NAN);
+    let w = |id: u64| {
+        d.displacement(id, crate::framework::Dof::Uz)
+            .unwrap_or(f64::NAN)
+    };
     0.5 * (w(s.first_node) + w(s.last_node)) - w(s.midspan_node)
 }
 

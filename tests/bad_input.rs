@@ -263,7 +263,10 @@ fn bad_dof_names_are_refused() {
     check(
         "fixdof.toml",
         &text,
-        &["node[0]", "`uq` is not a DOF", "ux, uy, uz, rx, ry, rz"],
+        &[
+            "`node[0].fix[1]`: unknown variant `uq`",
+            "expected one of `ux`, `uy`, `uz`, `rx`, `ry`, `rz`, `all`, `translations`, `rotations`",
+        ],
     );
 }
 
@@ -842,6 +845,8 @@ fn bad_plugins_are_refused() {
     );
 }
 
+#[path = "bad_input/round_five.rs"]
+mod round_five;
 #[path = "bad_input/round_four.rs"]
 mod round_four;
 #[path = "bad_input/round_three.rs"]

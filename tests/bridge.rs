@@ -42,7 +42,6 @@ fn bridge_spec(spans: usize) -> BridgeSpec {
 
 /// A straight bridge of `spans` spans with 10 m approaches, meshed at 0.5 m, static.
 fn bridge_model(spans: usize, gravity: bool) -> (ModelBuilder, Arc<TrackModel>) {
-    railfem::elements::link();
     let len = 2.0 * APPROACH + spans as f64 * SPAN;
     let track = Arc::new(Track::new(Alignment::straight(len), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("bridge test");
@@ -105,7 +104,6 @@ fn soften(tm_spec: &mut BridgeSpec) {
 }
 
 fn midspan_under_point_load(soft: bool) -> f64 {
-    railfem::elements::link();
     let len = 2.0 * APPROACH + SPAN;
     let track = Arc::new(Track::new(Alignment::straight(len), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("bridge test");
@@ -133,7 +131,7 @@ fn midspan_under_point_load(soft: bool) -> f64 {
         series: TimeSeries::Constant,
     });
     let d = solve(b);
-    -d.node_value(mid, Dof::Uz.index()).unwrap()
+    -d.displacement(mid, Dof::Uz).unwrap()
 }
 
 /// Self-weight: girder and slab weigh `w = g·(ρ_g·A_g + ρ_s·A_s)` per metre; the rails add
@@ -149,8 +147,8 @@ fn single_span_self_weight() {
     let first = tm.bridge.as_ref().unwrap().spans[0].first_node;
     let d = solve(b);
     // Midspan deflection relative to the span ends (bearings) and absolute.
-    let w = -d.node_value(mid, Dof::Uz.index()).unwrap();
-    let w_end = -d.node_value(first, Dof::Uz.index()).unwrap();
+    let w = -d.displacement(mid, Dof::Uz).unwrap();
+    let w_end = -d.displacement(first, Dof::Uz).unwrap();
     let (g, s, r) = (
         RailSection::pc_box_girder(),
         RailSection::concrete_slab(),
@@ -184,7 +182,6 @@ fn single_span_self_weight() {
 /// the finite length (e^{−β·100} ≈ 1e-34). Tolerance 0.5 % of w(0) along the profile.
 #[test]
 fn slab_track_matches_hetenyi() {
-    railfem::elements::link();
     let len = 200.0;
     let h = 0.1;
     let k_sub = 1.0e8;
@@ -231,10 +228,10 @@ fn slab_track_matches_hetenyi() {
         let i = i0 + di;
         let x = tm.stations[i] - 100.0;
         let w = -d
-            .node_value(tm.rails[0].first_id + i as u64, Dof::Uz.index())
+            .displacement(tm.rails[0].first_id + i as u64, Dof::Uz)
             .unwrap();
         let w_right = -d
-            .node_value(tm.rails[1].first_id + i as u64, Dof::Uz.index())
+            .displacement(tm.rails[1].first_id + i as u64, Dof::Uz)
             .unwrap();
         // Symmetric load: both rails deflect alike.
         assert!((w - w_right).abs() < 1e-9 * w0);
@@ -244,9 +241,9 @@ fn slab_track_matches_hetenyi() {
     assert!(worst < 5e-3, "slab track vs Hetényi: {worst:e}");
     // The slab node under the load follows the rails to within the fastener compression.
     let slab_node = tm.slab.as_ref().unwrap().node_at(i0).unwrap();
-    let ws = -d.node_value(slab_node, Dof::Uz.index()).unwrap();
+    let ws = -d.displacement(slab_node, Dof::Uz).unwrap();
     let wr = -d
-        .node_value(tm.rails[0].first_id + i0 as u64, Dof::Uz.index())
+        .displacement(tm.rails[0].first_id + i0 as u64, Dof::Uz)
         .unwrap();
     assert!(
         wr > ws && wr - ws < P / 10.0 / 1.0e11 * 1.001,
@@ -276,9 +273,9 @@ fn adjacent_spans_are_independent() {
         series: TimeSeries::Constant,
     });
     let d = solve(b);
-    let ry = Dof::Ry.index();
-    let th1 = d.node_value(br.spans[0].last_node, ry).unwrap().abs();
-    let th2 = d.node_value(br.spans[1].first_node, ry).unwrap().abs();
+    let ry = Dof::Ry;
+    let th1 = d.displacement(br.spans[0].last_node, ry).unwrap().abs();
+    let th2 = d.displacement(br.spans[1].first_node, ry).unwrap().abs();
     let (lo, hi) = ei_bounds();
     let pier = RailSection::rc_pier();
     let tilt = 0.5 * P * 10.0 / (pier.e * pier.a) / SPAN;
@@ -288,10 +285,10 @@ fn adjacent_spans_are_independent() {
     assert!((th1 - slope_hi).abs() < 0.01 * slope_hi + tilt);
     assert!(th2 < 0.02 * th1);
     let w1 = d
-        .node_value(br.midspan_node(0).unwrap(), Dof::Uz.index())
+        .displacement(br.midspan_node(0).unwrap(), Dof::Uz)
         .unwrap();
     let w2 = d
-        .node_value(br.midspan_node(1).unwrap(), Dof::Uz.index())
+        .displacement(br.midspan_node(1).unwrap(), Dof::Uz)
         .unwrap();
     println!("midspan: span 1 {w1:.5e} m, span 2 {w2:.5e} m");
     assert!(w2.abs() < 0.01 * w1.abs());

@@ -34,7 +34,6 @@ fn beam_params() -> serde_json::Value {
 /// Solves the one-element cantilever (node 1 clamped at the origin, node 2 free at
 /// `(L, 0, 0)`) statically under one nodal load on node 2; returns the six tip DOFs.
 fn cantilever_tip(dof: Dof, value: f64) -> [f64; 6] {
-    railfem::elements::link();
     let mut b = ModelBuilder::new("cantilever");
     b.node_fixed(1, [0.0; 3], DofSet::ALL);
     b.node(2, [L, 0.0, 0.0]);
@@ -51,7 +50,7 @@ fn cantilever_tip(dof: Dof, value: f64) -> [f64; 6] {
     });
     let mut d = Driver::new(b.build().expect("model")).expect("driver");
     d.static_solve(0.0, 1).expect("static solve");
-    std::array::from_fn(|k| d.node_value(2, k).expect("node 2"))
+    std::array::from_fn(|k| d.displacement(2, Dof::ALL[k]).expect("node 2"))
 }
 
 fn assert_rel(got: f64, want: f64, tol: f64, what: &str) {
@@ -147,7 +146,6 @@ mod bridge {
 /// free; `restrain_out_of_plane` additionally fixes ux, uy, rx, rz at every node so that
 /// only vertical bending (uz, ry) remains.
 fn simply_supported(ne: usize, restrain_out_of_plane: bool) -> ModelBuilder {
-    railfem::elements::link();
     use bridge::*;
     let mut b = ModelBuilder::new("simply supported beam");
     let out_of_plane = DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Rz]);
@@ -245,7 +243,7 @@ fn moving_force_error(ne: usize, dt: f64) -> f64 {
         d.step(dt).expect("step");
         let t = d.state.t;
         // The force acts along −Z, Frýba's w is along the force.
-        let fe = -d.node_value(mid, Dof::Uz.index()).expect("midspan");
+        let fe = -d.displacement(mid, Dof::Uz).expect("midspan");
         let exact = common::fryba(L / 2.0, t, p, v, L, EI, MASS, 50);
         worst = worst.max((fe - exact).abs());
         peak = peak.max(exact.abs());
@@ -297,7 +295,6 @@ fn moving_force_matches_fryba_series() {
 /// (4 `beam3d`), a `mass` and a grounded `spring_damper` under the middle of the first
 /// span, a sine nodal load and a moving force, with a node and an element recorder.
 fn equivalence_builder() -> ModelBuilder {
-    railfem::elements::link();
     let mut b = ModelBuilder::new("builder");
     b.node_fixed(
         1,
@@ -344,7 +341,7 @@ fn equivalence_builder() -> ModelBuilder {
     b.recorder(RecorderSpec::Node {
         node: None,
         nodes: vec![2, 4],
-        dofs: vec!["uz".into(), "ry".into()],
+        dofs: DofSet::of(&[Dof::Uz, Dof::Ry]),
         quantity: Quantity::Disp,
         file: "nodes.csv".into(),
     });

@@ -3,7 +3,6 @@
 
 #[test]
 fn every_registered_kind_passes_the_kit() {
-    railfem::elements::link();
     let report = railfem::framework::conformance::check_all(None);
     let kinds: Vec<&str> = railfem::framework::registry::kinds()
         .iter()
@@ -21,7 +20,6 @@ fn every_registered_kind_passes_the_kit() {
 /// differs; forget `output_units` and the default `?` shows.
 #[test]
 fn every_built_in_kind_declares_its_output_units() {
-    railfem::elements::link();
     let mut checked = 0;
     for kind in railfem::framework::registry::kinds() {
         for s in (kind.samples)() {

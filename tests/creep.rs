@@ -57,7 +57,6 @@ fn build_with(
     mu: f64,
     predictor: Predictor,
 ) -> Wheelset {
-    railfem::elements::link();
     let track = Arc::new(Track::new(Alignment::straight(80.0), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("creep test");
     let start = 10.0;

@@ -53,7 +53,6 @@ fn model(
     support: RailSupport,
     window: Option<[f64; 2]>,
 ) -> (ModelBuilder, Arc<TrackModel>) {
-    railfem::elements::link();
     let track = Arc::new(Track::new(Alignment::straight(len), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("fastener test");
     let mesh = TrackMesh {
@@ -246,7 +245,7 @@ fn rail_on_discrete_supports_is_exact_at_the_nodes_on_every_mesh() {
             let d = common::solve_under_point_load(b, node_at(at), -p);
             let mut worst = 0.0f64;
             for (s, w) in x.iter().zip(&exact) {
-                let fe = d.node_value(node_at(*s), Dof::Uz.index()).unwrap();
+                let fe = d.displacement(node_at(*s), Dof::Uz).unwrap();
                 worst = worst.max((fe - w).abs() / peak);
             }
             println!(
@@ -262,7 +261,6 @@ fn rail_on_discrete_supports_is_exact_at_the_nodes_on_every_mesh() {
 /// spacing (the element length, 0.6 m, is not the cause).
 #[test]
 fn a_tiny_support_spacing_is_refused_by_the_size_guard() {
-    railfem::elements::link();
     let track = Arc::new(Track::new(Alignment::straight(40.0), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("fastener test");
     let mesh = TrackMesh {

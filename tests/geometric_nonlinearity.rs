@@ -37,7 +37,6 @@ fn cantilever(
     dir: [f64; 3],
     params: &serde_json::Value,
 ) -> ModelBuilder {
-    railfem::elements::link();
     let mut b = ModelBuilder::new(name);
     for k in 0..=n {
         let s = len * k as f64 / n as f64;
@@ -69,7 +68,10 @@ fn solve_static(b: ModelBuilder, steps: usize) -> Driver {
 }
 
 fn tip(d: &Driver, node: u64) -> [f64; 6] {
-    std::array::from_fn(|k| d.node_value(node, k).expect("tip node"))
+    std::array::from_fn(|k| {
+        d.displacement(node, railfem::framework::Dof::ALL[k])
+            .expect("tip node")
+    })
 }
 
 /// The exact inextensible elastica of a cantilever of length 1 and `EI = 1` under a tip
@@ -176,7 +178,6 @@ fn cantilever_elastica_with_20_corotational_elements() {
 /// 0.35 between themselves; we ask for the mean of them within 0.5 per coordinate (0.5 % of R).
 #[test]
 fn bathe_bolourchi_45_degree_bend() {
-    railfem::elements::link();
     let published = [
         // (load, [(x, y, z) per source])
         (300.0, vec![[58.84, 22.33, 40.08], [58.64, 22.14, 40.35]]),
@@ -244,7 +245,8 @@ fn column_drift(geometry: &str, n: usize, p: f64, h: f64) -> f64 {
     b.load(nodal(top, "uz", -p));
     b.load(nodal(top, "ux", h));
     let d = solve_static(b, 4);
-    d.node_value(top, 0).expect("top")
+    d.displacement(top, railfem::framework::Dof::Ux)
+        .expect("top")
 }
 
 /// Beam-column theory (small deflection) for a cantilever with axial compression P and tip
@@ -327,7 +329,6 @@ fn right_angle_cantilever(
     dt: f64,
 ) -> (Vec<f64>, f64, f64) {
     use railfem::elements::beam3d::Beam3dCorotational;
-    railfem::elements::link();
     let mut b = ModelBuilder::new("right-angle cantilever");
     let n = 4;
     for k in 0..=2 * n {
@@ -382,9 +383,12 @@ fn right_angle_cantilever(
         }
     }
     let rot = d
-        .node_value(2 * n as u64 + 1, 3)
+        .displacement(2 * n as u64 + 1, railfem::framework::Dof::Rx)
         .unwrap()
-        .hypot(d.node_value(2 * n as u64 + 1, 4).unwrap());
+        .hypot(
+            d.displacement(2 * n as u64 + 1, railfem::framework::Dof::Ry)
+                .unwrap(),
+        );
     let ledger = d.energy.as_ref().expect("ledger").relative_error();
     (energy, ledger, rot)
 }
@@ -466,7 +470,6 @@ fn end_moment_rolls_the_cantilever_into_a_circle() {
 fn partitioned_solver_composes_rotations_like_the_direct_one() {
     use railfem::framework::model::SolverChoice;
     let run = |solver: SolverChoice| -> Vec<f64> {
-        railfem::elements::link();
         let mut b = ModelBuilder::new("mixed");
         b.node_fixed(1, [0.0, 0.0, -3.0], DofSet::ALL);
         for k in 1..=6u64 {
@@ -633,7 +636,6 @@ fn finite_rotation_marks_from_outside_elements() {
 fn rotated_free_bar_dissipates_as_generalized_alpha_predicts() {
     use nalgebra::Vector3;
     use railfem::framework::rotation;
-    railfem::elements::link();
     let (k, m, s0): (f64, f64, f64) = (1e4, 2.0, 1e-3); // EA/L (N/m), end mass (kg), initial stretch (m)
     let mr = m / 2.0;
     let omega = (k / mr).sqrt();
@@ -696,13 +698,21 @@ fn rotated_free_bar_dissipates_as_generalized_alpha_predicts() {
             u = u1;
             acc = a1;
             d.step(dt).expect("step");
-            let x1 = Vector3::from_fn(|c, _| d.node_value(1, c).unwrap());
-            let x2 = Vector3::x() + Vector3::from_fn(|c, _| d.node_value(2, c).unwrap());
+            let x1 = Vector3::from_fn(|c, _| {
+                d.displacement(1, railfem::framework::Dof::ALL[c]).unwrap()
+            });
+            let x2 = Vector3::x()
+                + Vector3::from_fn(|c, _| {
+                    d.displacement(2, railfem::framework::Dof::ALL[c]).unwrap()
+                });
             let s = (x2 - x1).norm() - 1.0;
             worst = worst.max((s - u).abs());
             last = s;
             for node in [1u64, 2] {
-                let psi = Vector3::from_fn(|c, _| d.node_value(node, 3 + c).unwrap());
+                let psi = Vector3::from_fn(|c, _| {
+                    d.displacement(node, railfem::framework::Dof::ALL[3 + c])
+                        .unwrap()
+                });
                 assert!(
                     (psi - psi0).norm() < 1e-9,
                     "ρ∞ = {rho}: triad of node {node} moved"

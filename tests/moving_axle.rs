@@ -79,7 +79,6 @@ struct Wheelset {
 const K_ID: u64 = 1;
 
 fn build(s: &Setup) -> Wheelset {
-    railfem::elements::link();
     let track = Arc::new(Track::new(Alignment::straight(s.length), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("wheelset test");
     let p = track.at(s.start);

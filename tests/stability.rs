@@ -402,7 +402,6 @@ railfem::framework::inventory::submit! {
 }
 
 fn broken_model(how: &str) -> Driver {
-    railfem::elements::link();
     let mut b = ModelBuilder::new("broken.toml");
     b.node_fixed(
         1,

@@ -42,7 +42,6 @@ const G: f64 = 9.81;
 /// stations that include every segment joint.
 #[test]
 fn model_file_track_is_the_paper_track() {
-    railfem::elements::link();
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("track_modelfile");
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("paper.toml");
@@ -153,7 +152,6 @@ impl Body {
 /// acceleration `accel`, holding `body`; gravity −9.81 Z. `initial_static = false`: the body
 /// starts undeformed and at rest in the moving frame, so the run has a real transient.
 fn carried_body(track: Track, start: f64, speed: f64, accel: f64, body: &Body) -> Driver {
-    railfem::elements::link();
     let path: Arc<dyn Path> = Arc::new(track);
     let p = path.at(start);
     let mut b = ModelBuilder::new("carried body");
@@ -205,7 +203,7 @@ fn spring_forces(d: &Driver, body: &Body) -> [f64; 6] {
     let k = body.k();
     let mut f = [0.0; 6];
     for (i, fi) in f.iter_mut().enumerate() {
-        *fi = k[i] * d.node_value(1, i).unwrap();
+        *fi = k[i] * d.displacement(1, railfem::framework::Dof::ALL[i]).unwrap();
     }
     f
 }
@@ -421,7 +419,6 @@ const ELEMENT: f64 = 0.3;
 /// straight), solves statically, and returns the stations and the left rail's vertical
 /// deflections.
 fn rail_on_supports(load_index: usize) -> (Vec<f64>, Vec<f64>) {
-    railfem::elements::link();
     let track = Arc::new(Track::new(Alignment::straight(RAIL_LENGTH), Cant::none()).unwrap());
     let mut b = ModelBuilder::new("rail on supports");
     let k = K_SUPPORT;
@@ -444,7 +441,10 @@ fn rail_on_supports(load_index: usize) -> (Vec<f64>, Vec<f64>) {
     let first = tm.rails[0].first_id;
     let d = common::solve_under_point_load(b, first + load_index as u64, -P_LOAD);
     let w = (0..tm.stations.len())
-        .map(|i| d.node_value(first + i as u64, 2).unwrap())
+        .map(|i| {
+            d.displacement(first + i as u64, railfem::framework::Dof::Uz)
+                .unwrap()
+        })
         .collect();
     (tm.stations.clone(), w)
 }

@@ -355,8 +355,8 @@ impl Balance {
         for (c, dir) in [1usize, 2].into_iter().enumerate() {
             for (eq, xe) in self.x.iter_mut().enumerate() {
                 let (node, dof) = d.asm.dofmap.dof_of(eq);
-                let r = if dof < 3 {
-                    kin[node].frame[(dir, dof)]
+                let r = if dof.index() < 3 {
+                    kin[node].frame[(dir, dof.index())]
                 } else {
                     0.0
                 };

@@ -74,7 +74,6 @@ fn i64s(bytes: &[u8]) -> Vec<i64> {
 
 #[test]
 fn binary_vtu_reads_back_with_displacements_and_element_forces() {
-    railfem::elements::link();
     let mut b = ModelBuilder::new("vtk");
     b.node_fixed(1, [0.0, 0.0, 0.0], DofSet::ALL);
     b.node(2, [1.0, 0.0, 0.0]);

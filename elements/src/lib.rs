@@ -20,6 +20,11 @@ pub mod rail;
 pub mod spring_damper;
 pub mod suspension;
 
-/// Forces the linker to keep this crate's registrations (call once from a binary that
-/// otherwise uses nothing of this crate).
+/// Does nothing, and is not needed: kept so that code written when it was compiles.
+///
+/// The built-in kinds register through `inventory`, whose registrations are `#[used]`
+/// statics; rustc links every `#[used]` static of each crate in the dependency graph
+/// (its synthetic `symbols.o` references them), so a binary that depends on this crate
+/// (directly or through `railfem`) finds them in the registry without naming anything of
+/// it — `tests/no_link.rs` builds and runs a model through `ModelBuilder` that way.
 pub fn link() {}

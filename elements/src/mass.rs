@@ -22,6 +22,7 @@ use crate::beam3d::support;
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use railfem_framework::element::{Element, ElementError, ElementProperties, NodeDofs, TrialState};
 use railfem_framework::limits::fmt_num;
+use railfem_framework::node_view::NodeBlocks;
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use railfem_framework::{serde_json, FemError};
 
@@ -151,10 +152,9 @@ impl Element for Mass {
     fn tangent_stiffness(&self, _k: &mut DMatrix<f64>) {}
 
     fn mass(&self, m: &mut DMatrix<f64>) {
-        for i in 0..3 {
-            m[(i, i)] = self.params.m;
-        }
-        m.fixed_view_mut::<3, 3>(3, 3).copy_from(&self.tensor);
+        let mut blocks = NodeBlocks::new(m, &self.conn);
+        blocks.add_translations(0, 0, &Matrix3::from_diagonal_element(self.params.m));
+        blocks.add_rotations(0, 0, &self.tensor);
     }
 
     fn parameters(&self) -> serde_json::Value {

@@ -34,6 +34,7 @@ use crate::force_law::{build_laws, zero_at_rest, BumpStops, ForceLaw, ForceTable
 use nalgebra::{DMatrix, Matrix3, Matrix6, Vector3, Vector6};
 use railfem_framework::element::{Element, ElementError, ElementProperties, NodeDofs, TrialState};
 use railfem_framework::limits::fmt_num;
+use railfem_framework::node_view::{NodeBlocks, NodeForces, NodeState};
 use railfem_framework::registry::{BuildContext, ElementKind, ElementSpec, Params, Sample};
 use railfem_framework::{serde_json, FemError};
 
@@ -251,26 +252,30 @@ impl SpringDamper {
         out
     }
 
-    /// Writes `[[g, −g], [−g, g]]` (two nodes) or `g` (grounded) into `out`.
+    /// Adds `[[g, −g], [−g, g]]` (two nodes) or `g` (grounded) to `out` (zeroed).
     fn fill(&self, g: &Matrix6<f64>, out: &mut DMatrix<f64>) {
+        let mut blocks = NodeBlocks::new(out, &self.conn);
         if self.grounded() {
-            out.fixed_view_mut::<6, 6>(0, 0).copy_from(g);
+            blocks.add_block6(0, 0, g);
         } else {
-            out.fixed_view_mut::<6, 6>(0, 0).copy_from(g);
-            out.fixed_view_mut::<6, 6>(6, 6).copy_from(g);
-            out.fixed_view_mut::<6, 6>(0, 6).copy_from(&(-g));
-            out.fixed_view_mut::<6, 6>(6, 0).copy_from(&(-g));
+            blocks.add_between6(0, 1, g);
         }
     }
-}
 
-/// Relative motion `x_J − x_I` of a 6- or 12-entry element vector (zero if the slice is
-/// empty, as a static analysis may pass no velocities).
-fn relative(x: &[f64], grounded: bool) -> Vector6<f64> {
-    match (x.len(), grounded) {
-        (6, true) => Vector6::from_column_slice(x),
-        (12, false) => Vector6::from_column_slice(&x[6..]) - Vector6::from_column_slice(&x[..6]),
-        _ => Vector6::zeros(),
+    /// Relative motion `x_J − x_I` (or `x` of the one node, grounded) of the six DOFs that
+    /// `of` reads from a node of the trial state `t` (zero where `t` has no such values,
+    /// as a static analysis may pass no velocities).
+    fn relative<'t>(
+        &self,
+        t: &TrialState<'t>,
+        of: fn(&NodeState<'t>) -> Vector6<f64>,
+    ) -> Vector6<f64> {
+        let last = of(&t.node(&self.conn, self.conn.len() - 1));
+        if self.grounded() {
+            last
+        } else {
+            last - of(&t.node(&self.conn, 0))
+        }
     }
 }
 
@@ -301,8 +306,8 @@ impl Element for SpringDamper {
     fn update(&mut self, trial: &TrialState) -> Result<(), ElementError> {
         let n = 6 * self.conn.len();
         support::check_trial(trial, n)?;
-        self.rel = relative(trial.disp, self.grounded());
-        self.rel_v = relative(trial.vel, self.grounded());
+        self.rel = self.relative(trial, NodeState::displacement6);
+        self.rel_v = self.relative(trial, NodeState::velocity6);
         self.evaluate_laws();
         Ok(())
     }
@@ -319,13 +324,13 @@ impl Element for SpringDamper {
         } else {
             self.kg * self.rel
         };
+        f.fill(0.0);
+        let mut forces = NodeForces::new(f, &self.conn);
         if self.grounded() {
-            f.copy_from_slice(fj.as_slice());
+            forces.add6(0, &fj);
         } else {
-            for i in 0..6 {
-                f[i] = -fj[i];
-                f[6 + i] = fj[i];
-            }
+            forces.add6(0, &-fj);
+            forces.add6(1, &fj);
         }
     }
 

@@ -131,7 +131,6 @@ pub fn one_carriage(kind: &'static str) -> Case {
 
 /// Builds the case.
 pub fn build(c: &Case) -> Result<Built, FemError> {
-    railfem::elements::link();
     let track = Track::new(Alignment::straight(c.length), Cant::none())
         .map_err(|e| FemError::input("wheel case", e.to_string()))?;
     let track = Arc::new(track);

@@ -807,7 +807,7 @@ impl Assembler {
                             kind: e.element.kind().to_string(),
                             message: format!(
                                 "moved onto {} which has no equation; connect it to another element",
-                                model.dof_name(nd.node, 0)
+                                model.dof_name(nd.node, crate::dof::Dof::Ux)
                             ),
                         });
                     }

@@ -116,24 +116,74 @@ impl DofSet {
     pub fn iter(self) -> impl Iterator<Item = Dof> {
         Dof::ALL.into_iter().filter(move |d| self.contains(*d))
     }
+}
 
-    /// Parses a list of model-file DOF names, or the single word `"all"`.
-    /// Returns the first name that is not a DOF on failure.
-    pub fn parse_names<S: AsRef<str>>(names: &[S]) -> Result<DofSet, String> {
-        let mut set = DofSet::NONE;
-        for n in names {
-            let n = n.as_ref();
-            match n.to_ascii_lowercase().as_str() {
-                "all" => set = DofSet::ALL,
-                "translations" => set = set.union(DofSet::TRANSLATIONS),
-                "rotations" => set = set.union(DofSet::ROTATIONS),
-                _ => match Dof::parse(n) {
-                    Some(d) => set = set.with(d),
-                    None => return Err(n.to_string()),
-                },
+/// A word of a model file's DOF list (`fix`, a node recorder's `dofs`, a link's `dofs`):
+/// one DOF, or a group of them. Matched exactly, as [`Dof`] is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "lowercase")]
+enum DofWord {
+    Ux,
+    Uy,
+    Uz,
+    Rx,
+    Ry,
+    Rz,
+    All,
+    Translations,
+    Rotations,
+}
+
+impl DofWord {
+    fn set(self) -> DofSet {
+        match self {
+            DofWord::Ux => DofSet::of(&[Dof::Ux]),
+            DofWord::Uy => DofSet::of(&[Dof::Uy]),
+            DofWord::Uz => DofSet::of(&[Dof::Uz]),
+            DofWord::Rx => DofSet::of(&[Dof::Rx]),
+            DofWord::Ry => DofSet::of(&[Dof::Ry]),
+            DofWord::Rz => DofSet::of(&[Dof::Rz]),
+            DofWord::All => DofSet::ALL,
+            DofWord::Translations => DofSet::TRANSLATIONS,
+            DofWord::Rotations => DofSet::ROTATIONS,
+        }
+    }
+}
+
+/// In a model file a set is one word or a list of words, each a DOF name or `"all"`,
+/// `"translations"`, `"rotations"` (`fix = "all"`, `dofs = ["uz", "ry"]`); a word outside
+/// them is refused with the list of valid ones (serde's message, at the word's key path).
+impl<'de> Deserialize<'de> for DofSet {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<DofSet, D::Error> {
+        struct Words;
+        impl<'de> serde::de::Visitor<'de> for Words {
+            type Value = DofSet;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a DOF name (ux, uy, uz, rx, ry, rz, all, translations, rotations) or a list of them")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<DofSet, E> {
+                use serde::de::IntoDeserializer;
+                DofWord::deserialize(v.into_deserializer()).map(DofWord::set)
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> Result<DofSet, A::Error> {
+                let mut set = DofSet::NONE;
+                while let Some(w) = seq.next_element::<DofWord>()? {
+                    set = set.union(w.set());
+                }
+                Ok(set)
             }
         }
-        Ok(set)
+        d.deserialize_any(Words)
+    }
+}
+
+/// Written as the list of its DOF names in canonical order (`["uz", "ry"]`).
+impl Serialize for DofSet {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_seq(self.iter().map(Dof::name))
     }
 }
 
@@ -149,12 +199,26 @@ mod tests {
     use super::*;
 
     #[test]
-    fn parse_and_count() {
-        let s = DofSet::parse_names(&["ux", "RZ"]).unwrap();
+    fn read_write_and_count() {
+        let read = |t: &str| serde_json::from_str::<DofSet>(t).map_err(|e| e.to_string());
+        let s = read(r#"["ux", "rz"]"#).unwrap();
         assert_eq!(s.count(), 2);
         assert!(s.contains(Dof::Ux) && s.contains(Dof::Rz) && !s.contains(Dof::Uy));
-        assert_eq!(DofSet::parse_names(&["all"]).unwrap(), DofSet::ALL);
-        assert_eq!(DofSet::parse_names(&["uq"]).unwrap_err(), "uq");
+        assert_eq!(read(r#""all""#).unwrap(), DofSet::ALL);
+        assert_eq!(
+            read(r#"["rotations", "ux"]"#).unwrap(),
+            DofSet::ROTATIONS.with(Dof::Ux)
+        );
+        assert_eq!(serde_json::to_string(&s).unwrap(), r#"["ux","rz"]"#);
+        // Outside the words, or another case: refused with the list.
+        for bad in [r#"["uz", "uq"]"#, r#""RZ""#] {
+            let e = read(bad).unwrap_err();
+            assert!(
+                e.contains("expected one of `ux`, `uy`, `uz`, `rx`, `ry`, `rz`, `all`, `translations`, `rotations`"),
+                "{e}"
+            );
+        }
+        assert!(read("3").unwrap_err().contains("a DOF name"));
         assert_eq!(DofSet::TRANSLATIONS.union(DofSet::ROTATIONS), DofSet::ALL);
     }
 }

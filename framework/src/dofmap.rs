@@ -301,10 +301,10 @@ impl DofMap {
         self.terms(node, d).map(|(e, c)| c * q[e]).sum()
     }
 
-    /// Node index and DOF index of equation `eq`.
-    pub fn dof_of(&self, eq: usize) -> (usize, usize) {
+    /// Node index and DOF of equation `eq`.
+    pub fn dof_of(&self, eq: usize) -> (usize, crate::dof::Dof) {
         let k = self.eq_dof[eq];
-        (k / 6, k % 6)
+        (k / 6, crate::dof::Dof::ALL[k % 6])
     }
 }
 

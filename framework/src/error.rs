@@ -40,13 +40,16 @@ pub enum FemError {
         message: String,
     },
     /// Writing an output failed (the files written end on whole lines; a full disk, a size
-    /// limit, a folder that cannot be written).
-    #[error("output {path}: {message}; make room there or write elsewhere (--out)")]
+    /// limit, a folder that cannot be written, a device that failed: [`FemError::output`]).
+    #[error("output {path}: {message}; {fix}")]
     Output {
         /// File that could not be written.
         path: String,
         /// The operating system's reason.
         message: String,
+        /// What to do about it: make room for a full disk or a size limit, check the disk
+        /// and its mount for an I/O error.
+        fix: String,
     },
     /// Several independent problems found in one pass (a model file with more than one
     /// mistake). `Display` is the first one plus a count, one line; [`FemError::problems`]
@@ -177,7 +180,7 @@ impl FemError {
             FemError::Element { id, kind, message } => {
                 FemError::input(format!("{file}: element {id} ({kind})"), message)
             }
-            FemError::Output { path, message } => FemError::Output { path, message },
+            e @ FemError::Output { .. } => e,
             FemError::Interrupted { t } => FemError::Interrupted { t },
             FemError::InterruptedAfter { after } => FemError::InterruptedAfter { after },
             FemError::Many(list) => {
@@ -186,12 +189,66 @@ impl FemError {
         }
     }
 
-    /// An output error for `path`.
-    pub fn output(path: impl AsRef<std::path::Path>, e: impl std::fmt::Display) -> FemError {
+    /// An output error for `path`: the reason `e`, and the fix that reason calls for. An
+    /// [`std::io::Error`] is read by [`FemError::output_io`] (a failing device is told from
+    /// a full one); any other reason (a recorder's own fault, a figure's) gets the fix of a
+    /// full disk.
+    pub fn output(
+        path: impl AsRef<std::path::Path>,
+        e: impl std::fmt::Display + 'static,
+    ) -> FemError {
+        if let Some(io) = (&e as &dyn std::any::Any).downcast_ref::<std::io::Error>() {
+            return FemError::output_io(path, io);
+        }
         FemError::Output {
             path: path.as_ref().display().to_string(),
             message: e.to_string(),
+            fix: MAKE_ROOM.to_string(),
         }
+    }
+
+    /// An output error for `path` from the operating system's error `e`. `EIO` (the disk,
+    /// the network mount or the device failed the write: a hardware or mount fault, not a
+    /// lack of room) says "I/O error" and to check the disk and its mount; anything else
+    /// (`ENOSPC`, `EFBIG` past a size limit, `EDQUOT`, `EACCES`) says to make room or to
+    /// write elsewhere.
+    pub fn output_io(path: impl AsRef<std::path::Path>, e: &std::io::Error) -> FemError {
+        let (message, fix) = if is_device_error(e) {
+            (
+                format!(
+                    "I/O error: the device failed the write (os error {})",
+                    e.raw_os_error().unwrap_or_default()
+                ),
+                CHECK_DEVICE,
+            )
+        } else {
+            (e.to_string(), MAKE_ROOM)
+        };
+        FemError::Output {
+            path: path.as_ref().display().to_string(),
+            message,
+            fix: fix.to_string(),
+        }
+    }
+}
+
+/// The fix of an output that found no room (a full disk, a size limit, a quota).
+const MAKE_ROOM: &str = "make room there or write elsewhere (--out)";
+
+/// The fix of an output whose device failed (`EIO`).
+const CHECK_DEVICE: &str =
+    "check the disk and its mount (the system log names the device), then run again or write elsewhere (--out)";
+
+/// Whether `e` is the device's own failure (`EIO`) rather than a lack of room or of rights.
+fn is_device_error(e: &std::io::Error) -> bool {
+    #[cfg(unix)]
+    {
+        e.raw_os_error() == Some(libc::EIO)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = e;
+        false
     }
 }
 
@@ -274,5 +331,59 @@ mod tests {
             Some("beam3d")
         );
         assert_eq!(nearest("zzzzzzzz", &["beam3d", "mass"]), None);
+    }
+
+    /// A writer whose device fails or is full: every write returns the OS error `code`.
+    struct Failing(i32);
+
+    impl std::io::Write for Failing {
+        fn write(&mut self, _: &[u8]) -> std::io::Result<usize> {
+            Err(std::io::Error::from_raw_os_error(self.0))
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    /// The line a recorder's failed write gives: rows buffered as the recorders buffer
+    /// them, the error surfacing at the flush and mapped as they map it.
+    fn recorder_line(code: i32) -> String {
+        use std::io::Write;
+        let mut out = std::io::BufWriter::new(Failing(code));
+        writeln!(out, "time [s],1_ux [m]").unwrap();
+        let e = out.flush().unwrap_err();
+        FemError::output("out/disp.csv", e).to_string()
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn an_io_error_says_so_and_to_check_the_disk_a_full_disk_to_make_room() {
+        assert_eq!(
+            recorder_line(libc::EIO),
+            format!(
+                "output out/disp.csv: I/O error: the device failed the write (os error {}); \
+                 check the disk and its mount (the system log names the device), then run \
+                 again or write elsewhere (--out)",
+                libc::EIO
+            )
+        );
+        let full = recorder_line(libc::ENOSPC);
+        assert!(
+            full.starts_with("output out/disp.csv: No space left on device")
+                && full.ends_with("; make room there or write elsewhere (--out)"),
+            "{full}"
+        );
+        assert!(!full.contains("I/O error"), "{full}");
+        // A reason that is not the system's keeps the fix of a full disk.
+        assert_eq!(
+            FemError::output("out/run.json", "a fault").to_string(),
+            "output out/run.json: a fault; make room there or write elsewhere (--out)"
+        );
+        // And an output error named in a model file keeps its own path and fix.
+        let e = FemError::output_io(
+            "out/disp.csv",
+            &std::io::Error::from_raw_os_error(libc::EIO),
+        );
+        assert_eq!(e.clone().in_file("m.toml"), e);
     }
 }

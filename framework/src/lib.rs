@@ -1,8 +1,9 @@
 //! railfem-framework: the generic core of the railfem finite element code.
 //!
 //! What lives here: DOFs and the model ([`dof`], [`model`]), the element contract
-//! ([`element`]), the registry, plugins and conformance kit ([`registry`], [`plugin`],
-//! [`conformance`]), equation numbering
+//! ([`element`], with typed per-node views of its vectors and matrices in [`node_view`]),
+//! the registry, plugins and conformance kit ([`registry`], [`plugin`], [`conformance`]),
+//! equation numbering
 //! with constraints ([`dofmap`]), finite rotations ([`rotation`], on the dual numbers of
 //! [`dual`]), sparse assembly ([`sparse`], [`assembly`], with the effective matrix's [`coefficients`]), loads and time series ([`loads`]),
 //! moving reference frames ([`moving`]), paths along beam chains ([`beam_chain`]), speed
@@ -43,6 +44,7 @@ pub mod matrix_market;
 pub mod model;
 pub mod modelfile;
 pub mod moving;
+pub mod node_view;
 pub mod outputs;
 pub mod parallel;
 pub mod plot;
@@ -68,4 +70,5 @@ pub use element::{
 pub use error::FemError;
 pub use inventory;
 pub use model::Model;
+pub use node_view::{NodeBlocks, NodeForces, NodeState};
 pub use serde_json;

@@ -184,11 +184,8 @@ impl Model {
         }
     }
 
-    /// A human name for DOF `dof` of node index `node` (`"node 12 uz"`).
-    pub fn dof_name(&self, node: usize, dof: usize) -> String {
-        let d = crate::dof::Dof::from_index(dof)
-            .map(|d| d.name())
-            .unwrap_or("?");
+    /// A human name for DOF `d` of node index `node` (`"node 12 uz"`).
+    pub fn dof_name(&self, node: usize, d: crate::dof::Dof) -> String {
         match self.nodes.get(node) {
             Some(n) if n.internal => format!("internal node {} {d}", n.id),
             Some(n) => format!("node {} {d}", n.id),

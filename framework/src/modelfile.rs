@@ -168,19 +168,23 @@ fn non_finite_toml(v: &toml::Value, path: &str) -> Option<String> {
 }
 
 #[derive(Deserialize)]
-#[serde(untagged)]
-enum Fix {
-    Word(String),
-    List(Vec<String>),
-}
-
-#[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct NodeEntry {
     id: u64,
     xyz: [f64; 3],
+    /// A [`DofSet`], read apart from the rest of the table ([`node_fix`]).
     #[serde(default)]
-    fix: Option<Fix>,
+    fix: Option<Value>,
+}
+
+/// The node's `fix` (none if absent): read on its own, so that a word outside the DOF
+/// names is one problem among the file's others and the node still exists for the
+/// elements, loads and recorders that name it.
+fn node_fix(fix: &Option<Value>, origin: &str, i: usize) -> Result<DofSet, FemError> {
+    match fix {
+        None => Ok(DofSet::NONE),
+        Some(v) => de(v, origin, &format!("node[{i}].fix")),
+    }
 }
 
 #[derive(Deserialize)]
@@ -189,23 +193,9 @@ struct LinkEntry {
     master: u64,
     slave: u64,
     #[serde(default)]
-    dofs: Option<Fix>,
+    dofs: Option<DofSet>,
     #[serde(default)]
     geometry: Option<crate::model::Geometry>,
-}
-
-fn parse_dofs(f: &Option<Fix>, default: DofSet, origin: &str) -> Result<DofSet, FemError> {
-    let names: Vec<String> = match f {
-        None => return Ok(default),
-        Some(Fix::Word(w)) => vec![w.clone()],
-        Some(Fix::List(l)) => l.clone(),
-    };
-    DofSet::parse_names(&names).map_err(|bad| {
-        FemError::input(
-            origin,
-            format!("`{bad}` is not a DOF; use ux, uy, uz, rx, ry, rz, or \"all\""),
-        )
-    })
 }
 
 fn entries<'a>(
@@ -396,14 +386,13 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
                     ),
                 ));
             }
-            _ => match parse_dofs(&n.fix, DofSet::NONE, &o) {
-                Ok(fixed) => {
-                    b.node_fixed(n.id, n.xyz, fixed);
-                }
-                Err(e) => {
+            _ => {
+                let fixed = node_fix(&n.fix, &o, i).unwrap_or_else(|e| {
                     b.error(e);
-                }
-            },
+                    DofSet::NONE
+                });
+                b.node_fixed(n.id, n.xyz, fixed);
+            }
         }
     }
     let mut ordered: Vec<&&ModelSection> = sections.iter().collect();
@@ -425,10 +414,11 @@ pub fn from_value(value: &Value, name: &str, base: &Path) -> Result<ModelBuilder
     }
     for (i, v) in entries(root, "link", name)?.into_iter().enumerate() {
         let o = format!("{name}: link[{i}]");
-        match de::<LinkEntry>(v, &o, &format!("link[{i}]"))
-            .and_then(|l| parse_dofs(&l.dofs, DofSet::ALL, &o).map(|d| (l, d)))
-        {
-            Ok((l, dofs)) => b.rigid_link_with(l.master, l.slave, dofs, l.geometry, o),
+        match de::<LinkEntry>(v, &o, &format!("link[{i}]")) {
+            Ok(l) => {
+                let dofs = l.dofs.unwrap_or(DofSet::ALL);
+                b.rigid_link_with(l.master, l.slave, dofs, l.geometry, o)
+            }
             Err(e) => b.error(e),
         };
     }

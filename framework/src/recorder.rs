@@ -33,8 +33,9 @@ pub enum RecorderSpec {
         /// More node ids.
         #[serde(default)]
         nodes: Vec<u64>,
-        /// DOF names, or `["all"]`.
-        dofs: Vec<String>,
+        /// The DOFs to write (`dofs = ["uz", "ry"]`, `"all"`, `"translations"`,
+        /// `"rotations"`), in canonical order.
+        dofs: DofSet,
         /// `"disp"`, `"vel"` or `"acc"`.
         #[serde(default)]
         quantity: Quantity,
@@ -69,13 +70,13 @@ pub enum RecorderSpec {
         nodes: Vec<u64>,
         /// Translational DOFs weighted as vertical (`["uz"]`).
         #[serde(default)]
-        vertical: Vec<String>,
+        vertical: Vec<Dof>,
         /// Translational DOFs weighted as lateral (`["uy"]`).
         #[serde(default)]
-        lateral: Vec<String>,
+        lateral: Vec<Dof>,
         /// The longitudinal DOF (`["ux"]`), EN 12299 only.
         #[serde(default)]
-        longitudinal: Vec<String>,
+        longitudinal: Vec<Dof>,
         /// `"sperling"` (Sperling's Wz) or `"en12299"` (the simplified N_MV).
         #[serde(default)]
         method: ComfortMethod,
@@ -103,7 +104,7 @@ impl RecorderSpec {
         RecorderSpec::Node {
             node: None,
             nodes: nodes.to_vec(),
-            dofs: dofs.iter().map(|d| d.name().to_string()).collect(),
+            dofs: DofSet::of(dofs),
             quantity,
             file: file.into(),
         }
@@ -204,7 +205,7 @@ impl RecorderSpec {
         // The file name is checked with every other output name ([`crate::outputs`]).
         match self {
             RecorderSpec::Registered(_) => {}
-            RecorderSpec::Node { dofs, .. } => {
+            RecorderSpec::Node { .. } => {
                 for id in ids {
                     if model.node_index(id).is_none() {
                         return Err(FemError::input(
@@ -213,12 +214,6 @@ impl RecorderSpec {
                         ));
                     }
                 }
-                DofSet::parse_names(dofs).map_err(|bad| {
-                    FemError::input(
-                        &o,
-                        format!("`{bad}` is not a DOF; use ux, uy, uz, rx, ry, rz or all"),
-                    )
-                })?;
             }
             RecorderSpec::Comfort {
                 vertical,
@@ -278,7 +273,7 @@ fn validate_comfort(
     model: &dyn ModelLookup,
     o: &str,
     nodes: usize,
-    [vertical, lateral, longitudinal]: [&Vec<String>; 3],
+    [vertical, lateral, longitudinal]: [&Vec<Dof>; 3],
     method: ComfortMethod,
 ) -> Result<(), FemError> {
     let bad = |m: String| FemError::input(o, m);
@@ -298,10 +293,10 @@ fn validate_comfort(
         ("lateral", lateral),
         ("longitudinal", longitudinal),
     ] {
-        for name in list {
-            if !matches!(name.as_str(), "ux" | "uy" | "uz") {
+        for dof in list {
+            if !DofSet::TRANSLATIONS.contains(*dof) {
                 return Err(bad(format!(
-                    "`{key}` names `{name}`; the comfort indices weight translational accelerations: use ux, uy or uz"
+                    "`{key}` names `{dof}`; the comfort indices weight translational accelerations: use ux, uy or uz"
                 )));
             }
         }
@@ -350,9 +345,4 @@ fn validate_comfort(
         "record fewer nodes or directions, or a shorter run",
     )
     .map_err(bad)
-}
-
-/// Parses a DOF name list for recorders and loads (re-exported helper).
-pub fn parse_dof(name: &str) -> Option<Dof> {
-    Dof::parse(name)
 }

@@ -327,7 +327,7 @@ mod tests {
             RecorderSpec::Node {
                 node: Some(1),
                 nodes: vec![],
-                dofs: vec!["uz".into()],
+                dofs: crate::dof::DofSet::of(&[crate::dof::Dof::Uz]),
                 quantity: Quantity::Disp,
                 file: "a.csv".into(),
             },

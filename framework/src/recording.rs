@@ -6,7 +6,7 @@
 
 use crate::assembly::Assembler;
 use crate::comfort::{en12299_p95, n_mv, sperling_wz, ComfortMethod, Direction, W_B, W_D};
-use crate::dof::{Dof, DofSet};
+use crate::dof::Dof;
 use crate::error::FemError;
 use crate::model::Model;
 use crate::recorder::{Quantity, RecorderSpec};
@@ -247,15 +247,13 @@ impl Recorders {
                             (lateral, Direction::Lateral),
                             (longitudinal, Direction::Longitudinal),
                         ] {
-                            for name in list {
-                                if let Some(dof) = Dof::parse(name) {
-                                    cols.push(ComfortColumn {
-                                        id,
-                                        node: n,
-                                        dof,
-                                        direction,
-                                    });
-                                }
+                            for &dof in list {
+                                cols.push(ComfortColumn {
+                                    id,
+                                    node: n,
+                                    dof,
+                                    direction,
+                                });
                             }
                         }
                     }
@@ -268,7 +266,7 @@ impl Recorders {
                     Quantity::Acc
                 }
                 RecorderSpec::Node { dofs, quantity, .. } => {
-                    let set = DofSet::parse_names(dofs).unwrap_or(DofSet::NONE);
+                    let set = *dofs;
                     for id in spec.node_ids(model) {
                         let n = model.node(id).expect("validated");
                         for d in set.iter() {

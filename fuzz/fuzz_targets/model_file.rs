@@ -87,7 +87,6 @@ fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else {
         return;
     };
-    railfem::elements::link();
     let is_json = text.trim_start().starts_with('{');
     let (name, parsed) = if is_json {
         ("fuzz.json", modelfile::parse_json(text, "fuzz.json"))

@@ -69,7 +69,6 @@ fuzz_target!(|data: &[u8]| {
     for (s, b) in seed.iter_mut().zip(rest) {
         *s = *b;
     }
-    railfem::elements::link();
     let mut rng = mutate::Rng(u64::from_le_bytes(seed));
     if pick >= 128 {
         use railfem::elements::rail::{irregularity, vehicle};

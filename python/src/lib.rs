@@ -60,7 +60,6 @@ pub(crate) fn guarded<T: Send>(py: Python<'_>, f: impl FnOnce() -> T + Send) -> 
 /// table `railfem elements` prints.
 #[pyfunction]
 fn elements(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
-    railfem::elements::link();
     let kinds = guarded(py, railfem::framework::registry::kinds)?;
     let out = PyList::empty(py);
     for k in kinds {
@@ -88,7 +87,6 @@ fn elements(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
 /// library that cannot be loaded raises `ValueError` with the loader's message.
 #[pyfunction]
 fn load_plugin(py: Python<'_>, path: PathBuf) -> PyResult<Vec<String>> {
-    railfem::elements::link();
     let p = path.clone();
     guarded(py, move || railfem::framework::plugin::load(&p))?.map_err(to_py_err)?;
     let canon = std::fs::canonicalize(&path).unwrap_or(path);

@@ -520,15 +520,18 @@ impl Driver {
             .iter()
             .fold((0.0, 0.0, 0.0), |a, s| (a.0 + s.0, a.1 + s.1, a.2 + s.2));
         // Each rank's rows alone, when the ranks keep their own rows.
-        let (rn, fn_, inn) = match self.norms_over_ranks(&[&w.r, &w.f_int, &w.inertia]) {
-            Some(v) => (v[0], v[1], v[2]),
-            None => (sr.sqrt(), sf.sqrt(), si.sqrt()),
+        // The elements' own forces count with the assembled internal force (the driver's
+        // reference, [`Driver::force_norms`]), reduced over the ranks with their norms.
+        let (rn, fn_, inn, elem) = if self.rows_per_rank {
+            let (v, elem) = self.force_norms(&[&w.r, &w.f_int, &w.inertia]);
+            (v[0], v[1], v[2], elem)
+        } else {
+            let elem = self.asm.element_force_norm();
+            (sr.sqrt(), sf.sqrt(), si.sqrt(), elem)
         };
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         self.condensed.stats.full_evaluations += 1;
-        // The elements' own forces count with the assembled internal force (the driver's
-        // reference, [`Driver::element_force_reference`]).
-        let fn_ = fn_.max(self.element_force_reference());
+        let fn_ = fn_.max(elem);
         Ok((rn, ext_norm.max(fn_).max(inn), fn_, inn))
     }
 

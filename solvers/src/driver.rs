@@ -249,7 +249,7 @@ pub struct Driver {
     /// The ranks the partitioned solver shares its blocks with ([`Driver::set_exchange`]).
     exchange: Option<std::sync::Arc<dyn crate::exchange::Exchange>>,
     /// Each rank forms the residual of its own rows only ([`Driver::keep_own_rows`]).
-    rows_per_rank: bool,
+    pub(crate) rows_per_rank: bool,
     /// With `rows_per_rank`, until [`Driver::initialize`] takes it: the initial mass
     /// solve's partitioned solver, split while the whole pattern was at hand.
     mass_split: Option<Partitioned>,
@@ -628,27 +628,28 @@ impl Driver {
         self.asm.constant_entries_built()
     }
 
-    /// With [`Driver::keep_own_rows`]: `|x|` over every equation for each of `xs`, each rank
-    /// contributing its owned rows (one collective; the same on every rank). `None`
-    /// otherwise: the caller forms the norms itself, over every row.
-    pub(crate) fn norms_over_ranks(&mut self, xs: &[&[f64]]) -> Option<Vec<f64>> {
-        if !self.rows_per_rank {
-            return None;
-        }
-        let sums = self.linear.partition.as_mut()?.sums_of_squares(xs)?;
-        Some(sums.into_iter().map(f64::sqrt).collect())
-    }
-
-    /// The element-force part of the Newton check's force reference: `√(Σ_e |f_e|²)` of the
-    /// variable elements ([`railfem_framework::assembly::Assembler::element_force_norm`]),
-    /// formed where their forces are scattered. 0 when each rank holds only some elements
-    /// ([`Driver::keep_own_rows`]): every rank must reach the same decision, and the check
-    /// then keeps its assembled references alone.
-    pub(crate) fn element_force_reference(&self) -> f64 {
-        if self.rows_per_rank {
-            0.0
-        } else {
-            self.asm.element_force_norm()
+    /// `|x|` over every equation for each of `xs`, and the element-force part of the Newton
+    /// check's force reference, `√(Σ_e |f_e|²)` over the variable elements
+    /// ([`railfem_framework::assembly::Assembler::element_force_norm`], formed where their
+    /// forces are scattered). With [`Driver::keep_own_rows`] each rank contributes its owned
+    /// rows to the norms and its own sum `Σ_e |f_e|²` (every rank evaluates every variable
+    /// element, [`Assembler::release_elements`]), and every rank receives the norms and the
+    /// largest of the sums in one collective
+    /// ([`crate::partition::Partitioned::sums_of_squares_and_max`]): all ranks reach the
+    /// same decision, which is one process's. Otherwise the norms over every row, with no
+    /// collective.
+    pub(crate) fn force_norms(&mut self, xs: &[&[f64]]) -> (Vec<f64>, f64) {
+        let local = self.asm.element_force_norm();
+        let across = match (self.rows_per_rank, self.linear.partition.as_mut()) {
+            (true, Some(p)) => p.sums_of_squares_and_max(xs, Some(local * local)),
+            _ => None,
+        };
+        match across {
+            Some((sums, elem_sq)) => (
+                sums.into_iter().map(f64::sqrt).collect(),
+                elem_sq.max(0.0).sqrt(),
+            ),
+            None => (xs.iter().map(|x| norm(x)).collect(), local),
         }
     }
 
@@ -905,11 +906,9 @@ impl Driver {
                     r[i] = lam * f_full[i] - f_int[i];
                 }
                 self.summary.timings.assembly += ta.elapsed().as_secs_f64();
-                let (rn, f_int_norm) = match self.norms_over_ranks(&[&r, &f_int]) {
-                    Some(v) => (v[0], v[1]),
-                    None => (norm(&r), norm(&f_int)),
-                };
-                let (ext, elem) = (lam * norm(&f_full), self.element_force_reference());
+                let (norms, elem) = self.force_norms(&[&r, &f_int]);
+                let (rn, f_int_norm) = (norms[0], norms[1]);
+                let ext = lam * norm(&f_full);
                 let reference = ext.max(f_int_norm).max(elem);
                 if self.trace {
                     let (v, dof) = self.largest(&r);
@@ -1330,17 +1329,17 @@ impl Driver {
             // A linear model takes its one correction whatever the force check says: the
             // check's reference is formed only for a nonlinear model or the trace.
             let check = !linear || self.trace;
-            let over_ranks = self.norms_over_ranks(&[r, f_int, inertia]);
-            let rn = over_ranks.as_ref().map_or_else(|| norm(r), |v| v[0]);
-            let parts = match &over_ranks {
-                _ if !check => [0.0; 4],
-                Some(v) => [norm(f_ref_ext), v[1], v[2], 0.0],
-                None => [
-                    norm(f_ref_ext),
-                    norm(f_int),
-                    norm(inertia),
-                    self.element_force_reference(),
-                ],
+            // Across ranks the norms are one collective, which every rank enters.
+            let (rn, parts) = if check || self.rows_per_rank {
+                let (v, elem) = self.force_norms(&[r, f_int, inertia]);
+                let parts = if check {
+                    [norm(f_ref_ext), v[1], v[2], elem]
+                } else {
+                    [0.0; 4]
+                };
+                (v[0], parts)
+            } else {
+                (norm(r), [0.0; 4])
             };
             let reference = parts.iter().fold(0.0f64, |m, x| m.max(*x));
             let force_ok = rn <= settings.tol * reference + settings.abs_tol;
@@ -1703,16 +1702,11 @@ impl Driver {
         }
     }
 
-    /// Value of nodal DOF `dof` (0..6) of node user id `node` in the committed state.
-    pub fn node_value(&self, node: u64, dof: usize) -> Option<f64> {
-        let i = self.model.node(node)?;
-        Some(self.asm.dofmap.value(&self.state.q, i, dof))
-    }
-
     /// Displacement (m, rad) of DOF `dof` of node user id `node` in the committed state, in
     /// the node's axes; `None` for an unknown node.
     pub fn displacement(&self, node: u64, dof: railfem_framework::Dof) -> Option<f64> {
-        self.node_value(node, dof.index())
+        let i = self.model.node(node)?;
+        Some(self.asm.dofmap.value(&self.state.q, i, dof.index()))
     }
 
     /// Velocity (m/s, rad/s) of DOF `dof` of node user id `node` in the committed state.

@@ -2486,4 +2486,62 @@ mod tests {
         p.prepare(&a);
         assert_eq!(p.largest_over_rows(&cases[0]), None);
     }
+
+    /// The Newton check's element-force reference across ranks: each rank's own
+    /// `Σ_e |f_e|²` reduced to the largest (the same on every rank) in the collective that
+    /// sums the norms, and those norms unchanged by it: against one process's sums over the
+    /// whole vectors (the same squares in another order: 1e-13) and against
+    /// [`Partitioned::sums_of_squares`] without the extra value (bit for bit).
+    #[test]
+    fn across_thread_ranks_the_element_force_reference_is_the_largest_rank_sum() {
+        let a = chain(200, 6);
+        let n = a.n;
+        let x = rhs(n);
+        let y: Vec<f64> = x.iter().map(|v| 3.0 * v - 1.0).collect();
+        let whole = |v: &[f64]| v.iter().map(|t| t * t).sum::<f64>();
+        let expected = [whole(&x), whole(&y)];
+        for ranks in [2, 3] {
+            // Rank k's sum: 100 + k (ranks differing by round-off would differ so little;
+            // distinct values show which one wins). Rank 1 holds the largest with 2 ranks.
+            let found: Vec<(Vec<f64>, f64, Vec<f64>)> = std::thread::scope(|sc| {
+                let hs: Vec<_> = crate::exchange::thread_ranks(ranks)
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, ex)| {
+                        let (a, x, y) = (&a, &x, &y);
+                        sc.spawn(move || {
+                            let mut p = in_blocks(false, 50, 1);
+                            p.set_exchange(ex);
+                            p.prepare(a);
+                            let local = if k == ranks - 1 {
+                                100.0 + 7.0
+                            } else {
+                                100.0 + k as f64
+                            };
+                            let (sums, largest) = p
+                                .sums_of_squares_and_max(&[x, y], Some(local))
+                                .expect("across ranks");
+                            let plain = p.sums_of_squares(&[x, y]).expect("across ranks");
+                            (sums, largest, plain)
+                        })
+                    })
+                    .collect();
+                hs.into_iter().map(|h| h.join().unwrap()).collect()
+            });
+            for (r, (sums, largest, plain)) in found.iter().enumerate() {
+                assert_eq!(*largest, 107.0, "{ranks} ranks, rank {r}");
+                assert_eq!(sums, plain, "{ranks} ranks, rank {r}");
+                for (s, e) in sums.iter().zip(&expected) {
+                    assert!(
+                        (s - e).abs() <= 1e-13 * e,
+                        "{ranks} ranks, rank {r}: {s} vs {e}"
+                    );
+                }
+            }
+        }
+        // One process: no collective, the driver forms its own sums.
+        let mut p = Partitioned::new(false, PartitionOptions::default());
+        p.prepare(&a);
+        assert_eq!(p.sums_of_squares_and_max(&[&x], Some(1.0)), None);
+    }
 }

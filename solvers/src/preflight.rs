@@ -216,7 +216,7 @@ impl Driver {
             .map(|d| d.into_iter().map(f64::abs).collect::<Vec<f64>>());
         let (var, var_mass) = self.asm.variable_cover();
         // Largest diagonal per DOF kind (translation, rotation) for the "zero" threshold.
-        let kind = |i: usize| usize::from(self.asm.dofmap.dof_of(i).1 >= 3);
+        let kind = |i: usize| usize::from(self.asm.dofmap.dof_of(i).1.index() >= 3);
         let mut top = [[0.0f64; 2]; 3];
         for i in 0..n {
             for (t, d) in top.iter_mut().zip([&kd, &md, &cd]) {

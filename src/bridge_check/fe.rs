@@ -37,7 +37,6 @@ const RHO_DESCRIBED: f64 = 7850.0;
 /// nodes `1..`, elements `1..` in order; only vertical bending free (ux, uy, rx, rz held);
 /// `uz` held at every support; the spans continuous over the inner supports.
 pub fn described_model(spans: &[f64], ei: f64, mass: f64, per_span: usize) -> ModelBuilder {
-    crate::elements::link();
     let mut b = ModelBuilder::new("bridge-check deck");
     let plane = DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Rz]);
     let mut x = 0.0;

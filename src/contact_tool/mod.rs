@@ -40,7 +40,7 @@ use crate::elements::rail::creep::law::{
 use crate::elements::rail::profiles::Inclination;
 use crate::framework::plot::{Figure, Panel, Series, Style};
 use crate::framework::FemError;
-use profiles::{PlacedProfiles, ProfileSet};
+use profiles::{BuiltInProfiles, PlacedProfiles, ProfileSet};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -426,22 +426,22 @@ fn positive(a: &Args, key: &str, default: f64) -> Result<f64, FemError> {
     }
 }
 
+/// `--inclination` (default 1:40), read into [`Inclination`] as a model file's is.
 fn inclination(a: &Args) -> Result<Inclination, FemError> {
-    match a.opt("inclination").unwrap_or("1:40") {
-        "1:40" => Ok(Inclination::OneIn40),
-        "1:20" => Ok(Inclination::OneIn20),
-        "none" => Ok(Inclination::None),
-        v => Err(FemError::input(
-            "command line",
-            format!("--inclination {v}: use 1:40, 1:20 or none"),
-        )),
+    match a.opt("inclination") {
+        None => Ok(Inclination::OneIn40),
+        Some(v) => crate::choice::parse("command line", "--inclination", v),
     }
 }
 
 /// The case of a command line.
 pub fn case_from_args(a: &Args) -> Result<ContactCase, FemError> {
     let d = ContactCase::default();
-    let profiles = match (a.opt("profiles"), a.path("wheel"), a.path("rail")) {
+    let built_in = a
+        .opt("profiles")
+        .map(|v| crate::choice::parse::<BuiltInProfiles>("command line", "--profiles", v))
+        .transpose()?;
+    let profiles = match (built_in, a.path("wheel"), a.path("rail")) {
         (_, Some(w), Some(r)) => ProfileSet::Files {
             wheel: w.to_path_buf(),
             rail: r.to_path_buf(),
@@ -453,14 +453,10 @@ pub fn case_from_args(a: &Args) -> Result<ContactCase, FemError> {
                 "--wheel and --rail go together; fix: give both CSV files or neither",
             ))
         }
-        (None | Some("s1002-60e1"), None, None) => ProfileSet::S1002On60E1(inclination(a)?),
-        (Some("mbench"), None, None) => ProfileSet::ManchesterBenchmark,
-        (Some(v), None, None) => {
-            return Err(FemError::input(
-                "command line",
-                format!("--profiles {v}: use s1002-60e1 or mbench"),
-            ))
+        (None | Some(BuiltInProfiles::S1002On60E1), None, None) => {
+            ProfileSet::S1002On60E1(inclination(a)?)
         }
+        (Some(BuiltInProfiles::ManchesterBenchmark), None, None) => ProfileSet::ManchesterBenchmark,
     };
     let poisson = a.num("poisson")?.unwrap_or(d.poisson);
     if !(0.0..0.5).contains(&poisson) {

@@ -45,6 +45,17 @@ const MBENCH_WHEEL: &str = include_str!("../../examples/profiles/MBench_S1002_v3
 /// The benchmark's rail file (Apache-2.0, source in its header).
 const MBENCH_RAIL: &str = include_str!("../../examples/profiles/MBench_UIC60_v3.prr");
 
+/// The built-in profile pairs `railfem contact --profiles` names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
+pub enum BuiltInProfiles {
+    /// `s1002-60e1`: [`ProfileSet::S1002On60E1`].
+    #[serde(rename = "s1002-60e1")]
+    S1002On60E1,
+    /// `mbench`: [`ProfileSet::ManchesterBenchmark`].
+    #[serde(rename = "mbench")]
+    ManchesterBenchmark,
+}
+
 /// Which profiles a wheelset runs on.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ProfileSet {

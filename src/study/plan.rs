@@ -59,6 +59,16 @@ pub const CURVE_KEYS: [&str; 12] = [
     "first_active_set",
 ];
 
+/// The built-in cases a plan's `case` names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BuiltInCase {
+    /// `case = "train-bridge"`.
+    TrainBridge,
+    /// `case = "curve"`.
+    Curve,
+}
+
 /// Which case the plan varies.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Base {
@@ -228,19 +238,13 @@ fn parse(file: &Path, table: &toml::Table) -> Result<Plan, FemError> {
                 "no base case; give `case = \"train-bridge\"` or `\"curve\"`, or `base = \"model.toml\"`",
             ))
         }
-        (Some(toml::Value::String(c)), None) => match c.as_str() {
-            "train-bridge" => Base::TrainBridge,
-            "curve" => Base::Curve,
-            _ => {
-                return Err(unknown(
-                    file,
-                    "`case`",
-                    "built-in case",
-                    c,
-                    &["train-bridge", "curve"],
-                ))
+        (Some(toml::Value::String(c)), None) => {
+            let origin = format!("{}: top level", file.display());
+            match crate::choice::parse::<BuiltInCase>(&origin, "`case`", c)? {
+                BuiltInCase::TrainBridge => Base::TrainBridge,
+                BuiltInCase::Curve => Base::Curve,
             }
-        },
+        }
         (None, Some(toml::Value::String(b))) => {
             let path = folder.join(b);
             if !path.is_file() {

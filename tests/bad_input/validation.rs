@@ -349,7 +349,10 @@ fn check_lists_every_independent_problem() {
         &text,
         &[
             &["[analysis]", "`modes` would be ignored", "remove it"],
-            &["node[1]", "`uq` is not a DOF", "ux, uy, uz"],
+            &[
+                "`node[1].fix[0]`: unknown variant `uq`",
+                "expected one of `ux`, `uy`, `uz`",
+            ],
             &["recorder[0]", "dofz"],
         ],
     );

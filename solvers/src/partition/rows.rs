@@ -21,6 +21,11 @@
 //! ([`crate::energy::EnergyLedger::record`]) are summed the same way
 //! ([`Partitioned::sums_over_rows`]).
 //!
+//! The Newton check's element-force reference (`√(Σ_e |f_e|²)` over the variable elements,
+//! which every rank evaluates whole) travels in the same all-gather as the norms: every rank
+//! takes the largest of the ranks' sums ([`Partitioned::sums_of_squares_and_max`]), so all
+//! reach the same decision and the reference is one process's.
+//!
 //! **Where the residual is largest.** A failed step's message and `--trace` name the
 //! equation with the largest residual; each rank knows only its owned rows, so the ranks
 //! exchange their candidates ([`Partitioned::largest_over_rows`]) and every rank names
@@ -77,11 +82,29 @@ impl Partitioned {
     /// documentation); the same on every rank. `None` in one process or before the split
     /// (no collective).
     pub fn sums_of_squares(&mut self, xs: &[&[f64]]) -> Option<Vec<f64>> {
-        self.sums_over_rows(xs.len(), &|rows, out| {
-            for (o, x) in out.iter_mut().zip(xs) {
-                *o = rows.iter().fold(0.0, |s, &i| s + x[i] * x[i]);
-            }
-        })
+        self.sums_of_squares_and_max(xs, None).map(|(sums, _)| sums)
+    }
+
+    /// Across ranks: [`Partitioned::sums_of_squares`] of `xs` and, in the same all-gather,
+    /// the largest of the ranks' `local` values (`None` adds nothing to the message and
+    /// gives `-∞`). The Newton check reduces each rank's `Σ_e |f_e|²` this way: every rank
+    /// evaluates every variable element, so each holds one process's sum, and the largest
+    /// is the same on every rank even where the ranks' round-off differed. `None` in one
+    /// process or before the split (no collective).
+    pub fn sums_of_squares_and_max(
+        &mut self,
+        xs: &[&[f64]],
+        local: Option<f64>,
+    ) -> Option<(Vec<f64>, f64)> {
+        self.gather_sums(
+            xs.len(),
+            &|rows, out| {
+                for (o, x) in out.iter_mut().zip(xs) {
+                    *o = rows.iter().fold(0.0, |s, &i| s + x[i] * x[i]);
+                }
+            },
+            local,
+        )
     }
 
     /// Across ranks: `m` sums over every equation, each rank forming with `part(rows,
@@ -95,10 +118,21 @@ impl Partitioned {
         m: usize,
         part: &dyn Fn(&[usize], &mut [f64]),
     ) -> Option<Vec<f64>> {
+        self.gather_sums(m, part, None).map(|(sums, _)| sums)
+    }
+
+    /// [`Partitioned::sums_over_rows`], each rank's piece ending with its `extra` value if
+    /// given; returns the sums and the largest of the ranks' extras (`-∞` without).
+    fn gather_sums(
+        &mut self,
+        m: usize,
+        part: &dyn Fn(&[usize], &mut [f64]),
+        extra: Option<f64>,
+    ) -> Option<(Vec<f64>, f64)> {
         if self.comm.is_none() || self.n == 0 {
             return None;
         }
-        let mut local = vec![0.0; (self.owned().len() + 1) * m];
+        let mut local = vec![0.0; (self.owned().len() + 1) * m + 1];
         let mut k = 0;
         for b in &self.blocks[self.owned()] {
             part(&b.all, &mut local[k..k + m]);
@@ -108,10 +142,15 @@ impl Partitioned {
             part(&self.base_top, &mut local[k..k + m]);
             k += m;
         }
+        if let Some(x) = extra {
+            local[k] = x;
+            k += 1;
+        }
         local.truncate(k);
         let comm = self.comm.as_mut().expect("across ranks");
         let pieces = comm.all_gather(&local);
         let mut total = vec![0.0; m];
+        let mut largest = f64::NEG_INFINITY;
         // Rank order is block order; rank 0's base top set comes after every block.
         let mut top_part = Vec::new();
         for (r, piece) in pieces.iter().enumerate() {
@@ -122,13 +161,16 @@ impl Partitioned {
                 }
             }
             if r == 0 {
-                top_part = piece[blocks..].to_vec();
+                top_part = piece[blocks..blocks + m].to_vec();
+            }
+            if extra.is_some() {
+                largest = largest.max(piece[piece.len() - 1]);
             }
         }
         for (t, v) in total.iter_mut().zip(&top_part) {
             *t += v;
         }
-        Some(total)
+        Some((total, largest))
     }
 
     /// Across ranks: the largest `|x[i]|` over every equation and its `i`, each rank

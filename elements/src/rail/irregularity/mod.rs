@@ -156,11 +156,11 @@ pub struct IrregularitySpec {
     pub length: Option<f64>,
     /// Components to take (default all the source has).
     #[serde(default)]
-    pub components: Option<Vec<String>>,
+    pub components: Option<Vec<Component>>,
 }
 
 fn pick_components(
-    asked: &Option<Vec<String>>,
+    asked: &Option<Vec<Component>>,
     offered: &[Component],
     what: &str,
 ) -> Result<Vec<Component>, String> {
@@ -175,17 +175,18 @@ fn pick_components(
         ));
     }
     let mut out = Vec::new();
-    for n in list {
-        match Component::parse(n).filter(|c| offered.contains(c)) {
-            Some(c) if !out.contains(&c) => out.push(c),
-            Some(_) => return Err(format!("`components` names `{n}` twice")),
-            None => {
-                return Err(format!(
-                    "`components` names `{n}`, which {what} does not give; choose from {}",
-                    names.join(", ")
-                ))
-            }
+    for &c in list {
+        let n = c.name();
+        if !offered.contains(&c) {
+            return Err(format!(
+                "`components` names `{n}`, which {what} does not give; choose from {}",
+                names.join(", ")
+            ));
         }
+        if out.contains(&c) {
+            return Err(format!("`components` names `{n}` twice"));
+        }
+        out.push(c);
     }
     Ok(out)
 }
@@ -424,6 +425,10 @@ mod tests {
         bad(
             serde_json::json!({"psd": "fra4", "seed": 1, "wavelengths": [1, 50], "components": ["gauge"]}),
             "`gauge`, which `fra4` does not give",
+        );
+        bad(
+            serde_json::json!({"psd": "fra4", "seed": 1, "wavelengths": [1, 50], "components": ["vertical", "heave"]}),
+            "`track.irregularity[0].components[1]`: unknown variant `heave`, expected one of `vertical`, `alignment`, `cross_level`, `gauge`",
         );
         bad(serde_json::json!({"file": "nope.csv"}), "cannot read");
         bad(serde_json::json!({"seed": 1}), "give `file");

@@ -34,8 +34,10 @@
 //! the cross-level *angle* (rad²/(rad/m)); railfem's cross-level is the height difference
 //! `2b·angle`, so it uses `(2b)²·S_c = 4·A_v·Ω_c²·Ω²/(…)` m²/(rad/m).
 
-/// The four standard components of a track irregularity.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+/// The four standard components of a track irregularity (a model file's `components`
+/// names them: `vertical`, `alignment`, `cross_level`, `gauge`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Component {
     /// Mean of the two rails' vertical deviations (m, up positive).
     Vertical,

@@ -15,7 +15,7 @@
 //! its body's station with offset `[y, z, Δs]`, Δs the attachment's station less the
 //! body's. Springs act in the lower body's axes (vehicle x, y, z = element axes 3, 1, 2).
 
-use super::definition::{wheel_model, VehicleDef};
+use super::definition::{VehicleDef, WheelModel};
 use super::statics;
 use super::track_model::TrackModel;
 use super::{TrainIds, SPIN_STIFFNESS};
@@ -240,32 +240,24 @@ pub fn build(
         .analysis_mut()
         .gravity
         .map_or(0.0, |v| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt());
-    let model_of = |w: &super::definition::WheelsetDef| -> String {
-        train
-            .wheel
-            .get("model")
-            .and_then(Value::as_str)
-            .unwrap_or(wheel_model(&w.wheel))
-            .to_string()
-    };
-    if let Some(m) = train.wheel.get("model").and_then(Value::as_str) {
-        if !super::definition::WHEEL_MODELS.contains(&m) {
-            return Err(fail(
-                "",
-                &format!(
-                    "`wheel.model` = \"{m}\" is not known; give one of: {}",
-                    super::definition::WHEEL_MODELS.join(", ")
-                ),
-            ));
+    // The train's `wheel.model`, if given, overrides every wheelset's (each validated).
+    let train_model = WheelModel::of(&train.wheel).map_err(|m| fail("", &m))?;
+    let model_of = |w: &super::definition::WheelsetDef| -> WheelModel {
+        if train.wheel.contains_key("model") {
+            train_model
+        } else {
+            WheelModel::of(&w.wheel).unwrap_or_default()
         }
-    }
+    };
     // Static state where it is needed: preloads of suspensions without `carries` in
     // nonlinear geometry, static loads of wheels other than moving_axle (which measures its
     // own at the first converged state).
     let mut states: Vec<Option<statics::StaticState>> = Vec::new();
     for (vi, v) in train.vehicles.iter().enumerate() {
         let need = (nonlinear && v.suspensions.iter().any(|s| s.carries.is_none()))
-            || v.wheelsets.iter().any(|w| model_of(w) != "moving_axle");
+            || v.wheelsets
+                .iter()
+                .any(|w| model_of(w) != WheelModel::MovingAxle);
         if !need {
             states.push(None);
             continue;
@@ -507,7 +499,7 @@ pub fn build(
                     if let Some(c) = w.contact_offset {
                         p.insert("contact_offset".into(), json!(c));
                     }
-                    if model != "moving_axle" {
+                    if model != WheelModel::MovingAxle {
                         p.entry("contact_offset")
                             .or_insert(json!(DEFAULT_CONTACT_OFFSET));
                         if let Some(st) = &states[vi] {
@@ -515,7 +507,7 @@ pub fn build(
                                 .or_insert(json!(st.wheels[2 * wi + j]));
                         }
                     }
-                    let id = elem(b, &model, &[k], Value::Object(p), Some(side));
+                    let id = elem(b, model.kind(), &[k], Value::Object(p), Some(side));
                     ids.wheels.push(id);
                 }
             }

@@ -181,8 +181,40 @@ pub struct VehicleDef {
     pub sensors: Vec<SensorDef>,
 }
 
-/// The wheel models a wheelset may name.
-pub const WHEEL_MODELS: [&str; 3] = ["moving_axle", "hertz_wheel", "rigid_wheel"];
+/// The wheel model a wheelset's (or the train's) `wheel.model` names: the registered
+/// element kind its two wheels are built as.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WheelModel {
+    /// Ju & Ro's moving wheel-axle contact element (the default).
+    #[default]
+    MovingAxle,
+    /// A point wheel on a Hertzian spring.
+    HertzWheel,
+    /// A point wheel rigidly following the rail.
+    RigidWheel,
+}
+
+impl WheelModel {
+    /// The model the table `wheel` names (`model`; `moving_axle` without it). A name
+    /// outside the list is refused with the list of valid ones, as one line's message.
+    pub fn of(wheel: &serde_json::Map<String, serde_json::Value>) -> Result<WheelModel, String> {
+        match wheel.get("model") {
+            None => Ok(WheelModel::MovingAxle),
+            Some(v) => WheelModel::deserialize(v)
+                .map_err(|e| format!("`wheel.model`: {e}; give one of the values listed")),
+        }
+    }
+
+    /// The element kind of the wheels (`"moving_axle"`, `"hertz_wheel"`, `"rigid_wheel"`).
+    pub fn kind(self) -> &'static str {
+        match self {
+            WheelModel::MovingAxle => "moving_axle",
+            WheelModel::HertzWheel => "hertz_wheel",
+            WheelModel::RigidWheel => "rigid_wheel",
+        }
+    }
+}
 /// Directions a `force_table` or `bump_stop` may name (vehicle axes).
 pub const DIRECTIONS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
 
@@ -394,15 +426,8 @@ impl VehicleDef {
                     ),
                 );
             }
-            let model = wheel_model(&w.wheel);
-            if !WHEEL_MODELS.contains(&model) {
-                return err(
-                    place,
-                    format!(
-                        "`wheel.model` = \"{model}\" is not known; give one of: {}",
-                        WHEEL_MODELS.join(", ")
-                    ),
-                );
+            if let Err(m) = WheelModel::of(&w.wheel) {
+                return err(place, m);
             }
             if w.wheel.contains_key("side") {
                 return err(place, "`wheel.side` would be ignored: every wheelset has a left and a right wheel; remove it".into());
@@ -435,13 +460,6 @@ impl VehicleDef {
         }
         Ok(())
     }
-}
-
-/// The wheel model a wheelset's `wheel` table names (default `moving_axle`).
-pub fn wheel_model(w: &serde_json::Map<String, serde_json::Value>) -> &str {
-    w.get("model")
-        .and_then(|v| v.as_str())
-        .unwrap_or("moving_axle")
 }
 
 fn check_directions(

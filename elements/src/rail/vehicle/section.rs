@@ -14,6 +14,7 @@ use super::{build_train_at, CarriageData, TrainSpec};
 use crate::suspension::SuspensionTangent;
 use railfem_framework::builder::ModelBuilder;
 use railfem_framework::comfort::ComfortMethod;
+use railfem_framework::dof::{Dof, DofSet};
 use railfem_framework::error::FemError;
 use railfem_framework::keypath::{self, from_value};
 use railfem_framework::limits;
@@ -452,7 +453,7 @@ fn record(
         b.recorder(RecorderSpec::Node {
             node: None,
             nodes: ids.sensors.iter().map(|s| s.1).collect(),
-            dofs: vec!["ux".into(), "uy".into(), "uz".into()],
+            dofs: DofSet::TRANSLATIONS,
             quantity: Quantity::Acc,
             file: f.clone(),
         });
@@ -473,15 +474,15 @@ fn record(
         let method = r.comfort_method.unwrap_or_default();
         // Sperling has no longitudinal weighting; EN 12299 uses all three axes.
         let longitudinal = if method == ComfortMethod::En12299 {
-            vec!["uz".to_string()]
+            vec![Dof::Uz]
         } else {
             Vec::new()
         };
         b.recorder(RecorderSpec::Comfort {
             node: None,
             nodes: ids.sensors.iter().map(|s| s.1).collect(),
-            vertical: vec!["uy".into()],
-            lateral: vec!["ux".into()],
+            vertical: vec![Dof::Uy],
+            lateral: vec![Dof::Ux],
             longitudinal,
             method,
             file: f.clone(),
