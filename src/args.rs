@@ -1,7 +1,8 @@
-//! A parsed command line as the commands read it: the subcommand, its positional
-//! arguments, and its options by name ([`crate::cli::parse`] fills it from clap's matches).
+//! A parsed command line: the typed command ([`crate::commands::Commands`]) the commands
+//! run from, and beside it the command line as the user typed it (the subcommand, its
+//! positional arguments, its options by name), which `run.json` records and the tests
+//! compare with `argv` ([`crate::cli::parse`] fills both from clap's matches).
 
-use crate::framework::FemError;
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
@@ -29,6 +30,10 @@ pub struct Args {
     pub message: Option<String>,
     /// `argv` as given (without the program name), for the run sidecar (`run.json`).
     pub argv: Vec<OsString>,
+    /// The options of every command, typed.
+    pub global: crate::commands::Global,
+    /// The command with its typed options (`None` for help text).
+    pub cmd: Option<crate::commands::Commands>,
 }
 
 impl Args {
@@ -53,20 +58,5 @@ impl Args {
     /// Whether `--flag` was given.
     pub fn flag(&self, flag: &str) -> bool {
         self.flags.iter().any(|f| f == flag)
-    }
-
-    /// Parses option `--key` as a number, with a clear error.
-    pub fn num(&self, key: &str) -> Result<Option<f64>, FemError> {
-        match self.opt(key) {
-            None => Ok(None),
-            Some(v) => v
-                .parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .map(Some)
-                .ok_or_else(|| {
-                    FemError::input("command line", format!("--{key} {v}: not a finite number"))
-                }),
-        }
     }
 }

@@ -5,7 +5,7 @@
 
 use crate::elements::rail::irregularity::csv::{write_table, IrregularityTable};
 use crate::elements::rail::irregularity::generate::{welch, PsdRequest};
-use crate::elements::rail::irregularity::psd::{band_variance, Component, PsdClass};
+use crate::elements::rail::irregularity::psd::{band_variance, Component};
 use crate::framework::plot::{Figure, Panel, Series, Style};
 use crate::framework::FemError;
 use std::f64::consts::PI;
@@ -107,112 +107,4 @@ pub fn run(
     fig.write_svg_and_png(&p)
         .map_err(|e| FemError::output(&p, e))?;
     Ok(reports)
-}
-
-/// Parses a list `a,b` of numbers for `--key`.
-fn pair(key: &str, v: &str) -> Result<[f64; 2], FemError> {
-    let nums: Option<Vec<f64>> = v.split(',').map(|x| x.trim().parse().ok()).collect();
-    match nums.as_deref() {
-        Some([a, b]) if a.is_finite() && b.is_finite() => Ok([*a, *b]),
-        _ => Err(FemError::input(
-            "command line",
-            format!("--{key} {v}: give two numbers `λmin,λmax` in m, e.g. 1,50"),
-        )),
-    }
-}
-
-/// The command: options parsed from `args` (see `railfem help`).
-pub fn command(a: &crate::args::Args) -> Result<i32, FemError> {
-    let cl = "command line";
-    let name = a.opt("psd").ok_or_else(|| {
-        FemError::input(
-            cl,
-            format!(
-                "`railfem irregularity` needs --psd CLASS; the spectra are: {}",
-                PsdClass::NAMES.join(", ")
-            ),
-        )
-    })?;
-    let class = PsdClass::parse(name).ok_or_else(|| {
-        FemError::input(
-            cl,
-            format!(
-                "--psd {name} is not offered; the spectra are: {}",
-                PsdClass::NAMES.join(", ")
-            ),
-        )
-    })?;
-    let seed = match a.opt("seed") {
-        None => 1,
-        Some(v) => v
-            .parse::<u64>()
-            .map_err(|_| FemError::input(cl, format!("--seed {v}: give an integer ≥ 0")))?,
-    };
-    let wavelengths = match a.opt("wavelengths") {
-        None => [1.0, 50.0],
-        Some(v) => pair("wavelengths", v)?,
-    };
-    let req = PsdRequest {
-        class,
-        seed,
-        wavelengths,
-        step: a.num("step")?.unwrap_or(wavelengths[0] / 8.0),
-        length: a.num("length")?.unwrap_or(2000.0),
-    };
-    req.validate().map_err(|m| {
-        // The checks name the model-file keys; here they are options.
-        let m = ["wavelengths", "step", "length"]
-            .iter()
-            .fold(m, |m, k| m.replace(&format!("`{k}`"), &format!("--{k}")));
-        FemError::input(cl, m)
-    })?;
-    let components = match a.opt("components") {
-        None => class.components().to_vec(),
-        Some(list) => {
-            let mut out = Vec::new();
-            for n in list.split(',') {
-                let c = Component::parse(n)
-                    .filter(|c| class.components().contains(c))
-                    .ok_or_else(|| {
-                        FemError::input(
-                            cl,
-                            format!(
-                                "--components: `{n}` is not given by {}; choose from {}",
-                                class.name(),
-                                class
-                                    .components()
-                                    .iter()
-                                    .map(|c| c.name())
-                                    .collect::<Vec<_>>()
-                                    .join(",")
-                            ),
-                        )
-                    })?;
-                if !out.contains(&c) {
-                    out.push(c);
-                }
-            }
-            out
-        }
-    };
-    let out = a
-        .out
-        .clone()
-        .unwrap_or_else(|| std::path::PathBuf::from("out/irregularity"));
-    let reports = run(&req, &components, &out)?;
-    for r in &reports {
-        println!(
-            "{} {}: RMS {:.4} mm, target √∫S dΩ = {:.4} mm ({:+.2} %)",
-            class.name(),
-            r.component.name(),
-            r.rms * 1e3,
-            r.target_rms * 1e3,
-            (r.rms / r.target_rms - 1.0) * 100.0
-        );
-    }
-    println!(
-        "irregularity.csv, psd.csv and irregularity-psd.svg in {}",
-        out.display()
-    );
-    Ok(0)
 }

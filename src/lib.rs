@@ -22,6 +22,7 @@ pub mod bench_window;
 pub mod bridge_check;
 pub mod choice;
 pub mod cli;
+pub mod command;
 pub mod commands;
 pub mod contact_tool;
 pub mod cpu_time;

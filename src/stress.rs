@@ -893,48 +893,69 @@ fn step_count(cause: &str, n: f64) -> Result<usize, FemError> {
     Ok(n as usize)
 }
 
+/// The values of one case given on the command line (`railfem stress --case C`); `None`
+/// takes the case's default.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct CaseOptions {
+    /// ω·Δt of the sdof and beam cases (-).
+    pub omega_dt: Option<f64>,
+    /// Time steps.
+    pub steps: Option<f64>,
+    /// Contact penalty stiffness (N/m).
+    pub penalty: Option<f64>,
+    /// Speed (m/s).
+    pub speed: Option<f64>,
+    /// Duration (s).
+    pub duration: Option<f64>,
+    /// Drop height (m).
+    pub height: Option<f64>,
+    /// Time step of the drop case (s).
+    pub dt: Option<f64>,
+    /// Stick-slip load over the friction limit (-).
+    pub overshoot: Option<f64>,
+    /// Rail joint dip depth (m).
+    pub depth: Option<f64>,
+}
+
 /// Runs one case named on the command line (see `railfem help`), or the full suite, into
 /// `rows` (on a stop request, the completed cases: [`full_suite_into`]).
 pub fn run_cli(
     case: Option<&str>,
-    num: &dyn Fn(&str) -> Result<Option<f64>, FemError>,
+    o: &CaseOptions,
     scheme_name: &str,
     rows: &mut Vec<StressRow>,
 ) -> Result<(), FemError> {
     let steps = |d: f64| -> Result<usize, FemError> {
-        let n = num("steps")?.map_or(d, |v| v.max(1.0)).round();
+        let n = o.steps.map_or(d, |v| v.max(1.0)).round();
         step_count("--steps", n)
     };
     rows.extend(match case {
         None | Some("all") => return full_suite_into(rows),
         Some("sdof") => vec![sdof(
-            num("omega-dt")?.unwrap_or(1.0),
+            o.omega_dt.unwrap_or(1.0),
             scheme_name,
             steps(2000.0)?,
         )?],
         Some("beam") => vec![beam(
-            num("omega-dt")?.unwrap_or(1.0),
+            o.omega_dt.unwrap_or(1.0),
             scheme_name,
             steps(2000.0)?,
         )?],
-        Some("penalty") => vec![penalty(num("penalty")?.unwrap_or(1e10), steps(500.0)?)?],
-        Some("speed") => vec![speed(
-            num("speed")?.unwrap_or(80.0),
-            num("duration")?.unwrap_or(0.3),
-        )?],
+        Some("penalty") => vec![penalty(o.penalty.unwrap_or(1e10), steps(500.0)?)?],
+        Some("speed") => vec![speed(o.speed.unwrap_or(80.0), o.duration.unwrap_or(0.3))?],
         Some("drop") => vec![
             drop(
-                num("height")?.unwrap_or(0.01),
-                num("dt")?.unwrap_or(2e-5),
-                num("duration")?.unwrap_or(0.2),
-                num("penalty")?.unwrap_or(1e10),
+                o.height.unwrap_or(0.01),
+                o.dt.unwrap_or(2e-5),
+                o.duration.unwrap_or(0.2),
+                o.penalty.unwrap_or(1e10),
             )?
             .0,
         ],
-        Some("stick-slip") => vec![stick_slip(num("overshoot")?.unwrap_or(1.5), steps(400.0)?)?.0],
+        Some("stick-slip") => vec![stick_slip(o.overshoot.unwrap_or(1.5), steps(400.0)?)?.0],
         Some("dip") => vec![joint_dip(
-            num("speed")?.unwrap_or(15.0),
-            num("depth")?.unwrap_or(0.002),
+            o.speed.unwrap_or(15.0),
+            o.depth.unwrap_or(0.002),
         )?],
         Some(o) => {
             return Err(FemError::input(

@@ -137,13 +137,14 @@ pub fn open(driver: &Driver, case: &TrainBridgeCase) -> Result<Option<ActivityWi
 
 /// The window's options of `railfem train-bridge` (`--window on|off`, `--window-ahead`,
 /// `--window-tolerance`; the last two need `--window on`).
-pub fn parse_options(a: &crate::args::Args) -> Result<WindowChoice, FemError> {
+pub fn parse_options(
+    window: Option<&str>,
+    ahead: Option<f64>,
+    tolerance: Option<f64>,
+) -> Result<WindowChoice, FemError> {
     let o = "command line";
-    let options = WindowOptions {
-        ahead: a.num("window-ahead")?,
-        tolerance: a.num("window-tolerance")?,
-    };
-    match a.opt("window") {
+    let options = WindowOptions { ahead, tolerance };
+    match window {
         Some("on") => Ok(WindowChoice::On(options)),
         Some("off") | None if options == WindowOptions::default() => Ok(WindowChoice::Off),
         Some("off") | None => Err(FemError::input(

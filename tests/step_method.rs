@@ -105,7 +105,6 @@ impl StepMethod<Driver> for PlainNewton {
 /// A right-angle frame of corotational beams (finite rotations) struck at its corner: a
 /// nonlinear transient whose rotations reach order 0.1 rad in the steps run here.
 fn struck_frame() -> railfem::framework::model::Model {
-    railfem::elements::link();
     let mut b = ModelBuilder::new("struck frame");
     let n = 4;
     for k in 0..=2 * n {

@@ -26,6 +26,34 @@ use std::sync::Arc;
 pub type Resources = HashMap<String, Arc<dyn Any + Send + Sync>>;
 
 /// Builds a [`Model`] step by step, in Rust code or from a model file.
+///
+/// # Example
+///
+/// A node on a grounded spring of stiffness `k`, free along `z` only, under a force `F`:
+/// the static displacement is `u = F/k` (Hooke's law).
+///
+/// ```
+/// use railfem_framework::builder::ModelBuilder;
+/// use railfem_framework::loads::{LoadSpec, TimeSeries};
+/// use railfem_framework::model::{AnalysisKind, AnalysisSpec};
+/// use railfem_framework::{Dof, DofSet};
+///
+/// railfem_elements::link(); // this crate does not depend on the built-in kinds: name them
+/// let (k, force) = (2.0e6, -1.0e4); // N/m, N
+/// let mut b = ModelBuilder::new("spring");
+/// b.node_fixed(1, [0.0, 0.0, 0.0], DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Ry, Dof::Rz]));
+/// // A spring on one node acts between the node and the ground.
+/// b.element("spring_damper", 1, &[1], &serde_json::json!({"k": [0.0, 0.0, k, 0.0, 0.0, 0.0]}));
+/// b.load(LoadSpec::Nodal { node: 1, dof: Dof::Uz, value: force, series: TimeSeries::Constant });
+/// b.analysis(AnalysisSpec { kind: AnalysisKind::Static, steps: 1, ..Default::default() });
+/// let model = b.build()?;
+///
+/// let mut driver = railfem_solvers::Driver::new(model)?;
+/// driver.run(None, &mut |_| {})?;
+/// let u = driver.displacement(1, Dof::Uz).expect("node 1 moves along z");
+/// assert!((u - force / k).abs() <= 1e-12 * (force / k).abs(), "u = {u} m");
+/// # Ok::<(), railfem_framework::FemError>(())
+/// ```
 pub struct ModelBuilder {
     origin: String,
     nodes: Vec<Node>,

@@ -194,6 +194,56 @@ pub enum DissipationKind {
 }
 
 /// The element contract. See the module documentation for axes and ordering.
+///
+/// # Example
+///
+/// A linear spring of stiffness `k` from a node's `uz` to the ground: one DOF, resisting
+/// force `k·u`, tangent `k`. (Registering it as a kind with parameters and samples, and
+/// shipping it as a plugin: `docs/custom-element.md`.)
+///
+/// ```
+/// use nalgebra::DMatrix;
+/// use railfem_framework::element::{Element, ElementError, ElementProperties, NodeDofs, TrialState};
+/// use railfem_framework::{Dof, DofSet};
+///
+/// struct GroundSpring {
+///     nodes: [NodeDofs; 1],
+///     k: f64, // N/m
+///     u: f64, // trial displacement (m)
+/// }
+///
+/// impl Element for GroundSpring {
+///     fn kind(&self) -> &str {
+///         "ground_spring"
+///     }
+///     fn connectivity(&self) -> &[NodeDofs] {
+///         &self.nodes
+///     }
+///     fn properties(&self) -> ElementProperties {
+///         ElementProperties::default()
+///     }
+///     fn update(&mut self, trial: &TrialState) -> Result<(), ElementError> {
+///         self.u = trial.disp[0];
+///         Ok(())
+///     }
+///     fn resisting_force(&self, f: &mut [f64]) {
+///         f[0] = self.k * self.u;
+///     }
+///     fn tangent_stiffness(&self, k: &mut DMatrix<f64>) {
+///         k[(0, 0)] = self.k;
+///     }
+/// }
+///
+/// let node = NodeDofs { node: 0, dofs: DofSet::of(&[Dof::Uz]) };
+/// let mut spring = GroundSpring { nodes: [node], k: 5.0e5, u: 0.0 };
+/// assert_eq!(spring.ndof(), 1);
+/// let trial = TrialState { time: 0.0, dt: 0.0, disp: &[2.0e-3], vel: &[0.0], acc: &[0.0] };
+/// spring.update(&trial).unwrap();
+/// let mut f = [0.0];
+/// spring.resisting_force(&mut f);
+/// // Hooke: 5e5 N/m × 2 mm = 1 kN.
+/// assert!((f[0] - 1000.0).abs() < 1e-9, "{}", f[0]);
+/// ```
 pub trait Element: Send + Sync {
     /// The registered type name (`"beam3d"`, `"moving_axle"`, …).
     fn kind(&self) -> &str;

@@ -22,7 +22,11 @@
 //!    revision, framework version, rustc version (with commit hash) and target triple must
 //!    equal this process's own ([`PluginAbi::CURRENT`]); otherwise the load is refused with a
 //!    one-line message saying what the plugin was built with, what this railfem is, and what
-//!    to rebuild with.
+//!    to rebuild with. So must the versions of the crates whose types cross the boundary
+//!    (nalgebra, serde, serde_json: [`PluginAbi::boundary_crates`], taken from the build's
+//!    `Cargo.lock` by the framework's build script); a plugin built against another version
+//!    is refused with one line naming the crate, both versions and the `cargo update` that
+//!    fixes it.
 //! 3. Only then is the entry point `railfem_plugin_register` called. It hands each of the
 //!    plugin's [`ElementKind`]s to a closure of the host, which collects them; the host then
 //!    registers them all in the **host** registry ([`registry::register`]) — all or none: a
@@ -36,7 +40,7 @@
 //! # The rule for plugin authors
 //!
 //! *Build the plugin with the same rustc, for the same target, against the same version of
-//! `railfem-framework` as the railfem that loads it* — in practice, build it in the same
+//! `railfem-framework` (and of nalgebra, serde and serde_json) as the railfem that loads it* — in practice, build it in the same
 //! workspace or with the same toolchain file — and export it with
 //! [`export_plugin!`](crate::export_plugin). The stamp enforces the first sentence; the
 //! macro the second. Across the boundary travel ordinary Rust types (`ElementKind` with
@@ -98,8 +102,9 @@ pub const MAGIC: [u8; 8] = *b"RAILFEM\x01";
 
 /// Revision of the plugin interface: the [`PluginAbi`] layout and the entry point's
 /// signature ([`RegisterFn`]). Revision 2: the entry point hands [`PluginItem`]s (element,
-/// load and recorder kinds), not element kinds alone.
-pub const ABI_REVISION: u32 = 2;
+/// load and recorder kinds), not element kinds alone. Revision 3: the stamp names the
+/// versions of the crates whose types cross the boundary ([`PluginAbi::boundary_crates`]).
+pub const ABI_REVISION: u32 = 3;
 
 /// Name of the exported stamp static.
 pub const ABI_SYMBOL: &str = "RAILFEM_PLUGIN_ABI";
@@ -178,6 +183,19 @@ pub struct PluginAbi {
     pub rustc_version: [u8; 128],
     /// Target triple the plugin was built for (NUL-padded).
     pub target: [u8; 64],
+    /// Versions of the crates whose types cross the boundary, as the build resolved them
+    /// (`nalgebra 0.35.0;serde 1.0.228;serde_json 1.0.145`, NUL-padded; `unknown` where
+    /// the build's `Cargo.lock` was not found). Stamped by the framework's build script.
+    pub boundary_crates: [u8; 192],
+}
+
+/// The start of every stamp of every revision: read first, so that a stamp of another
+/// layout is refused without reading past its end.
+#[repr(C)]
+#[derive(Clone, Copy)]
+struct StampHead {
+    magic: [u8; 8],
+    abi_revision: u32,
 }
 
 /// Copies `s` into a NUL-padded array at compile time; a string that does not fit (leaving
@@ -209,6 +227,7 @@ impl PluginAbi {
         framework_version: fixed(env!("CARGO_PKG_VERSION")),
         rustc_version: fixed(env!("RAILFEM_RUSTC_VERSION")),
         target: fixed(env!("RAILFEM_TARGET")),
+        boundary_crates: fixed(env!("RAILFEM_BOUNDARY_CRATES")),
     };
 
     /// The framework version as text.
@@ -224,6 +243,18 @@ impl PluginAbi {
     /// The target triple as text.
     pub fn target(&self) -> String {
         text(&self.target)
+    }
+
+    /// The crates whose types cross the boundary with the versions the stamp names:
+    /// `("nalgebra", "0.35.0")`, …; the version is `unknown` where the build could not tell.
+    pub fn boundary_crates(&self) -> Vec<(String, String)> {
+        text(&self.boundary_crates)
+            .split(';')
+            .filter_map(|e| {
+                let (name, version) = e.trim().split_once(' ')?;
+                Some((name.to_string(), version.trim().to_string()))
+            })
+            .collect()
     }
 
     fn describe(&self) -> String {
@@ -244,6 +275,7 @@ impl std::fmt::Debug for PluginAbi {
             .field("framework_version", &self.framework_version())
             .field("rustc_version", &self.rustc_version())
             .field("target", &self.target())
+            .field("boundary_crates", &text(&self.boundary_crates))
             .finish()
     }
 }
@@ -274,6 +306,25 @@ pub fn check_stamp(path: &Path, found: &PluginAbi) -> Result<(), FemError> {
             host.framework_version(),
             host.target()
         )));
+    }
+    boundary_mismatch(path, found, &host)
+}
+
+/// The first crate crossing the boundary whose version differs between the plugin's
+/// stamp and the host's, refused with both versions and the fix. A version the build
+/// could not tell (`unknown`) is not compared.
+fn boundary_mismatch(path: &Path, found: &PluginAbi, host: &PluginAbi) -> Result<(), FemError> {
+    let theirs = found.boundary_crates();
+    for (name, ours) in host.boundary_crates() {
+        let Some((_, their)) = theirs.iter().find(|(n, _)| *n == name) else {
+            continue;
+        };
+        if ours != "unknown" && *their != "unknown" && *their != ours {
+            return Err(FemError::Plugin(format!(
+                "{}: built against {name} {their} but this railfem uses {name} {ours}, whose types cross the plugin boundary; rebuild the plugin with {name} = \"={ours}\" (cargo update -p {name} --precise {ours})",
+                path.display()
+            )));
+        }
     }
     Ok(())
 }
@@ -393,6 +444,14 @@ fn register_from(lib: &Library, path: &Path) -> Result<Vec<&'static str>, FemErr
             return Err(FemError::Plugin(format!(
                 "{shown}: `{ABI_SYMBOL}` is a null symbol; build the plugin with export_plugin!"
             )));
+        }
+        // The head first: a stamp of another revision may be shorter than this one.
+        let head = std::ptr::read_unaligned(p.cast::<StampHead>());
+        if head.magic != MAGIC || head.abi_revision != ABI_REVISION {
+            let mut shown_stamp = PluginAbi::CURRENT;
+            shown_stamp.magic = head.magic;
+            shown_stamp.abi_revision = head.abi_revision;
+            return check_stamp(path, &shown_stamp).map(|()| Vec::new());
         }
         std::ptr::read_unaligned(p)
     };
@@ -914,6 +973,58 @@ mod tests {
         s.magic = *b"NOTRAIL!";
         let m = check_stamp(Path::new("q.so"), &s).unwrap_err().to_string();
         assert!(m.contains("q.so") && m.contains("not a railfem"), "{m}");
+    }
+
+    /// The host's stamp names nalgebra, serde and serde_json with the versions of this
+    /// workspace's Cargo.lock (the build script read them from it).
+    #[test]
+    fn the_stamp_names_the_boundary_crates_of_the_lock_file() {
+        let lock = include_str!("../../Cargo.lock");
+        let ours = PluginAbi::CURRENT.boundary_crates();
+        let names: Vec<&str> = ours.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["nalgebra", "serde", "serde_json"]);
+        for (name, version) in &ours {
+            let entry = format!("name = \"{name}\"\nversion = \"{version}\"\n");
+            assert!(
+                lock.contains(&entry),
+                "{name} {version} is not in Cargo.lock"
+            );
+        }
+    }
+
+    /// A plugin built against another version of a crate whose types cross the boundary is
+    /// refused with one line naming the crate and both versions; a version its build could
+    /// not tell is not compared.
+    #[test]
+    fn a_plugin_on_another_nalgebra_is_refused_naming_both_versions() {
+        let host = PluginAbi::CURRENT;
+        let ours = host.boundary_crates();
+        let nalgebra = &ours[0].1;
+        let stamp = |nalgebra_version: &str| {
+            let text: Vec<String> = ours
+                .iter()
+                .map(|(n, v)| match n.as_str() {
+                    "nalgebra" => format!("{n} {nalgebra_version}"),
+                    _ => format!("{n} {v}"),
+                })
+                .collect();
+            let mut s = host;
+            s.boundary_crates = fixed(&text.join(";"));
+            s
+        };
+        let e = check_stamp(Path::new("/p/libold.so"), &stamp("0.33.2")).unwrap_err();
+        let m = e.to_string();
+        assert!(matches!(e, FemError::Plugin(_)));
+        assert!(!m.contains('\n'), "{m}");
+        assert!(
+            m.contains(&format!(
+                "/p/libold.so: built against nalgebra 0.33.2 but this railfem uses nalgebra {nalgebra}"
+            )),
+            "{m}"
+        );
+        assert!(m.contains(&format!("nalgebra = \"={nalgebra}\"")), "{m}");
+        assert!(check_stamp(Path::new("x.so"), &stamp("unknown")).is_ok());
+        assert!(check_stamp(Path::new("x.so"), &stamp(nalgebra)).is_ok());
     }
 
     /// An element that panics in `update` once `armed`.

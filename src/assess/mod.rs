@@ -501,7 +501,7 @@ fn figure(a: &Assessment) -> Figure {
 }
 
 /// Reads, assesses and writes `run_dir` (into `out`), printing the summary table.
-fn run_assessment(
+pub fn run_assessment(
     run_dir: &Path,
     out: &Path,
     speed: Option<f64>,
@@ -534,90 +534,4 @@ pub fn after_run(dir: &Path, speed: Option<f64>) -> Result<(), FemError> {
         None,
     )
     .map(|_| ())
-}
-
-/// `railfem assess RUN_DIR [options]`.
-pub fn command(a: &crate::args::Args) -> Result<i32, FemError> {
-    let run_dir = a.positional.first().map(Path::new).ok_or_else(|| {
-        FemError::input(
-            "command line",
-            "`railfem assess` needs RUN_DIR, the output directory of a run".to_string(),
-        )
-    })?;
-    let bad = |key: &str, v: f64, fix: &str| {
-        FemError::input("command line", format!("--{key} {v}: {fix}"))
-    };
-    let positive = |key: &str| -> Result<Option<f64>, FemError> {
-        match a.num(key)? {
-            Some(v) if v <= 0.0 => Err(bad(key, v, "give a value > 0")),
-            o => Ok(o),
-        }
-    };
-    let pct = |key: &str| -> Result<Option<f64>, FemError> {
-        match a.num(key)? {
-            Some(v) if !(0.0..=100.0).contains(&v) => {
-                Err(bad(key, v, "give a percentile from 0 to 100"))
-            }
-            o => Ok(o),
-        }
-    };
-    let mut lim = AssessLimits::default();
-    if let Some(v) = positive("cutoff")? {
-        lim.cutoff = v;
-    }
-    if let Some(v) = positive("window")? {
-        lim.window = v;
-    }
-    if let Some(v) = pct("qst-percentile")? {
-        lim.quasi_static_percentile = v;
-    }
-    if let Some(v) = pct("max-percentile")? {
-        lim.max_percentile = v;
-    }
-    if let Some(v) = a.num("flange-angle")? {
-        if !(v > 0.0 && v < 90.0) {
-            return Err(bad(
-                "flange-angle",
-                v,
-                "give the flange angle in degrees, 0 < γ < 90 (S1002: 70)",
-            ));
-        }
-        lim.flange_angle = v.to_radians();
-    }
-    if let Some(v) = a.num("nadal-mu")? {
-        if !(0.0..=1.0).contains(&v) {
-            return Err(bad(
-                "nadal-mu",
-                v,
-                "give a friction coefficient from 0 to 1 (EN 14363's 1.2 uses 0.36)",
-            ));
-        }
-        lim.nadal_mu = v;
-    }
-    lim.yq_limit = positive("yq-limit")?;
-    if let Some(v) = positive("alpha")? {
-        lim.alpha = v;
-    }
-    let section = Section {
-        from: a.num("from")?,
-        to: a.num("to")?,
-    };
-    if let (Some(f), Some(t)) = (section.from, section.to) {
-        if t <= f {
-            return Err(FemError::input(
-                "command line",
-                format!("--from {f} --to {t}: the section must end after it starts"),
-            ));
-        }
-    }
-    let out = a.out.clone().unwrap_or_else(|| run_dir.to_path_buf());
-    run_assessment(
-        run_dir,
-        &out,
-        positive("speed")?,
-        &lim,
-        section,
-        positive("q0")?,
-    )?;
-    Ok(0)
 }

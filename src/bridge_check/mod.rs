@@ -27,7 +27,7 @@ pub mod trains;
 pub mod vehicle_train;
 
 use crate::framework::FemError;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 /// Default output directory of `railfem bridge-check`.
@@ -397,41 +397,10 @@ fn simplified_rows(r: &Results) -> Vec<SimplifiedRow> {
         .collect()
 }
 
-/// `railfem bridge-check PLAN.toml [--threads N] [--out DIR]`.
-pub fn command(a: &crate::args::Args) -> Result<i32, FemError> {
-    let cl = "command line";
-    let plan: PathBuf = a
-        .positional
-        .first()
-        .map(PathBuf::from)
-        .ok_or_else(|| FemError::input(cl, "give the plan: railfem bridge-check PLAN.toml"))?;
-    let threads = match a.num("threads")? {
-        Some(t) if t >= 1.0 && t.fract() == 0.0 && t <= 1024.0 => t as usize,
-        Some(t) => {
-            return Err(FemError::input(
-                cl,
-                format!("--threads {t}: give a whole number of threads ≥ 1"),
-            ))
-        }
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
-    let out = a.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT));
-    let stop_after = match a.num("stop-after")? {
-        None => None,
-        Some(n) if n >= 1.0 && n.fract() == 0.0 && n <= 1e9 => Some(n as usize),
-        Some(n) => {
-            return Err(FemError::input(
-                cl,
-                format!("--stop-after {n}: give a whole number of runs ≥ 1"),
-            ))
-        }
-    };
-    let opts = RunOptions {
-        threads,
-        stop_after,
-        restart: a.flag("restart"),
-    };
-    let r = check_with(&plan, &out, opts)?;
+/// `railfem bridge-check`: runs the check of the plan at `plan` into `out` and prints the
+/// governing case.
+pub fn command(plan: &Path, out: &Path, opts: RunOptions) -> Result<i32, FemError> {
+    let r = check_with(plan, out, opts)?;
     let g = r.governing().copied();
     if let Some(g) = g {
         let limit = r.limit();

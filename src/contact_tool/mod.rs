@@ -26,7 +26,6 @@
 pub mod manchester;
 pub mod profiles;
 
-use crate::args::Args;
 use crate::elements::rail::creep::conicity::{
     equivalent_conicity, secant_conicity, ConicityError, SideContact, WheelsetContact,
     WheelsetGeometry,
@@ -40,7 +39,7 @@ use crate::elements::rail::creep::law::{
 use crate::elements::rail::profiles::Inclination;
 use crate::framework::plot::{Figure, Panel, Series, Style};
 use crate::framework::FemError;
-use profiles::{BuiltInProfiles, PlacedProfiles, ProfileSet};
+use profiles::{PlacedProfiles, ProfileSet};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -414,91 +413,15 @@ pub fn sweep(y_max: f64, step: f64) -> Vec<f64> {
         .collect()
 }
 
-fn positive(a: &Args, key: &str, default: f64) -> Result<f64, FemError> {
-    let v = a.num(key)?.unwrap_or(default);
-    if v > 0.0 {
-        Ok(v)
-    } else {
-        Err(FemError::input(
-            "command line",
-            format!("--{key} {v}: must be positive (SI units: m, N, m/s, Pa)"),
-        ))
-    }
-}
-
-/// `--inclination` (default 1:40), read into [`Inclination`] as a model file's is.
-fn inclination(a: &Args) -> Result<Inclination, FemError> {
-    match a.opt("inclination") {
-        None => Ok(Inclination::OneIn40),
-        Some(v) => crate::choice::parse("command line", "--inclination", v),
-    }
-}
-
-/// The case of a command line.
-pub fn case_from_args(a: &Args) -> Result<ContactCase, FemError> {
-    let d = ContactCase::default();
-    let built_in = a
-        .opt("profiles")
-        .map(|v| crate::choice::parse::<BuiltInProfiles>("command line", "--profiles", v))
-        .transpose()?;
-    let profiles = match (built_in, a.path("wheel"), a.path("rail")) {
-        (_, Some(w), Some(r)) => ProfileSet::Files {
-            wheel: w.to_path_buf(),
-            rail: r.to_path_buf(),
-            inclination: inclination(a)?,
-        },
-        (_, Some(_), None) | (_, None, Some(_)) => {
-            return Err(FemError::input(
-                "command line",
-                "--wheel and --rail go together; fix: give both CSV files or neither",
-            ))
-        }
-        (None | Some(BuiltInProfiles::S1002On60E1), None, None) => {
-            ProfileSet::S1002On60E1(inclination(a)?)
-        }
-        (Some(BuiltInProfiles::ManchesterBenchmark), None, None) => ProfileSet::ManchesterBenchmark,
-    };
-    let poisson = a.num("poisson")?.unwrap_or(d.poisson);
-    if !(0.0..0.5).contains(&poisson) {
-        return Err(FemError::input(
-            "command line",
-            format!("--poisson {poisson}: must lie in [0, 0.5)"),
-        ));
-    }
-    Ok(ContactCase {
-        profiles,
-        gauge: positive(a, "gauge", d.gauge)?,
-        back_to_back: positive(a, "back-to-back", d.back_to_back)?,
-        radius: positive(a, "radius", d.radius)?,
-        yaw: a.num("yaw")?.unwrap_or(0.0),
-        load: positive(a, "load", d.load)?,
-        speed: positive(a, "speed", d.speed)?,
-        mu: positive(a, "mu", d.mu)?,
-        young: positive(a, "young", d.young)?,
-        poisson,
-    })
-}
-
-/// `railfem contact`.
-pub fn command(a: &Args) -> Result<i32, FemError> {
-    let case = case_from_args(a)?;
-    let shifts = match (a.num("y")?, a.num("y-max")?) {
-        (Some(_), Some(_)) => {
-            return Err(FemError::input(
-                "command line",
-                "--y and --y-max exclude each other; fix: give one shift or a sweep",
-            ))
-        }
-        (Some(y), None) => vec![y],
-        (None, y_max) => sweep(y_max.unwrap_or(0.01), positive(a, "y-step", 5e-4)?),
-    };
-    let out = a.out.clone().unwrap_or_else(|| "out-contact".into());
-    let (geom, _) = geometry(&case)?;
+/// `railfem contact`'s outputs: the contact of `case` at each lateral shift of `shifts`
+/// (m), written into `out` as `contact.csv`, `conicity.csv` and (for a sweep) `contact.svg`.
+pub fn write_shifts(case: &ContactCase, shifts: &[f64], out: &Path) -> Result<(), FemError> {
+    let (geom, _) = geometry(case)?;
     let results = shifts
         .iter()
-        .map(|&y| evaluate(&case, &geom, y))
+        .map(|&y| evaluate(case, &geom, y))
         .collect::<Result<Vec<_>, _>>()?;
-    std::fs::create_dir_all(&out).map_err(|e| FemError::output(&out, e))?;
+    std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
     write(&out.join("contact.csv"), &contact_csv(&results))?;
     let mut con = String::from("amplitude [m],lambda_e [-],secant [-]\n");
     for amp in CONICITY_AMPLITUDES_MM.map(|v| v * 1e-3) {
@@ -525,7 +448,7 @@ pub fn command(a: &Args) -> Result<i32, FemError> {
         },
         out.display()
     );
-    Ok(0)
+    Ok(())
 }
 
 fn write(path: &Path, text: &str) -> Result<(), FemError> {

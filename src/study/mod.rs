@@ -16,7 +16,6 @@ pub mod plan;
 pub mod run;
 pub mod table;
 
-use crate::args::Args;
 use crate::framework::FemError;
 use std::path::PathBuf;
 use std::sync::mpsc;
@@ -39,40 +38,6 @@ pub struct Options {
     pub restart: bool,
 }
 
-fn options(a: &Args) -> Result<Options, FemError> {
-    let plan = a.positional.first().map(PathBuf::from).ok_or_else(|| {
-        FemError::input(
-            "command line",
-            "`railfem study` needs a PLAN.toml file (docs/scale-out.md)",
-        )
-    })?;
-    let whole = |key: &str| -> Result<Option<usize>, FemError> {
-        match a.num(key)? {
-            None => Ok(None),
-            Some(v) if v >= 1.0 && v.fract() == 0.0 && v <= 1e6 => Ok(Some(v as usize)),
-            Some(v) => Err(FemError::input(
-                "command line",
-                format!("--{key} {v}: give a whole number ≥ 1"),
-            )),
-        }
-    };
-    let threads = whole("threads")?
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    if threads > 1024 {
-        return Err(FemError::input(
-            "command line",
-            format!("--threads {threads}: give at most 1024"),
-        ));
-    }
-    Ok(Options {
-        plan,
-        out: a.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT)),
-        threads,
-        stop_after: whole("stop-after")?,
-        restart: a.flag("restart"),
-    })
-}
-
 /// What a study run did.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Counts {
@@ -87,8 +52,7 @@ pub struct Counts {
 }
 
 /// `railfem study`: the exit code (0 done, 130 stopped by a signal, resumable).
-pub fn command(a: &Args) -> Result<i32, FemError> {
-    let o = options(a)?;
+pub fn command(o: Options) -> Result<i32, FemError> {
     let plan = plan::read(&o.plan)?;
     let cases = cases::expand(&plan);
     #[cfg(feature = "mpi")]

@@ -1,0 +1,262 @@
+//! `railfem bench`: time per step of the benchmark cases ([`crate::bench`] and its siblings); per DOF count in `--sizes`, `--steps` linear transient steps of the benchmark beam by default, a table on stdout and `bench.md`, `bench.csv` in `--out`.
+
+use crate::command::{Command, Context};
+use crate::framework::FemError;
+use clap::Args;
+use serde::Serialize;
+use std::path::Path;
+use std::path::PathBuf;
+
+/// `railfem bench`.
+#[derive(Args, Debug, Clone, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub struct BenchCmd {
+    /// beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the
+    /// beam with each linear solver), threshold (dense against sparse solver by size) or
+    /// floor (time per step against the memory-bandwidth floor) [default: beam].
+    #[arg(value_parser = crate::command::text(), long, value_name = "beam|train-bridge|sprung|threshold|floor|window")]
+    pub case: Option<String>,
+    /// DOF counts, comma-separated [default: 1e4,1e5,1e6].
+    #[arg(value_parser = crate::command::text(), long, value_name = "N1,N2,..")]
+    pub sizes: Option<String>,
+    /// Time steps per size [default: 20].
+    #[arg(value_parser = crate::command::number(), long, value_name = "N")]
+    pub steps: Option<f64>,
+    /// Write the benchmark model, its load vectors and railfem's answer per size into
+    /// DIR/dofN (for scripts/opensees_compare.sh) instead of timing.
+    #[arg(long, value_name = "DIR")]
+    #[serde(serialize_with = "crate::command::opt_path_text")]
+    pub export: Option<PathBuf>,
+    /// Output directory [default: out/bench].
+    #[arg(long, value_name = "DIR")]
+    #[serde(serialize_with = "crate::command::opt_path_text")]
+    pub out: Option<PathBuf>,
+    /// Carriages of the train-bridge case [default: 1]; with --case window a list
+    /// [default: 12].
+    #[arg(value_parser = crate::command::text(), long, value_name = "N")]
+    pub cars: Option<String>,
+    /// Spans of the window case, comma-separated [default: 113].
+    #[arg(value_parser = crate::command::text(), long, value_name = "N1,N2,..")]
+    pub spans: Option<String>,
+    /// Rail element length of the window case in m [default: 0.625].
+    #[arg(value_parser = crate::command::number(), long, value_name = "H")]
+    pub element_length: Option<f64>,
+    /// Time step of the train-bridge case in s [default: 5e-4].
+    #[arg(value_parser = crate::command::number(), long, value_name = "DT")]
+    pub dt: Option<f64>,
+    /// Kinematics of the vehicle links: linear or nonlinear [default: linear].
+    #[arg(value_parser = crate::command::text(), long, value_name = "linear|nonlinear")]
+    pub geometry: Option<String>,
+    /// Train-bridge case: station of the front carriage's centre at t = 0 from the bridge's
+    /// first abutment, in m [default: -15, entering the viaduct].
+    #[arg(value_parser = crate::command::number(), long, value_name = "X", allow_hyphen_values = true)]
+    pub train_start: Option<f64>,
+    /// Mass matrix of the beam case: consistent (cubic Hermite, as OpenSees -cMass) or
+    /// lumped (rho*A*L/2 per node and translation, no rotary inertia, as OpenSees'
+    /// elasticBeamColumn default) [default: consistent].
+    #[arg(value_parser = crate::command::text(), long, value_name = "consistent|lumped")]
+    pub mass: Option<String>,
+}
+
+/// The cases of `--case`.
+const CASES: [&str; 6] = [
+    "beam",
+    "train-bridge",
+    "sprung",
+    "threshold",
+    "floor",
+    "window",
+];
+
+/// `--cars` of the train-bridge case: one count (the window case takes a list).
+fn number(key: &str, v: Option<&str>) -> Result<Option<f64>, FemError> {
+    v.map(|t| {
+        t.parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| {
+                FemError::input("command line", format!("--{key} {t}: not a finite number"))
+            })
+    })
+    .transpose()
+}
+
+impl BenchCmd {
+    /// `--case window` ([`crate::bench_window`]): `--spans` and `--cars` lists (default 113
+    /// and 12), `--steps` timed steps (default 20), `--dt` (default 5e-4 s),
+    /// `--element-length` (default 0.625 m), `--train-start` (default -15 m).
+    fn window(&self, out: &Path) -> Result<i32, FemError> {
+        let list =
+            |key: &str, given: Option<&str>, default: &str| -> Result<Vec<usize>, FemError> {
+                let spec = given.unwrap_or(default);
+                spec.split(',')
+                    .map(|x| match x.trim().parse::<usize>() {
+                        Ok(v) if v >= 1 => Ok(v),
+                        _ => Err(FemError::input(
+                            "command line",
+                            format!("--{key} {spec}: give whole numbers >= 1, comma-separated"),
+                        )),
+                    })
+                    .collect()
+            };
+        let spans = list("spans", self.spans.as_deref(), "113")?;
+        let cars = list("cars", self.cars.as_deref(), "12")?;
+        let positive = |key: &str, given: Option<f64>, default: f64| -> Result<f64, FemError> {
+            match given {
+                None => Ok(default),
+                Some(v) if v > 0.0 => Ok(v),
+                Some(v) => Err(FemError::input(
+                    "command line",
+                    format!("--{key} {v}: give a value > 0"),
+                )),
+            }
+        };
+        let steps = positive("steps", self.steps, 20.0)?.round() as usize;
+        let dt = positive("dt", self.dt, 5e-4)?;
+        let h = positive("element-length", self.element_length, 0.625)?;
+        let start = self.train_start.unwrap_or(-15.0);
+        crate::bench_window::run(&spans, &cars, steps.max(1), [dt, h, start], out)?;
+        Ok(0)
+    }
+}
+
+impl Command for BenchCmd {
+    const NAME: &'static str = "bench";
+    const STOPS_AT_STEP: bool = true;
+    fn out_dir(&self) -> Option<PathBuf> {
+        match &self.export {
+            Some(dir) => Some(dir.clone()),
+            None => crate::command::out_or(&self.out, "out/bench"),
+        }
+    }
+    fn run(&self, ctx: &Context) -> Result<i32, FemError> {
+        let case = self.case.as_deref().unwrap_or("beam");
+        if !CASES.contains(&case) {
+            return Err(FemError::input(
+                "command line",
+                format!("--case {case}: use beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the beam, per solver), threshold (dense against sparse solver by size), floor (time per step against the memory-bandwidth floor) or window (train-bridge step time against spans and carriages, activity window on and off)"),
+            ));
+        }
+        // Without --export the folder is --out (default out/bench); with it, the export's.
+        let out = self
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out/bench"));
+        if case == "window" {
+            return self.window(&out);
+        }
+        if case == "threshold" {
+            crate::threshold::run(&out)?;
+            return Ok(0);
+        }
+        let spec = self.sizes.as_deref().unwrap_or("1e4,1e5,1e6");
+        let mut sizes = Vec::new();
+        for x in spec.split(',') {
+            match x.trim().parse::<f64>() {
+                Ok(v) if (1.0..=1e9).contains(&v) => sizes.push(v.round() as usize),
+                _ => {
+                    return Err(FemError::input(
+                        "command line",
+                        format!(
+                            "--sizes {spec}: give DOF counts >= 1, comma-separated (e.g. 1e4,1e5)"
+                        ),
+                    ))
+                }
+            }
+        }
+        for &n in &sizes {
+            crate::framework::limits::check_memory(
+                &format!("--sizes {spec}"),
+                n as f64,
+                "DOFs",
+                crate::framework::limits::BYTES_PER_DOF,
+                "give smaller sizes",
+            )
+            .map_err(|m| FemError::input("command line", m))?;
+        }
+        let steps = match self.steps {
+            None => 20,
+            Some(v) if v >= 1.0 && v.fract() == 0.0 => v as usize,
+            Some(v) => {
+                return Err(FemError::input(
+                    "command line",
+                    format!("--steps {v}: give a whole number of steps >= 1"),
+                ))
+            }
+        };
+        let mass = match self.mass.as_deref() {
+            None => crate::bench::BenchMass::Consistent,
+            Some(m) => match crate::bench::BenchMass::parse(m) {
+                Some(k) if case == "beam" || case == "floor" => k,
+                Some(_) => {
+                    return Err(FemError::input(
+                        "command line",
+                        format!(
+                            "--mass {m}: only the beam and floor cases take --mass; drop it or use --case beam"
+                        ),
+                    ))
+                }
+                None => {
+                    return Err(FemError::input(
+                        "command line",
+                        format!("--mass {m}: use consistent (the default) or lumped"),
+                    ))
+                }
+            },
+        };
+        if let Some(dir) = &self.export {
+            // One directory per size: the model, the load vectors and railfem's answer, for
+            // scripts/opensees_compare.py.
+            for &n in &sizes {
+                let sub = dir.join(format!("dof{n}"));
+                let r = crate::bench::export(n, steps, mass, &sub)?;
+                println!(
+                    "bench export: {} equations, {} steps, first step {:.3} ms, then {:.3} ms/step; written to {}",
+                    r.equations,
+                    r.steps,
+                    r.first_step * 1e3,
+                    r.per_step * 1e3,
+                    sub.display()
+                );
+            }
+            return Ok(0);
+        }
+        let out = ctx.out();
+        if case == "train-bridge" {
+            let cars = match number("cars", self.cars.as_deref())? {
+                None => 1,
+                Some(v) if v >= 1.0 && v.fract() == 0.0 => v as usize,
+                Some(v) => {
+                    return Err(FemError::input(
+                        "command line",
+                        format!("--cars {v}: give a whole number of carriages >= 1"),
+                    ))
+                }
+            };
+            let dt = match self.dt {
+                None => 5e-4,
+                Some(v) if v > 0.0 => v,
+                Some(v) => {
+                    return Err(FemError::input(
+                        "command line",
+                        format!("--dt {v}: give a time step > 0 s"),
+                    ))
+                }
+            };
+            let start = self.train_start.unwrap_or(-15.0);
+            let geometry = crate::command::geometry(self.geometry.as_deref())?;
+            crate::bench_train::run(&sizes, cars, steps, dt, start, geometry, out)?;
+            return Ok(0);
+        }
+        if case == "floor" {
+            crate::floor::run(&sizes, steps, mass, out)?;
+            return Ok(0);
+        }
+        if case == "sprung" {
+            crate::small_models::run(&sizes, steps, out)?;
+            return Ok(0);
+        }
+        crate::bench::run(&sizes, steps, mass, out)?;
+        Ok(0)
+    }
+}
