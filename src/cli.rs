@@ -562,6 +562,7 @@ fn dispatch(a: &Args) -> Result<i32, FemError> {
         "trains" => crate::bridge_check::trains_command(),
         "assess" => crate::assess::command(a),
         "contact" => crate::contact_tool::command(a),
+        "reference" => crate::reference::command(a),
         "matrices" => {
             let path = model_arg(a)?;
             let out = a

@@ -144,6 +144,9 @@ pub enum Command {
     /// creepages and creep forces; contact.csv, conicity.csv, contact.svg
     /// (docs/contact-tool.md).
     Contact(ContactCmd),
+    /// Write the book's generated reference pages (elements, loads, recorders, integrators,
+    /// this command line) into --out.
+    Reference(ReferenceCmd),
     /// Print a shell completion script (e.g. `railfem completions bash > ~/.local/share/bash-completion/completions/railfem`).
     Completions(CompletionsCmd),
 }
@@ -680,6 +683,14 @@ pub struct IrregularityCmd {
     #[arg(long, value_name = "C1,C2,..")]
     pub components: Option<OsString>,
     /// Output directory [default: out/irregularity].
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// `railfem reference`.
+#[derive(ClapArgs, Debug)]
+pub struct ReferenceCmd {
+    /// Output directory [default: docs/reference].
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
