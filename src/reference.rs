@@ -240,12 +240,13 @@ fn arg_row(a: &clap::Arg) -> String {
     if takes_value && !choices.is_empty() {
         choices.sort();
         format!(
-            "| `{spelling}` | {} (one of {}) |\n",
+            "| {} | {} (one of {}) |\n",
+            cell(&format!("`{spelling}`")),
             cell(&help),
-            choices.join(", ")
+            cell(&choices.join(", "))
         )
     } else {
-        format!("| `{spelling}` | {} |\n", cell(&help))
+        format!("| {} | {} |\n", cell(&format!("`{spelling}`")), cell(&help))
     }
 }
 

@@ -137,3 +137,28 @@ fn the_command_writes_the_pages() {
         .expect("run railfem");
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+fn every_table_row_has_as_many_cells_as_its_header() {
+    // A `|` left unescaped in a cell (`<linear|nonlinear>`) would split it in two.
+    let cells = |line: &str| {
+        let b = line.as_bytes();
+        (0..b.len())
+            .filter(|&i| b[i] == b'|' && (i == 0 || b[i - 1] != b'\\'))
+            .count()
+    };
+    for page in railfem::reference::pages() {
+        let mut header: Option<usize> = None;
+        for (i, line) in page.text.lines().enumerate() {
+            if !line.starts_with('|') {
+                header = None;
+                continue;
+            }
+            let n = cells(line);
+            match header {
+                None => header = Some(n),
+                Some(h) => assert_eq!(n, h, "{}:{}: {line}", page.file, i + 1),
+            }
+        }
+    }
+}
