@@ -195,6 +195,9 @@ commands! {
     /// creepages and creep forces; contact.csv, conicity.csv, contact.svg
     /// (docs/contact-tool.md).
     Contact(contact::ContactCmd),
+    /// Write the book's generated reference pages (elements, loads, recorders, integrators,
+    /// this command line) into --out.
+    Reference(reference::ReferenceCmd),
     /// Print a shell completion script (e.g. `railfem completions bash > ~/.local/share/bash-completion/completions/railfem`).
     Completions(completions::CompletionsCmd),
 }
@@ -211,6 +214,7 @@ mod irregularity;
 mod lists;
 mod matrices;
 mod pareto;
+mod reference;
 mod run;
 mod stress;
 mod study;

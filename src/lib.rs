@@ -39,6 +39,7 @@ pub mod pareto_retime;
 pub mod pareto_train;
 pub mod progress;
 pub mod ranks;
+pub mod reference;
 pub mod rolling_contact;
 pub mod sidecar;
 pub mod small_models;
