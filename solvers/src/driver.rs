@@ -286,6 +286,11 @@ pub struct Driver {
     /// One flag per equation: held by the activity window ([`crate::window`]), its
     /// residual a reaction; empty when nothing is held.
     pub(crate) frozen_rows: Vec<bool>,
+    /// The rows the condensed Newton's passes form while blocks are held
+    /// ([`crate::held_rows`]); `None` when nothing is held.
+    pub(crate) held_rows: Option<crate::held_rows::HeldRows>,
+    /// Whether held rows are left out ([`Driver::set_skip_held_rows`]).
+    pub(crate) skip_held_rows: bool,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -437,6 +442,8 @@ impl Driver {
             mass_split: None,
             narrow_after_mass: None,
             frozen_rows: Vec::new(),
+            held_rows: None,
+            skip_held_rows: true,
         };
         if let (Some(split), Some((ex, _))) = (split, shared) {
             d.take_rank_split(ex, split);
@@ -1485,6 +1492,9 @@ impl Driver {
         match outcome {
             Ok((s, it, res)) => {
                 self.asm.commit(&mut self.model);
+                if let Some(h) = self.held_rows.as_mut() {
+                    h.committed();
+                }
                 if let Some(e) = self.energy.as_mut() {
                     // A linear step formed its state's M·v with its K·q.
                     let mv = self.work.mv_ready.then_some(&self.work.mv[..]);
@@ -1492,7 +1502,17 @@ impl Driver {
                     // A rank forming its own rows sums the balance over them, in block
                     // order across the ranks.
                     let ranks = self.partition.as_mut().filter(|_| self.rows_per_rank);
-                    e.record(&self.asm, &self.model, &self.state, &s, mv, cv, ranks);
+                    let held = self.held_rows.as_ref().and_then(|h| h.rows());
+                    e.record(
+                        &self.asm,
+                        &self.model,
+                        &self.state,
+                        &s,
+                        mv,
+                        cv,
+                        ranks,
+                        held.as_deref(),
+                    );
                 }
                 // The increment for the next step's predictor, in last step's vector.
                 let kept = self.last_increment.take();
