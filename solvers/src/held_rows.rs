@@ -119,7 +119,7 @@ impl HeldRows {
 pub(crate) fn parts(rows: Option<&RowSet>, lo: usize, hi: usize) -> Vec<std::ops::Range<usize>> {
     match rows {
         Some(r) => r.within(lo, hi).collect(),
-        None => vec![lo..hi],
+        None => std::iter::once(lo..hi).collect(),
     }
 }
 
