@@ -44,10 +44,11 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
     let d = &mut m.driver;
     d.static_solve(0.0, 10)?;
     d.initialize()?;
-    let mut window = open(d, case)?;
+    let track = case.window_track();
+    let mut window = open(d, case.window, &track)?;
     let mut step = |d: &mut crate::solvers::Driver| -> Result<usize, FemError> {
         if let Some(w) = window.as_mut() {
-            let [rear, front] = train_extent(case, d.state.t);
+            let [rear, front] = train_extent(&track, d.state.t);
             w.update(d, rear, front)?;
         }
         Ok(d.step(case.dt)?.iterations)

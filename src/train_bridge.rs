@@ -424,6 +424,19 @@ impl TrainBridgeCase {
         self.cars as f64 * CarriageData::sks700().car_length + 20.0
     }
 
+    /// What the activity window needs of the case ([`crate::train_window`]).
+    pub fn window_track(&self) -> crate::train_window::WindowTrack {
+        let slab = self.bridge().slab_track;
+        crate::train_window::WindowTrack {
+            span: self.span,
+            fastener_k: slab.fastener_k[1],
+            fastener_spacing: slab.fastener_spacing,
+            front_centre: self.approach() + self.train_start,
+            speed: self.speed,
+            cars: self.cars,
+        }
+    }
+
     pub(crate) fn bridge(&self) -> BridgeSpec {
         BridgeSpec {
             span: self.span,
@@ -514,7 +527,11 @@ impl TrainBridgeCase {
         if let Some(d) = self.duration {
             pos(d, "duration")?;
         }
-        crate::train_window::validate(self)?;
+        crate::train_window::validate(
+            self.window,
+            self.quake != Quake::None,
+            self.radius.is_some(),
+        )?;
         if self.cars == 0 || self.spans == 0 {
             return Err(FemError::input(o, "--cars and --spans must be at least 1"));
         }
@@ -823,7 +840,8 @@ pub fn run(
     // Preload in increments (the wheels' power-law springs are soft at zero force).
     d.static_solve(0.0, 10)?;
     d.initialize()?;
-    let mut window = crate::train_window::open(d, case)?;
+    let track = case.window_track();
+    let mut window = crate::train_window::open(d, case.window, &track)?;
     let names = d.model.elements[m.wheel_index[0]].element.output_names();
     let find = |k: &str| {
         names
@@ -913,7 +931,7 @@ pub fn run(
     let mut bar = crate::progress::Progress::new("train-bridge", total as u64, "steps");
     for k in 1..=total {
         if let Some(w) = window.as_mut() {
-            let [rear, front] = crate::train_window::train_extent(case, d.state.t);
+            let [rear, front] = crate::train_window::train_extent(&track, d.state.t);
             w.update(d, rear, front)?;
         }
         let r = d.step(dt)?;

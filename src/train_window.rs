@@ -2,7 +2,9 @@
 //! where the train is along the track at each step, the window's default distances from
 //! the rail's decay length and the span, and the checks that refuse a case the window does
 //! not apply to. The window itself — what a held block is, what stays exact and what is
-//! approximated — is `railfem_solvers::window`.
+//! approximated — is `railfem_solvers::window`. The case hands what the window needs of
+//! it as a [`WindowTrack`] (`railfem::train_bridge` builds it), so this module does not
+//! read the case.
 //!
 //! **Default distances.** A rail on discrete fasteners of vertical stiffness `k_f` per seat
 //! at spacing `a` is a beam on an elastic foundation of modulus `k = k_f/a`; under a load
@@ -19,13 +21,31 @@
 //! falls with `ahead` as 0.73 % (one span + 3π/β = 36.5 m), 0.48 % (50 m), 0.29 % (66 m),
 //! 0.25 % (80 m), 0.12 % (120 m), 0.01 % (200 m): the default is **two spans + 3π/β**
 //! (66 m for 29.75 m spans), the shortest of these with a margin of almost two under the
-//! 0.5 % target. The default tolerance, 1 %, drops at most about 1e-4 of a block's largest
+//! 0.5 % target. For the paper's 12 carriages entering 20 spans (Δt = 0.5 ms, blocks of
+//! 3 000 equations) the same default gives about 1 % of the wheels' largest ΔQ/Q peak
+//! (`docs/activity-window.md`): the window is therefore not on by default. The default tolerance, 1 %, drops at most about 1e-4 of a block's largest
 //! kinetic energy when it is held behind (`railfem_solvers::window`).
 
 use crate::solvers::window::{ActivityWindow, WindowSettings};
 use crate::solvers::Driver;
-use crate::train_bridge::{Quake, TrainBridgeCase};
 use railfem_framework::FemError;
+
+/// What the window needs of a straight train–bridge case.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WindowTrack {
+    /// Span length (m).
+    pub span: f64,
+    /// Rail fasteners' vertical stiffness per seat (N/m).
+    pub fastener_k: f64,
+    /// Rail fasteners' spacing (m).
+    pub fastener_spacing: f64,
+    /// Station of the front carriage's centre at `t = 0` (m along the track).
+    pub front_centre: f64,
+    /// Train speed (m/s).
+    pub speed: f64,
+    /// Number of carriages.
+    pub cars: usize,
+}
 
 /// The activity window's choice for a case.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -52,37 +72,37 @@ pub const DEFAULT_TOLERANCE: f64 = 0.01;
 
 /// The rail's decay length `1/β` (m), `β = (k/(4·EI))^{1/4}`, `k` the fasteners' vertical
 /// stiffness per metre (module documentation).
-pub fn decay_length(case: &TrainBridgeCase) -> f64 {
-    let slab = case.bridge().slab_track;
-    let k = slab.fastener_k[1] / slab.fastener_spacing;
+pub fn decay_length(track: &WindowTrack) -> f64 {
+    let k = track.fastener_k / track.fastener_spacing;
     let rail = crate::elements::rail::track_model::TrackMesh::default().rail;
     let beta = (k / (4.0 * rail.e * rail.i_vertical)).powf(0.25);
     1.0 / beta
 }
 
-/// The window's settings for `case` with the user's `options` (defaults filled in).
-pub fn settings(case: &TrainBridgeCase, options: WindowOptions) -> WindowSettings {
-    let basin = 3.0 * std::f64::consts::PI * decay_length(case);
+/// The window's settings for `track` with the user's `options` (defaults filled in).
+pub fn settings(track: &WindowTrack, options: WindowOptions) -> WindowSettings {
+    let basin = 3.0 * std::f64::consts::PI * decay_length(track);
     WindowSettings {
-        ahead: options.ahead.unwrap_or(2.0 * case.span + basin),
+        ahead: options.ahead.unwrap_or(2.0 * track.span + basin),
         behind: basin,
         tolerance: options.tolerance.unwrap_or(DEFAULT_TOLERANCE),
     }
 }
 
 /// Stations of the train's rear and front at time `t` (m along the track): the front
-/// carriage's centre moves from `approach + train_start` at the case's speed, and the
-/// train reaches half a carriage before it and `cars − ½` carriages behind it (the wheels
-/// lie inside).
-pub fn train_extent(case: &TrainBridgeCase, t: f64) -> [f64; 2] {
+/// carriage's centre moves from `front_centre` at the track's speed, and the train
+/// reaches half a carriage before it and `cars − ½` carriages behind it (the wheels lie
+/// inside).
+pub fn train_extent(track: &WindowTrack, t: f64) -> [f64; 2] {
     let car = crate::elements::rail::vehicle::CarriageData::sks700().car_length;
-    let centre = case.approach() + case.train_start + case.speed * t;
-    [centre - (case.cars as f64 - 0.5) * car, centre + 0.5 * car]
+    let centre = track.front_centre + track.speed * t;
+    [centre - (track.cars as f64 - 0.5) * car, centre + 0.5 * car]
 }
 
-/// Checks the choice against the case (one line naming the option and the fix).
-pub fn validate(case: &TrainBridgeCase) -> Result<(), FemError> {
-    let WindowChoice::On(o) = case.window else {
+/// Checks the choice against the case — with or without ground motion (`quake`), on a
+/// curve (`curved`) — in one line naming the option and the fix.
+pub fn validate(window: WindowChoice, quake: bool, curved: bool) -> Result<(), FemError> {
+    let WindowChoice::On(o) = window else {
         return Ok(());
     };
     let o_ = "command line";
@@ -102,13 +122,13 @@ pub fn validate(case: &TrainBridgeCase) -> Result<(), FemError> {
             ));
         }
     }
-    if case.quake != Quake::None {
+    if quake {
         return Err(FemError::input(
             o_,
             "--window on with --quake: under ground motion the whole viaduct moves; give --window off",
         ));
     }
-    if case.radius.is_some() {
+    if curved {
         return Err(FemError::input(
             o_,
             "--window on with --radius: the window maps nodes to stations on a straight track only; give --window off",
@@ -119,13 +139,17 @@ pub fn validate(case: &TrainBridgeCase) -> Result<(), FemError> {
 
 /// The window of a run, after the driver's initialization (`None` when off). Refused
 /// (an input error) when the model has no partitioned solver.
-pub fn open(driver: &Driver, case: &TrainBridgeCase) -> Result<Option<ActivityWindow>, FemError> {
-    let WindowChoice::On(o) = case.window else {
+pub fn open(
+    driver: &Driver,
+    window: WindowChoice,
+    track: &WindowTrack,
+) -> Result<Option<ActivityWindow>, FemError> {
+    let WindowChoice::On(o) = window else {
         return Ok(None);
     };
     // On the straight track (checked) a node's station is its X coordinate.
     let station = |node: usize| driver.model.nodes[node].position.x;
-    ActivityWindow::new(driver, settings(case, o), station)
+    ActivityWindow::new(driver, settings(track, o), station)
         .map(Some)
         .map_err(|m| {
             FemError::input(

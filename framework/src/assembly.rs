@@ -27,6 +27,7 @@ use crate::element::{DissipationKind, ElementError, NodeKinematics, StepContext,
 use crate::error::FemError;
 use crate::loads::{Load, MovingForce};
 use crate::model::{Model, SolverResolver};
+use crate::row_set::RowSet;
 use crate::sparse::CscMatrix;
 use nalgebra::{DMatrix, Vector3};
 
@@ -938,6 +939,29 @@ impl Assembler {
         mass_more: &mut [(&[f64], &mut [f64])],
         damping_more: &mut [(&[f64], &mut [f64])],
     ) {
+        self.transient_products_on(
+            None,
+            (q, f_int),
+            (a_w, v_w),
+            (inertia, damping),
+            mass_more,
+            damping_more,
+        );
+    }
+
+    /// [`Assembler::transient_products_with`] on the rows of `rows` (every row: `None`):
+    /// where the constant matrices' non-zero entries are kept, the other rows of the
+    /// products over them are left as they are (a caller that knows them keeps them);
+    /// otherwise every row is formed. A formed row has the same value, to the bit.
+    pub fn transient_products_on(
+        &mut self,
+        rows: Option<&RowSet>,
+        (q, f_int): (&[f64], &mut [f64]),
+        (a_w, v_w): (&[f64], &[f64]),
+        (inertia, damping): (&mut [f64], &mut [f64]),
+        mass_more: &mut [(&[f64], &mut [f64])],
+        damping_more: &mut [(&[f64], &mut [f64])],
+    ) {
         let t0 = std::time::Instant::now();
         let mut mats: Vec<&CscMatrix> = vec![&self.k_const];
         let mut xs: Vec<&[f64]> = vec![q];
@@ -975,7 +999,7 @@ impl Assembler {
                 ys.push(&mut **y);
             }
         }
-        self.products(&mats, &xs, &mut ys);
+        self.products_on(rows, &mats, &xs, &mut ys);
         drop(ys);
         self.add_variable_mass(a_w, inertia);
         self.add_variable_damping(v_w, damping);
@@ -1052,6 +1076,18 @@ impl Assembler {
     /// bit), else over their shared pattern when every constant element is symmetric
     /// ([`crate::sparse::symmetric_products`]), else one scatter product each.
     fn products(&self, mats: &[&CscMatrix], xs: &[&[f64]], ys: &mut [&mut [f64]]) {
+        self.products_on(None, mats, xs, ys);
+    }
+
+    /// [`Assembler::products`], on the rows of `rows` alone where the non-zero entries
+    /// are kept ([`nonzero_products::nonzero_products_on`]), on every row otherwise.
+    fn products_on(
+        &self,
+        rows: Option<&RowSet>,
+        mats: &[&CscMatrix],
+        xs: &[&[f64]],
+        ys: &mut [&mut [f64]],
+    ) {
         if let Some(nz) = &self.nonzero {
             let own = [&self.k_const, &self.m_const, &self.c_const];
             let picked: Option<Vec<&NonzeroColumns>> = mats
@@ -1059,7 +1095,12 @@ impl Assembler {
                 .map(|&m| own.iter().position(|&o| std::ptr::eq(o, m)).map(|k| &nz[k]))
                 .collect();
             if let Some(picked) = picked {
-                nonzero_products::nonzero_products(&picked, xs, ys, self.threads);
+                match rows {
+                    Some(rows) => {
+                        nonzero_products::nonzero_products_on(&picked, xs, ys, rows, self.threads)
+                    }
+                    None => nonzero_products::nonzero_products(&picked, xs, ys, self.threads),
+                }
                 return;
             }
         }

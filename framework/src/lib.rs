@@ -55,6 +55,7 @@ pub mod recording;
 pub mod registry;
 pub mod released;
 pub mod rotation;
+pub mod row_set;
 pub mod sparse;
 pub mod speed;
 pub mod strict_json;

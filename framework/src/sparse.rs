@@ -203,6 +203,18 @@ pub fn by_column_ranges(
     // Below ~20 000 columns a thread costs more than it saves.
     let nt = threads.clamp(1, 16).min(n / 20_000 + 1);
     let bounds: Vec<usize> = (0..=nt).map(|t| t * n / nt).collect();
+    by_column_bounds(&bounds, ys, kernel);
+}
+
+/// [`by_column_ranges`] on given ranges `bounds[t]..bounds[t + 1]` (increasing, from 0 to
+/// the columns to form), one thread each.
+pub fn by_column_bounds(
+    bounds: &[usize],
+    ys: &mut [&mut [f64]],
+    kernel: impl Fn(usize, &mut Vec<&mut [f64]>) + Sync,
+) {
+    let nt = bounds.len() - 1;
+    let n = bounds[nt];
     let mut parts: Vec<Vec<&mut [f64]>> = (0..nt).map(|_| Vec::new()).collect();
     for y in ys.iter_mut() {
         let mut rest: &mut [f64] = &mut y[..n];

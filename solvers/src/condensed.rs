@@ -73,10 +73,12 @@ use crate::chunks::{par_chunks, Shared};
 pub use crate::condensed_cache::CondensedStats;
 use crate::condensed_cache::TopProducts;
 use crate::driver::{Accepted, Attempt, Driver, State, StepWork};
+use crate::held_rows;
 use crate::step_method::{CondensedNewton, FullNewton, StepMethod};
 use crate::time_integrator::{Increment, TimeIntegrator, Trial, BLOCK};
 use railfem_framework::model::NewtonKind;
 use railfem_framework::parallel::threads;
+use railfem_framework::row_set::RowSet;
 use std::time::Instant;
 
 /// How a condensed attempt ended when it did not give a state.
@@ -194,36 +196,53 @@ enum Evaluation {
     Verification,
 }
 
-/// `dst = src` over fixed chunks on `nt` threads (`dst` takes `src`'s length).
-fn par_copy(src: &[f64], dst: &mut Vec<f64>, nt: usize) {
+/// `dst = src` over fixed chunks on `nt` threads (`dst` takes `src`'s length), on the rows
+/// of `rows` (every row: `None`).
+fn par_copy(src: &[f64], dst: &mut Vec<f64>, rows: Option<&RowSet>, nt: usize) {
     dst.resize(src.len(), 0.0);
     let pd = Shared(dst.as_mut_ptr());
     par_chunks(src.len(), nt, |lo, hi| {
-        // SAFETY: chunks are disjoint.
-        unsafe { pd.range(lo, hi) }.copy_from_slice(&src[lo..hi]);
+        for p in held_rows::parts(rows, lo, hi) {
+            // SAFETY: chunks are disjoint.
+            unsafe { pd.range(p.start, p.end) }.copy_from_slice(&src[p]);
+        }
     });
 }
 
-/// `x = value` over fixed chunks on `nt` threads.
-fn par_fill(x: &mut [f64], value: f64, nt: usize) {
+/// `x = value` over fixed chunks on `nt` threads, on the rows of `rows` (every row:
+/// `None`).
+fn par_fill(x: &mut [f64], value: f64, rows: Option<&RowSet>, nt: usize) {
     let px = Shared(x.as_mut_ptr());
     par_chunks(x.len(), nt, |lo, hi| {
-        // SAFETY: chunks are disjoint.
-        unsafe { px.range(lo, hi) }.fill(value);
+        for p in held_rows::parts(rows, lo, hi) {
+            // SAFETY: chunks are disjoint.
+            unsafe { px.range(p.start, p.end) }.fill(value);
+        }
     });
 }
 
 /// After a verification's back-substitution: `q += dq` when `dq` holds the interiors' `δ_I`
 /// from the base (`from_base`), then `(|dq|², |q|²)` over every equation, in one pass
-/// (fixed chunks, so the sums do not depend on the thread count).
-fn recover_and_norms(q: &mut [f64], dq: &[f64], from_base: bool, nt: usize) -> (f64, f64) {
+/// (fixed chunks, so the sums do not depend on the thread count); with `rows`, on those
+/// rows alone (the others' `dq` is zero: [`crate::held_rows`]).
+fn recover_and_norms(
+    q: &mut [f64],
+    dq: &[f64],
+    from_base: bool,
+    rows: Option<&RowSet>,
+    nt: usize,
+) -> (f64, f64) {
     let pq = Shared(q.as_mut_ptr());
     let parts = par_chunks(q.len(), nt, |lo, hi| {
         // SAFETY: chunks are disjoint.
         let q = unsafe { pq.range(lo, hi) };
         let d = &dq[lo..hi];
         let (mut dn2, mut qn2) = (0.0, 0.0);
-        for k in 0..hi - lo {
+        for k in held_rows::parts(rows, lo, hi)
+            .into_iter()
+            .flatten()
+            .map(|i| i - lo)
+        {
             if from_base {
                 q[k] += d[k];
             }
@@ -337,6 +356,14 @@ impl Driver {
         let nt = threads(0);
         let finite = self.asm.dofmap.has_finite_rotations();
         let predictor = kind == Evaluation::Predictor;
+        // While blocks are held, the deep held rows are left as they are
+        // ([`crate::held_rows`]); their sums of squares are added to the norms.
+        let rows = self.held_rows.as_ref().and_then(|h| h.rows());
+        let rows = rows.as_deref();
+        let deep = match (rows, self.held_rows.as_mut()) {
+            (Some(_), Some(h)) => h.deep_sums(&s0.q, &s0.f_int, (&w.f_ext, &s0.f_ext, af)),
+            _ => [0.0; 3],
+        };
         if finite {
             if predictor {
                 w.q.copy_from_slice(&s0.q);
@@ -381,57 +408,64 @@ impl Driver {
                 let (mut ext2, mut qq) = (0.0, 0.0);
                 // A block at a time: the integrator's call, then the checks, while the
                 // block is in the cache.
-                for b in (lo..hi).step_by(BLOCK) {
-                    let e = (b + BLOCK).min(hi);
-                    let (kb, ke) = (b - lo, e - lo);
-                    if predictor {
-                        for k in kb..ke {
-                            let i = lo + k;
-                            if !finite {
-                                q[k] = s0.q[i];
+                let parts = held_rows::parts(rows, lo, hi);
+                for part in &parts {
+                    for b in part.clone().step_by(BLOCK) {
+                        let e = (b + BLOCK).min(part.end);
+                        let (kb, ke) = (b - lo, e - lo);
+                        if predictor {
+                            for k in kb..ke {
+                                let i = lo + k;
+                                if !finite {
+                                    q[k] = s0.q[i];
+                                }
+                                let fr = (1.0 - af) * f_ext[i] + af * s0.f_ext[i];
+                                f_ref[k] = fr;
+                                ext2 += fr * fr;
+                                qq += q[k] * q[k];
                             }
-                            let fr = (1.0 - af) * f_ext[i] + af * s0.f_ext[i];
-                            f_ref[k] = fr;
-                            ext2 += fr * fr;
-                            qq += q[k] * q[k];
                         }
-                    }
-                    let inc = if finite {
-                        Increment::Given(&du[b..e])
-                    } else {
-                        Increment::Between {
-                            q: &q[kb..ke],
-                            q0: &s0.q[b..e],
+                        let inc = if finite {
+                            Increment::Given(&du[b..e])
+                        } else {
+                            Increment::Between {
+                                q: &q[kb..ke],
+                                q0: &s0.q[b..e],
+                            }
+                        };
+                        let out = Trial {
+                            v: &mut v[kb..ke],
+                            a: &mut a[kb..ke],
+                            a_w: &mut a_w[kb..ke],
+                            v_w: &mut v_w[kb..ke],
+                        };
+                        ig.trial(dt, b, inc, &s0.v[b..e], &s0.a[b..e], out);
+                        for k in kb..ke {
+                            if !same {
+                                break;
+                            }
+                            let i = lo + k;
+                            same = q[k].to_bits() == aq[i].to_bits()
+                                && a_w[k].to_bits() == aaw[i].to_bits()
+                                && v_w[k].to_bits() == avw[i].to_bits();
                         }
-                    };
-                    let out = Trial {
-                        v: &mut v[kb..ke],
-                        a: &mut a[kb..ke],
-                        a_w: &mut a_w[kb..ke],
-                        v_w: &mut v_w[kb..ke],
-                    };
-                    ig.trial(dt, b, inc, &s0.v[b..e], &s0.a[b..e], out);
-                    for k in kb..ke {
-                        if !same {
-                            break;
-                        }
-                        let i = lo + k;
-                        same = q[k].to_bits() == aq[i].to_bits()
-                            && a_w[k].to_bits() == aaw[i].to_bits()
-                            && v_w[k].to_bits() == avw[i].to_bits();
                     }
                 }
                 if verification {
                     // The next predictor's kinematics, `Δu = 0` from this state.
-                    // SAFETY: chunks are disjoint.
-                    let (naw, nvw) = unsafe { (nawp.range(lo, hi), nvwp.range(lo, hi)) };
-                    ig.next_at_rest(dt, v, a, naw, Some(nvw));
+                    for p in &parts {
+                        let (a0, b0) = (p.start - lo, p.end - lo);
+                        // SAFETY: chunks are disjoint.
+                        let (naw, nvw) =
+                            unsafe { (nawp.range(p.start, p.end), nvwp.range(p.start, p.end)) };
+                        ig.next_at_rest(dt, &v[a0..b0], &a[a0..b0], naw, Some(nvw));
+                    }
                 }
                 (same, ext2, qq)
             });
             if predictor {
-                *ext_norm = parts.iter().map(|p| p.1).sum::<f64>().sqrt();
-                *q2 = parts.iter().map(|p| p.2).sum::<f64>();
+                *ext_norm = (parts.iter().map(|p| p.1).sum::<f64>() + deep[2]).sqrt();
+                *q2 = parts.iter().map(|p| p.2).sum::<f64>() + deep[0];
             }
             reuse && parts.iter().all(|p| p.0)
         };
@@ -449,7 +483,8 @@ impl Driver {
                 .add_variable_inertia_damping(&w.a_w, &w.v_w, &mut w.inertia, &mut w.damp);
             self.condensed.stats.predictors_reused += 1;
         } else if !verification {
-            self.asm.transient_products_with(
+            self.asm.transient_products_on(
+                rows,
                 (&w.q, &mut w.f_int),
                 (&w.a_w, &w.v_w),
                 (&mut w.inertia, &mut w.damp),
@@ -464,7 +499,8 @@ impl Driver {
                 mass_more.push((&w.v, &mut w.mv));
                 damping_more.push((&w.v, &mut w.cv));
             }
-            self.asm.transient_products_with(
+            self.asm.transient_products_on(
+                rows,
                 (&w.q, &mut w.f_int),
                 (&w.a_w, &w.v_w),
                 (&mut w.inertia, &mut w.damp),
@@ -479,8 +515,8 @@ impl Driver {
                     .add_variable_inertia_damping(&w.v, &w.v, &mut w.mv, &mut w.cv);
             }
             // K·q before the variable elements add their forces: the next predictor's.
-            par_copy(&w.f_int, &mut ahead.kq, nt);
-            par_copy(&w.q, &mut ahead.q, nt);
+            par_copy(&w.f_int, &mut ahead.kq, rows, nt);
+            par_copy(&w.q, &mut ahead.q, rows, nt);
         }
         self.asm
             .update_variable(
@@ -501,8 +537,8 @@ impl Driver {
             // SAFETY: chunks are disjoint.
             let r = unsafe { pr.range(lo, hi) };
             let (mut sr, mut sf, mut si) = (0.0, 0.0, 0.0);
-            for k in 0..hi - lo {
-                let i = lo + k;
+            for i in held_rows::parts(rows, lo, hi).into_iter().flatten() {
+                let k = i - lo;
                 // A row the activity window holds is a reaction ([`crate::window`]).
                 let ri = if held.get(i) == Some(&true) {
                     0.0
@@ -516,9 +552,9 @@ impl Driver {
             }
             (sr, sf, si)
         });
-        let (sr, sf, si) = sums
-            .iter()
-            .fold((0.0, 0.0, 0.0), |a, s| (a.0 + s.0, a.1 + s.1, a.2 + s.2));
+        let (sr, sf, si) = sums.iter().fold((0.0, deep[1], 0.0), |a, s| {
+            (a.0 + s.0, a.1 + s.1, a.2 + s.2)
+        });
         // Each rank's rows alone, when the ranks keep their own rows.
         // The elements' own forces count with the assembled internal force (the driver's
         // reference, [`Driver::force_norms`]), reduced over the ranks with their norms.
@@ -766,7 +802,8 @@ impl Driver {
                     // correction's interior part) first.
                     let tr = Instant::now();
                     let delta_now: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
-                    par_fill(&mut w.dq, 0.0, nt);
+                    let rows = self.held_rows.as_ref().and_then(|h| h.rows());
+                    par_fill(&mut w.dq, 0.0, rows.as_deref(), nt);
                     let p = self.linear.partition.as_mut().expect("partitioned");
                     let res = if last_from_base {
                         p.back_substitute(&[(Some(&w.r), &delta_now)], &mut [&mut w.dq], true)
@@ -781,7 +818,11 @@ impl Driver {
                     // Interiors of `dq` hold δ_I when the last correction came from the base
                     // (add them to the base's interiors), else the last correction's interior
                     // part; its top entries are zero (the top part is `last_dq`).
-                    let (dn2, qn2) = recover_and_norms(&mut w.q, &w.dq, last_from_base, nt);
+                    let (dn2, mut qn2) =
+                        recover_and_norms(&mut w.q, &w.dq, last_from_base, rows.as_deref(), nt);
+                    if let (Some(_), Some(h)) = (&rows, self.held_rows.as_mut()) {
+                        qn2 += h.deep_sums(&s0.q, &s0.f_int, (&w.f_ext, &s0.f_ext, af))[0];
+                    }
                     let dn2 = dn2 + last_dq.iter().map(|x| x * x).sum::<f64>();
                     self.summary.timings.solve += tr.elapsed().as_secs_f64();
                     let (dn, qn) = (dn2.sqrt(), qn2.sqrt());

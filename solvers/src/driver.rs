@@ -296,6 +296,11 @@ pub struct Driver {
     /// How each attempt at a step is solved ([`crate::step_method`]): picked before the
     /// first step ([`Driver::default_step_method`]) unless given; taken out while it runs.
     pub(crate) method: Option<Box<dyn StepMethod<Driver>>>,
+    /// The rows the condensed Newton's passes form while blocks are held
+    /// ([`crate::held_rows`]); `None` when nothing is held.
+    pub(crate) held_rows: Option<crate::held_rows::HeldRows>,
+    /// Whether held rows are left out ([`Driver::set_skip_held_rows`]).
+    pub(crate) skip_held_rows: bool,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -442,6 +447,8 @@ impl Driver {
             narrow_after_mass: None,
             frozen_rows: Vec::new(),
             method: None,
+            held_rows: None,
+            skip_held_rows: true,
         };
         if let (Some(split), Some((ex, _))) = (split, shared) {
             d.take_rank_split(ex, split);
@@ -1561,6 +1568,9 @@ impl Driver {
                 residual: res,
             }) => {
                 self.asm.commit(&mut self.model);
+                if let Some(h) = self.held_rows.as_mut() {
+                    h.committed();
+                }
                 if let Some(e) = self.energy.as_mut() {
                     // A linear step formed its state's M·v with its K·q.
                     let mv = self.work.mv_ready.then_some(&self.work.mv[..]);
@@ -1572,7 +1582,17 @@ impl Driver {
                         .partition
                         .as_mut()
                         .filter(|_| self.rows_per_rank);
-                    e.record(&self.asm, &self.model, &self.state, &s, mv, cv, ranks);
+                    let held = self.held_rows.as_ref().and_then(|h| h.rows());
+                    e.record(
+                        &self.asm,
+                        &self.model,
+                        &self.state,
+                        &s,
+                        mv,
+                        cv,
+                        ranks,
+                        held.as_deref(),
+                    );
                 }
                 // The increment for the next step's predictor, in last step's vector.
                 let kept = self.last_increment.take();

@@ -43,6 +43,7 @@ use railfem_framework::assembly::Assembler;
 use railfem_framework::error::FemError;
 use railfem_framework::model::Model;
 use railfem_framework::parallel::threads;
+use railfem_framework::row_set::RowSet;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -204,6 +205,10 @@ impl EnergyLedger {
     /// every rank and for any number of ranks, equal to one process's sums over fixed
     /// chunks to round-off (another order of the same terms). Every rank calls it at the
     /// same step.
+    ///
+    /// **Held rows** (`held`: the rows the driver forms while the activity window holds
+    /// blocks, [`crate::held_rows`]): the sums run over those rows alone; on the others
+    /// `Δq = 0` and `v = 0`, so every term left out is zero.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &mut self,
@@ -214,6 +219,7 @@ impl EnergyLedger {
         next_mv: Option<&[f64]>,
         next_cv: Option<&mut Vec<f64>>,
         mut ranks: Option<&mut Partitioned>,
+        held: Option<&RowSet>,
     ) {
         let mut buf = std::mem::take(&mut self.buf);
         if !self.started || self.cv_prev.len() != prev.v.len() {
@@ -274,6 +280,14 @@ impl EnergyLedger {
             }
             (ext, int, damp)
         };
+        // With held rows, the rows where a term can be non-zero ([`crate::held_rows`]).
+        let works = |lo: usize, hi: usize, list: Option<&[usize]>| match (list, held) {
+            (None, Some(set)) => set.within(lo, hi).fold((-0.0, -0.0, -0.0), |a, r| {
+                let p = works(r.start, r.end, None);
+                (a.0 + p.0, a.1 + p.1, a.2 + p.2)
+            }),
+            _ => works(lo, hi, list),
+        };
         let across = ranks.and_then(|p| {
             p.sums_over_rows(4, &|rows, out| {
                 let (ext, int, damp) = works(0, 0, Some(rows));
@@ -290,7 +304,14 @@ impl EnergyLedger {
                 let (ext, int, damp) = parts.iter().fold((-0.0f64, -0.0f64, -0.0f64), |a, p| {
                     (a.0 + p.0, a.1 + p.1, a.2 + p.2)
                 });
-                (ext, int, damp, dot(mv, &next.v))
+                let vmv = match held {
+                    Some(set) => set
+                        .ranges()
+                        .iter()
+                        .fold(0.0, |s, r| s + dot(&mv[r.clone()], &next.v[r.clone()])),
+                    None => dot(mv, &next.v),
+                };
+                (ext, int, damp, vmv)
             }
         };
         let r = &mut self.now;

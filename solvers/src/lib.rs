@@ -28,6 +28,7 @@ pub mod driver;
 pub mod energy;
 pub mod exchange;
 pub mod held_active_set;
+pub mod held_rows;
 pub mod integrator;
 pub mod linear;
 pub mod linear_backend;

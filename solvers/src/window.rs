@@ -216,6 +216,24 @@ impl ActivityWindow {
 }
 
 impl Driver {
+    /// Whether the condensed Newton's passes leave out the deep held rows
+    /// ([`crate::held_rows`]; default `true`): `false` forms every row, as before (the
+    /// same state to round-off of the norms: a comparison switch, no model key). Takes
+    /// effect at the next change of the held blocks.
+    pub fn set_skip_held_rows(&mut self, on: bool) {
+        self.skip_held_rows = on;
+    }
+
+    /// Equations the step's passes leave out now: the deep held rows once
+    /// [`crate::held_rows::SETTLE_STEPS`] steps have been committed since the held set
+    /// changed, `0` otherwise.
+    pub fn rows_left_out(&self) -> usize {
+        self.held_rows
+            .as_ref()
+            .filter(|h| h.rows().is_some())
+            .map_or(0, |h| h.deep_count())
+    }
+
     /// Holds the partitioned solver's blocks flagged in `frozen` (one flag per block) and
     /// releases the others (module documentation): their interiors' velocities and
     /// accelerations are set to zero, the increment predictor's entries too, and their
@@ -231,6 +249,7 @@ impl Driver {
         p.set_frozen_blocks(frozen)?;
         if !frozen.iter().any(|&f| f) {
             self.frozen_rows.clear();
+            self.held_rows = None;
             return Ok(());
         }
         let mut rows = vec![false; n];
@@ -244,6 +263,9 @@ impl Driver {
             self.state.a[i] = 0.0;
         }
         self.zero_held_increment(&rows);
+        self.held_rows = self
+            .skip_held_rows
+            .then(|| crate::held_rows::HeldRows::new(&rows, &self.asm.k_const));
         self.frozen_rows = rows;
         Ok(())
     }

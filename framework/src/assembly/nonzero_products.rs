@@ -23,6 +23,7 @@
 //! Row indices are `u32` (the model's equations fit: checked when built), so a pass reads
 //! 12 bytes per stored entry instead of 16.
 
+use crate::row_set::RowSet;
 use crate::sparse::CscMatrix;
 
 /// A square symmetric matrix's non-zero entries by columns, rows sorted within each column.
@@ -96,7 +97,44 @@ pub fn nonzero_products(
     let n = first.n();
     debug_assert!(mats.iter().all(|m| m.n() == n));
     debug_assert!(xs.iter().all(|x| x.len() >= n));
-    // Runs of the same matrix, at most three products each (the kernel's widths).
+    let runs = same_matrix_runs(mats);
+    let kernel = |lo: usize, out: &mut Vec<&mut [f64]>| gather_runs(mats, xs, &runs, lo, out);
+    crate::sparse::by_column_ranges(n, ys, threads, kernel);
+}
+
+/// [`nonzero_products`] on the rows of `rows` alone: the other rows of every `y` are left
+/// as they are, and each row formed is the value [`nonzero_products`] forms, to the bit
+/// (the same sum). The rows are shared among the threads by count
+/// ([`RowSet::balanced_bounds`]), one thread per ~20 000 rows.
+pub fn nonzero_products_on(
+    mats: &[&NonzeroColumns],
+    xs: &[&[f64]],
+    ys: &mut [&mut [f64]],
+    rows: &RowSet,
+    threads: usize,
+) {
+    let Some(first) = mats.first() else {
+        return;
+    };
+    let n = first.n();
+    debug_assert!(mats.iter().all(|m| m.n() == n));
+    let runs = same_matrix_runs(mats);
+    let kernel = |lo: usize, out: &mut Vec<&mut [f64]>| {
+        let hi = lo + out[0].len();
+        for r in rows.within(lo, hi) {
+            let mut part: Vec<&mut [f64]> = out
+                .iter_mut()
+                .map(|y| &mut y[r.start - lo..r.end - lo])
+                .collect();
+            gather_runs(mats, xs, &runs, r.start, &mut part);
+        }
+    };
+    let nt = threads.clamp(1, 16).min(rows.count() / 20_000 + 1);
+    crate::sparse::by_column_bounds(&rows.balanced_bounds(n, nt), ys, kernel);
+}
+
+/// Runs of the same matrix in `mats`, at most three products each (the kernel's widths).
+fn same_matrix_runs(mats: &[&NonzeroColumns]) -> Vec<(usize, usize)> {
     let mut runs: Vec<(usize, usize)> = Vec::new();
     for k in 0..mats.len() {
         match runs.last_mut() {
@@ -104,17 +142,25 @@ pub fn nonzero_products(
             _ => runs.push((k, k + 1)),
         }
     }
-    let kernel = |lo: usize, out: &mut Vec<&mut [f64]>| {
-        for &(s, e) in &runs {
-            let (a, x, y) = (mats[s], &xs[s..e], &mut out[s..e]);
-            match e - s {
-                1 => gather_run::<1>(a, x, lo, y),
-                2 => gather_run::<2>(a, x, lo, y),
-                _ => gather_run::<3>(a, x, lo, y),
-            }
+    runs
+}
+
+/// Columns `lo..lo + out[0].len()` of every product, run by run.
+fn gather_runs(
+    mats: &[&NonzeroColumns],
+    xs: &[&[f64]],
+    runs: &[(usize, usize)],
+    lo: usize,
+    out: &mut [&mut [f64]],
+) {
+    for &(s, e) in runs {
+        let (a, x, y) = (mats[s], &xs[s..e], &mut out[s..e]);
+        match e - s {
+            1 => gather_run::<1>(a, x, lo, y),
+            2 => gather_run::<2>(a, x, lo, y),
+            _ => gather_run::<3>(a, x, lo, y),
         }
-    };
-    crate::sparse::by_column_ranges(n, ys, threads, kernel);
+    }
 }
 
 /// Columns `lo..lo + out[0].len()` of `R` products with the one matrix `a`: each entry's
@@ -240,6 +286,47 @@ mod tests {
             .flatten()
             .zip(yn.iter().flatten())
             .all(|(p, q)| p.to_bits() == q.to_bits()));
+    }
+
+    /// Products on a set of rows form those rows as the full products do, to the bit,
+    /// and leave every other row as it was (two threads: the rows split by count).
+    #[test]
+    fn products_on_rows_are_the_full_products_there_and_leave_the_rest() {
+        let n = 60_000;
+        let (k, c) = matrices(n);
+        let (nk, nc) = (
+            NonzeroColumns::of(&k).unwrap(),
+            NonzeroColumns::of(&c).unwrap(),
+        );
+        let x: Vec<Vec<f64>> = (0..3)
+            .map(|r| {
+                (0..n)
+                    .map(|i| ((i * (r + 3)) as f64 * 0.017).sin())
+                    .collect()
+            })
+            .collect();
+        let xs: Vec<&[f64]> = x.iter().map(|v| &v[..]).collect();
+        let mats = [&nk, &nc, &nc];
+        let mut full = vec![vec![0.0; n]; 3];
+        let mut f: Vec<&mut [f64]> = full.iter_mut().map(|y| &mut y[..]).collect();
+        nonzero_products(&mats, &xs, &mut f, 2);
+        // Three runs of rows, one of them the last row.
+        let mask: Vec<bool> = (0..n)
+            .map(|i| (100..30_000).contains(&i) || (41_000..41_010).contains(&i) || i == n - 1)
+            .collect();
+        let rows = RowSet::from_mask(&mask);
+        let mut part = vec![vec![7.5; n]; 3];
+        let mut p: Vec<&mut [f64]> = part.iter_mut().map(|y| &mut y[..]).collect();
+        nonzero_products_on(&mats, &xs, &mut p, &rows, 2);
+        for (a, b) in full.iter().zip(&part) {
+            for i in 0..n {
+                if mask[i] {
+                    assert_eq!(a[i].to_bits(), b[i].to_bits(), "row {i}");
+                } else {
+                    assert_eq!(b[i], 7.5, "row {i} left as it was");
+                }
+            }
+        }
     }
 
     #[test]
