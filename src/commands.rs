@@ -252,6 +252,16 @@ pub struct ContactCmd {
     /// Yaw angle in rad, for the lateral creepage [default: 0].
     #[arg(long, value_name = "RAD")]
     pub yaw: Option<OsString>,
+    /// Yaw per lateral shift in rad/m, added to --yaw (Manchester benchmark: 2.4) [default: 0].
+    #[arg(long, value_name = "RAD/M")]
+    pub yaw_per_shift: Option<OsString>,
+    /// Pitch rate of the wheelset in rad/s [default: free rolling, speed/radius].
+    #[arg(long, value_name = "RAD/S")]
+    pub pitch_rate: Option<OsString>,
+    /// Normal load from the vertical load with the lateral creep force of a law: none
+    /// (N = Q/cos δ), kalker_linear, polach or fastsim [default: fastsim].
+    #[arg(long, value_name = "LAW")]
+    pub balance: Option<OsString>,
     /// Vertical load on each wheel in N [default: 50000].
     #[arg(long, value_name = "N")]
     pub load: Option<OsString>,

@@ -11,18 +11,23 @@
 //!
 //! # Contact mechanics of one wheel (the formulas)
 //!
-//! - Normal load: `N = Q/cos δ`, `Q` the vertical wheel load and `δ` the contact angle (the
-//!   vertical component of the lateral creep force is left out; docs/contact-tool.md
-//!   shows its size).
+//! - Normal load: from the vertical balance `Q = N cos δ ± Fy(N) sin δ` with the lateral
+//!   creep force of a chosen law ([`balance`]), or `N = Q/cos δ` ([`Balance::Vertical`]);
+//!   `Q` the vertical wheel load and `δ` the contact angle in the track frame.
 //! - Hertz: the wheel's longitudinal radius in the contact's normal plane is `r/cos δ`
 //!   (Meusnier's theorem for the surface of revolution), its transverse curvature that of
 //!   the profile curve, the rail's longitudinal curvature 0 and its transverse curvature
 //!   that of its profile curve, convex positive.
-//! - Creepages of steady rolling at speed `V` with the wheelset turning at `V/r0` (no
-//!   traction), yaw `ψ` and `ẏ = 0`, in the contact plane (the nonlinear form of the
-//!   linear-wheelset creepages of `creep::linear_wheelset`):
-//!   `ξx = (r0 − r)/r0`, `ξy = −ψ/cos δ`, `φ = ∓sin δ/r` (left/right wheel).
+//! - Creepages of steady rolling ([`creepages`]): the wheelset moves at `V` along the
+//!   track, turns at the pitch rate `Ω` (`V/r0` unless prescribed) about its axle, which is
+//!   yawed by `ψ` and rolled by `φ_r`; `ẏ = 0`. The slip of the wheel's contact point over
+//!   the rail, in the contact plane, divided by the mean rolling speed `V̄ = (V + Ωr)/2`
+//!   (Kalker's convention, CONTACT's):
+//!   `ξx = (V − Ωr cos ψ)/V̄`, `ξy = −Ωr sin ψ/(V̄ cos δ)`,
+//!   `φ = ∓Ω(cos ψ cos φ_r sin δ ∓ sin φ_r cos δ)/V̄` (left/right wheel; [`creepages`]
+//!   derives them).
 
+pub mod balance;
 pub mod manchester;
 pub mod profiles;
 
@@ -58,8 +63,15 @@ pub struct ContactCase {
     pub back_to_back: f64,
     /// Nominal rolling radius r0 (m).
     pub radius: f64,
-    /// Yaw angle ψ (rad).
+    /// Yaw angle ψ (rad) at zero shift.
     pub yaw: f64,
+    /// Yaw per lateral shift of the axle (rad/m): the yaw at shift `y` is
+    /// `yaw + yaw_per_shift·y` (the Manchester benchmark's case A-2.2: 2.4 rad/m).
+    pub yaw_per_shift: f64,
+    /// Pitch rate of the wheelset Ω (rad/s); `None`: free rolling, `V/r0`.
+    pub pitch_rate: Option<f64>,
+    /// How the normal load follows from the vertical load.
+    pub balance: Balance,
     /// Vertical load on each wheel Q (N).
     pub load: f64,
     /// Speed V (m/s).
@@ -80,6 +92,9 @@ impl Default for ContactCase {
             back_to_back: 1.360,
             radius: 0.46,
             yaw: 0.0,
+            yaw_per_shift: 0.0,
+            pitch_rate: None,
+            balance: Balance::Creep(CreepLaw::Fastsim),
             load: 50e3,
             speed: 20.0,
             mu: 0.3,
@@ -87,6 +102,43 @@ impl Default for ContactCase {
             poisson: 0.28,
         }
     }
+}
+
+/// One of the tool's three creep laws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CreepLaw {
+    /// Kalker's linear theory saturated by Shen–Hedrick–Elkins (`kalker_linear`).
+    KalkerLinear,
+    /// Polach (2005) with the dry-rail factors and his spin term (`polach`).
+    Polach,
+    /// FASTSIM on 20 × 20 elements (`fastsim`).
+    Fastsim,
+}
+
+impl CreepLaw {
+    /// The law with the tool's constants.
+    pub fn law(self) -> TangentialLaw {
+        match self {
+            CreepLaw::KalkerLinear => TangentialLaw::KalkerLinear,
+            CreepLaw::Polach => TangentialLaw::Polach {
+                ka: POLACH_DRY.ka,
+                ks: POLACH_DRY.ks,
+                a: POLACH_DRY.a,
+                b: POLACH_DRY.b,
+                spin: true,
+            },
+            CreepLaw::Fastsim => TangentialLaw::fastsim(FastsimGrid::DEFAULT),
+        }
+    }
+}
+
+/// How a wheel's normal load follows from its vertical load `Q`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Balance {
+    /// `N = Q/cos δ`: the creep force carries no share of `Q` (`--balance none`).
+    Vertical,
+    /// `Q = N cos δ ± Fy sin δ` with the lateral creep force of the law ([`balance`]).
+    Creep(CreepLaw),
 }
 
 /// Creep forces `(Fx, Fy)` (N) on the wheel, in the contact plane, of the three laws.
@@ -120,6 +172,8 @@ pub struct Patch {
 pub struct ShiftResult {
     /// Lateral shift of the axle centre (m).
     pub y_axle: f64,
+    /// Yaw of the wheelset (rad).
+    pub yaw: f64,
     /// Rigid contact geometry (its `shift` is that of the tape-circle level).
     pub contact: WheelsetContact,
     /// Left wheel.
@@ -159,14 +213,62 @@ fn curvature(d: nalgebra::Vector2<f64>, dd: nalgebra::Vector2<f64>) -> f64 {
     (d.x * dd.y - d.y * dd.x) / d.norm().powi(3)
 }
 
+/// The creepages `[ξx, ξy, φ]` (−, −, 1/m) of one wheel's contact `c` on side `side` (+1
+/// left, −1 right) of a wheelset yawed by `yaw` and rolled by `roll` (rad), moving at
+/// `speed` and turning at `omega` (rad/s) about its axle.
+///
+/// Derivation (track frame `x` ahead, `y` left, `z` up; wheelset rotation `Rz(ψ)·Rx(φ_r)`).
+/// The axle points along `a = (−sin ψ cos φ_r, cos ψ cos φ_r, sin φ_r)`; a point of the
+/// wheel at `ρ_w = (x_w, l, −r)` in the wheelset frame moves at
+/// `V·x̂ + Ω·a × ρ = V·x̂ + Ω·R·(ŷ × ρ_w) = V·x̂ + Ω·R·(−r, 0, −x_w)`, i.e. for a contact
+/// under the axle (`x_w = 0`) at `(V − Ωr cos ψ, −Ωr sin ψ, 0)`. The rail is at rest, so
+/// that is the slip. Its longitudinal part lies in the contact plane; its lateral part has
+/// the in-plane component `v_y/cos δ` once the slip is made tangent to the surfaces
+/// (`v·n = 0`, `n = (0, ∓sin δ, cos δ)`). The spin is the wheel's angular velocity about
+/// the contact normal, `Ω·a·n = ∓Ω(cos ψ cos φ_r sin δ ∓ sin φ_r cos δ)` (the rail does
+/// not turn). All three are divided by the mean rolling speed `V̄ = (V + Ωr)/2` (Kalker,
+/// *Three-dimensional elastic bodies in rolling contact*, 1990, §1.3; CONTACT's
+/// `VELOC`). With `Ω = V/r0` and small angles these are the creepages of
+/// `creep::linear_wheelset` to first order.
+pub fn creepages(
+    c: &SideContact,
+    side: f64,
+    speed: f64,
+    omega: f64,
+    yaw: f64,
+    roll: f64,
+) -> [f64; 3] {
+    let (cd, sd) = (c.contact_angle.cos(), c.contact_angle.sin());
+    let r = c.rolling_radius;
+    let mean = 0.5 * (speed + omega * r);
+    [
+        (speed - omega * r * yaw.cos()) / mean,
+        -omega * r * yaw.sin() / (mean * cd),
+        -side * omega * (yaw.cos() * roll.cos() * sd - side * roll.sin() * cd) / mean,
+    ]
+}
+
+fn balance_error(side: f64, y_axle: f64, delta: f64) -> FemError {
+    FemError::input(
+        "railfem contact",
+        format!(
+            "at y = {y_axle} m the {} wheel's lateral creep force pulls it down its flange \
+             (δ = {delta:.3} rad) harder than any normal force can lift it: no normal load \
+             balances the wheel load; fix: --balance none, or a smaller yaw or --mu",
+            if side > 0.0 { "left" } else { "right" }
+        ),
+    )
+}
+
 fn patch(
     case: &ContactCase,
     geom: &WheelsetGeometry,
     c: &SideContact,
     side: f64,
+    pose: (f64, f64, f64),
 ) -> Result<Patch, FemError> {
-    let (cd, sd) = (c.contact_angle.cos(), c.contact_angle.sin());
-    let normal = case.load / cd;
+    let (y_axle, yaw, roll) = pose;
+    let cd = c.contact_angle.cos();
     let spline = geom.wheel.spline();
     // The wheel is traversed towards the field side with its material above: a tread
     // convex towards the rail turns counter-clockwise.
@@ -182,51 +284,64 @@ fn patch(
         wheel_transverse: kw,
         rail_transverse: kr,
     };
-    let creepage = [
-        (case.radius - c.rolling_radius) / case.radius,
-        -case.yaw / cd,
-        -side * sd / c.rolling_radius,
-    ];
-    let hertz = hertz_ellipse(&curv, normal, case.young, case.poisson).ok();
-    let forces = match hertz {
-        None => None,
-        Some(h) => {
-            let coeff = kalker_coefficients(h.a / h.b, case.poisson)
-                .map_err(|e| FemError::input("railfem contact", e.to_string()))?;
-            let shape = EllipseShape {
-                n_ref: normal,
-                a_ref: h.a,
-                b_ref: h.b,
-                c: coeff,
-            };
-            let mat = Material {
-                shear_modulus: case.young / (2.0 * (1.0 + case.poisson)),
-                mu: case.mu,
-            };
-            let input = [creepage[0], creepage[1], creepage[2], normal];
-            let f = |law: &TangentialLaw| {
-                let (fx, fy) = creep_forces(law, &shape, &mat, case.speed, input);
-                (fx.v, fy.v)
-            };
-            Some(LawForces {
-                kalker: f(&TangentialLaw::KalkerLinear),
-                polach: f(&TangentialLaw::Polach {
-                    ka: POLACH_DRY.ka,
-                    ks: POLACH_DRY.ks,
-                    a: POLACH_DRY.a,
-                    b: POLACH_DRY.b,
-                    spin: true,
-                }),
-                fastsim: f(&TangentialLaw::fastsim(FastsimGrid::DEFAULT)),
+    let omega = case.pitch_rate.unwrap_or(case.speed / case.radius);
+    let creepage = creepages(c, side, case.speed, omega, yaw, roll);
+    let n_ref = case.load / cd;
+    let Ok(h_ref) = hertz_ellipse(&curv, n_ref, case.young, case.poisson) else {
+        return Ok(Patch {
+            geometry: *c,
+            normal: n_ref,
+            hertz: None,
+            creepage,
+            forces: None,
+        });
+    };
+    let coeff = kalker_coefficients(h_ref.a / h_ref.b, case.poisson)
+        .map_err(|e| FemError::input("railfem contact", e.to_string()))?;
+    let shape = EllipseShape {
+        n_ref,
+        a_ref: h_ref.a,
+        b_ref: h_ref.b,
+        c: coeff,
+    };
+    let mat = Material {
+        shear_modulus: case.young / (2.0 * (1.0 + case.poisson)),
+        mu: case.mu,
+    };
+    let force = |law: &TangentialLaw, n: f64| {
+        creep_forces(
+            law,
+            &shape,
+            &mat,
+            case.speed,
+            [creepage[0], creepage[1], creepage[2], n],
+        )
+    };
+    let normal = match case.balance {
+        Balance::Vertical => n_ref,
+        Balance::Creep(l) => {
+            let law = l.law();
+            balance::normal_load(case.load, c.contact_angle, side, |n| {
+                let fy = force(&law, n).1;
+                (fy.v, fy.d[3])
             })
+            .ok_or_else(|| balance_error(side, y_axle, c.contact_angle))?
         }
+    };
+    let pair = |l: CreepLaw| {
+        let (fx, fy) = force(&l.law(), normal);
+        (fx.v, fy.v)
     };
     Ok(Patch {
         geometry: *c,
         normal,
-        hertz,
+        hertz: hertz_ellipse(&curv, normal, case.young, case.poisson).ok(),
         creepage,
-        forces,
+        forces: Some(LawForces {
+            kalker: pair(CreepLaw::KalkerLinear),
+            polach: pair(CreepLaw::Polach),
+            fastsim: pair(CreepLaw::Fastsim),
+        }),
     })
 }
 
@@ -292,11 +407,14 @@ pub fn evaluate(
     y_axle: f64,
 ) -> Result<ShiftResult, FemError> {
     let contact = contact_at_axle_shift(geom, y_axle).map_err(conicity_error)?;
+    let yaw = case.yaw + case.yaw_per_shift * y_axle;
+    let pose = (y_axle, yaw, contact.roll);
     Ok(ShiftResult {
         y_axle,
+        yaw,
         contact,
-        left: patch(case, geom, &contact.left, 1.0)?,
-        right: patch(case, geom, &contact.right, -1.0)?,
+        left: patch(case, geom, &contact.left, 1.0, pose)?,
+        right: patch(case, geom, &contact.right, -1.0, pose)?,
     })
 }
 
@@ -305,7 +423,7 @@ pub const CONTACT_HEADER: &str =
     "y [m],y_tape [m],wheel [-],roll [rad],delta_r [m],wheel_y [m],rail_y [m],\
 lateral_position [m],rolling_radius [m],contact_angle [rad],N [N],a [m],b [m],xi_x [-],\
 xi_y [-],spin [1/m],Fx_kalker [N],Fy_kalker [N],Fx_polach [N],Fy_polach [N],\
-Fx_fastsim [N],Fy_fastsim [N]";
+Fx_fastsim [N],Fy_fastsim [N],yaw [rad]";
 
 /// The rows of `contact.csv`.
 pub fn contact_csv(results: &[ShiftResult]) -> String {
@@ -322,7 +440,7 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
             let _ = writeln!(
                 s,
                 "{},{:.9e},{name},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6e},\
-                 {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
+                 {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.9e}",
                 r.y_axle,
                 r.contact.shift,
                 r.contact.roll,
@@ -343,7 +461,8 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
                 f[1].0,
                 f[1].1,
                 f[2].0,
-                f[2].1
+                f[2].1,
+                r.yaw
             );
         }
     }
@@ -438,6 +557,21 @@ fn inclination(a: &Args) -> Result<Inclination, FemError> {
     }
 }
 
+fn balance_from_args(a: &Args) -> Result<Balance, FemError> {
+    Ok(match a.opt("balance").unwrap_or("fastsim") {
+        "none" => Balance::Vertical,
+        "kalker_linear" => Balance::Creep(CreepLaw::KalkerLinear),
+        "polach" => Balance::Creep(CreepLaw::Polach),
+        "fastsim" => Balance::Creep(CreepLaw::Fastsim),
+        v => {
+            return Err(FemError::input(
+                "command line",
+                format!("--balance {v}: use none, kalker_linear, polach or fastsim"),
+            ))
+        }
+    })
+}
+
 /// The case of a command line.
 pub fn case_from_args(a: &Args) -> Result<ContactCase, FemError> {
     let d = ContactCase::default();
@@ -475,6 +609,9 @@ pub fn case_from_args(a: &Args) -> Result<ContactCase, FemError> {
         back_to_back: positive(a, "back-to-back", d.back_to_back)?,
         radius: positive(a, "radius", d.radius)?,
         yaw: a.num("yaw")?.unwrap_or(0.0),
+        yaw_per_shift: a.num("yaw-per-shift")?.unwrap_or(0.0),
+        pitch_rate: a.num("pitch-rate")?,
+        balance: balance_from_args(a)?,
         load: positive(a, "load", d.load)?,
         speed: positive(a, "speed", d.speed)?,
         mu: positive(a, "mu", d.mu)?,
