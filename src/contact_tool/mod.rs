@@ -1,13 +1,17 @@
 //! `railfem contact`: the contact of a wheelset on straight track, evaluated without a
-//! dynamic run. For each lateral shift `y` of the axle centre (and a yaw `ψ`): per wheel, the contact points on
-//! wheel and rail, rolling radius, contact angle, the wheelset roll and `Δr(y)` (rigid
-//! profiles, `railfem_elements::rail::creep::conicity`), Hertz's ellipse (`creep::hertz`),
+//! dynamic run. For each lateral shift `y` of the axle centre and a yaw `ψ`: per wheel, the
+//! contact points on wheel and rail, rolling radius, contact angle, the contact's lead
+//! ahead of the axle, the wheelset roll and `Δr(y)` (rigid profiles, [`yawed`], which is
+//! `railfem_elements::rail::creep::conicity`'s search for a yawed wheelset), Hertz's ellipse
+//! (`creep::hertz`),
 //! the creepages of steady rolling and the creep forces of the three tangential laws
 //! (`creep::law`); the equivalent conicity `λ_e(ŷ)` (EN 15302, harmonic linearisation); a
 //! figure of `Δr(y)` and of the contact positions. Outputs: `contact.csv`,
 //! `conicity.csv`, `contact.svg` and `.png` (docs/contact-tool.md).
 //!
-//! What lives elsewhere: the profile pairs and their placement on the track ([`profiles`]).
+//! What lives elsewhere: the profile pairs and their placement on the track ([`profiles`]),
+//! the normal-load balance ([`balance`]), the yawed contact search ([`yawed`]), the
+//! Manchester benchmark's reference numbers ([`manchester`]).
 //!
 //! # Contact mechanics of one wheel (the formulas)
 //!
@@ -23,13 +27,14 @@
 //!   yawed by `ψ` and rolled by `φ_r`; `ẏ = 0`. The slip of the wheel's contact point over
 //!   the rail, in the contact plane, divided by the mean rolling speed `V̄ = (V + Ωr)/2`
 //!   (Kalker's convention, CONTACT's):
-//!   `ξx = (V − Ωr cos ψ)/V̄`, `ξy = −Ωr sin ψ/(V̄ cos δ)`,
+//!   to first order `ξx = (V − Ωr cos ψ)/V̄`, `ξy = −Ωr sin ψ/(V̄ cos δ)`,
 //!   `φ = ∓Ω(cos ψ cos φ_r sin δ ∓ sin φ_r cos δ)/V̄` (left/right wheel; [`creepages`]
-//!   derives them).
+//!   derives the exact forms with the contact's lead).
 
 pub mod balance;
 pub mod manchester;
 pub mod profiles;
+pub mod yawed;
 
 use crate::args::Args;
 use crate::elements::rail::creep::conicity::{
@@ -48,6 +53,7 @@ use crate::framework::FemError;
 use profiles::{PlacedProfiles, ProfileSet};
 use std::fmt::Write as _;
 use std::path::Path;
+use yawed::{Lead, YawedContact};
 
 /// Amplitudes (m) at which `conicity.csv` gives `λ_e`: 1 … 8 mm (EN 15302 quotes 3 mm).
 pub const CONICITY_AMPLITUDES_MM: [f64; 8] = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0];
@@ -157,6 +163,8 @@ pub struct LawForces {
 pub struct Patch {
     /// The geometric contact.
     pub geometry: SideContact,
+    /// Where the contact lies along the track (yaw).
+    pub lead: Lead,
     /// Normal load N (N).
     pub normal: f64,
     /// Hertz's ellipse, `None` where the surfaces conform (`B ≤ 0`).
@@ -215,36 +223,52 @@ fn curvature(d: nalgebra::Vector2<f64>, dd: nalgebra::Vector2<f64>) -> f64 {
 
 /// The creepages `[ξx, ξy, φ]` (−, −, 1/m) of one wheel's contact `c` on side `side` (+1
 /// left, −1 right) of a wheelset yawed by `yaw` and rolled by `roll` (rad), moving at
-/// `speed` and turning at `omega` (rad/s) about its axle.
+/// `speed` and turning at `omega` (rad/s) about its axle, the contact `theta` (rad) ahead
+/// of the wheel's bottom ([`yawed`]).
 ///
 /// Derivation (track frame `x` ahead, `y` left, `z` up; wheelset rotation `Rz(ψ)·Rx(φ_r)`).
-/// The axle points along `a = (−sin ψ cos φ_r, cos ψ cos φ_r, sin φ_r)`; a point of the
-/// wheel at `ρ_w = (x_w, l, −r)` in the wheelset frame moves at
-/// `V·x̂ + Ω·a × ρ = V·x̂ + Ω·R·(ŷ × ρ_w) = V·x̂ + Ω·R·(−r, 0, −x_w)`, i.e. for a contact
-/// under the axle (`x_w = 0`) at `(V − Ωr cos ψ, −Ωr sin ψ, 0)`. The rail is at rest, so
-/// that is the slip. Its longitudinal part lies in the contact plane; its lateral part has
-/// the in-plane component `v_y/cos δ` once the slip is made tangent to the surfaces
-/// (`v·n = 0`, `n = (0, ∓sin δ, cos δ)`). The spin is the wheel's angular velocity about
-/// the contact normal, `Ω·a·n = ∓Ω(cos ψ cos φ_r sin δ ∓ sin φ_r cos δ)` (the rail does
-/// not turn). All three are divided by the mean rolling speed `V̄ = (V + Ωr)/2` (Kalker,
-/// *Three-dimensional elastic bodies in rolling contact*, 1990, §1.3; CONTACT's
-/// `VELOC`). With `Ω = V/r0` and small angles these are the creepages of
+/// The axle points along `a = (−sin ψ cos φ_r, cos ψ cos φ_r, sin φ_r)`; the contact, at
+/// `ρ_w = (r sin θ, l, −r cos θ)` from the wheel's centre in the wheelset frame (`r` the
+/// rolling radius), moves at `V·x̂ + Ω·a × ρ = V·x̂ + Ω·R·(ŷ × ρ_w)
+/// = V·x̂ − Ω r·R·(cos θ, 0, sin θ)`:
+///
+/// ```text
+/// v = (V − Ωr(cos θ cos ψ + sin θ sin φ_r sin ψ),
+///      −Ωr(cos θ sin ψ − sin θ sin φ_r cos ψ),
+///      −Ωr sin θ cos φ_r)
+/// ```
+///
+/// The rail is at rest, so `v` is the slip; at the contact of [`yawed`] it is tangent to the
+/// surfaces (`v·n = 0` is that module's condition on `θ`). Its components along `x̂` and
+/// along the contact plane's lateral axis `t = (0, cos δ, ±sin δ)` (left/right) are `ξx`
+/// and `ξy`; for `θ = 0` (no yaw) `v_z = 0`, and for small angles
+/// `ξy ≈ −Ωr sin ψ/cos δ`, the classical form. The spin is the wheel's angular velocity
+/// about the normal `n = (0, ∓sin δ, cos δ)`: `Ω·a·n = ∓Ω(cos ψ cos φ_r sin δ ∓ sin φ_r
+/// cos δ)` (the rail does not turn). All three are divided by the mean rolling speed
+/// `V̄ = (V + Ωr)/2` (Kalker, *Three-dimensional elastic bodies in rolling contact*, 1990,
+/// §1.3; CONTACT's `VELOC`). With `Ω = V/r0` and small angles these are the creepages of
 /// `creep::linear_wheelset` to first order.
 pub fn creepages(
     c: &SideContact,
     side: f64,
     speed: f64,
     omega: f64,
-    yaw: f64,
-    roll: f64,
+    pose: (f64, f64, f64),
 ) -> [f64; 3] {
+    let (yaw, roll, theta) = pose;
     let (cd, sd) = (c.contact_angle.cos(), c.contact_angle.sin());
-    let r = c.rolling_radius;
-    let mean = 0.5 * (speed + omega * r);
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = yaw.sin_cos();
+    let (sf, cf) = roll.sin_cos();
+    let w = omega * c.rolling_radius;
+    let mean = 0.5 * (speed + w);
+    let vx = speed - w * (ct * cp + st * sf * sp);
+    let vy = -w * (ct * sp - st * sf * cp);
+    let vz = -w * st * cf;
     [
-        (speed - omega * r * yaw.cos()) / mean,
-        -omega * r * yaw.sin() / (mean * cd),
-        -side * omega * (yaw.cos() * roll.cos() * sd - side * roll.sin() * cd) / mean,
+        vx / mean,
+        (vy * cd + side * vz * sd) / mean,
+        -side * omega * (cp * cf * sd - side * sf * cd) / mean,
     ]
 }
 
@@ -264,6 +288,7 @@ fn patch(
     case: &ContactCase,
     geom: &WheelsetGeometry,
     c: &SideContact,
+    lead: Lead,
     side: f64,
     pose: (f64, f64, f64),
 ) -> Result<Patch, FemError> {
@@ -285,11 +310,12 @@ fn patch(
         rail_transverse: kr,
     };
     let omega = case.pitch_rate.unwrap_or(case.speed / case.radius);
-    let creepage = creepages(c, side, case.speed, omega, yaw, roll);
+    let creepage = creepages(c, side, case.speed, omega, (yaw, roll, lead.theta));
     let n_ref = case.load / cd;
     let Ok(h_ref) = hertz_ellipse(&curv, n_ref, case.young, case.poisson) else {
         return Ok(Patch {
             geometry: *c,
+            lead,
             normal: n_ref,
             hertz: None,
             creepage,
@@ -334,6 +360,7 @@ fn patch(
     };
     Ok(Patch {
         geometry: *c,
+        lead,
         normal,
         hertz: hertz_ellipse(&curv, normal, case.young, case.poisson).ok(),
         creepage,
@@ -348,24 +375,26 @@ fn patch(
 /// Bisection steps of [`contact_at_axle_shift`] (the bracket shrinks to 2⁻⁶⁰ of its width).
 const AXLE_SHIFT_STEPS: usize = 60;
 
-/// The rigid contact at the lateral shift `y_axle` (m) of the **axle centre**.
+/// The rigid contact at the lateral shift `y_axle` (m) of the **axle centre** and yaw
+/// `yaw` (rad), found by [`yawed::contact`].
 ///
 /// The conicity module's pose shifts the wheelset's tape-circle level by `y` and rolls it
 /// by `φ` about that level; the axle centre, `r0` above it, then stands at
-/// `y_axle = y − r0·sin φ` (pose formula of `creep::conicity` with `(Y, Z) = (0, r0)`).
+/// `y_axle = y − r0·sin φ·cos ψ` (the pose of [`yawed`] with the point `(0, 0, r0)`).
 /// Codes and the Manchester benchmark give the shift of the wheelset centre, which differs
 /// from `y` by `r0·φ` — 2 to 5 mm in flange contact, where the roll reaches 4–11 mrad. The
-/// root of `g(y) = y − r0·sin φ(y) − y_axle` is bracketed from `y = y_axle` (where
+/// root of `g(y) = y − r0·sin φ(y)·cos ψ − y_axle` is bracketed from `y = y_axle` (where
 /// `g = −r0 sin φ`, of the sign opposite to the roll's) by steps of 1 mm outward, then
 /// bisected. Where `g` is not monotone (a contact jump, `r0·φ' > 1`), the root nearest to
 /// `y_axle` is taken.
 pub fn contact_at_axle_shift(
     geom: &WheelsetGeometry,
     y_axle: f64,
-) -> Result<WheelsetContact, ConicityError> {
+    yaw: f64,
+) -> Result<YawedContact, ConicityError> {
     let r0 = geom.nominal_radius;
-    let g = |c: &WheelsetContact| c.shift - r0 * c.roll.sin() - y_axle;
-    let mut lo = geom.contact(y_axle)?;
+    let g = |c: &YawedContact| c.contact.shift - r0 * c.contact.roll.sin() * yaw.cos() - y_axle;
+    let mut lo = yawed::contact(geom, y_axle, yaw)?;
     let g_lo = g(&lo);
     if g_lo == 0.0 {
         return Ok(lo);
@@ -373,7 +402,7 @@ pub fn contact_at_axle_shift(
     let dir = -g_lo.signum();
     let mut hi = lo;
     for k in 1..=40 {
-        hi = geom.contact(y_axle + dir * 1e-3 * k as f64)?;
+        hi = yawed::contact(geom, y_axle + dir * 1e-3 * k as f64, yaw)?;
         if g(&hi) * g_lo <= 0.0 {
             break;
         }
@@ -387,13 +416,13 @@ pub fn contact_at_axle_shift(
         });
     }
     for _ in 0..AXLE_SHIFT_STEPS {
-        let mid = geom.contact(0.5 * (lo.shift + hi.shift))?;
+        let mid = yawed::contact(geom, 0.5 * (lo.contact.shift + hi.contact.shift), yaw)?;
         if g(&mid) * g_lo > 0.0 {
             lo = mid;
         } else {
             hi = mid;
         }
-        if (hi.shift - lo.shift).abs() < 1e-12 {
+        if (hi.contact.shift - lo.contact.shift).abs() < 1e-12 {
             break;
         }
     }
@@ -406,15 +435,16 @@ pub fn evaluate(
     geom: &WheelsetGeometry,
     y_axle: f64,
 ) -> Result<ShiftResult, FemError> {
-    let contact = contact_at_axle_shift(geom, y_axle).map_err(conicity_error)?;
     let yaw = case.yaw + case.yaw_per_shift * y_axle;
+    let found = contact_at_axle_shift(geom, y_axle, yaw).map_err(conicity_error)?;
+    let contact = found.contact;
     let pose = (y_axle, yaw, contact.roll);
     Ok(ShiftResult {
         y_axle,
         yaw,
         contact,
-        left: patch(case, geom, &contact.left, 1.0, pose)?,
-        right: patch(case, geom, &contact.right, -1.0, pose)?,
+        left: patch(case, geom, &contact.left, found.left, 1.0, pose)?,
+        right: patch(case, geom, &contact.right, found.right, -1.0, pose)?,
     })
 }
 
@@ -423,7 +453,7 @@ pub const CONTACT_HEADER: &str =
     "y [m],y_tape [m],wheel [-],roll [rad],delta_r [m],wheel_y [m],rail_y [m],\
 lateral_position [m],rolling_radius [m],contact_angle [rad],N [N],a [m],b [m],xi_x [-],\
 xi_y [-],spin [1/m],Fx_kalker [N],Fy_kalker [N],Fx_polach [N],Fy_polach [N],\
-Fx_fastsim [N],Fy_fastsim [N],yaw [rad]";
+Fx_fastsim [N],Fy_fastsim [N],yaw [rad],lead [m],x_contact [m]";
 
 /// The rows of `contact.csv`.
 pub fn contact_csv(results: &[ShiftResult]) -> String {
@@ -440,7 +470,7 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
             let _ = writeln!(
                 s,
                 "{},{:.9e},{name},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6e},\
-                 {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.9e}",
+                 {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.9e},{:.9e},{:.9e}",
                 r.y_axle,
                 r.contact.shift,
                 r.contact.roll,
@@ -462,7 +492,9 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
                 f[1].1,
                 f[2].0,
                 f[2].1,
-                r.yaw
+                r.yaw,
+                p.lead.lead,
+                p.lead.x
             );
         }
     }
