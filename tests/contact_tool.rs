@@ -177,16 +177,16 @@ fn railfem(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
+/// Column `name` of the first patches' rows (`patch [-]` = 1) of `contact.csv`.
 fn column(csv: &str, name: &str) -> Vec<f64> {
     let mut lines = csv.lines();
-    let k = lines
-        .next()
-        .unwrap()
-        .split(',')
-        .position(|h| h == name)
-        .unwrap();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = head.iter().position(|h| *h == name).unwrap();
+    let patch = head.iter().position(|h| *h == "patch [-]").unwrap();
     lines
-        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .filter(|c| c[patch] == "1")
+        .map(|c| c[k].parse().unwrap())
         .collect()
 }
 
@@ -367,5 +367,82 @@ fn unyawed_search_is_the_conicity_search() {
             assert!((p.contact_angle - q.contact_angle).abs() < 1e-6);
         }
         assert_eq!(b.left.lead, 0.0);
+    }
+}
+
+/// Two-point contact by construction: a cylindrical wheel (cone of slope 0) on rails whose
+/// heads have two circular crowns of radii 10 and 30 mm, tops at the same height 12 mm
+/// apart. Centred, each wheel touches both tops at once (both gaps 0, both contact angles
+/// 0). Two Hertz springs in parallel under one approach `d`: `N_i = N·(d/d_i(N))^{3/2}`
+/// (`d_i(N)` Hertz's approach of patch `i` at any load `N`, `d ∝ N^{2/3}`), so
+/// `N_1/N_2 = (d_2(N)/d_1(N))^{3/2}` and `N_1 + N_2 = Q` (δ = 0, no creep in the balance),
+/// both to 1e-6 (the bisection on the approach stops at 1e-15 relative). The springs are
+/// built here from the patches' relative curvatures `A`, `B` as reported; those match the
+/// crowns, `B = (1/R)/2`, to 1e-3 (a cubic spline through nodes 0.1 mm apart on a 10 mm
+/// circle, curvature error O(h²/R²)).
+#[test]
+fn two_point_contact_shares_the_load_as_two_hertz_springs() {
+    use railfem::contact_tool::two_point::hertz_approach;
+    use railfem::contact_tool::{evaluate, Balance, ContactCase};
+    use railfem::elements::rail::creep::conicity::{cone_profile, WheelsetGeometry};
+    use railfem::elements::rail::creep::hertz::{hertz_ellipse, Curvatures};
+    use railfem::elements::rail::profiles::{Inclination, RailProfile};
+    let crowns = [(-0.006, 0.01), (0.006, 0.03)];
+    let nodes: Vec<nalgebra::Vector2<f64>> = (0..=300)
+        .map(|i| {
+            let y = -0.015 + 1e-4 * i as f64;
+            let z = crowns
+                .iter()
+                .filter(|(c, r)| (y - c).abs() < *r)
+                .map(|(c, r)| (r * r - (y - c) * (y - c)).sqrt() - r)
+                .fold(-0.003, f64::max);
+            nalgebra::Vector2::new(y, z)
+        })
+        .collect();
+    let rail = RailProfile::from_nodes(&nodes, Inclination::None).unwrap();
+    let geom =
+        WheelsetGeometry::new(cone_profile(0.0, -0.03, 0.03), &rail, 0.75, 0.75, 0.46).unwrap();
+    let case = ContactCase {
+        balance: Balance::Vertical,
+        load: 50e3,
+        ..ContactCase::default()
+    };
+    let r = evaluate(&case, &geom, 0.0).unwrap();
+    for (first, second) in [(&r.left, &r.second[0]), (&r.right, &r.second[1])] {
+        let second = second.as_ref().expect("a second patch");
+        let (h1, h2) = (first.hertz.unwrap(), second.hertz.unwrap());
+        // Which crown each patch sits on: rail_y at −6 mm is the 10 mm crown.
+        let (p10, p30) = if first.geometry.rail_y < 0.0 {
+            (h1, h2)
+        } else {
+            (h2, h1)
+        };
+        assert!(
+            (p10.b_curv / (0.5 / 0.01) - 1.0).abs() < 1e-3,
+            "{}",
+            p10.b_curv
+        );
+        assert!(
+            (p30.b_curv / (0.5 / 0.03) - 1.0).abs() < 1e-3,
+            "{}",
+            p30.b_curv
+        );
+        assert!(second.gap.abs() < 1e-12 && first.geometry.contact_angle.abs() < 1e-9);
+        let approach = |a: f64, b: f64| {
+            let c = Curvatures {
+                wheel_rolling_radius: 0.5 / a,
+                wheel_transverse: 2.0 * b,
+                rail_transverse: 0.0,
+            };
+            let h = hertz_ellipse(&c, 1e4, case.young, case.poisson).unwrap();
+            hertz_approach(&h, case.young, case.poisson)
+        };
+        let ratio = (approach(h2.a_curv, h2.b_curv) / approach(h1.a_curv, h1.b_curv)).powf(1.5);
+        assert!(
+            (first.normal / second.normal / ratio - 1.0).abs() < 1e-6,
+            "N1/N2 {} vs {ratio}",
+            first.normal / second.normal
+        );
+        assert!(((first.normal + second.normal) / case.load - 1.0).abs() < 1e-6);
     }
 }

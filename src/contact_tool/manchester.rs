@@ -801,11 +801,15 @@ pub struct Comparison {
     pub roll: Pair,
     /// Δr (mm).
     pub delta_r: Pair,
-    /// Left (flange-side) and right wheel: `wheel_y`, `rail_y` (mm), `δ` (mrad), N (N).
+    /// Left (flange-side) and right wheel: `wheel_y`, `rail_y` (mm), `δ` (mrad) of our
+    /// first patch, N (N) summed over our patches.
     pub wheels: [[Pair; 4]; 2],
     /// Left and right wheel: creepages `ξx`, `ξy` (−), spin `φ` (1/m), creep forces `Fx`,
-    /// `Fy` on the wheel (N; ours: FASTSIM, the law of the balance).
+    /// `Fy` on the wheel (N; ours: FASTSIM, the law of the balance; summed over our
+    /// patches).
     pub creep: [[Pair; 5]; 2],
+    /// Our number of patches on the left and right wheel (CONTACT: one each).
+    pub patches: [usize; 2],
 }
 
 fn mapped(ours: &ShiftResult, r: &Reference) -> Comparison {
@@ -813,35 +817,46 @@ fn mapped(ours: &ShiftResult, r: &Reference) -> Comparison {
         ours: a,
         contact: b,
     };
-    let side = |s: &super::Patch, w: &Wheel, m: f64| {
+    // Where we find two patches and CONTACT one (it merges patches less than 4 mm apart,
+    // D_COMB, and reports one reference point), the normal and creep forces are the sums
+    // over our patches, the position and creepages those of our first patch.
+    let sum = |s: &super::Patch, t: Option<&super::Patch>, f: &dyn Fn(&super::Patch) -> f64| {
+        f(s) + t.map_or(0.0, f)
+    };
+    let side = |s: &super::Patch, t: Option<&super::Patch>, w: &Wheel, m: f64| {
         [
             p(s.geometry.wheel_y * 1e3, m * w.ycp_w),
             p(s.geometry.rail_y * 1e3, m * w.ycp_r),
             p(s.geometry.contact_angle * 1e3, -m * w.deltcp * 1e3),
-            p(s.normal, w.fn_),
+            p(sum(s, t, &|q| q.normal), w.fn_),
         ]
     };
     // CONTACT's creepages are those of the rail relative to the wheel and its forces act on
     // the rail: all five change sign (module doc).
-    let creep = |s: &super::Patch, w: &Wheel| {
-        let f = s.forces.map_or((f64::NAN, f64::NAN), |f| f.fastsim);
+    let creep = |s: &super::Patch, t: Option<&super::Patch>, w: &Wheel| {
+        let f = |q: &super::Patch| q.forces.map_or((f64::NAN, f64::NAN), |f| f.fastsim);
         [
             p(s.creepage[0], -w.cksi),
             p(s.creepage[1], -w.ceta),
             p(s.creepage[2], -w.cphi * 1e3),
-            p(f.0, -w.fx),
-            p(f.1, -w.fs),
+            p(sum(s, t, &|q| f(q).0), -w.fx),
+            p(sum(s, t, &|q| f(q).1), -w.fs),
         ]
     };
+    let [l2, r2] = [ours.second[0].as_ref(), ours.second[1].as_ref()];
     Comparison {
         y_mm: r.y_mm,
-        creep: [creep(&ours.left, &r.right), creep(&ours.right, &r.left)],
+        creep: [
+            creep(&ours.left, l2, &r.right),
+            creep(&ours.right, r2, &r.left),
+        ],
         roll: p(ours.contact.roll * 1e3, -r.roll * 1e3),
         delta_r: p(ours.contact.delta_r() * 1e3, r.right.zcp_w - r.left.zcp_w),
         wheels: [
-            side(&ours.left, &r.right, 1.0),
-            side(&ours.right, &r.left, -1.0),
+            side(&ours.left, l2, &r.right, 1.0),
+            side(&ours.right, r2, &r.left, -1.0),
         ],
+        patches: [1 + usize::from(l2.is_some()), 1 + usize::from(r2.is_some())],
     }
 }
 

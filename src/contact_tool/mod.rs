@@ -34,6 +34,7 @@
 pub mod balance;
 pub mod manchester;
 pub mod profiles;
+pub mod two_point;
 pub mod yawed;
 
 use crate::args::Args;
@@ -41,6 +42,7 @@ use crate::elements::rail::creep::conicity::{
     equivalent_conicity, secant_conicity, ConicityError, SideContact, WheelsetContact,
     WheelsetGeometry,
 };
+use crate::elements::rail::creep::dual::D4;
 use crate::elements::rail::creep::fastsim::FastsimGrid;
 use crate::elements::rail::creep::hertz::{hertz_ellipse, Curvatures, HertzEllipse};
 use crate::elements::rail::creep::kalker::kalker_coefficients;
@@ -53,7 +55,8 @@ use crate::framework::FemError;
 use profiles::{PlacedProfiles, ProfileSet};
 use std::fmt::Write as _;
 use std::path::Path;
-use yawed::{Lead, YawedContact};
+use two_point::Spring;
+use yawed::{Lead, SecondPoint, YawedContact};
 
 /// Amplitudes (m) at which `conicity.csv` gives `λ_e`: 1 … 8 mm (EN 15302 quotes 3 mm).
 pub const CONICITY_AMPLITUDES_MM: [f64; 8] = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0];
@@ -165,6 +168,8 @@ pub struct Patch {
     pub geometry: SideContact,
     /// Where the contact lies along the track (yaw).
     pub lead: Lead,
+    /// Vertical gap of the rigid profiles at this point (m): 0 for the first patch.
+    pub gap: f64,
     /// Normal load N (N).
     pub normal: f64,
     /// Hertz's ellipse, `None` where the surfaces conform (`B ≤ 0`).
@@ -188,6 +193,8 @@ pub struct ShiftResult {
     pub left: Patch,
     /// Right wheel.
     pub right: Patch,
+    /// Each wheel's (left, right) second patch of a two-point contact.
+    pub second: [Option<Patch>; 2],
 }
 
 /// The wheelset geometry of `case` with its profiles.
@@ -284,92 +291,175 @@ fn balance_error(side: f64, y_axle: f64, delta: f64) -> FemError {
     )
 }
 
-fn patch(
+/// One contact point's mechanics before its normal load is known: curvatures, creepages,
+/// and (unless the surfaces conform) Kalker's coefficients of its Hertz ellipse at the load
+/// `Q/cos δ`.
+struct PointModel {
+    c: SideContact,
+    lead: Lead,
+    creepage: [f64; 3],
+    curv: Curvatures,
+    /// The ellipse at `Q/cos δ` and its load-independent shape; `None` where `B ≤ 0`.
+    hertz: Option<(HertzEllipse, EllipseShape)>,
+    mat: Material,
+}
+
+impl PointModel {
+    fn new(
+        case: &ContactCase,
+        geom: &WheelsetGeometry,
+        c: &SideContact,
+        lead: Lead,
+        side: f64,
+        pose: (f64, f64),
+    ) -> Result<Self, FemError> {
+        let (yaw, roll) = pose;
+        let cd = c.contact_angle.cos();
+        let spline = geom.wheel.spline();
+        // The wheel is traversed towards the field side with its material above: a tread
+        // convex towards the rail turns counter-clockwise.
+        let kw = curvature(
+            spline.derivative(c.wheel_t),
+            spline.second_derivative(c.wheel_t),
+        );
+        let rail = geom.rail_surface();
+        let (dz, ddz) = (rail.derivative(c.rail_y), rail.second_derivative(c.rail_y));
+        let kr = -ddz / (1.0 + dz * dz).powf(1.5);
+        let curv = Curvatures {
+            wheel_rolling_radius: c.rolling_radius / cd,
+            wheel_transverse: kw,
+            rail_transverse: kr,
+        };
+        let omega = case.pitch_rate.unwrap_or(case.speed / case.radius);
+        let creepage = creepages(c, side, case.speed, omega, (yaw, roll, lead.theta));
+        let n_ref = case.load / cd;
+        let hertz = match hertz_ellipse(&curv, n_ref, case.young, case.poisson) {
+            Err(_) => None,
+            Ok(h) => {
+                let coeff = kalker_coefficients(h.a / h.b, case.poisson)
+                    .map_err(|e| FemError::input("railfem contact", e.to_string()))?;
+                let shape = EllipseShape {
+                    n_ref,
+                    a_ref: h.a,
+                    b_ref: h.b,
+                    c: coeff,
+                };
+                Some((h, shape))
+            }
+        };
+        Ok(PointModel {
+            c: *c,
+            lead,
+            creepage,
+            curv,
+            hertz,
+            mat: Material {
+                shear_modulus: case.young / (2.0 * (1.0 + case.poisson)),
+                mu: case.mu,
+            },
+        })
+    }
+
+    /// `(Fx, Fy)` of `law` at normal load `n` (zero without an ellipse).
+    fn force(&self, case: &ContactCase, law: &TangentialLaw, n: f64) -> (D4, D4) {
+        match &self.hertz {
+            None => (D4::c(0.0), D4::c(0.0)),
+            Some((_, shape)) => {
+                let [x, y, sp] = self.creepage;
+                creep_forces(law, shape, &self.mat, case.speed, [x, y, sp, n])
+            }
+        }
+    }
+
+    /// The patch at normal load `normal`.
+    fn patch(&self, case: &ContactCase, normal: f64, gap: f64) -> Patch {
+        let pair = |l: CreepLaw| {
+            let (fx, fy) = self.force(case, &l.law(), normal);
+            (fx.v, fy.v)
+        };
+        let hertz = self
+            .hertz
+            .and_then(|_| hertz_ellipse(&self.curv, normal, case.young, case.poisson).ok());
+        Patch {
+            geometry: self.c,
+            lead: self.lead,
+            gap,
+            normal,
+            hertz,
+            creepage: self.creepage,
+            forces: hertz.map(|_| LawForces {
+                kalker: pair(CreepLaw::KalkerLinear),
+                polach: pair(CreepLaw::Polach),
+                fastsim: pair(CreepLaw::Fastsim),
+            }),
+        }
+    }
+}
+
+/// The law of the balance, `None` for [`Balance::Vertical`].
+fn balance_law(case: &ContactCase) -> Option<TangentialLaw> {
+    match case.balance {
+        Balance::Vertical => None,
+        Balance::Creep(l) => Some(l.law()),
+    }
+}
+
+/// One wheel's patch, or two where a second point of the profiles lies within the elastic
+/// approach ([`two_point`]).
+fn wheel_patches(
     case: &ContactCase,
     geom: &WheelsetGeometry,
-    c: &SideContact,
-    lead: Lead,
+    first: (&SideContact, Lead),
+    second: Option<SecondPoint>,
     side: f64,
     pose: (f64, f64, f64),
-) -> Result<Patch, FemError> {
+) -> Result<(Patch, Option<Patch>), FemError> {
     let (y_axle, yaw, roll) = pose;
-    let cd = c.contact_angle.cos();
-    let spline = geom.wheel.spline();
-    // The wheel is traversed towards the field side with its material above: a tread
-    // convex towards the rail turns counter-clockwise.
-    let kw = curvature(
-        spline.derivative(c.wheel_t),
-        spline.second_derivative(c.wheel_t),
-    );
-    let rail = geom.rail_surface();
-    let (dz, ddz) = (rail.derivative(c.rail_y), rail.second_derivative(c.rail_y));
-    let kr = -ddz / (1.0 + dz * dz).powf(1.5);
-    let curv = Curvatures {
-        wheel_rolling_radius: c.rolling_radius / cd,
-        wheel_transverse: kw,
-        rail_transverse: kr,
+    let c = first.0;
+    let one = PointModel::new(case, geom, c, first.1, side, (yaw, roll))?;
+    let law = balance_law(case);
+    let lateral = |m: &PointModel, n: f64| {
+        law.as_ref().map_or((0.0, 0.0), |l| {
+            let fy = m.force(case, l, n).1;
+            (fy.v, fy.d[3])
+        })
     };
-    let omega = case.pitch_rate.unwrap_or(case.speed / case.radius);
-    let creepage = creepages(c, side, case.speed, omega, (yaw, roll, lead.theta));
-    let n_ref = case.load / cd;
-    let Ok(h_ref) = hertz_ellipse(&curv, n_ref, case.young, case.poisson) else {
-        return Ok(Patch {
-            geometry: *c,
-            lead,
-            normal: n_ref,
-            hertz: None,
-            creepage,
-            forces: None,
-        });
-    };
-    let coeff = kalker_coefficients(h_ref.a / h_ref.b, case.poisson)
-        .map_err(|e| FemError::input("railfem contact", e.to_string()))?;
-    let shape = EllipseShape {
-        n_ref,
-        a_ref: h_ref.a,
-        b_ref: h_ref.b,
-        c: coeff,
-    };
-    let mat = Material {
-        shear_modulus: case.young / (2.0 * (1.0 + case.poisson)),
-        mu: case.mu,
-    };
-    let force = |law: &TangentialLaw, n: f64| {
-        creep_forces(
-            law,
-            &shape,
-            &mat,
-            case.speed,
-            [creepage[0], creepage[1], creepage[2], n],
-        )
-    };
-    let normal = match case.balance {
-        Balance::Vertical => n_ref,
-        Balance::Creep(l) => {
-            let law = l.law();
-            balance::normal_load(case.load, c.contact_angle, side, |n| {
-                let fy = force(&law, n).1;
-                (fy.v, fy.d[3])
-            })
-            .ok_or_else(|| balance_error(side, y_axle, c.contact_angle))?
+    let n_ref = case.load / c.contact_angle.cos();
+    if one.hertz.is_none() {
+        return Ok((one.patch(case, n_ref, 0.0), None));
+    }
+    if let Some(p) = second {
+        let two = PointModel::new(case, geom, &p.contact, p.lead, side, (yaw, roll))?;
+        if let (Some((h1, _)), Some((h2, _))) = (one.hertz, two.hertz) {
+            let n2_ref = case.load / p.contact.contact_angle.cos();
+            let springs = [
+                Spring::new(c.contact_angle, 0.0, n_ref, &h1, case.young, case.poisson),
+                Spring::new(
+                    p.contact.contact_angle,
+                    p.gap,
+                    n2_ref,
+                    &h2,
+                    case.young,
+                    case.poisson,
+                ),
+            ];
+            let models = [&one, &two];
+            let n = two_point::share(case.load, side, &springs, |i, n| lateral(models[i], n).0)
+                .ok_or_else(|| balance_error(side, y_axle, c.contact_angle))?;
+            if n[1] > 0.0 {
+                return Ok((
+                    one.patch(case, n[0], 0.0),
+                    Some(two.patch(case, n[1], p.gap)),
+                ));
+            }
         }
+    }
+    let normal = match law {
+        None => n_ref,
+        Some(_) => balance::normal_load(case.load, c.contact_angle, side, |n| lateral(&one, n))
+            .ok_or_else(|| balance_error(side, y_axle, c.contact_angle))?,
     };
-    let pair = |l: CreepLaw| {
-        let (fx, fy) = force(&l.law(), normal);
-        (fx.v, fy.v)
-    };
-    Ok(Patch {
-        geometry: *c,
-        lead,
-        normal,
-        hertz: hertz_ellipse(&curv, normal, case.young, case.poisson).ok(),
-        creepage,
-        forces: Some(LawForces {
-            kalker: pair(CreepLaw::KalkerLinear),
-            polach: pair(CreepLaw::Polach),
-            fastsim: pair(CreepLaw::Fastsim),
-        }),
-    })
+    Ok((one.patch(case, normal, 0.0), None))
 }
 
 /// Bisection steps of [`contact_at_axle_shift`] (the bracket shrinks to 2⁻⁶⁰ of its width).
@@ -439,28 +529,48 @@ pub fn evaluate(
     let found = contact_at_axle_shift(geom, y_axle, yaw).map_err(conicity_error)?;
     let contact = found.contact;
     let pose = (y_axle, yaw, contact.roll);
+    let [second_l, second_r] = yawed::second_points(geom, &found);
+    let (left, left_2) =
+        wheel_patches(case, geom, (&contact.left, found.left), second_l, 1.0, pose)?;
+    let (right, right_2) = wheel_patches(
+        case,
+        geom,
+        (&contact.right, found.right),
+        second_r,
+        -1.0,
+        pose,
+    )?;
     Ok(ShiftResult {
         y_axle,
         yaw,
         contact,
-        left: patch(case, geom, &contact.left, found.left, 1.0, pose)?,
-        right: patch(case, geom, &contact.right, found.right, -1.0, pose)?,
+        left,
+        right,
+        second: [left_2, right_2],
     })
 }
 
 /// CSV header of `contact.csv`.
 pub const CONTACT_HEADER: &str =
-    "y [m],y_tape [m],wheel [-],roll [rad],delta_r [m],wheel_y [m],rail_y [m],\
+    "y [m],y_tape [m],wheel [-],patch [-],roll [rad],delta_r [m],wheel_y [m],rail_y [m],\
 lateral_position [m],rolling_radius [m],contact_angle [rad],N [N],a [m],b [m],xi_x [-],\
 xi_y [-],spin [1/m],Fx_kalker [N],Fy_kalker [N],Fx_polach [N],Fy_polach [N],\
-Fx_fastsim [N],Fy_fastsim [N],yaw [rad],lead [m],x_contact [m]";
+Fx_fastsim [N],Fy_fastsim [N],yaw [rad],lead [m],x_contact [m],gap [m]";
 
-/// The rows of `contact.csv`.
+/// The rows of `contact.csv`: per shift and wheel one row per patch (`patch` 1, and 2 for
+/// the second patch of a two-point contact).
 pub fn contact_csv(results: &[ShiftResult]) -> String {
     let mut s = String::from(CONTACT_HEADER);
     s.push('\n');
     for r in results {
-        for (name, p) in [("left", &r.left), ("right", &r.right)] {
+        let rows = [
+            ("left", 1, Some(&r.left)),
+            ("left", 2, r.second[0].as_ref()),
+            ("right", 1, Some(&r.right)),
+            ("right", 2, r.second[1].as_ref()),
+        ];
+        for (name, k, p) in rows {
+            let Some(p) = p else { continue };
             let g = &p.geometry;
             let (a, b) = p.hertz.map_or((f64::NAN, f64::NAN), |h| (h.a, h.b));
             let nan = (f64::NAN, f64::NAN);
@@ -469,8 +579,8 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
                 .map_or([nan; 3], |f| [f.kalker, f.polach, f.fastsim]);
             let _ = writeln!(
                 s,
-                "{},{:.9e},{name},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6e},\
-                 {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.9e},{:.9e},{:.9e}",
+                "{},{:.9e},{name},{k},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6e},\
+                 {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.9e},{:.9e},{:.9e},{:.9e}",
                 r.y_axle,
                 r.contact.shift,
                 r.contact.roll,
@@ -494,7 +604,8 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
                 f[2].1,
                 r.yaw,
                 p.lead.lead,
-                p.lead.x
+                p.lead.x,
+                p.gap
             );
         }
     }

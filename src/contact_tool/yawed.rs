@@ -63,6 +63,20 @@ pub struct Lead {
     pub x: f64,
 }
 
+/// A second point where a wheel nearly touches its rail: the local minimum of the gap over
+/// the wheel's sections, other than the contact and at least [`SAME_PATCH`] from it on the
+/// wheel, with the smallest gap (a two-point contact when that gap is within the elastic
+/// approach of the first patch, `contact_tool::two_point`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SecondPoint {
+    /// Its geometry.
+    pub contact: SideContact,
+    /// Its lead.
+    pub lead: Lead,
+    /// Its vertical gap while the first point touches (m).
+    pub gap: f64,
+}
+
 /// A yawed wheelset's contact: the geometry as `creep::conicity` gives it, and the leads.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct YawedContact {
@@ -74,6 +88,31 @@ pub struct YawedContact {
     pub left: Lead,
     /// Right wheel's lead.
     pub right: Lead,
+}
+
+/// Each wheel's (left, right) second local minimum of the gap at the pose of `found`, if
+/// any (module doc of [`SecondPoint`]).
+pub fn second_points(geom: &WheelsetGeometry, found: &YawedContact) -> [Option<SecondPoint>; 2] {
+    let pose = Pose {
+        y: found.contact.shift,
+        z: found.contact.lift,
+        roll: found.contact.roll,
+        yaw: found.yaw,
+    };
+    let second = |s: f64, first: &SideContact| {
+        second_minimum(geom, s, &pose, first.wheel_t).map(|(t, p)| {
+            let (contact, lead) = side_contact(geom, s, t, &p);
+            SecondPoint {
+                contact,
+                lead,
+                gap: p.gap,
+            }
+        })
+    };
+    [
+        second(1.0, &found.contact.left),
+        second(-1.0, &found.contact.right),
+    ]
 }
 
 /// A pose of the wheelset: shift, lift, roll, yaw.
@@ -135,14 +174,61 @@ fn section(geom: &WheelsetGeometry, s: f64, t: f64, pose: &Pose) -> Option<Secti
 /// The wheel's point of smallest gap: the best of [`SAMPLES`] sections, refined by golden
 /// section between its neighbours.
 fn nearest(geom: &WheelsetGeometry, s: f64, pose: &Pose) -> Option<(f64, SectionPoint)> {
+    let gaps = sampled(geom, s, pose);
+    let k = (0..SAMPLES)
+        .filter(|&k| gaps[k].is_finite())
+        .min_by(|&a, &b| gaps[a].total_cmp(&gaps[b]))?;
+    refine(geom, s, pose, k)
+}
+
+/// The gap of each of the [`SAMPLES`] sections (infinite where not over the rail).
+fn sampled(geom: &WheelsetGeometry, s: f64, pose: &Pose) -> Vec<f64> {
+    let (t0, t1) = geom.wheel.spline().domain();
+    let dt = (t1 - t0) / (SAMPLES - 1) as f64;
+    (0..SAMPLES)
+        .map(|k| section(geom, s, t0 + dt * k as f64, pose).map_or(f64::INFINITY, |p| p.gap))
+        .collect()
+}
+
+/// Lateral distance on the wheel (m) below which two local minima of the gap belong to
+/// one patch.
+pub const SAME_PATCH: f64 = 2e-3;
+
+/// The wheel's second contact candidate: the local minimum of the sampled gap, refined,
+/// that lies at least [`SAME_PATCH`] from the first (`t_first`) on the wheel and has the
+/// smallest gap; `None` if the gap has one minimum.
+fn second_minimum(
+    geom: &WheelsetGeometry,
+    s: f64,
+    pose: &Pose,
+    t_first: f64,
+) -> Option<(f64, SectionPoint)> {
+    let gaps = sampled(geom, s, pose);
+    let wheel = geom.wheel.spline();
+    let y_first = wheel.point(t_first).x;
+    let (t0, t1) = wheel.domain();
+    let dt = (t1 - t0) / (SAMPLES - 1) as f64;
+    let mut best: Option<(f64, SectionPoint)> = None;
+    for k in 1..SAMPLES - 1 {
+        let (g, l, r) = (gaps[k], gaps[k - 1], gaps[k + 1]);
+        let far = (wheel.point(t0 + dt * k as f64).x - y_first).abs() >= SAME_PATCH;
+        if g.is_finite() && g < l && g <= r && far {
+            if let Some((t, p)) = refine(geom, s, pose, k) {
+                let distinct = (wheel.point(t).x - y_first).abs() >= SAME_PATCH;
+                if distinct && best.is_none_or(|(_, b)| p.gap < b.gap) {
+                    best = Some((t, p));
+                }
+            }
+        }
+    }
+    best
+}
+
+/// Golden section on the gap between the neighbours of sample `k`.
+fn refine(geom: &WheelsetGeometry, s: f64, pose: &Pose, k: usize) -> Option<(f64, SectionPoint)> {
     let (t0, t1) = geom.wheel.spline().domain();
     let dt = (t1 - t0) / (SAMPLES - 1) as f64;
     let gap = |t: f64| section(geom, s, t, pose).map_or(f64::INFINITY, |p| p.gap);
-    let k = (0..SAMPLES)
-        .map(|k| (k, gap(t0 + dt * k as f64)))
-        .filter(|(_, g)| g.is_finite())
-        .min_by(|a, b| a.1.total_cmp(&b.1))?
-        .0;
     let (mut a, mut b) = (
         (t0 + dt * (k as f64 - 1.0)).max(t0),
         (t0 + dt * (k as f64 + 1.0)).min(t1),
@@ -198,6 +284,7 @@ pub fn contact(geom: &WheelsetGeometry, y: f64, yaw: f64) -> Result<YawedContact
         if l.gap.abs() < GAP_TOL && r.gap.abs() < GAP_TOL {
             let (left, lead_l) = side_contact(geom, 1.0, tl, &l);
             let (right, lead_r) = side_contact(geom, -1.0, tr, &r);
+
             return Ok(YawedContact {
                 contact: WheelsetContact {
                     shift: y,
