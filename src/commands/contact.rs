@@ -2,12 +2,26 @@
 
 use crate::command::{Command, Context};
 use crate::contact_tool::profiles::{BuiltInProfiles, ProfileSet};
-use crate::contact_tool::{sweep, write_shifts, ContactCase};
+use crate::contact_tool::{sweep, write_shifts, Balance, ContactCase, CreepLaw};
 use crate::elements::rail::profiles::Inclination;
 use crate::framework::FemError;
 use clap::Args;
 use serde::Serialize;
 use std::path::PathBuf;
+
+/// The values of `--balance`.
+#[derive(serde::Deserialize, Debug, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+enum BalanceChoice {
+    /// `N = Q/cos δ`.
+    None,
+    /// Kalker's linear theory, saturated.
+    KalkerLinear,
+    /// Polach.
+    Polach,
+    /// FASTSIM.
+    Fastsim,
+}
 
 /// `railfem contact`.
 #[derive(Args, Debug, Clone, PartialEq, Serialize)]
@@ -54,6 +68,16 @@ pub struct ContactCmd {
     /// Yaw angle in rad, for the lateral creepage [default: 0].
     #[arg(value_parser = crate::command::number(), long, value_name = "RAD")]
     pub yaw: Option<f64>,
+    /// Yaw per lateral shift in rad/m, added to --yaw (Manchester benchmark: 2.4) [default: 0].
+    #[arg(value_parser = crate::command::number(), long, value_name = "RAD/M")]
+    pub yaw_per_shift: Option<f64>,
+    /// Pitch rate of the wheelset in rad/s [default: free rolling, speed/radius].
+    #[arg(value_parser = crate::command::number(), long, value_name = "RAD/S")]
+    pub pitch_rate: Option<f64>,
+    /// Normal load from the vertical load with the lateral creep force of a law: none
+    /// (N = Q/cos δ), kalker_linear, polach or fastsim [default: fastsim].
+    #[arg(value_parser = crate::command::text(), long, value_name = "LAW")]
+    pub balance: Option<String>,
     /// Vertical load on each wheel in N [default: 50000].
     #[arg(value_parser = crate::command::number(), long, value_name = "N")]
     pub load: Option<f64>,
@@ -91,6 +115,21 @@ impl ContactCmd {
             None => Ok(Inclination::OneIn40),
             Some(v) => crate::choice::parse("command line", "--inclination", v),
         }
+    }
+
+    /// `--balance` (default fastsim): the law whose lateral creep force shares the vertical
+    /// load with the normal force, or none.
+    fn balance(&self) -> Result<Balance, FemError> {
+        let choice = match self.balance.as_deref() {
+            None => BalanceChoice::Fastsim,
+            Some(v) => crate::choice::parse("command line", "--balance", v)?,
+        };
+        Ok(match choice {
+            BalanceChoice::None => Balance::Vertical,
+            BalanceChoice::KalkerLinear => Balance::Creep(CreepLaw::KalkerLinear),
+            BalanceChoice::Polach => Balance::Creep(CreepLaw::Polach),
+            BalanceChoice::Fastsim => Balance::Creep(CreepLaw::Fastsim),
+        })
     }
 
     /// The case of the command line.
@@ -133,6 +172,9 @@ impl ContactCmd {
             back_to_back: positive("back-to-back", self.back_to_back, d.back_to_back)?,
             radius: positive("radius", self.radius, d.radius)?,
             yaw: self.yaw.unwrap_or(0.0),
+            yaw_per_shift: self.yaw_per_shift.unwrap_or(0.0),
+            pitch_rate: self.pitch_rate,
+            balance: self.balance()?,
             load: positive("load", self.load, d.load)?,
             speed: positive("speed", self.speed, d.speed)?,
             mu: positive("mu", self.mu, d.mu)?,

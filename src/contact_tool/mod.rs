@@ -1,35 +1,47 @@
 //! `railfem contact`: the contact of a wheelset on straight track, evaluated without a
-//! dynamic run. For each lateral shift `y` of the axle centre (and a yaw `ψ`): per wheel, the contact points on
-//! wheel and rail, rolling radius, contact angle, the wheelset roll and `Δr(y)` (rigid
-//! profiles, `railfem_elements::rail::creep::conicity`), Hertz's ellipse (`creep::hertz`),
+//! dynamic run. For each lateral shift `y` of the axle centre and a yaw `ψ`: per wheel, the
+//! contact points on wheel and rail, rolling radius, contact angle, the contact's lead
+//! ahead of the axle, the wheelset roll and `Δr(y)` (rigid profiles, [`yawed`], which is
+//! `railfem_elements::rail::creep::conicity`'s search for a yawed wheelset), Hertz's ellipse
+//! (`creep::hertz`),
 //! the creepages of steady rolling and the creep forces of the three tangential laws
 //! (`creep::law`); the equivalent conicity `λ_e(ŷ)` (EN 15302, harmonic linearisation); a
 //! figure of `Δr(y)` and of the contact positions. Outputs: `contact.csv`,
 //! `conicity.csv`, `contact.svg` and `.png` (docs/contact-tool.md).
 //!
-//! What lives elsewhere: the profile pairs and their placement on the track ([`profiles`]).
+//! What lives elsewhere: the profile pairs and their placement on the track ([`profiles`]),
+//! the normal-load balance ([`balance`]), the yawed contact search ([`yawed`]), the
+//! Manchester benchmark's reference numbers ([`manchester`]).
 //!
 //! # Contact mechanics of one wheel (the formulas)
 //!
-//! - Normal load: `N = Q/cos δ`, `Q` the vertical wheel load and `δ` the contact angle (the
-//!   vertical component of the lateral creep force is left out; docs/contact-tool.md
-//!   shows its size).
+//! - Normal load: from the vertical balance `Q = N cos δ ± Fy(N) sin δ` with the lateral
+//!   creep force of a chosen law ([`balance`]), or `N = Q/cos δ` ([`Balance::Vertical`]);
+//!   `Q` the vertical wheel load and `δ` the contact angle in the track frame.
 //! - Hertz: the wheel's longitudinal radius in the contact's normal plane is `r/cos δ`
 //!   (Meusnier's theorem for the surface of revolution), its transverse curvature that of
 //!   the profile curve, the rail's longitudinal curvature 0 and its transverse curvature
 //!   that of its profile curve, convex positive.
-//! - Creepages of steady rolling at speed `V` with the wheelset turning at `V/r0` (no
-//!   traction), yaw `ψ` and `ẏ = 0`, in the contact plane (the nonlinear form of the
-//!   linear-wheelset creepages of `creep::linear_wheelset`):
-//!   `ξx = (r0 − r)/r0`, `ξy = −ψ/cos δ`, `φ = ∓sin δ/r` (left/right wheel).
+//! - Creepages of steady rolling ([`creepages`]): the wheelset moves at `V` along the
+//!   track, turns at the pitch rate `Ω` (`V/r0` unless prescribed) about its axle, which is
+//!   yawed by `ψ` and rolled by `φ_r`; `ẏ = 0`. The slip of the wheel's contact point over
+//!   the rail, in the contact plane, divided by the mean rolling speed `V̄ = (V + Ωr)/2`
+//!   (Kalker's convention, CONTACT's):
+//!   to first order `ξx = (V − Ωr cos ψ)/V̄`, `ξy = −Ωr sin ψ/(V̄ cos δ)`,
+//!   `φ = ∓Ω(cos ψ cos φ_r sin δ ∓ sin φ_r cos δ)/V̄` (left/right wheel; [`creepages`]
+//!   derives the exact forms with the contact's lead).
 
+pub mod balance;
 pub mod manchester;
 pub mod profiles;
+pub mod two_point;
+pub mod yawed;
 
 use crate::elements::rail::creep::conicity::{
     equivalent_conicity, secant_conicity, ConicityError, SideContact, WheelsetContact,
     WheelsetGeometry,
 };
+use crate::elements::rail::creep::dual::D4;
 use crate::elements::rail::creep::fastsim::FastsimGrid;
 use crate::elements::rail::creep::hertz::{hertz_ellipse, Curvatures, HertzEllipse};
 use crate::elements::rail::creep::kalker::kalker_coefficients;
@@ -42,6 +54,8 @@ use crate::framework::FemError;
 use profiles::{PlacedProfiles, ProfileSet};
 use std::fmt::Write as _;
 use std::path::Path;
+use two_point::Spring;
+use yawed::{Lead, SecondPoint, YawedContact};
 
 /// Amplitudes (m) at which `conicity.csv` gives `λ_e`: 1 … 8 mm (EN 15302 quotes 3 mm).
 pub const CONICITY_AMPLITUDES_MM: [f64; 8] = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0];
@@ -57,8 +71,15 @@ pub struct ContactCase {
     pub back_to_back: f64,
     /// Nominal rolling radius r0 (m).
     pub radius: f64,
-    /// Yaw angle ψ (rad).
+    /// Yaw angle ψ (rad) at zero shift.
     pub yaw: f64,
+    /// Yaw per lateral shift of the axle (rad/m): the yaw at shift `y` is
+    /// `yaw + yaw_per_shift·y` (the Manchester benchmark's case A-2.2: 2.4 rad/m).
+    pub yaw_per_shift: f64,
+    /// Pitch rate of the wheelset Ω (rad/s); `None`: free rolling, `V/r0`.
+    pub pitch_rate: Option<f64>,
+    /// How the normal load follows from the vertical load.
+    pub balance: Balance,
     /// Vertical load on each wheel Q (N).
     pub load: f64,
     /// Speed V (m/s).
@@ -79,6 +100,9 @@ impl Default for ContactCase {
             back_to_back: 1.360,
             radius: 0.46,
             yaw: 0.0,
+            yaw_per_shift: 0.0,
+            pitch_rate: None,
+            balance: Balance::Creep(CreepLaw::Fastsim),
             load: 50e3,
             speed: 20.0,
             mu: 0.3,
@@ -86,6 +110,43 @@ impl Default for ContactCase {
             poisson: 0.28,
         }
     }
+}
+
+/// One of the tool's three creep laws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CreepLaw {
+    /// Kalker's linear theory saturated by Shen–Hedrick–Elkins (`kalker_linear`).
+    KalkerLinear,
+    /// Polach (2005) with the dry-rail factors and his spin term (`polach`).
+    Polach,
+    /// FASTSIM on 20 × 20 elements (`fastsim`).
+    Fastsim,
+}
+
+impl CreepLaw {
+    /// The law with the tool's constants.
+    pub fn law(self) -> TangentialLaw {
+        match self {
+            CreepLaw::KalkerLinear => TangentialLaw::KalkerLinear,
+            CreepLaw::Polach => TangentialLaw::Polach {
+                ka: POLACH_DRY.ka,
+                ks: POLACH_DRY.ks,
+                a: POLACH_DRY.a,
+                b: POLACH_DRY.b,
+                spin: true,
+            },
+            CreepLaw::Fastsim => TangentialLaw::fastsim(FastsimGrid::DEFAULT),
+        }
+    }
+}
+
+/// How a wheel's normal load follows from its vertical load `Q`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Balance {
+    /// `N = Q/cos δ`: the creep force carries no share of `Q` (`--balance none`).
+    Vertical,
+    /// `Q = N cos δ ± Fy sin δ` with the lateral creep force of the law ([`balance`]).
+    Creep(CreepLaw),
 }
 
 /// Creep forces `(Fx, Fy)` (N) on the wheel, in the contact plane, of the three laws.
@@ -104,6 +165,10 @@ pub struct LawForces {
 pub struct Patch {
     /// The geometric contact.
     pub geometry: SideContact,
+    /// Where the contact lies along the track (yaw).
+    pub lead: Lead,
+    /// Vertical gap of the rigid profiles at this point (m): 0 for the first patch.
+    pub gap: f64,
     /// Normal load N (N).
     pub normal: f64,
     /// Hertz's ellipse, `None` where the surfaces conform (`B ≤ 0`).
@@ -119,12 +184,16 @@ pub struct Patch {
 pub struct ShiftResult {
     /// Lateral shift of the axle centre (m).
     pub y_axle: f64,
+    /// Yaw of the wheelset (rad).
+    pub yaw: f64,
     /// Rigid contact geometry (its `shift` is that of the tape-circle level).
     pub contact: WheelsetContact,
     /// Left wheel.
     pub left: Patch,
     /// Right wheel.
     pub right: Patch,
+    /// Each wheel's (left, right) second patch of a two-point contact.
+    pub second: [Option<Patch>; 2],
 }
 
 /// The wheelset geometry of `case` with its profiles.
@@ -158,98 +227,263 @@ fn curvature(d: nalgebra::Vector2<f64>, dd: nalgebra::Vector2<f64>) -> f64 {
     (d.x * dd.y - d.y * dd.x) / d.norm().powi(3)
 }
 
-fn patch(
-    case: &ContactCase,
-    geom: &WheelsetGeometry,
+/// The creepages `[ξx, ξy, φ]` (−, −, 1/m) of one wheel's contact `c` on side `side` (+1
+/// left, −1 right) of a wheelset yawed by `yaw` and rolled by `roll` (rad), moving at
+/// `speed` and turning at `omega` (rad/s) about its axle, the contact `theta` (rad) ahead
+/// of the wheel's bottom ([`yawed`]).
+///
+/// Derivation (track frame `x` ahead, `y` left, `z` up; wheelset rotation `Rz(ψ)·Rx(φ_r)`).
+/// The axle points along `a = (−sin ψ cos φ_r, cos ψ cos φ_r, sin φ_r)`; the contact, at
+/// `ρ_w = (r sin θ, l, −r cos θ)` from the wheel's centre in the wheelset frame (`r` the
+/// rolling radius), moves at `V·x̂ + Ω·a × ρ = V·x̂ + Ω·R·(ŷ × ρ_w)
+/// = V·x̂ − Ω r·R·(cos θ, 0, sin θ)`:
+///
+/// ```text
+/// v = (V − Ωr(cos θ cos ψ + sin θ sin φ_r sin ψ),
+///      −Ωr(cos θ sin ψ − sin θ sin φ_r cos ψ),
+///      −Ωr sin θ cos φ_r)
+/// ```
+///
+/// The rail is at rest, so `v` is the slip; at the contact of [`yawed`] it is tangent to the
+/// surfaces (`v·n = 0` is that module's condition on `θ`). Its components along `x̂` and
+/// along the contact plane's lateral axis `t = (0, cos δ, ±sin δ)` (left/right) are `ξx`
+/// and `ξy`; for `θ = 0` (no yaw) `v_z = 0`, and for small angles
+/// `ξy ≈ −Ωr sin ψ/cos δ`, the classical form. The spin is the wheel's angular velocity
+/// about the normal `n = (0, ∓sin δ, cos δ)`: `Ω·a·n = ∓Ω(cos ψ cos φ_r sin δ ∓ sin φ_r
+/// cos δ)` (the rail does not turn). All three are divided by the mean rolling speed
+/// `V̄ = (V + Ωr)/2` (Kalker, *Three-dimensional elastic bodies in rolling contact*, 1990,
+/// §1.3; CONTACT's `VELOC`). With `Ω = V/r0` and small angles these are the creepages of
+/// `creep::linear_wheelset` to first order.
+pub fn creepages(
     c: &SideContact,
     side: f64,
-) -> Result<Patch, FemError> {
+    speed: f64,
+    omega: f64,
+    pose: (f64, f64, f64),
+) -> [f64; 3] {
+    let (yaw, roll, theta) = pose;
     let (cd, sd) = (c.contact_angle.cos(), c.contact_angle.sin());
-    let normal = case.load / cd;
-    let spline = geom.wheel.spline();
-    // The wheel is traversed towards the field side with its material above: a tread
-    // convex towards the rail turns counter-clockwise.
-    let kw = curvature(
-        spline.derivative(c.wheel_t),
-        spline.second_derivative(c.wheel_t),
-    );
-    let rail = geom.rail_surface();
-    let (dz, ddz) = (rail.derivative(c.rail_y), rail.second_derivative(c.rail_y));
-    let kr = -ddz / (1.0 + dz * dz).powf(1.5);
-    let curv = Curvatures {
-        wheel_rolling_radius: c.rolling_radius / cd,
-        wheel_transverse: kw,
-        rail_transverse: kr,
-    };
-    let creepage = [
-        (case.radius - c.rolling_radius) / case.radius,
-        -case.yaw / cd,
-        -side * sd / c.rolling_radius,
-    ];
-    let hertz = hertz_ellipse(&curv, normal, case.young, case.poisson).ok();
-    let forces = match hertz {
-        None => None,
-        Some(h) => {
-            let coeff = kalker_coefficients(h.a / h.b, case.poisson)
-                .map_err(|e| FemError::input("railfem contact", e.to_string()))?;
-            let shape = EllipseShape {
-                n_ref: normal,
-                a_ref: h.a,
-                b_ref: h.b,
-                c: coeff,
-            };
-            let mat = Material {
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = yaw.sin_cos();
+    let (sf, cf) = roll.sin_cos();
+    let w = omega * c.rolling_radius;
+    let mean = 0.5 * (speed + w);
+    let vx = speed - w * (ct * cp + st * sf * sp);
+    let vy = -w * (ct * sp - st * sf * cp);
+    let vz = -w * st * cf;
+    [
+        vx / mean,
+        (vy * cd + side * vz * sd) / mean,
+        -side * omega * (cp * cf * sd - side * sf * cd) / mean,
+    ]
+}
+
+fn balance_error(side: f64, y_axle: f64, delta: f64) -> FemError {
+    FemError::input(
+        "railfem contact",
+        format!(
+            "at y = {y_axle} m the {} wheel's lateral creep force pulls it down its flange \
+             (δ = {delta:.3} rad) harder than any normal force can lift it: no normal load \
+             balances the wheel load; fix: --balance none, or a smaller yaw or --mu",
+            if side > 0.0 { "left" } else { "right" }
+        ),
+    )
+}
+
+/// One contact point's mechanics before its normal load is known: curvatures, creepages,
+/// and (unless the surfaces conform) Kalker's coefficients of its Hertz ellipse at the load
+/// `Q/cos δ`.
+struct PointModel {
+    c: SideContact,
+    lead: Lead,
+    creepage: [f64; 3],
+    curv: Curvatures,
+    /// The ellipse at `Q/cos δ` and its load-independent shape; `None` where `B ≤ 0`.
+    hertz: Option<(HertzEllipse, EllipseShape)>,
+    mat: Material,
+}
+
+impl PointModel {
+    fn new(
+        case: &ContactCase,
+        geom: &WheelsetGeometry,
+        c: &SideContact,
+        lead: Lead,
+        side: f64,
+        pose: (f64, f64),
+    ) -> Result<Self, FemError> {
+        let (yaw, roll) = pose;
+        let cd = c.contact_angle.cos();
+        let spline = geom.wheel.spline();
+        // The wheel is traversed towards the field side with its material above: a tread
+        // convex towards the rail turns counter-clockwise.
+        let kw = curvature(
+            spline.derivative(c.wheel_t),
+            spline.second_derivative(c.wheel_t),
+        );
+        let rail = geom.rail_surface();
+        let (dz, ddz) = (rail.derivative(c.rail_y), rail.second_derivative(c.rail_y));
+        let kr = -ddz / (1.0 + dz * dz).powf(1.5);
+        let curv = Curvatures {
+            wheel_rolling_radius: c.rolling_radius / cd,
+            wheel_transverse: kw,
+            rail_transverse: kr,
+        };
+        let omega = case.pitch_rate.unwrap_or(case.speed / case.radius);
+        let creepage = creepages(c, side, case.speed, omega, (yaw, roll, lead.theta));
+        let n_ref = case.load / cd;
+        let hertz = match hertz_ellipse(&curv, n_ref, case.young, case.poisson) {
+            Err(_) => None,
+            Ok(h) => {
+                let coeff = kalker_coefficients(h.a / h.b, case.poisson)
+                    .map_err(|e| FemError::input("railfem contact", e.to_string()))?;
+                let shape = EllipseShape {
+                    n_ref,
+                    a_ref: h.a,
+                    b_ref: h.b,
+                    c: coeff,
+                };
+                Some((h, shape))
+            }
+        };
+        Ok(PointModel {
+            c: *c,
+            lead,
+            creepage,
+            curv,
+            hertz,
+            mat: Material {
                 shear_modulus: case.young / (2.0 * (1.0 + case.poisson)),
                 mu: case.mu,
-            };
-            let input = [creepage[0], creepage[1], creepage[2], normal];
-            let f = |law: &TangentialLaw| {
-                let (fx, fy) = creep_forces(law, &shape, &mat, case.speed, input);
-                (fx.v, fy.v)
-            };
-            Some(LawForces {
-                kalker: f(&TangentialLaw::KalkerLinear),
-                polach: f(&TangentialLaw::Polach {
-                    ka: POLACH_DRY.ka,
-                    ks: POLACH_DRY.ks,
-                    a: POLACH_DRY.a,
-                    b: POLACH_DRY.b,
-                    spin: true,
-                }),
-                fastsim: f(&TangentialLaw::fastsim(FastsimGrid::DEFAULT)),
-            })
+            },
+        })
+    }
+
+    /// `(Fx, Fy)` of `law` at normal load `n` (zero without an ellipse).
+    fn force(&self, case: &ContactCase, law: &TangentialLaw, n: f64) -> (D4, D4) {
+        match &self.hertz {
+            None => (D4::c(0.0), D4::c(0.0)),
+            Some((_, shape)) => {
+                let [x, y, sp] = self.creepage;
+                creep_forces(law, shape, &self.mat, case.speed, [x, y, sp, n])
+            }
         }
+    }
+
+    /// The patch at normal load `normal`.
+    fn patch(&self, case: &ContactCase, normal: f64, gap: f64) -> Patch {
+        let pair = |l: CreepLaw| {
+            let (fx, fy) = self.force(case, &l.law(), normal);
+            (fx.v, fy.v)
+        };
+        let hertz = self
+            .hertz
+            .and_then(|_| hertz_ellipse(&self.curv, normal, case.young, case.poisson).ok());
+        Patch {
+            geometry: self.c,
+            lead: self.lead,
+            gap,
+            normal,
+            hertz,
+            creepage: self.creepage,
+            forces: hertz.map(|_| LawForces {
+                kalker: pair(CreepLaw::KalkerLinear),
+                polach: pair(CreepLaw::Polach),
+                fastsim: pair(CreepLaw::Fastsim),
+            }),
+        }
+    }
+}
+
+/// The law of the balance, `None` for [`Balance::Vertical`].
+fn balance_law(case: &ContactCase) -> Option<TangentialLaw> {
+    match case.balance {
+        Balance::Vertical => None,
+        Balance::Creep(l) => Some(l.law()),
+    }
+}
+
+/// One wheel's patch, or two where a second point of the profiles lies within the elastic
+/// approach ([`two_point`]).
+fn wheel_patches(
+    case: &ContactCase,
+    geom: &WheelsetGeometry,
+    first: (&SideContact, Lead),
+    second: Option<SecondPoint>,
+    side: f64,
+    pose: (f64, f64, f64),
+) -> Result<(Patch, Option<Patch>), FemError> {
+    let (y_axle, yaw, roll) = pose;
+    let c = first.0;
+    let one = PointModel::new(case, geom, c, first.1, side, (yaw, roll))?;
+    let law = balance_law(case);
+    let lateral = |m: &PointModel, n: f64| {
+        law.as_ref().map_or((0.0, 0.0), |l| {
+            let fy = m.force(case, l, n).1;
+            (fy.v, fy.d[3])
+        })
     };
-    Ok(Patch {
-        geometry: *c,
-        normal,
-        hertz,
-        creepage,
-        forces,
-    })
+    let n_ref = case.load / c.contact_angle.cos();
+    if one.hertz.is_none() {
+        return Ok((one.patch(case, n_ref, 0.0), None));
+    }
+    if let Some(p) = second {
+        let two = PointModel::new(case, geom, &p.contact, p.lead, side, (yaw, roll))?;
+        if let (Some((h1, _)), Some((h2, _))) = (one.hertz, two.hertz) {
+            let n2_ref = case.load / p.contact.contact_angle.cos();
+            let springs = [
+                Spring::new(c.contact_angle, 0.0, n_ref, &h1, case.young, case.poisson),
+                Spring::new(
+                    p.contact.contact_angle,
+                    p.gap,
+                    n2_ref,
+                    &h2,
+                    case.young,
+                    case.poisson,
+                ),
+            ];
+            let models = [&one, &two];
+            let n = two_point::share(case.load, side, &springs, |i, n| lateral(models[i], n).0)
+                .ok_or_else(|| balance_error(side, y_axle, c.contact_angle))?;
+            if n[1] > 0.0 {
+                return Ok((
+                    one.patch(case, n[0], 0.0),
+                    Some(two.patch(case, n[1], p.gap)),
+                ));
+            }
+        }
+    }
+    let normal = match law {
+        None => n_ref,
+        Some(_) => balance::normal_load(case.load, c.contact_angle, side, |n| lateral(&one, n))
+            .ok_or_else(|| balance_error(side, y_axle, c.contact_angle))?,
+    };
+    Ok((one.patch(case, normal, 0.0), None))
 }
 
 /// Bisection steps of [`contact_at_axle_shift`] (the bracket shrinks to 2⁻⁶⁰ of its width).
 const AXLE_SHIFT_STEPS: usize = 60;
 
-/// The rigid contact at the lateral shift `y_axle` (m) of the **axle centre**.
+/// The rigid contact at the lateral shift `y_axle` (m) of the **axle centre** and yaw
+/// `yaw` (rad), found by [`yawed::contact`].
 ///
 /// The conicity module's pose shifts the wheelset's tape-circle level by `y` and rolls it
 /// by `φ` about that level; the axle centre, `r0` above it, then stands at
-/// `y_axle = y − r0·sin φ` (pose formula of `creep::conicity` with `(Y, Z) = (0, r0)`).
+/// `y_axle = y − r0·sin φ·cos ψ` (the pose of [`yawed`] with the point `(0, 0, r0)`).
 /// Codes and the Manchester benchmark give the shift of the wheelset centre, which differs
 /// from `y` by `r0·φ` — 2 to 5 mm in flange contact, where the roll reaches 4–11 mrad. The
-/// root of `g(y) = y − r0·sin φ(y) − y_axle` is bracketed from `y = y_axle` (where
+/// root of `g(y) = y − r0·sin φ(y)·cos ψ − y_axle` is bracketed from `y = y_axle` (where
 /// `g = −r0 sin φ`, of the sign opposite to the roll's) by steps of 1 mm outward, then
 /// bisected. Where `g` is not monotone (a contact jump, `r0·φ' > 1`), the root nearest to
 /// `y_axle` is taken.
 pub fn contact_at_axle_shift(
     geom: &WheelsetGeometry,
     y_axle: f64,
-) -> Result<WheelsetContact, ConicityError> {
+    yaw: f64,
+) -> Result<YawedContact, ConicityError> {
     let r0 = geom.nominal_radius;
-    let g = |c: &WheelsetContact| c.shift - r0 * c.roll.sin() - y_axle;
-    let mut lo = geom.contact(y_axle)?;
+    let g = |c: &YawedContact| c.contact.shift - r0 * c.contact.roll.sin() * yaw.cos() - y_axle;
+    let mut lo = yawed::contact(geom, y_axle, yaw)?;
     let g_lo = g(&lo);
     if g_lo == 0.0 {
         return Ok(lo);
@@ -257,7 +491,7 @@ pub fn contact_at_axle_shift(
     let dir = -g_lo.signum();
     let mut hi = lo;
     for k in 1..=40 {
-        hi = geom.contact(y_axle + dir * 1e-3 * k as f64)?;
+        hi = yawed::contact(geom, y_axle + dir * 1e-3 * k as f64, yaw)?;
         if g(&hi) * g_lo <= 0.0 {
             break;
         }
@@ -271,13 +505,13 @@ pub fn contact_at_axle_shift(
         });
     }
     for _ in 0..AXLE_SHIFT_STEPS {
-        let mid = geom.contact(0.5 * (lo.shift + hi.shift))?;
+        let mid = yawed::contact(geom, 0.5 * (lo.contact.shift + hi.contact.shift), yaw)?;
         if g(&mid) * g_lo > 0.0 {
             lo = mid;
         } else {
             hi = mid;
         }
-        if (hi.shift - lo.shift).abs() < 1e-12 {
+        if (hi.contact.shift - lo.contact.shift).abs() < 1e-12 {
             break;
         }
     }
@@ -290,28 +524,52 @@ pub fn evaluate(
     geom: &WheelsetGeometry,
     y_axle: f64,
 ) -> Result<ShiftResult, FemError> {
-    let contact = contact_at_axle_shift(geom, y_axle).map_err(conicity_error)?;
+    let yaw = case.yaw + case.yaw_per_shift * y_axle;
+    let found = contact_at_axle_shift(geom, y_axle, yaw).map_err(conicity_error)?;
+    let contact = found.contact;
+    let pose = (y_axle, yaw, contact.roll);
+    let [second_l, second_r] = yawed::second_points(geom, &found);
+    let (left, left_2) =
+        wheel_patches(case, geom, (&contact.left, found.left), second_l, 1.0, pose)?;
+    let (right, right_2) = wheel_patches(
+        case,
+        geom,
+        (&contact.right, found.right),
+        second_r,
+        -1.0,
+        pose,
+    )?;
     Ok(ShiftResult {
         y_axle,
+        yaw,
         contact,
-        left: patch(case, geom, &contact.left, 1.0)?,
-        right: patch(case, geom, &contact.right, -1.0)?,
+        left,
+        right,
+        second: [left_2, right_2],
     })
 }
 
 /// CSV header of `contact.csv`.
 pub const CONTACT_HEADER: &str =
-    "y [m],y_tape [m],wheel [-],roll [rad],delta_r [m],wheel_y [m],rail_y [m],\
+    "y [m],y_tape [m],wheel [-],patch [-],roll [rad],delta_r [m],wheel_y [m],rail_y [m],\
 lateral_position [m],rolling_radius [m],contact_angle [rad],N [N],a [m],b [m],xi_x [-],\
 xi_y [-],spin [1/m],Fx_kalker [N],Fy_kalker [N],Fx_polach [N],Fy_polach [N],\
-Fx_fastsim [N],Fy_fastsim [N]";
+Fx_fastsim [N],Fy_fastsim [N],yaw [rad],lead [m],x_contact [m],gap [m]";
 
-/// The rows of `contact.csv`.
+/// The rows of `contact.csv`: per shift and wheel one row per patch (`patch` 1, and 2 for
+/// the second patch of a two-point contact).
 pub fn contact_csv(results: &[ShiftResult]) -> String {
     let mut s = String::from(CONTACT_HEADER);
     s.push('\n');
     for r in results {
-        for (name, p) in [("left", &r.left), ("right", &r.right)] {
+        let rows = [
+            ("left", 1, Some(&r.left)),
+            ("left", 2, r.second[0].as_ref()),
+            ("right", 1, Some(&r.right)),
+            ("right", 2, r.second[1].as_ref()),
+        ];
+        for (name, k, p) in rows {
+            let Some(p) = p else { continue };
             let g = &p.geometry;
             let (a, b) = p.hertz.map_or((f64::NAN, f64::NAN), |h| (h.a, h.b));
             let nan = (f64::NAN, f64::NAN);
@@ -320,8 +578,8 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
                 .map_or([nan; 3], |f| [f.kalker, f.polach, f.fastsim]);
             let _ = writeln!(
                 s,
-                "{},{:.9e},{name},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6e},\
-                 {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
+                "{},{:.9e},{name},{k},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.9e},{:.6e},{:.6e},{:.6e},\
+                 {:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.9e},{:.9e},{:.9e},{:.9e}",
                 r.y_axle,
                 r.contact.shift,
                 r.contact.roll,
@@ -342,7 +600,11 @@ pub fn contact_csv(results: &[ShiftResult]) -> String {
                 f[1].0,
                 f[1].1,
                 f[2].0,
-                f[2].1
+                f[2].1,
+                r.yaw,
+                p.lead.lead,
+                p.lead.x,
+                p.gap
             );
         }
     }

@@ -46,6 +46,7 @@
 pub mod build;
 pub mod carriage;
 pub mod definition;
+pub mod instance_defect;
 pub mod section;
 pub mod statics;
 

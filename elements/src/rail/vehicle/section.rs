@@ -33,7 +33,7 @@ pub const SKS700_TOML: &str = include_str!("../../../presets/sks700.toml");
 /// Keys of a vehicle unit that are not part of a definition.
 const UNIT_KEYS: [&str; 5] = ["preset", "carriage", "file", "count", "carriages"];
 /// Keys of the train.
-const TRAIN_KEYS: [&str; 12] = [
+const TRAIN_KEYS: [&str; 13] = [
     "name",
     "start",
     "speed",
@@ -46,6 +46,7 @@ const TRAIN_KEYS: [&str; 12] = [
     "coupler",
     "record",
     "vehicles",
+    "defects",
 ];
 
 /// Where a train's results go: `wheels` (every wheel's outputs), `sensors` (the sensor
@@ -90,6 +91,9 @@ struct TrainKeys {
     record: Option<Record>,
     #[serde(default)]
     vehicles: Option<Vec<Value>>,
+    /// Defects of single wheels of single vehicles ([`super::instance_defect`]).
+    #[serde(default)]
+    defects: Vec<super::instance_defect::InstanceDefect>,
 }
 
 /// The built-in vehicles a `[[vehicle]]` entry names with `preset`.
@@ -301,6 +305,7 @@ pub fn apply_vehicles(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(
         for (d, n) in units {
             vehicles.extend(std::iter::repeat_n(d, n));
         }
+        super::instance_defect::apply(&mut vehicles, &keys.defects, &named, &at)?;
         let train = Train {
             name: keys.name.clone(),
             vehicles,
