@@ -233,7 +233,14 @@ fn full_vehicle_crossing_against_modal_runge_kutta() {
     let reach = vehicle.axle(3);
     let steps = ((l + reach) / v / dt).floor() as usize;
     let (mut w, mut x) = (Work::default(), VehicleWork::default());
-    run(&st, &deck, &[vehicle.clone()], v, steps, (&mut w, &mut x));
+    run(
+        &st,
+        &deck,
+        std::slice::from_ref(&vehicle),
+        v,
+        steps,
+        (&mut w, &mut x),
+    );
     let mid = deck
         .stations
         .iter()
@@ -250,16 +257,16 @@ fn full_vehicle_crossing_against_modal_runge_kutta() {
         let mut d = vec![0.0; 2 * nd];
         d[..nd].copy_from_slice(&y[nd..]);
         let (q, z, zd) = (&y[..nm], &y[nm..nd], &y[nd + nm..]);
-        let mut fz = vec![0.0; 10];
-        for a in 0..10 {
+        let mut fz = [0.0; 10];
+        for (a, f) in fz.iter_mut().enumerate() {
             let mut s = 0.0;
             for b in 0..10 {
                 s -= car.k[a][b] * z[b] + car.c[a][b] * zd[b];
             }
-            fz[a] = s;
+            *f = s;
         }
-        for j in 0..4 {
-            let xj = v * t - wheel_x[j];
+        for (j, wx) in wheel_x.iter().enumerate() {
+            let xj = v * t - wx;
             let wi = 6 + j;
             let on = (0.0..=l).contains(&xj);
             let wj: f64 = if on {

@@ -83,6 +83,10 @@ impl VehicleStep {
     }
 }
 
+/// A wheelset on the deck: its vehicle, its number in the vehicle and the deck's
+/// interpolation terms under it.
+type OnDeck = (usize, usize, Vec<(usize, f64)>);
+
 /// Per-run buffers of the full-vehicle step beyond the deck's [`Work`].
 #[derive(Debug, Clone, Default)]
 pub struct VehicleWork {
@@ -90,8 +94,8 @@ pub struct VehicleWork {
     pub states: Vec<[[f64; DOFS]; 3]>,
     /// Per vehicle its `r` of the current step.
     r: Vec<DVector<f64>>,
-    /// The wheelsets on the deck this step: (vehicle, wheelset, interpolation terms).
-    on: Vec<(usize, usize, Vec<(usize, f64)>)>,
+    /// The wheelsets on the deck this step.
+    on: Vec<OnDeck>,
     /// `K_eff⁻¹·g_j` per wheelset on the deck.
     z: Vec<Vec<f64>>,
     /// Largest and smallest contact force over the run, relative to the static load.

@@ -72,7 +72,8 @@ pub struct Analysis {
     /// Travel between the positions of the static crossing (m) [default: 0.05].
     #[serde(default = "default_ds")]
     pub static_step: f64,
-    /// The trains as moving forces, moving sprung masses, or both [default: moving forces].
+    /// The trains as moving forces, moving sprung masses, both, full vehicles, or all three
+    /// [default: moving forces].
     #[serde(default)]
     pub model: Models,
 }
