@@ -40,6 +40,7 @@ fn worst(per: usize, spp: f64, modes: usize) -> Result<(f64, f64), FemError> {
         cutoff: fc,
         tail: 0.3,
         vehicles: &[],
+        full: &[],
         journal: None,
     };
     let stations: Vec<f64> = deck.stations.iter().map(|s| s.station).collect();
@@ -79,17 +80,30 @@ fn worst(per: usize, spp: f64, modes: usize) -> Result<(f64, f64), FemError> {
 fn main() -> Result<(), FemError> {
     println!("| elements per span | steps per cut-off period | modes of the reference | acceleration [%] | deflection [%] |");
     println!("|---|---|---|---|---|");
+    // The defaults (12 elements, 60 steps per period) among meshes and steps around
+    // them, then the reference's mode count at the defaults.
     let cases = [
         (10, 40.0, 30),
         (20, 40.0, 30),
+        (10, 60.0, 30),
         (10, 80.0, 30),
+        (10, 120.0, 30),
+        (11, 60.0, 30),
+        (12, 50.0, 30),
+        (12, 56.0, 30),
+        (12, 60.0, 30),
+        (12, 70.0, 30),
+        (12, 80.0, 30),
+        (13, 60.0, 30),
+        (14, 60.0, 30),
+        (16, 60.0, 30),
         (20, 60.0, 30),
         (20, 80.0, 30),
         (40, 160.0, 30),
-        (20, 80.0, 5),
-        (20, 80.0, 10),
-        (20, 80.0, 20),
-        (20, 80.0, 25),
+        (12, 60.0, 5),
+        (12, 60.0, 10),
+        (12, 60.0, 20),
+        (12, 60.0, 25),
     ];
     for (per, spp, modes) in cases {
         let (a, d) = worst(per, spp, modes)?;

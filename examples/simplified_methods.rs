@@ -64,6 +64,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             cutoff: fc_fe,
             tail: 1.0,
             vehicles: &[],
+            full: &[],
             journal: None,
         };
         let speeds: Vec<f64> = (0..=55).map(|k| 144.0 + 5.0 * k as f64).collect();

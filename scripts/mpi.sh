@@ -8,7 +8,9 @@
 #   - a rank that dies outright (abort, as a crash or a kill) ends the job with mpirun's
 #     message naming the rank, never a hang; the checkpoint keeps the finished cases and the
 #     same command then finishes the study with the serial run's table;
-# and that `railfem train-bridge` with the partitioned solver's blocks shared by 2 ranks
+# that `railfem bridge-check` on 2 ranks writes the serial envelope.csv byte for byte (also
+# after a stop and a resume), and that `railfem train-bridge` with the partitioned
+# solver's blocks shared by 2 ranks
 # writes the serial run's recorders (to 1e-12 relative), as does 1 rank, and that a SIGTERM
 # to one of its ranks stops both at the same step (exit 130, rank 0's rows whole).
 # Usage: scripts/mpi.sh [PLAN.toml]   (default: a 24-case cut of examples/studies)
@@ -78,6 +80,27 @@ mpirun_n 2 "$mpi_bin" study "$plan" --threads 1 -q --out "$work/died" >/dev/null
 cmp "$work/serial/study.csv" "$work/died/study.csv" || fail "the study resumed after a dying rank differs"
 rows=$(($(wc -l < "$work/serial/study.csv") - 1))
 echo "mpi.sh: ok — $rows cases: serial, 1 rank, 2 ranks and a resumed 2-rank run give the same study.csv bytes; a panicking case is a failed row; a dying rank ended the job (exit $status, $kept checkpoint lines kept) and the resumed study is the same"
+
+# `railfem bridge-check` across ranks (docs/bridge-check.md): HSLM-A1 and A4 over the 20 m
+# span of examples/bridge-check/span20.toml; 2 ranks write the serial run's envelope.csv
+# byte for byte (rank 1 computing some of the runs), and a 2-rank check stopped after 30
+# runs (--stop-after) and run again resumes from its journal to the same bytes.
+bc_plan=$work/bridge-check.toml
+{ echo 'trains = ["HSLM-A1", "HSLM-A4"]'; cat examples/bridge-check/span20.toml; } > "$bc_plan"
+"$serial_bin" bridge-check "$bc_plan" --threads 1 -q --out "$work/bc-serial" >/dev/null
+mpirun_n 2 "$mpi_bin" bridge-check "$bc_plan" --threads 1 -q --out "$work/bc-mpi2" >"$work/bc-mpi2.out"
+cmp "$work/bc-serial/envelope.csv" "$work/bc-mpi2/envelope.csv" || fail "bridge-check: 2 ranks differ from the serial run"
+bc_other=$(grep -o 'which computed [0-9]* runs' "$work/bc-mpi2.out" | grep -o '[0-9]*' || true)
+[ "${bc_other:-0}" -gt 0 ] || fail "bridge-check: rank 1 computed no run ($(head -c 300 "$work/bc-mpi2.out"))"
+status=0
+mpirun_n 2 "$mpi_bin" bridge-check "$bc_plan" --threads 1 -q --stop-after 30 --out "$work/bc-resume" >/dev/null 2>&1 || status=$?
+bc_kept=$(($(wc -l < "$work/bc-resume/bridge-check.checkpoint") - 1))
+[ "$status" -ne 0 ] && [ "$bc_kept" -eq 30 ] && [ ! -e "$work/bc-resume/envelope.csv" ] \
+    || fail "bridge-check --stop-after 30 on 2 ranks: exit $status, $bc_kept runs in the journal"
+mpirun_n 2 "$mpi_bin" bridge-check "$bc_plan" --threads 1 -q --out "$work/bc-resume" >/dev/null
+cmp "$work/bc-serial/envelope.csv" "$work/bc-resume/envelope.csv" || fail "bridge-check resumed on 2 ranks differs from the serial run"
+bc_rows=$(($(wc -l < "$work/bc-serial/envelope.csv") - 1))
+echo "mpi.sh: ok — bridge-check: $bc_rows runs on 2 ranks (rank 1 computed $bc_other) give the serial envelope.csv bytes; stopped after 30 runs and resumed on 2 ranks, likewise"
 
 # One model across ranks (issue 15 item 2, docs/scale-out.md): the partitioned solver's
 # blocks shared by 2 ranks give the serial run's recorders to 1e-12 relative (each column

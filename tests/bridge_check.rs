@@ -6,6 +6,7 @@
 
 mod common;
 
+use railfem::bridge_check::bridge::DEFAULT_ELEMENTS_PER_SPAN;
 use railfem::bridge_check::bridge::{
     additional_damping, frequency_limits, table_6_6, BridgeKind, Support,
 };
@@ -14,6 +15,7 @@ use railfem::bridge_check::fe::{described_model, rayleigh, Deck, Stepper, Work};
 use railfem::bridge_check::filter::{cutoff, LowPass};
 use railfem::bridge_check::interaction::{self, AxleSuspension, AxleWork};
 use railfem::bridge_check::modal::{response, Span};
+use railfem::bridge_check::plan::DEFAULT_STEPS_PER_PERIOD;
 use railfem::bridge_check::trains::{hslm_a, hslm_a_parameters, hslm_b, Axle, Train};
 use std::f64::consts::PI;
 
@@ -204,31 +206,49 @@ fn modal_reference_against_fryba_and_statics() {
 
 /// A 20 m span of the FE deck, with its Rayleigh damping and step, as the check builds it.
 fn fe_span(ei: f64, mass: f64, zeta: f64) -> (Deck, Stepper, f64, (f64, f64), f64) {
-    let model = described_model(&[20.0], ei, mass, 10)
+    fe_span_with(ei, mass, zeta, 10, 40.0)
+}
+
+/// The 20 m span with `per` elements and `spp` steps per period of the cut-off.
+fn fe_span_with(
+    ei: f64,
+    mass: f64,
+    zeta: f64,
+    per: usize,
+    spp: f64,
+) -> (Deck, Stepper, f64, (f64, f64), f64) {
+    let model = described_model(&[20.0], ei, mass, per)
         .build()
         .expect("model");
-    let ids: Vec<u64> = (1..=10).collect();
+    let ids: Vec<u64> = (1..=per as u64).collect();
     let deck = Deck::new(model, &ids, 6, "test").expect("deck");
     let n0 = deck.frequencies[0];
     let fc = cutoff(n0, deck.frequencies.get(2).copied());
     let r = rayleigh(zeta, 2.0 * PI * n0, 2.0 * PI * fc);
-    let dt = 1.0 / (40.0 * fc);
+    let dt = 1.0 / (spp * fc);
     let st = Stepper::new(&deck, r.0, r.1, dt).expect("stepper");
     (deck, st, fc, r, dt)
 }
 
 /// The FE envelope of HSLM-A1 and A5 over 215-285 km/h (every 10 km/h, across their
-/// second resonances) on a 20 m span (10 elements, 40 steps per period of the cut-off)
-/// against the modal reference (30 modes, the same Rayleigh damping, the same filter):
-/// the peak deflection within 0.1 % at every speed; the peak filtered acceleration within
-/// 0.6 % where it exceeds 3 m/s² (the resonance peaks, measured worst 0.52 %) and within
-/// 1.5 % elsewhere (measured worst 0.98 % on a 5 km/h grid: off resonance the acceleration is the sum of
-/// free vibrations of modes 1-3 whose relative phases the FE's time and space
-/// discretization shift slightly). The FE's first frequency against the closed form to 1e-5.
+/// second resonances) on a 20 m span with the check's defaults (12 elements, 60 steps per
+/// period of the cut-off) against the modal reference (30 modes, the same Rayleigh
+/// damping, the same filter): the peak filtered acceleration within 0.5 % at every speed
+/// (measured worst 0.32 % on a 5 km/h grid by `examples/bridge_accuracy.rs`; 10 elements
+/// and 40 steps gave 0.98 %: off resonance the acceleration is the sum of free vibrations
+/// of modes 1-3 whose relative phases the step's period error `(ωh)²/12` and the mesh
+/// shift), the peak deflection within 0.1 %. The FE's first frequency against the closed
+/// form to 1e-5.
 #[test]
 fn fe_envelope_against_modal_reference() {
     let (ei, mass) = (4.8e10, 15000.0);
-    let (deck, st, fc, (al, be), dt) = fe_span(ei, mass, 0.01);
+    let (deck, st, fc, (al, be), dt) = fe_span_with(
+        ei,
+        mass,
+        0.01,
+        DEFAULT_ELEMENTS_PER_SPAN,
+        DEFAULT_STEPS_PER_PERIOD,
+    );
     let span = Span {
         length: 20.0,
         ei,
@@ -246,6 +266,7 @@ fn fe_envelope_against_modal_reference() {
         cutoff: fc,
         tail: 0.3,
         vehicles: &[],
+        full: &[],
         journal: None,
     };
     let stations: Vec<f64> = deck.stations.iter().map(|s| s.station).collect();
@@ -285,19 +306,13 @@ fn fe_envelope_against_modal_reference() {
                 fe.deflection
             );
             assert!(
-                ea < 1.5e-2,
+                ea < 5e-3,
                 "{} at {kmh} km/h: acceleration {} vs {acc}",
                 train.name,
                 fe.acceleration
             );
             if acc > 3.0 {
                 peaks = peaks.max(ea);
-                assert!(
-                    ea < 6e-3,
-                    "{} at {kmh} km/h (a peak): acceleration {} vs {acc}",
-                    train.name,
-                    fe.acceleration
-                );
             }
         }
     }
@@ -393,6 +408,7 @@ fn resonance_speed_of_hslm_a4() {
         cutoff: fc,
         tail: 0.3,
         vehicles: &[],
+        full: &[],
         journal: None,
     };
     let speeds: Vec<f64> = (0..=25).map(|k| 280.0 + 2.0 * k as f64).collect();
@@ -443,8 +459,8 @@ fn bad_plans_are_refused() {
         ),
         (
             "model.toml",
-            format!("{good}[analysis]\nmodel = \"full_vehicles\"\n"),
-            &["model.toml", "full_vehicles"],
+            format!("{good}[analysis]\nmodel = \"rigid_bodies\"\n"),
+            &["model.toml", "rigid_bodies"],
         ),
         (
             "both.toml",
@@ -903,6 +919,7 @@ fn refined_fe_envelope_within_half_a_percent_of_converged_modal_reference() {
         cutoff: fc,
         tail: 0.3,
         vehicles: &[],
+        full: &[],
         journal: None,
     };
     let stations: Vec<f64> = deck.stations.iter().map(|s| s.station).collect();

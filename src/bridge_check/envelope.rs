@@ -15,6 +15,7 @@
 
 use super::fe::{Deck, Stepper, Work};
 use super::filter::LowPass;
+use super::full_vehicles::{Vehicle, VehicleWork};
 use super::interaction::{AxleSuspension, AxleWork, VehicleModel};
 pub use super::outcome::Outcome;
 use super::resume::Journal;
@@ -43,9 +44,42 @@ pub struct Check<'a> {
     /// Per train, its axles' suspensions (needed for [`VehicleModel::SprungMasses`]
     /// only; may be empty otherwise).
     pub vehicles: &'a [Vec<AxleSuspension>],
+    /// Per train, its full vehicles (needed for [`VehicleModel::FullVehicles`] only; may be
+    /// empty otherwise).
+    pub full: &'a [Vec<Vehicle>],
     /// The journal that keeps finished runs and gives them back on resume
     /// ([`super::resume`]); `None`: nothing is kept.
     pub journal: Option<&'a Journal>,
+}
+
+/// What [`Check::next_job`] hands out.
+#[derive(Debug, Clone, Copy)]
+pub enum Next {
+    /// Compute job `k`.
+    Run(usize),
+    /// Job `k` is in the journal already: its outcome.
+    Kept(usize, Outcome),
+    /// Nothing more in this pass.
+    Done,
+}
+
+/// The other ranks of an MPI job that share a check's runs ([`super::ranks`]); rank 0
+/// serves them, the others work.
+pub trait Ranks {
+    /// Rank 0, during a pass: hands the runs `take` gives to the other ranks and gives
+    /// their outcomes to `put` (job index, outcome) until `take` is done and every rank's
+    /// run of this pass is back. Called on the main thread only.
+    fn serve(
+        &self,
+        check: &Check,
+        jobs: &[(usize, VehicleModel, f64)],
+        take: &dyn Fn() -> Next,
+        put: &dyn Fn(usize, Outcome),
+    );
+    /// Another rank: computes the runs rank 0 sends, until it says stop.
+    fn work(&self, check: &Check);
+    /// Rank 0, at the end (or on an error): tells every other rank to stop.
+    fn finish(&self);
 }
 
 /// Per-thread buffers.
@@ -53,6 +87,7 @@ pub struct Check<'a> {
 pub struct Scratch {
     work: Work,
     axles: AxleWork,
+    vehicles: VehicleWork,
     filter: LowPass,
 }
 
@@ -69,7 +104,8 @@ impl Check<'_> {
     }
 
     /// Runs train `i` at `speed` (km/h) with the axles modelled as `model`. A train
-    /// without suspensions in [`Check::vehicles`] runs as moving forces.
+    /// without suspensions in [`Check::vehicles`] (full vehicles in [`Check::full`]) runs
+    /// as moving forces.
     pub fn run_model(&self, i: usize, model: VehicleModel, speed: f64, s: &mut Scratch) -> Outcome {
         let train = &self.trains[i];
         let v = speed / KMH;
@@ -85,6 +121,16 @@ impl Check<'_> {
                 steps,
                 (&mut s.work, &mut s.axles),
             ),
+            (VehicleModel::FullVehicles, _) if self.full.get(i).is_some_and(|f| !f.is_empty()) => {
+                super::full_vehicles::run(
+                    self.stepper,
+                    self.deck,
+                    &self.full[i],
+                    v,
+                    steps,
+                    (&mut s.work, &mut s.vehicles),
+                )
+            }
             _ => self.stepper.run(self.deck, train, v, steps, &mut s.work),
         }
         let mut o = Outcome {
@@ -133,35 +179,69 @@ impl Check<'_> {
         jobs: &[(usize, VehicleModel, f64)],
         threads: usize,
     ) -> Result<Vec<Outcome>, FemError> {
+        self.run_shared(jobs, threads, None)
+    }
+
+    /// The next job of a pass for whoever asks (a local thread or another rank): the
+    /// journal's outcome when it holds the run, [`Next::Done`] once every job is handed
+    /// out, an interrupt is requested or `--stop-after`'s budget is spent.
+    pub fn next_job(&self, next: &AtomicUsize, jobs: &[(usize, VehicleModel, f64)]) -> Next {
+        if crate::framework::interrupt::requested() {
+            return Next::Done;
+        }
+        let k = next.fetch_add(1, Ordering::Relaxed);
+        let Some(&(i, m, v)) = jobs.get(k) else {
+            return Next::Done;
+        };
+        match self.journal.map(|j| (j.get(i, m, v), j)) {
+            Some((Some(o), _)) => Next::Kept(k, o),
+            Some((None, j)) if !j.may_run() => Next::Done,
+            _ => Next::Run(k),
+        }
+    }
+
+    /// [`Check::run_all`], the jobs shared with the other ranks of an MPI job when `ranks`
+    /// is given (this process being rank 0: its main thread serves them while its
+    /// `threads` compute).
+    pub fn run_shared(
+        &self,
+        jobs: &[(usize, VehicleModel, f64)],
+        threads: usize,
+        ranks: Option<&dyn Ranks>,
+    ) -> Result<Vec<Outcome>, FemError> {
         let next = AtomicUsize::new(0);
         let out: Mutex<Vec<Option<Outcome>>> = Mutex::new(vec![None; jobs.len()]);
+        let put = |k: usize, o: Outcome| {
+            if let Ok(mut g) = out.lock() {
+                g[k] = Some(o);
+            }
+        };
         std::thread::scope(|sc| {
             for _ in 0..threads.max(1) {
                 sc.spawn(|| {
                     let mut s = Scratch::default();
                     loop {
-                        if crate::framework::interrupt::requested() {
-                            return;
-                        }
-                        let k = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(&(i, m, v)) = jobs.get(k) else {
-                            return;
-                        };
-                        let kept = self.journal.and_then(|j| j.get(i, m, v));
-                        if kept.is_none() && self.journal.is_some_and(|j| !j.may_run()) {
-                            return;
-                        }
-                        let o = kept.unwrap_or_else(|| {
-                            let o = self.run_model(i, m, v, &mut s);
-                            if let Some(j) = self.journal {
-                                j.record(&o);
+                        match self.next_job(&next, jobs) {
+                            Next::Done => return,
+                            Next::Kept(k, o) => put(k, o),
+                            Next::Run(k) => {
+                                let (i, m, v) = jobs[k];
+                                let o = self.run_model(i, m, v, &mut s);
+                                if let Some(j) = self.journal {
+                                    j.record(&o);
+                                }
+                                put(k, o);
                             }
-                            o
-                        });
-                        if let Ok(mut g) = out.lock() {
-                            g[k] = Some(o);
                         }
                     }
+                });
+            }
+            if let Some(r) = ranks {
+                r.serve(self, jobs, &|| self.next_job(&next, jobs), &|k, o| {
+                    if let Some(j) = self.journal {
+                        j.record(&o);
+                    }
+                    put(k, o)
                 });
             }
         });
@@ -199,18 +279,21 @@ impl Check<'_> {
         refine: usize,
         threads: usize,
     ) -> Result<Vec<Outcome>, FemError> {
-        self.envelope_of(&[VehicleModel::MovingForces], speeds, step, refine, threads)
+        let mf = [VehicleModel::MovingForces];
+        self.envelope_shared(&mf, speeds, step, refine, threads, None)
     }
 
     /// The envelope of every train with every one of `models`, each (train, model) curve
-    /// refined on its own. Outcomes sorted by train, model and speed.
-    pub fn envelope_of(
+    /// refined on its own, every pass's runs shared with the other ranks of an MPI job when
+    /// `ranks` is given ([`Check::run_shared`]). Outcomes sorted by train, model and speed.
+    pub fn envelope_shared(
         &self,
         models: &[VehicleModel],
         speeds: &[f64],
         step: f64,
         refine: usize,
         threads: usize,
+        ranks: Option<&dyn Ranks>,
     ) -> Result<Vec<Outcome>, FemError> {
         let (lo, hi) = (speeds[0], *speeds.last().unwrap_or(&speeds[0]));
         let curves: Vec<(usize, VehicleModel)> = (0..self.trains.len())
@@ -220,7 +303,7 @@ impl Check<'_> {
             .iter()
             .flat_map(|&(i, m)| speeds.iter().map(move |&v| (i, m, v)))
             .collect();
-        let mut all = self.run_all(&jobs, threads)?;
+        let mut all = self.run_shared(&jobs, threads, ranks)?;
         // The maxima to refine: (train, model, best speed, best value).
         let mut peaks: Vec<(usize, VehicleModel, f64, f64)> = Vec::new();
         for &(i, m) in &curves {
@@ -248,7 +331,7 @@ impl Check<'_> {
                 .filter(|&(_, (_, _, v))| v >= lo && v <= hi)
                 .collect();
             let jobs: Vec<(usize, VehicleModel, f64)> = tagged.iter().map(|t| t.1).collect();
-            let got = self.run_all(&jobs, threads)?;
+            let got = self.run_shared(&jobs, threads, ranks)?;
             for ((k, _), o) in tagged.iter().zip(&got) {
                 if o.acceleration > peaks[*k].3 {
                     peaks[*k] = (o.train, o.model, o.speed, o.acceleration);

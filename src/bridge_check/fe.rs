@@ -278,17 +278,18 @@ impl Band {
 
     /// `y += A·x`.
     pub fn mul_add(&self, x: &[f64], y: &mut [f64]) {
-        let w = self.b + 1;
-        for i in 0..self.n {
-            let row = &self.a[i * w..(i + 1) * w];
-            let j0 = i.saturating_sub(self.b);
+        let (b, w) = (self.b, self.b + 1);
+        for (i, row) in self.a.chunks_exact(w).enumerate().take(self.n) {
+            let j0 = i.saturating_sub(b);
+            let xi = x[i];
+            // The row's band left of the diagonal, against x[j0..i] and y[j0..i].
+            let band = &row[b - (i - j0)..b];
             let mut s = 0.0;
-            for j in j0..i {
-                let v = row[j + self.b - i];
-                s += v * x[j];
-                y[j] += v * x[i];
+            for ((v, xj), yj) in band.iter().zip(&x[j0..i]).zip(&mut y[j0..i]) {
+                s += v * xj;
+                *yj += v * xi;
             }
-            y[i] += s + row[self.b] * x[i];
+            y[i] += s + row[b] * xi;
         }
     }
 
@@ -319,18 +320,22 @@ impl Band {
     /// Solves `L·Lᵀ·x = r` in place after [`Band::cholesky`].
     pub fn solve(&self, x: &mut [f64]) {
         let (n, b, w) = (self.n, self.b, self.b + 1);
-        for i in 0..n {
-            let mut s = x[i];
-            for k in i.saturating_sub(b)..i {
-                s -= self.a[i * w + (k + b - i)] * x[k];
+        for (i, row) in self.a.chunks_exact(w).enumerate().take(n) {
+            let j0 = i.saturating_sub(b);
+            let (done, rest) = x.split_at_mut(i);
+            let mut s = rest[0];
+            for (v, xk) in row[b - (i - j0)..b].iter().zip(&done[j0..]) {
+                s -= v * xk;
             }
-            x[i] = s / self.a[i * w + b];
+            rest[0] = s / row[b];
         }
         for i in (0..n).rev() {
-            let s = x[i] / self.a[i * w + b];
+            let row = &self.a[i * w..(i + 1) * w];
+            let j0 = i.saturating_sub(b);
+            let s = x[i] / row[b];
             x[i] = s;
-            for k in i.saturating_sub(b)..i {
-                x[k] -= self.a[i * w + (k + b - i)] * s;
+            for (v, xk) in row[b - (i - j0)..b].iter().zip(&mut x[j0..i]) {
+                *xk -= v * s;
             }
         }
     }
@@ -483,6 +488,11 @@ impl Stepper {
             w.deflection[j][i] = y;
             w.acceleration[j][i] = acc;
         }
+    }
+
+    /// Solves `K_eff·x = r` in place with the factored effective matrix.
+    pub(crate) fn solve_effective(&self, x: &mut [f64]) {
+        self.keff.solve(x);
     }
 
     /// The unfactored effective matrix, copied into `into` (allocated on first use).

@@ -56,6 +56,8 @@ pub enum VehicleModel {
     MovingForces,
     /// Every axle a moving sprung mass coupled to the deck (this module).
     SprungMasses,
+    /// Every vehicle a 10-DOF half car coupled to the deck ([`super::full_vehicles`]).
+    FullVehicles,
 }
 
 impl VehicleModel {
@@ -64,6 +66,7 @@ impl VehicleModel {
         match self {
             VehicleModel::MovingForces => "moving_forces",
             VehicleModel::SprungMasses => "sprung_masses",
+            VehicleModel::FullVehicles => "full_vehicles",
         }
     }
 }
@@ -79,6 +82,10 @@ pub enum Models {
     SprungMasses,
     /// Both, side by side.
     Both,
+    /// Full vehicles only (trains of vehicle files).
+    FullVehicles,
+    /// Moving forces, sprung masses and full vehicles, side by side.
+    All,
 }
 
 impl Models {
@@ -88,6 +95,12 @@ impl Models {
             Models::MovingForces => vec![VehicleModel::MovingForces],
             Models::SprungMasses => vec![VehicleModel::SprungMasses],
             Models::Both => vec![VehicleModel::MovingForces, VehicleModel::SprungMasses],
+            Models::FullVehicles => vec![VehicleModel::FullVehicles],
+            Models::All => vec![
+                VehicleModel::MovingForces,
+                VehicleModel::SprungMasses,
+                VehicleModel::FullVehicles,
+            ],
         }
     }
 }

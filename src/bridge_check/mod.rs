@@ -7,19 +7,26 @@
 //! One job per module: [`trains`] (HSLM and user trains), [`bridge`] (the description and
 //! the standard's rules for damping, limits and frequencies), [`modal`] (the modal
 //! reference solution), [`filter`] (the frequency cut-off), [`simplified`] (the DER and LIR methods of ERRI D214), [`fe`] (the finite element
-//! deck and its step), [`interaction`] (moving sprung masses coupled to that step),
+//! deck and its step), [`interaction`] (moving sprung masses coupled to that step), [`half_car`] (the
+//! full vehicle: the 10-DOF half car), [`full_vehicles`] (full vehicles coupled to the
+//! deck's step),
 //! [`vehicle_train`] (trains of vehicle files), [`envelope`] (the speed sweep on threads),
-//! [`resume`] (the journal of finished runs), [`plan`] (the plan file) and [`report`] (CSV,
+//! [`resume`] (the journal of finished runs), `ranks` (the runs shared by MPI ranks, feature
+//! `mpi`), [`plan`] (the plan file) and [`report`] (CSV,
 //! figures, Markdown). User documentation: `docs/bridge-check.md`.
 
 pub mod bridge;
 pub mod envelope;
 pub mod fe;
 pub mod filter;
+pub mod full_vehicles;
+pub mod half_car;
 pub mod interaction;
 pub mod modal;
 pub mod outcome;
 pub mod plan;
+#[cfg(feature = "mpi")]
+pub mod ranks;
 pub mod report;
 pub mod resume;
 pub mod simplified;
@@ -64,9 +71,9 @@ pub struct Results {
     /// `(FE peak acceleration, modal peak acceleration, FE peak deflection, modal peak
     /// deflection)`.
     pub reference: Option<(f64, f64, f64, f64)>,
-    /// When the sprung-mass model ran: the governing train and speed as moving forces and
-    /// as sprung masses, in that order.
-    pub models_compared: Option<(envelope::Outcome, envelope::Outcome)>,
+    /// When an interaction model ran: the governing train and speed under every model the
+    /// train can run (moving forces, sprung masses, full vehicles), in that order.
+    pub models_compared: Vec<envelope::Outcome>,
     /// On a described single simply supported span: per train, the peak midspan
     /// acceleration of ERRI D214's DER and LIR methods over the plan's speed range (m/s²),
     /// and the speeds (km/h) of those peaks.
@@ -98,14 +105,19 @@ impl Results {
     }
 }
 
+/// A plan's trains with, per train, its axles' suspensions and its full vehicles.
+pub type PlanTrains = (
+    Vec<trains::Train>,
+    Vec<Vec<interaction::AxleSuspension>>,
+    Vec<Vec<full_vehicles::Vehicle>>,
+);
+
 /// The trains of a plan: the named built-ins (default HSLM-A1…A10, and HSLM-B on a simply
-/// supported span under 7 m), then the user's; with, when the plan runs the sprung-mass
+/// supported span under 7 m), then the user's; with, when the plan runs an interaction
 /// model, every train's axle suspensions (a vehicle file's own, else the plan's
-/// `[sprung_masses]`), and otherwise none.
-pub fn plan_trains(
-    p: &plan::Plan,
-    file: &str,
-) -> Result<(Vec<trains::Train>, Vec<Vec<interaction::AxleSuspension>>), FemError> {
+/// `[sprung_masses]`), and otherwise none; and, when it runs full vehicles, every train's
+/// vehicles (trains of vehicle files only: another train is refused).
+pub fn plan_trains(p: &plan::Plan, file: &str) -> Result<PlanTrains, FemError> {
     let span = p.bridge.spans.iter().fold(0.0f64, |m, &s| m.max(s));
     let names: Vec<String> = match &p.trains {
         Some(n) => n.clone(),
@@ -128,19 +140,40 @@ pub fn plan_trains(
         out.push(t);
     }
     let mut own = vec![None; out.len()];
+    let wants_full = p
+        .analysis
+        .model
+        .list()
+        .contains(&interaction::VehicleModel::FullVehicles);
+    let mut full = vec![Vec::new(); out.len()];
     for u in &p.train {
         match (&u.file, &u.vehicle) {
             (Some(f), _) => {
                 out.push(trains::read_user_train(f, &u.name)?);
                 own.push(None);
+                full.push(Vec::new());
             }
             (None, Some(v)) => {
                 let wr = p.sprung_masses.wheel_radius;
-                let (t, s) = vehicle_train::read(v, &u.name, u.count.unwrap_or(1), wr)?;
+                let count = u.count.unwrap_or(1);
+                let (t, s) = vehicle_train::read(v, &u.name, count, wr)?;
                 out.push(t);
                 own.push(Some(s));
+                full.push(if wants_full {
+                    vehicle_train::full(v, count, wr)?
+                } else {
+                    Vec::new()
+                });
             }
             (None, None) => {}
+        }
+    }
+    if wants_full {
+        if let Some(t) = full.iter().position(Vec::is_empty) {
+            return Err(FemError::input(
+                format!("{file}: analysis.model"),
+                format!("full vehicles need trains of vehicle files, and `{}` is not one; give `trains = []` and [[train]] tables with `vehicle = \"FILE.toml\"`, or another model", out[t].name),
+            ));
         }
     }
     if out.is_empty() {
@@ -158,7 +191,7 @@ pub fn plan_trains(
             });
         }
     }
-    Ok((out, suspensions))
+    Ok((out, suspensions, full))
 }
 
 /// The FE deck of a plan: described, or the model file's deck path.
@@ -177,7 +210,9 @@ pub fn plan_deck(p: &plan::Plan, file: &str) -> Result<fe::Deck, FemError> {
                     "simply supported spans are independent: check one span per plan, or set support = \"continuous\"",
                 ));
             }
-            let per = b.elements_per_span.unwrap_or(10);
+            let per = b
+                .elements_per_span
+                .unwrap_or(bridge::DEFAULT_ELEMENTS_PER_SPAN);
             let model =
                 fe::described_model(&b.spans, b.ei.unwrap_or(0.0), b.mass.unwrap_or(0.0), per)
                     .build()?;
@@ -214,11 +249,28 @@ pub fn check(plan_path: &Path, out: &Path, threads: usize) -> Result<Results, Fe
 
 /// [`check`] with the journal's options.
 pub fn check_with(plan_path: &Path, out: &Path, o: RunOptions) -> Result<Results, FemError> {
+    check_as(plan_path, out, o, None)?.ok_or_else(|| {
+        FemError::input(
+            "bridge-check",
+            "a check on one process computes its outputs",
+        )
+    })
+}
+
+/// [`check_with`] as one rank of an MPI job when `ranks` is given: rank 0 shares the runs
+/// with the others and writes the outputs (`Some`); another rank computes the runs it is
+/// sent and returns `None` (no journal, no output).
+pub fn check_as(
+    plan_path: &Path,
+    out: &Path,
+    o: RunOptions,
+    ranks: Option<(&dyn envelope::Ranks, bool)>,
+) -> Result<Option<Results>, FemError> {
     let threads = o.threads;
     let t0 = Instant::now();
     let file = plan_path.display().to_string();
     let p = plan::Plan::read(plan_path)?;
-    let (trains, vehicles) = plan_trains(&p, &file)?;
+    let (trains, vehicles, full) = plan_trains(&p, &file)?;
     let deck = plan_deck(&p, &file)?;
     let f = &deck.frequencies;
     let n0 = *f.first().ok_or_else(|| {
@@ -240,54 +292,80 @@ pub fn check_with(plan_path: &Path, out: &Path, o: RunOptions) -> Result<Results
     }
     let text = std::fs::read_to_string(plan_path).unwrap_or_default();
     let words = format!(
-        "{trains:?} {vehicles:?} {:?} {dt:e} {cutoff:e} {rayleigh:?} {}",
+        "{trains:?} {vehicles:?} {full:?} {:?} {dt:e} {cutoff:e} {rayleigh:?} {}",
         deck.frequencies, deck.n
     );
     let fp = resume::fingerprint(&[&text, &words]);
-    let journal = resume::Journal::open(out, fp, &statics, o.restart, o.stop_after)?;
-    let c = envelope::Check {
-        deck: &deck,
-        stepper: &stepper,
-        trains: &trains,
-        statics: &statics,
-        cutoff,
-        tail: p.analysis.tail_periods / n0,
-        vehicles: &vehicles,
-        journal: Some(&journal),
+    if let Some((r, false)) = ranks {
+        let c = envelope::Check {
+            deck: &deck,
+            stepper: &stepper,
+            trains: &trains,
+            statics: &statics,
+            cutoff,
+            tail: p.analysis.tail_periods / n0,
+            vehicles: &vehicles,
+            full: &full,
+            journal: None,
+        };
+        r.work(&c);
+        return Ok(None);
+    }
+    // From here on the other ranks wait for rank 0's runs: whatever the end, it tells them
+    // to stop.
+    let rest = || -> Result<Results, FemError> {
+        let journal = resume::Journal::open(out, fp, &statics, o.restart, o.stop_after)?;
+        let c = envelope::Check {
+            deck: &deck,
+            stepper: &stepper,
+            trains: &trains,
+            statics: &statics,
+            cutoff,
+            tail: p.analysis.tail_periods / n0,
+            vehicles: &vehicles,
+            full: &full,
+            journal: Some(&journal),
+        };
+        let te = Instant::now();
+        let models = p.analysis.model.list();
+        let outcomes = c.envelope_shared(
+            &models,
+            &p.coarse_speeds(),
+            p.speeds.step,
+            p.speeds.refine,
+            threads,
+            ranks.map(|r| r.0),
+        )?;
+        let envelope_s = te.elapsed().as_secs_f64();
+        let mut r = Results {
+            plan: p,
+            trains: trains.clone(),
+            frequencies: deck.frequencies.clone(),
+            length,
+            damping,
+            rayleigh,
+            cutoff,
+            dt,
+            equations: deck.n,
+            outcomes,
+            seconds: (envelope_s, 0.0),
+            threads,
+            reference: None,
+            models_compared: Vec::new(),
+            simplified: Vec::new(),
+        };
+        r.reference = governing_reference(&r, &deck, &c);
+        r.models_compared = compare_models(&r, &c);
+        r.simplified = simplified_rows(&r);
+        r.seconds.1 = t0.elapsed().as_secs_f64();
+        report::write(&r, out)?;
+        Ok(r)
     };
-    let te = Instant::now();
-    let models = p.analysis.model.list();
-    let outcomes = c.envelope_of(
-        &models,
-        &p.coarse_speeds(),
-        p.speeds.step,
-        p.speeds.refine,
-        threads,
-    )?;
-    let envelope_s = te.elapsed().as_secs_f64();
-    let mut r = Results {
-        plan: p,
-        trains: trains.clone(),
-        frequencies: deck.frequencies.clone(),
-        length,
-        damping,
-        rayleigh,
-        cutoff,
-        dt,
-        equations: deck.n,
-        outcomes,
-        seconds: (envelope_s, 0.0),
-        threads,
-        reference: None,
-        models_compared: None,
-        simplified: Vec::new(),
-    };
-    r.reference = governing_reference(&r, &deck, &c);
-    r.models_compared = compare_models(&r, &c);
-    r.simplified = simplified_rows(&r);
-    r.seconds.1 = t0.elapsed().as_secs_f64();
-    report::write(&r, out)?;
-    Ok(r)
+    let got = rest();
+    if let Some((r, true)) = ranks {
+        r.finish();
+    }
+    got.map(Some)
 }
 
 /// On a described single simply supported span: the governing case again, beside the
@@ -330,26 +408,29 @@ fn governing_reference(
     Some((g.acceleration, acc, g.deflection, defl))
 }
 
-/// When the sprung-mass model ran: the governing train and speed under both models (the
-/// other model's run is repeated when the envelope does not hold that speed).
-fn compare_models(
-    r: &Results,
-    c: &envelope::Check,
-) -> Option<(envelope::Outcome, envelope::Outcome)> {
-    use interaction::VehicleModel::{MovingForces, SprungMasses};
+/// When an interaction model ran: the governing train and speed under every model the
+/// train can run (a run repeated when the envelope does not hold that speed and model).
+fn compare_models(r: &Results, c: &envelope::Check) -> Vec<envelope::Outcome> {
+    use interaction::VehicleModel::{FullVehicles, MovingForces, SprungMasses};
     if r.plan.analysis.model == interaction::Models::MovingForces {
-        return None;
+        return Vec::new();
     }
-    let g = *r.governing()?;
-    let mut s = envelope::Scratch::default();
-    let mut of = |m| {
-        r.outcomes
-            .iter()
-            .find(|o| o.train == g.train && o.model == m && o.speed == g.speed)
-            .copied()
-            .unwrap_or_else(|| c.run_model(g.train, m, g.speed, &mut s))
+    let Some(g) = r.governing().copied() else {
+        return Vec::new();
     };
-    Some((of(MovingForces), of(SprungMasses)))
+    let mut s = envelope::Scratch::default();
+    let has_full = c.full.get(g.train).is_some_and(|f| !f.is_empty());
+    [MovingForces, SprungMasses, FullVehicles]
+        .into_iter()
+        .filter(|&m| m != FullVehicles || has_full)
+        .map(|m| {
+            r.outcomes
+                .iter()
+                .find(|o| o.train == g.train && o.model == m && o.speed == g.speed)
+                .copied()
+                .unwrap_or_else(|| c.run_model(g.train, m, g.speed, &mut s))
+        })
+        .collect()
 }
 
 /// On a described single simply supported span: DER and LIR of every train over the plan's
@@ -398,18 +479,42 @@ fn simplified_rows(r: &Results) -> Vec<SimplifiedRow> {
 }
 
 /// `railfem bridge-check`: runs the check of the plan at `plan` into `out` and prints the
-/// governing case.
+/// governing case. Built with the `mpi` feature and started by `mpirun -n N` (N > 1), rank 0
+/// hands the runs out to the other ranks and writes every output ([`ranks`]).
 pub fn command(plan: &Path, out: &Path, opts: RunOptions) -> Result<i32, FemError> {
-    let r = check_with(plan, out, opts)?;
+    #[cfg(feature = "mpi")]
+    let world = crate::study::mpi::World::init().filter(|w| w.size() > 1);
+    #[cfg(feature = "mpi")]
+    let shared = world.as_ref().map(ranks::Shared::new);
+    #[cfg(feature = "mpi")]
+    let role = shared
+        .as_ref()
+        .map(|s| (s as &dyn envelope::Ranks, s.is_master()));
+    #[cfg(not(feature = "mpi"))]
+    let role = None;
+    let Some(r) = check_as(plan, out, opts, role)? else {
+        return Ok(0);
+    };
+    #[cfg(feature = "mpi")]
+    let ranks_note = shared.as_ref().map_or(String::new(), |s| {
+        format!(
+            " of rank 0 and {} other rank(s), which computed {} runs",
+            s.size() - 1,
+            s.received()
+        )
+    });
+    #[cfg(not(feature = "mpi"))]
+    let ranks_note = "";
     let g = r.governing().copied();
     if let Some(g) = g {
         let limit = r.limit();
         println!(
-            "{}: {} runs in {:.1} s on {} threads; governing {} at {:.1} km/h: {:.3} m/s² at {:.2} m (limit {limit} m/s²) — {}",
+            "{}: {} runs in {:.1} s on {} threads{}; governing {} at {:.1} km/h: {:.3} m/s² at {:.2} m (limit {limit} m/s²) — {}",
             plan.display(),
             r.outcomes.len(),
             r.seconds.0,
             r.threads,
+            ranks_note,
             r.trains[g.train].name,
             g.speed,
             g.acceleration,

@@ -52,7 +52,7 @@ pub fn resonance_speeds(n0: f64, spacing: f64, lo: f64, hi: f64) -> Vec<f64> {
 }
 
 /// One curve per train and model: a train's colour, moving forces solid, sprung masses
-/// dashed (named so in the legend when both ran).
+/// dashed, full vehicles as markers (named so in the legend when several ran).
 fn curves(r: &Results, y: &dyn Fn(&Outcome) -> f64) -> Vec<Series> {
     let models = r.plan.analysis.model.list();
     let mut out = Vec::new();
@@ -68,6 +68,7 @@ fn curves(r: &Results, y: &dyn Fn(&Outcome) -> f64) -> Vec<Series> {
                 (_, 1) => (t.name.clone(), Style::Line),
                 (VehicleModel::MovingForces, _) => (format!("{} forces", t.name), Style::Line),
                 (VehicleModel::SprungMasses, _) => (format!("{} sprung", t.name), Style::Dashed),
+                (VehicleModel::FullVehicles, _) => (format!("{} vehicles", t.name), Style::Markers),
             };
             out.push(Series::new(
                 &name,
@@ -177,7 +178,8 @@ pub fn markdown(r: &Results) -> String {
                 b.spans,
                 b.ei.unwrap_or(0.0),
                 b.mass.unwrap_or(0.0),
-                b.elements_per_span.unwrap_or(10),
+                b.elements_per_span
+                    .unwrap_or(super::bridge::DEFAULT_ELEMENTS_PER_SPAN),
                 r.equations
             );
         }
@@ -311,19 +313,42 @@ pub fn markdown(r: &Results) -> String {
             100.0 * (fd / md - 1.0)
         );
     }
-    if let Some((f, m)) = r.models_compared {
-        let _ = writeln!(
-            s,
-            "\nThe two models at the governing train and speed ({}, {:.1} km/h): moving forces {:.4} m/s², sprung masses {:.4} m/s² ({:+.2} % against the moving forces); deflection {:.4e} m and {:.4e} m ({:+.2} %).",
-            r.trains[f.train].name,
-            f.speed,
-            f.acceleration,
-            m.acceleration,
-            100.0 * (m.acceleration / f.acceleration - 1.0),
-            f.deflection,
-            m.deflection,
-            100.0 * (m.deflection / f.deflection - 1.0)
-        );
+    if let [f, rest @ ..] = r.models_compared.as_slice() {
+        if !rest.is_empty() {
+            let part = |o: &Outcome, x: fn(&Outcome) -> f64, unit: &str, digits: bool| {
+                let name = o.model.name().replace('_', " ");
+                let v = if digits {
+                    format!("{:.4}", x(o))
+                } else {
+                    format!("{:.4e}", x(o))
+                };
+                if o.model == VehicleModel::MovingForces {
+                    format!("{name} {v} {unit}")
+                } else {
+                    format!(
+                        "{name} {v} {unit} ({:+.2} % against the moving forces)",
+                        100.0 * (x(o) / x(f) - 1.0)
+                    )
+                }
+            };
+            let all = &r.models_compared;
+            let acc: Vec<String> = all
+                .iter()
+                .map(|o| part(o, |o| o.acceleration, "m/s²", true))
+                .collect();
+            let defl: Vec<String> = all
+                .iter()
+                .map(|o| part(o, |o| o.deflection, "m", false))
+                .collect();
+            let _ = writeln!(
+                s,
+                "\nThe models at the governing train and speed ({}, {:.1} km/h): {}; deflection: {}.",
+                r.trains[f.train].name,
+                f.speed,
+                acc.join(", "),
+                defl.join(", ")
+            );
+        }
     }
     s
 }

@@ -63,9 +63,13 @@ fn head(fingerprint: u64) -> String {
 }
 
 fn model_of(name: &str) -> Option<VehicleModel> {
-    [VehicleModel::MovingForces, VehicleModel::SprungMasses]
-        .into_iter()
-        .find(|m| m.name() == name)
+    [
+        VehicleModel::MovingForces,
+        VehicleModel::SprungMasses,
+        VehicleModel::FullVehicles,
+    ]
+    .into_iter()
+    .find(|m| m.name() == name)
 }
 
 /// The row of an outcome (module documentation).

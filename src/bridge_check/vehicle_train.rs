@@ -13,7 +13,12 @@
 //!   the axle's share of bogie and car body (their secondary suspension and pitch are not
 //!   modelled: above the bogie the axle sees one mass on its primary springs); the contact
 //!   is Hertz's, linearised at the static wheel load, as for the built-in trains.
+//! - Full vehicles ([`full`]): each vehicle the file's half car
+//!   ([`HalfCar::from_vehicle`]), one vehicle length apart, its front wheelset where the
+//!   axles above put it.
 
+use super::full_vehicles::Vehicle;
+use super::half_car::HalfCar;
 use super::interaction::{linear_contact, AxleSuspension, G};
 use super::trains::{user_train, Axle, Train};
 use crate::elements::rail::vehicle::build::DEFAULT_CONTACT_OFFSET;
@@ -100,4 +105,26 @@ pub fn read(
     }
     let train = user_train(name, axles, &file)?;
     Ok((train, susp))
+}
+
+/// The `count` full vehicles of the vehicle file at `path` ([`HalfCar::from_vehicle`]),
+/// placed as [`read`] places their axles: the first vehicle's front wheelset at the
+/// train's front, the next vehicles one vehicle `length` behind each other.
+pub fn full(path: &Path, count: usize, wheel_radius: f64) -> Result<Vec<Vehicle>, FemError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        FemError::input(
+            &file,
+            format!("cannot read the vehicle file ({e}); fix the path"),
+        )
+    })?;
+    let v = parse_vehicle(&text, &file)?;
+    let car = HalfCar::from_vehicle(&v, &file, wheel_radius)?;
+    let front = car.axle_x.iter().fold(f64::NEG_INFINITY, |m, &x| m.max(x));
+    Ok((0..count)
+        .map(|j| Vehicle {
+            car: car.clone(),
+            centre: front + j as f64 * v.length,
+        })
+        .collect())
 }
