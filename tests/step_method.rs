@@ -67,8 +67,8 @@ impl StepMethod<Driver> for PlainNewton {
                 (&mut next.f_int, &mut inertia, &mut damp),
                 true,
             )?;
-            for i in 0..n {
-                r[i] = f_ref[i]
+            for (i, ri) in r.iter_mut().enumerate() {
+                *ri = f_ref[i]
                     - inertia[i]
                     - damp[i]
                     - ((1.0 - af) * next.f_int[i] + af * s0.f_int[i]);

@@ -1129,11 +1129,7 @@ impl Driver {
     }
 
     /// Runs `f` on the committed state moved out of the driver and the step's work vectors.
-    fn attempt_with(
-        &mut self,
-        dt: f64,
-        f: fn(&mut Driver, f64, &State, &mut StepWork) -> Result<(State, usize, f64), Attempt>,
-    ) -> Result<Accepted, Attempt> {
+    fn attempt_with(&mut self, dt: f64, f: AttemptFn) -> Result<Accepted, Attempt> {
         let s0 = std::mem::take(&mut self.state);
         // Messages formed during the attempt name the time of the committed state.
         self.state.t = s0.t;
@@ -2005,6 +2001,11 @@ impl Driver {
             && !self.asm.variable_elements().is_empty()
     }
 }
+
+/// An attempt on the committed state moved out of the driver and the step's work vectors
+/// ([`Driver::attempt_with`]): the state, the iterations and the residual norm.
+type AttemptFn =
+    fn(&mut Driver, f64, &State, &mut StepWork) -> Result<(State, usize, f64), Attempt>;
 
 /// Zeroes the held rows of a residual (their values are reactions): nothing when `held`
 /// is empty, so that a run without a window takes exactly the arithmetic it always took.
