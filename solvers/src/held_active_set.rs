@@ -7,7 +7,7 @@
 //! status (open, stick, slide along `+u` or `−u`) and kinked where its status changes, and
 //! iterates that cross kinks can come back to where they were (issue 15: a wheel alternating
 //! between sliding points whose lateral force has turned and points pressed in deep). When
-//! the smallest sub-step still does not converge, [`Driver::attempt_held`] solves it as an
+//! the smallest sub-step still does not converge, `Driver::attempt_held` solves it as an
 //! active-set method does:
 //!
 //! 1. hold every contact element's statuses at those of the last converged step
