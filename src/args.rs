@@ -25,7 +25,7 @@ pub struct Args {
     pub paths: Vec<(String, PathBuf)>,
     /// `--flag` options without value.
     pub flags: Vec<String>,
-    /// Text clap rendered for `--help`, `--version` or `railfem help`: printed by [`run`],
+    /// Text clap rendered for `--help`, `--version` or `railfem help`: printed by [`crate::cli::run`],
     /// which then exits 0 without running anything.
     pub message: Option<String>,
     /// `argv` as given (without the program name), for the run sidecar (`run.json`).

@@ -3,7 +3,7 @@
 //!
 //! Exit codes: 0 success; 2 bad input or a failed run (one line on stderr naming the file,
 //! the place and the fix — clap's own usage errors included); 1 a check that ran and failed
-//! (the conformance kit); 130 a run stopped by SIGINT or SIGTERM ([`crate::interrupt`]).
+//! (the conformance kit); 130 a run stopped by SIGINT or SIGTERM ([`crate::framework::interrupt`]).
 
 pub use crate::args::Args;
 use crate::command::Context;

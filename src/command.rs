@@ -64,19 +64,21 @@ impl std::fmt::Display for Refused {
 
 impl std::error::Error for Refused {}
 
+/// The refusal of a value that is not UTF-8.
+const NOT_UTF8: Refused = Refused("not valid UTF-8; give it in plain text");
+
 /// A UTF-8 text value (a choice, a list); other bytes are refused naming the option.
 pub fn text() -> impl TypedValueParser<Value = String> {
-    OsStringValueParser::new().try_map(|s: OsString| {
-        s.into_string()
-            .map_err(|_| Refused("not valid UTF-8; give it in plain text"))
-    })
+    OsStringValueParser::new().try_map(|s: OsString| s.into_string().map_err(|_| NOT_UTF8))
 }
 
-/// A finite number (`1e4`, `-15`, `0.005`); `abc`, `nan` and `inf` are refused.
+/// A finite number (`1e4`, `-15`, `0.005`); `abc`, `nan`, `inf` and bytes that are not
+/// UTF-8 are refused.
 pub fn number() -> impl TypedValueParser<Value = f64> {
     OsStringValueParser::new().try_map(|s: OsString| {
-        s.to_str()
-            .and_then(|t| t.parse::<f64>().ok())
+        let t = s.to_str().ok_or(NOT_UTF8)?;
+        t.parse::<f64>()
+            .ok()
             .filter(|x| x.is_finite())
             .ok_or(Refused("not a finite number"))
     })

@@ -98,6 +98,8 @@ macro_rules! commands {
         $(pub use $module::$ty;)*
 
         /// The commands, as registered.
+        // Parsed once per process: the size of the largest command's options does not matter.
+        #[allow(clippy::large_enum_variant)]
         #[derive(Subcommand, Debug, Clone, PartialEq)]
         pub enum Commands {
             $($(#[$doc])* #[command(name = <$ty as Command>::NAME)] $variant($ty),)*

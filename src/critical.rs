@@ -9,7 +9,7 @@
 //!
 //! Criteria:
 //! - **sliding, the paper's way**: Eq. 24 applied to the FE wheel forces, `|ΣY| ≥ μ·ΣQ`
-//!   over the carriage's wheels (the paper: "Equation (24) [is] used to both theoretical and
+//!   over the carriage's wheels (the paper: "Equation (24) \[is\] used to both theoretical and
 //!   finite element results");
 //! - **sliding, mechanistic**: the first time every contact point of every wheel slides
 //!   (gross sliding of the carriage). Friction acts in each contact's tangent plane, tilted

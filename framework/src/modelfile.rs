@@ -37,7 +37,7 @@ pub struct ModelSection {
     pub estimate: Option<fn(&Value, &Path) -> Vec<SizePart>>,
 }
 
-/// One part of a model's size estimate: what grows (`"`[track]`: 5e4 rail stations"`)
+/// One part of a model's size estimate: what grows (`"[track]: 5e4 rail stations"`)
 /// and the bytes it will take.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SizePart {

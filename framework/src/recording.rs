@@ -463,7 +463,7 @@ impl Recorders {
     }
 
     /// Writes the comfort recorders' indices (once) and flushes every file; after a
-    /// failed write every file ends on a whole line ([`Recorders::stop_writing`]).
+    /// failed write every file ends on a whole line (`Recorders::stop_writing`).
     pub fn finish(&mut self) -> Result<(), FemError> {
         let r = self.finish_files();
         if r.is_err() {

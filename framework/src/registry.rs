@@ -7,7 +7,7 @@
 //! own copy of the framework, never into the host's. No framework code lists element kinds
 //! by hand: [`kinds`] is the union of both sources.
 //!
-//! Parameters are declared with [`element_params!`], which generates a serde struct whose
+//! Parameters are declared with [`crate::element_params!`], which generates a serde struct whose
 //! doc comments, units and defaults also become the model-file documentation
 //! ([`ParamDoc`]) printed by `railfem elements`.
 
@@ -29,7 +29,7 @@ pub struct ParamDoc {
     pub doc: &'static str,
 }
 
-/// A parameter struct declared with [`element_params!`].
+/// A parameter struct declared with [`crate::element_params!`].
 pub trait Params: DeserializeOwned + serde::Serialize {
     /// Documentation of every key.
     fn docs() -> Vec<ParamDoc>;

@@ -1,4 +1,6 @@
 //! `railfem pareto`: run time against error ([`crate::pareto`]) for `--cases`; `pareto.csv`, `pareto.md` and `pareto-<case>.svg` in `--out`. `train-bridge` ([`crate::pareto_train`], not in the default) writes `pareto-train-bridge.{csv,md}` and `pareto-train-bridge-{Q,dQQ,w}.svg` there.
+// The doc comments are the --help text too, where `[s]` is a unit, not a link.
+#![allow(rustdoc::broken_intra_doc_links)]
 
 use crate::command::{Command, Context};
 use crate::framework::FemError;

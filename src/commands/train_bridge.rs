@@ -1,4 +1,6 @@
 //! `railfem train-bridge`: a train of sks700 carriages over a viaduct ([`crate::train_bridge`]).
+// The doc comments are the --help text too, where `[s]` is a unit, not a link.
+#![allow(rustdoc::broken_intra_doc_links)]
 
 use crate::command::{Command, Context};
 use crate::framework::FemError;

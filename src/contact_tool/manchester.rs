@@ -9,7 +9,7 @@
 //! [`CONTACT_A22`] holds E. Vollebregt's CONTACT results for the benchmark's case
 //! (shift 0 … 10 mm with yaw 2.4·y rad/m, the wheelset roll prescribed from the benchmark),
 //! as printed in the reference output files `examples/mbench_a22_left.ref_out` and
-//! `examples/mbench_a22_right.ref_out` of https://github.com/eve70a/CONTACT (revision 2707,
+//! `examples/mbench_a22_right.ref_out` of <https://github.com/eve70a/CONTACT> (revision 2707,
 //! 2025-07-23, Apache-2.0); the numbers are typed from there, no code is used. CONTACT's
 //! track frame has `y` to the right and `z` down, so a positive shift brings its **right**
 //! wheel to the flange; ours has `y` to the left. With `Y` the wheelset shift:

@@ -2,7 +2,7 @@
 //!
 //! The plan ([`plan`]) names a base case and axes; [`cases`] expands them into cases with
 //! stable ids; [`run`] computes a case and runs local worker threads; under `mpirun` with
-//! the `mpi` feature, [`mpi`] makes rank 0 the master that hands cases to the other ranks.
+//! the `mpi` feature, `mpi` makes rank 0 the master that hands cases to the other ranks.
 //! Every finished case is appended to the checkpoint ([`checkpoint`]) by the one recording
 //! thread of rank 0; at the end (or at a stop) the table, the sidecar and the figure
 //! ([`table`]) are written from the checkpoint's rows, sorted by case id, so the table is

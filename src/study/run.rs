@@ -1,8 +1,8 @@
 //! Running the cases of a study: one case ([`compute`]: the base case with the case's
 //! values, its results as table cells, an error or a panic turned into a failed row) and
-//! the local pool ([`Pool`]): worker threads take case indices from one queue, longest
+//! the local pool (`Pool`): worker threads take case indices from one queue, longest
 //! first, and send their rows back to the thread that records them. The MPI master
-//! ([`super::mpi`]) serves remote workers from the same queue.
+//! (`super::mpi`) serves remote workers from the same queue.
 
 use super::cases::{self, Case};
 use super::plan::{Base, Plan};

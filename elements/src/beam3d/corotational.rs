@@ -33,7 +33,7 @@
 //! ```
 //!
 //! and `δū = r₁·(δu₂ − δu₁)`. The resisting force is `f = Bᵀ·f_l` assembled from these
-//! forms ([`resisting_force`]): with `m̂_i = T⁻ᵀ(θ̄_i)·m̄_i` (the local end moments made
+//! forms (`resisting_force`): with `m̂_i = T⁻ᵀ(θ̄_i)·m̄_i` (the local end moments made
 //! conjugate to the local spin) and `s = m̂₁ + m̂₂`, node `i` receives `R_r·m̂_i` and
 //! `−s₁/(2q̄₂)·(q_i × r₃)` as moment and `∓(N·r₁ + (s₁q̄₁/q̄₂ + s₂)·r₃/l_n − s₃·r₂/l_n)` as
 //! force (minus at node 1). Everything is conjugate to the spatial spin, as the scheme

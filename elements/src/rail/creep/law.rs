@@ -9,7 +9,7 @@
 //! - [`TangentialLaw::Polach`]: O. Polach, "Creep forces in simulations of traction vehicles
 //!   running on adhesion limit", Wear 258 (2005) 992–1000, built on his closed form of 1999
 //!   ("A fast wheel–rail forces calculation computer code", Vehicle System Dynamics 33
-//!   suppl., 728–739), with the spin term of the latter ([`polach`]).
+//!   suppl., 728–739), with the spin term of the latter (`polach`).
 //! - [`TangentialLaw::Fastsim`]: Kalker's FASTSIM (1982) on a patch of strips × elements,
 //!   its flexibilities from `C11, C22, C23` ([`super::fastsim`]).
 //!
@@ -68,7 +68,7 @@ pub enum TangentialLaw {
     /// Kalker's linear creep saturated by Shen–Hedrick–Elkins.
     KalkerLinear,
     /// Polach (2005) with reduction factors `ka`, `ks` and falling friction `a`, `b` (s/m);
-    /// `spin` adds the spin term of his 1999 method ([`polach`]).
+    /// `spin` adds the spin term of his 1999 method (`polach`).
     Polach {
         /// Reduction factor of Kalker's coefficients in the adhesion area `kA` (−).
         ka: f64,
