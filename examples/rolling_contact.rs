@@ -11,13 +11,13 @@
 //!
 //! Model files and histories go to `target/rolling-contact/<case>/`.
 
-use railfem::elements::rail::creep::conicity::{
+use railfem::elements::rail::contact::creep::conicity::{
     equivalent_conicity, secant_conicity, WheelsetGeometry,
 };
-use railfem::elements::rail::creep::linear_wheelset::{
+use railfem::elements::rail::contact::creep::linear_wheelset::{
     critical_speed, max_real_part, steady_curving, wheelset_system, Wheelset,
 };
-use railfem::elements::rail::profiles::Inclination;
+use railfem::elements::rail::contact::profiles::Inclination;
 use railfem::rolling_contact::*;
 use std::f64::consts::PI;
 use std::path::PathBuf;

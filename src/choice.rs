@@ -21,7 +21,7 @@ pub fn parse<T: DeserializeOwned>(origin: &str, what: &str, value: &str) -> Resu
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::elements::rail::creep::law::Tangential;
+    use crate::elements::rail::contact::creep::law::Tangential;
 
     #[test]
     fn a_choice_is_read_or_refused_with_the_list() {

@@ -169,9 +169,9 @@ pub fn first_active_set(
 /// the law it belongs to: only `--tangential polach` has the term.
 pub fn polach_spin(
     v: Option<&str>,
-    tangential: crate::elements::rail::creep::law::Tangential,
-) -> Result<Option<crate::elements::rail::creep::law::PolachSpin>, FemError> {
-    use crate::elements::rail::creep::law::Tangential;
+    tangential: crate::elements::rail::contact::creep::law::Tangential,
+) -> Result<Option<crate::elements::rail::contact::creep::law::PolachSpin>, FemError> {
+    use crate::elements::rail::contact::creep::law::Tangential;
     let Some(v) = v else {
         return Ok(None);
     };

@@ -19,7 +19,7 @@
 //! - **separation**: the first time an inner wheel's normal force reaches zero.
 
 use crate::curve::CurveCase;
-use crate::elements::rail::theory::{
+use crate::elements::rail::vehicle::theory::{
     self, Carriage, CriticalRadius, Operation, RadiusBracket, SlidingDirection, TrackParams,
     Variant, WheelSide,
 };
@@ -59,10 +59,10 @@ pub struct CriticalCase {
     /// Tangential law of the wheels (`moving_axle` key `tangential`): "coulomb" (the
     /// paper's), "kalker_linear" or "polach" (docs/creep.md).
     #[serde(default)]
-    pub tangential: crate::elements::rail::creep::law::Tangential,
+    pub tangential: crate::elements::rail::contact::creep::law::Tangential,
     /// Polach's spin term (`moving_axle` key `polach_spin`); `None`: the element's default.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub polach_spin: Option<crate::elements::rail::creep::law::PolachSpin>,
+    pub polach_spin: Option<crate::elements::rail::contact::creep::law::PolachSpin>,
 }
 
 /// What one run found (radii in m; `None` when not reached).
@@ -87,7 +87,7 @@ pub struct CriticalResult {
     pub outer_contact: Option<[f64; 2]>,
     /// Separation, nonlinear geometry: the overturning radius about the same contact point
     /// of the carriage with its bodies leaning on their suspensions
-    /// ([`crate::elements::rail::lean`]) (m).
+    /// ([`crate::elements::rail::vehicle::lean`]) (m).
     pub lean_at_contact: Option<f64>,
 }
 
@@ -186,7 +186,7 @@ pub fn run_with_sections(
         lengths: [lead, case.clothoid, 200.0, 50.0, 50.0],
         start: 20.0,
         duration: (lead + case.clothoid + 150.0 - 20.0) / case.speed,
-        sliding_tangent: crate::elements::rail::contact_law::SlidingTangent::Consistent,
+        sliding_tangent: crate::elements::rail::contact::contact_law::SlidingTangent::Consistent,
         geometry: case.geometry,
         tangential: case.tangential,
         polach_spin: case.polach_spin,
@@ -333,12 +333,12 @@ pub fn separation_about(case: &CriticalCase, y_o: f64, z_o: f64, g: f64) -> Opti
 
 /// [`separation_about`] for the carriage whose bodies lean on their suspensions: the
 /// moment about the contact point of the body loads at their displaced mass centres
-/// ([`crate::elements::rail::lean::wheel_loads`]) vanishes. `None` where the lean
+/// ([`crate::elements::rail::vehicle::lean::wheel_loads`]) vanishes. `None` where the lean
 /// reference has no equilibrium.
 pub fn lean_separation_about(case: &CriticalCase, y_o: f64, z_o: f64, g: f64) -> Option<f64> {
     let data = crate::elements::rail::vehicle::CarriageData::sks700();
     let f = |r: f64| {
-        let op = crate::elements::rail::lean::ArcPoint {
+        let op = crate::elements::rail::vehicle::lean::ArcPoint {
             speed: case.speed,
             curvature: 1.0 / r,
             cant: case.ct / r,
@@ -346,7 +346,7 @@ pub fn lean_separation_about(case: &CriticalCase, y_o: f64, z_o: f64, g: f64) ->
             spacing: -2.0 * y_o,
             pivot: Some((y_o, z_o)),
         };
-        crate::elements::rail::lean::wheel_loads(&data, &op).map_or(f64::NAN, |l| l.pivot_moment)
+        crate::elements::rail::vehicle::lean::wheel_loads(&data, &op).map_or(f64::NAN, |l| l.pivot_moment)
     };
     first_root(&f, case.ct)
 }
@@ -415,7 +415,7 @@ pub fn sweep(
                     clothoid,
                     dt,
                     geometry,
-                    tangential: crate::elements::rail::creep::law::Tangential::Coulomb,
+                    tangential: crate::elements::rail::contact::creep::law::Tangential::Coulomb,
                     polach_spin: None,
                 });
             }
@@ -555,7 +555,7 @@ pub fn write_sweep(
                 clothoid: 0.0,
                 dt: 0.0,
                 geometry: Geometry::Linear,
-                tangential: crate::elements::rail::creep::law::Tangential::Coulomb,
+                tangential: crate::elements::rail::contact::creep::law::Tangential::Coulomb,
                 polach_spin: None,
             };
             let (st, _) = theory_radius(&case, 1.507, 9.81);
@@ -591,8 +591,8 @@ fn write_sections(
     dir: &std::path::Path,
     what: &str,
 ) -> Result<(), FemError> {
-    use crate::elements::rail::moving_axle::MovingAxle;
-    use crate::elements::rail::section_plot::write_section_svg;
+    use crate::elements::rail::wheels::moving_axle::MovingAxle;
+    use crate::elements::rail::contact::section_plot::write_section_svg;
     std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
     for (k, side) in [(0, "left (inner)"), (1, "right (outer)")] {
         let Some(ei) = wheels.get(k) else { continue };

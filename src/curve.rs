@@ -9,14 +9,14 @@
 //! circular arc, once the entry transient has decayed, is the number the paper's Figure 6
 //! shows. With `geometry = nonlinear` the carriage's bodies lean on their suspensions and
 //! the wheel loads are also compared with the quasi-static reference with body lean
-//! ([`crate::elements::rail::lean`]).
+//! ([`crate::elements::rail::vehicle::lean`]).
 
-use crate::elements::rail::alignment::{Alignment, Segment};
-use crate::elements::rail::cant::{Cant, Track};
-use crate::elements::rail::creep::law::Tangential;
-use crate::elements::rail::lean::{self, ArcPoint};
-use crate::elements::rail::theory::{self, Carriage, Operation, TrackParams, Variant};
-use crate::elements::rail::track_model::{self, TrackMesh};
+use crate::elements::rail::geometry::alignment::{Alignment, Segment};
+use crate::elements::rail::geometry::cant::{Cant, Track};
+use crate::elements::rail::contact::creep::law::Tangential;
+use crate::elements::rail::vehicle::lean::{self, ArcPoint};
+use crate::elements::rail::vehicle::theory::{self, Carriage, Operation, TrackParams, Variant};
+use crate::elements::rail::geometry::track_model::{self, TrackMesh};
 use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
 use crate::framework::builder::ModelBuilder;
 use crate::framework::model::{AnalysisSpec, Geometry, IntegratorKind, Predictor};
@@ -59,7 +59,7 @@ pub struct CurveCase {
     /// Record every n-th step.
     pub record_every: usize,
     /// Sliding tangent of the wheels: "symmetric" (Eq. 8) or "consistent".
-    pub sliding_tangent: crate::elements::rail::contact_law::SlidingTangent,
+    pub sliding_tangent: crate::elements::rail::contact::contact_law::SlidingTangent,
     /// Write ParaView output (`paraview/carriage.pvd`) every this many steps (0: none).
     pub vtk_every: usize,
     /// Distance into the arc after which the comparison with theory starts (m): the
@@ -80,10 +80,10 @@ pub struct CurveCase {
     pub anti_roll: f64,
     /// Tangential law of the wheels (`moving_axle` key `tangential`): "coulomb" (the
     /// paper's), "kalker_linear" or "polach" (docs/creep.md).
-    pub tangential: crate::elements::rail::creep::law::Tangential,
+    pub tangential: crate::elements::rail::contact::creep::law::Tangential,
     /// Polach's spin term (`moving_axle` key `polach_spin`, with `tangential = "polach"`):
     /// `None` leaves the element's default ("off").
-    pub polach_spin: Option<crate::elements::rail::creep::law::PolachSpin>,
+    pub polach_spin: Option<crate::elements::rail::contact::creep::law::PolachSpin>,
 }
 
 impl CurveCase {
@@ -124,13 +124,13 @@ impl Default for CurveCase {
             rho_inf: 0.8,
             duration: 0.0,
             record_every: 10,
-            sliding_tangent: crate::elements::rail::contact_law::SlidingTangent::Symmetric,
+            sliding_tangent: crate::elements::rail::contact::contact_law::SlidingTangent::Symmetric,
             settle: 400.0,
             vtk_every: 0,
             geometry: Geometry::Linear,
             first_active_set: crate::framework::model::FirstActiveSet::Found,
             anti_roll: 0.0,
-            tangential: crate::elements::rail::creep::law::Tangential::Coulomb,
+            tangential: crate::elements::rail::contact::creep::law::Tangential::Coulomb,
             polach_spin: None,
         }
     }
@@ -172,7 +172,7 @@ pub struct WheelSample {
     pub q_printed: f64,
     /// Theory shear (Eq. 26) (N).
     pub y_theory: f64,
-    /// Quasi-static reference with body lean: normal (N) ([`crate::elements::rail::lean`]).
+    /// Quasi-static reference with body lean: normal (N) ([`crate::elements::rail::vehicle::lean`]).
     pub q_lean: f64,
     /// Whether the wheel is the inner one.
     pub inner: bool,
@@ -241,7 +241,7 @@ impl CurveCase {
             Segment::Arc {
                 length: l2,
                 radius: self.radius,
-                hand: crate::elements::rail::alignment::Hand::Left,
+                hand: crate::elements::rail::geometry::alignment::Hand::Left,
             },
             Segment::Clothoid {
                 length: l3,

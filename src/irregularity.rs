@@ -3,9 +3,9 @@
 //! target (`psd.csv`) and a plot of both (`irregularity-psd.svg`, log10 values on linear
 //! axes: the plot writer has no logarithmic axes).
 
-use crate::elements::rail::irregularity::csv::{write_table, IrregularityTable};
-use crate::elements::rail::irregularity::generate::{welch, PsdRequest};
-use crate::elements::rail::irregularity::psd::{band_variance, Component};
+use crate::elements::rail::geometry::irregularity::csv::{write_table, IrregularityTable};
+use crate::elements::rail::geometry::irregularity::generate::{welch, PsdRequest};
+use crate::elements::rail::geometry::irregularity::psd::{band_variance, Component};
 use crate::framework::plot::{Figure, Panel, Series, Style};
 use crate::framework::FemError;
 use std::f64::consts::PI;
@@ -38,7 +38,7 @@ pub fn run(
     out: &Path,
 ) -> Result<Vec<ComponentReport>, FemError> {
     let cl = "command line";
-    let part = crate::elements::rail::irregularity::generate_part(req, 0.0, components)
+    let part = crate::elements::rail::geometry::irregularity::generate_part(req, 0.0, components)
         .map_err(|m| FemError::input(cl, m))?;
     let table: IrregularityTable = part.table();
     std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;

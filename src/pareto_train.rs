@@ -5,7 +5,7 @@
 //!
 //! Every mesh has `h = SPACING / k`, so each 0.625 m fastener bay is split into `k` equal
 //! elements and the support pattern is the same on every mesh (the track generator puts
-//! the fasteners at their true stations whatever `h`; see `railfem_elements::rail::bridge`).
+//! the fasteners at their true stations whatever `h`; see `railfem_elements::rail::geometry::bridge`).
 //!
 //! Reference: the same model at a step and an element length below every grid point's
 //! ([`REF_DT`], [`REF_H`], generalized-α ρ∞ = 0.8, partitioned solver). Its own error is

@@ -1,5 +1,5 @@
 //! Finite-element checks of rolling contact against the linear wheelset theory of
-//! `railfem_elements::rail::creep::linear_wheelset` (issue 14, docs/rolling-contact.md):
+//! `railfem_elements::rail::contact::creep::linear_wheelset` (issue 14, docs/rolling-contact.md):
 //! the Klingel oscillation of a free wheelset, the growth or decay of the hunting mode of a
 //! suspended wheelset at a given speed, and steady curving of a suspended wheelset.
 //!
@@ -97,7 +97,7 @@ pub struct Case {
     /// None: straight track.
     pub curve_radius: Option<f64>,
     /// Tangential law of the wheels.
-    pub tangential: crate::elements::rail::creep::law::Tangential,
+    pub tangential: crate::elements::rail::contact::creep::law::Tangential,
     /// Rail profile nodes of the 60E1 head.
     pub rail_nodes: usize,
 }
@@ -113,7 +113,7 @@ impl Case {
             offset: 2e-3,
             suspended: None,
             curve_radius: None,
-            tangential: crate::elements::rail::creep::law::Tangential::KalkerLinear,
+            tangential: crate::elements::rail::contact::creep::law::Tangential::KalkerLinear,
             rail_nodes: 41,
         }
     }
@@ -124,7 +124,7 @@ impl Case {
 /// arc lengths is exactly parallel to the tangent at the node. A cone of this slope touches
 /// that one node (a knife edge) over a band of rolls of ± half the angle between chords.
 pub fn node_tangent_slope(rail_nodes: usize, node: usize) -> f64 {
-    use crate::elements::rail::profiles::{Inclination, RailProfile};
+    use crate::elements::rail::contact::profiles::{Inclination, RailProfile};
     let r = RailProfile::uic60(rail_nodes, Inclination::OneIn40);
     let n = r.nodes();
     let d = n[node + 1] - n[node - 1];
@@ -457,12 +457,12 @@ pub fn linear_model(
     b: f64,
 ) -> Result<
     (
-        crate::elements::rail::creep::linear_wheelset::Wheelset,
-        crate::elements::rail::creep::linear_wheelset::Primary,
+        crate::elements::rail::contact::creep::linear_wheelset::Wheelset,
+        crate::elements::rail::contact::creep::linear_wheelset::Primary,
     ),
     FemError,
 > {
-    use crate::elements::rail::creep::linear_wheelset::{creep_coefficients, Primary, Wheelset};
+    use crate::elements::rail::contact::creep::linear_wheelset::{creep_coefficients, Primary, Wheelset};
     let lambda = match case.wheel {
         Wheel::Cone(l) => l,
         Wheel::S1002 => {
@@ -586,8 +586,8 @@ wheel = {{tangential = "kalker_linear"}}
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::elements::rail::irregularity::csv::read_table;
-    use crate::elements::rail::irregularity::IrregularityPart;
+    use crate::elements::rail::geometry::irregularity::csv::read_table;
+    use crate::elements::rail::geometry::irregularity::IrregularityPart;
 
     /// Largest deviation (in units of the step) of the spline through an alignment table
     /// from the intended step — `offset` up to `ramp`, the half-cosine over 2 m, zero

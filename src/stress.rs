@@ -8,11 +8,11 @@
 //! `tests/stability.rs` runs short ones and asserts on them. What does not live here: the
 //! driver and the energy ledger ([`crate::solvers::energy`]).
 
-use crate::elements::rail::alignment::{Alignment, Segment};
-use crate::elements::rail::cant::{Cant, Track};
-use crate::elements::rail::contact_law::Mode;
-use crate::elements::rail::moving_axle::MovingAxle;
-use crate::elements::rail::track_model::{self, RailSupport, TrackMesh};
+use crate::elements::rail::geometry::alignment::{Alignment, Segment};
+use crate::elements::rail::geometry::cant::{Cant, Track};
+use crate::elements::rail::contact::contact_law::Mode;
+use crate::elements::rail::wheels::moving_axle::MovingAxle;
+use crate::elements::rail::geometry::track_model::{self, RailSupport, TrackMesh};
 use crate::framework::builder::ModelBuilder;
 use crate::framework::limits;
 use crate::framework::loads::{LoadSpec, TimeSeries};
@@ -632,7 +632,7 @@ pub fn drop(
 }
 
 /// A wheelset (2·50 kN on K, vertical motion only) rolling at `speed` over a dipped rail
-/// joint (`depth`, 1 m long, on both rails; [`crate::elements::rail::track_model::JointDip`])
+/// joint (`depth`, 1 m long, on both rails; [`crate::elements::rail::geometry::track_model::JointDip`])
 /// on rigid rails, average-acceleration Newmark, Δt = 2e-4 s. Reference: the quasi-static
 /// closed form — the wheelset follows the rail top, so the wheels push it with
 /// `ΣQ = 2·N + m·v²·w''(s)` (`w''` the dip's curvature at the wheel's station); the dip's
@@ -640,7 +640,7 @@ pub fn drop(
 /// so the dynamic correction is of the order of their squared ratio. Force error: the
 /// largest `|ΣQ − ΣQ_ref|` over the run relative to the static `2·N`.
 pub fn joint_dip(speed: f64, depth: f64) -> Result<StressRow, FemError> {
-    use crate::elements::rail::track_model::JointDip;
+    use crate::elements::rail::geometry::track_model::JointDip;
     let dt = 2e-4;
     let (length, start) = (1.0, 20.0);
     let dip = JointDip {

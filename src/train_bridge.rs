@@ -1,6 +1,6 @@
 //! The train–bridge generator (`railfem train-bridge`): a train of `sks700` carriages on
 //! moving-axle wheels crossing a viaduct of simply supported spans (slab track on girders,
-//! bearings, piers; see `elements::rail::bridge`), optionally shaken by a uniform ground
+//! bearings, piers; see `elements::rail::geometry::bridge`), optionally shaken by a uniform ground
 //! motion at the supports, with each wheel's Q, Y, Y/Q and ΔQ/Q and each span's midspan
 //! deflection over time.
 //!
@@ -16,10 +16,10 @@
 //! Ground motion: `LoadSpec::GroundMotion` of the framework (every mass feels `−M·r·a_g(t)`,
 //! the solution is relative to the ground), one per non-zero direction, global X, Y, Z.
 
-use crate::elements::rail::alignment::{Alignment, Hand, Segment};
-use crate::elements::rail::bridge::BridgeSpec;
-use crate::elements::rail::cant::{Cant, Track};
-use crate::elements::rail::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
+use crate::elements::rail::geometry::alignment::{Alignment, Hand, Segment};
+use crate::elements::rail::geometry::bridge::BridgeSpec;
+use crate::elements::rail::geometry::cant::{Cant, Track};
+use crate::elements::rail::geometry::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
 use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
 use crate::framework::builder::ModelBuilder;
 use crate::framework::csv_input;

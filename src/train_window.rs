@@ -74,7 +74,7 @@ pub const DEFAULT_TOLERANCE: f64 = 0.01;
 /// stiffness per metre (module documentation).
 pub fn decay_length(track: &WindowTrack) -> f64 {
     let k = track.fastener_k / track.fastener_spacing;
-    let rail = crate::elements::rail::track_model::TrackMesh::default().rail;
+    let rail = crate::elements::rail::geometry::track_model::TrackMesh::default().rail;
     let beta = (k / (4.0 * rail.e * rail.i_vertical)).powf(0.25);
     1.0 / beta
 }

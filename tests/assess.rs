@@ -112,7 +112,7 @@ fn wear_number_sums_to_the_ledgers_friction_work() {
     let dir = std::env::temp_dir().join(format!("railfem_assess_ledger_{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let mut case = Case::klingel(Profile::S1002, 20.0, 8.0);
-    case.tangential = railfem::elements::rail::creep::law::Tangential::Fastsim;
+    case.tangential = railfem::elements::rail::contact::creep::law::Tangential::Fastsim;
     let model = write_model(&case, &dir).unwrap();
     let mut text = std::fs::read_to_string(&model).unwrap();
     text.push_str(

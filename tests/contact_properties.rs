@@ -1,7 +1,7 @@
 //! Property tests of the moving wheel-axle contact element (Ju & Ro 2021) on its own, with
 //! no solver: the conformance sample wheel (S1002 on an inclined 60E1 head over flexible
 //! rail beams, straight track, penalty 1e9 N/m, μ = 0.3; see
-//! `railfem::elements::rail::moving_axle::sample_states`) is put into random wheelset
+//! `railfem::elements::rail::wheels::moving_axle::sample_states`) is put into random wheelset
 //! poses — lateral shift, roll, yaw, vertical approach, rail bending — after a random
 //! tangential slip history, and three invariants of the element are checked:
 //!
@@ -16,8 +16,8 @@
 
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
-use railfem::elements::rail::contact_law::SlidingTangent;
-use railfem::elements::rail::moving_axle::{sample_states, MovingAxle};
+use railfem::elements::rail::contact::contact_law::SlidingTangent;
+use railfem::elements::rail::wheels::moving_axle::{sample_states, MovingAxle};
 use railfem::framework::element::{Element, NodeKinematics, TrialState};
 use railfem::framework::registry::Sample;
 
@@ -306,8 +306,8 @@ proptest! {
 #[test]
 fn closest_point_is_stationary_on_a_coarse_wheel() {
     use nalgebra::Vector2;
-    use railfem::elements::rail::contact_geometry::rail_node_gap;
-    use railfem::elements::rail::profiles::WheelProfile;
+    use railfem::elements::rail::contact::contact_geometry::rail_node_gap;
+    use railfem::elements::rail::contact::profiles::WheelProfile;
     let wheel = WheelProfile::s1002(8);
     let p = Vector2::new(-0.058145191653336877, -0.012906192942645191);
     if let Some(cp) = rail_node_gap(wheel.spline(), p) {

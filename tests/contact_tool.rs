@@ -258,7 +258,7 @@ fn contact_command_refuses_bad_input_with_exit_2() {
 #[test]
 fn gauge_point_of_60e1_lies_on_its_gauge_corner() {
     use railfem::contact_tool::profiles::gauge_point;
-    use railfem::elements::rail::profiles::{Inclination, RailProfile};
+    use railfem::elements::rail::contact::profiles::{Inclination, RailProfile};
     let rail = RailProfile::uic60(401, Inclination::None);
     let y = gauge_point(rail.nodes()).unwrap() * 1e3;
     let exact = -23.016 - (13.0f64 * 13.0 - 0.949 * 0.949).sqrt();
@@ -294,8 +294,8 @@ fn manchester_rail_sits_where_contact_puts_it() {
 #[test]
 fn yawed_cone_on_cylinder_rails_leads_as_the_closed_form() {
     use railfem::contact_tool::yawed;
-    use railfem::elements::rail::creep::conicity::{cone_profile, WheelsetGeometry};
-    use railfem::elements::rail::profiles::{Inclination, RailProfile};
+    use railfem::elements::rail::contact::creep::conicity::{cone_profile, WheelsetGeometry};
+    use railfem::elements::rail::contact::profiles::{Inclination, RailProfile};
     let (lambda, r_c, r0, c_w, c_r) = (0.05, 0.01, 0.46, 0.75, 0.75);
     let nodes: Vec<nalgebra::Vector2<f64>> = (0..=160)
         .map(|i| {
@@ -384,9 +384,9 @@ fn unyawed_search_is_the_conicity_search() {
 fn two_point_contact_shares_the_load_as_two_hertz_springs() {
     use railfem::contact_tool::two_point::hertz_approach;
     use railfem::contact_tool::{evaluate, Balance, ContactCase};
-    use railfem::elements::rail::creep::conicity::{cone_profile, WheelsetGeometry};
-    use railfem::elements::rail::creep::hertz::{hertz_ellipse, Curvatures};
-    use railfem::elements::rail::profiles::{Inclination, RailProfile};
+    use railfem::elements::rail::contact::creep::conicity::{cone_profile, WheelsetGeometry};
+    use railfem::elements::rail::contact::creep::hertz::{hertz_ellipse, Curvatures};
+    use railfem::elements::rail::contact::profiles::{Inclination, RailProfile};
     let crowns = [(-0.006, 0.01), (0.006, 0.03)];
     let nodes: Vec<nalgebra::Vector2<f64>> = (0..=300)
         .map(|i| {

@@ -6,7 +6,7 @@
 //! once the whole carriage is 400 m in, every wheel's normal force equals the statics of
 //! Eqs. 22–25 (moment arm: the contact spacing 1.507 m of S1002 on 60E1 1:40) within 0.5 %.
 
-use railfem::elements::rail::theory::{self, Carriage, Operation, TrackParams, Variant};
+use railfem::elements::rail::vehicle::theory::{self, Carriage, Operation, TrackParams, Variant};
 use std::process::Command;
 
 #[test]

@@ -18,7 +18,7 @@ mod common;
 use case::{build, Case, R0};
 use common::check_bad_model;
 use nalgebra::Complex;
-use railfem::elements::rail::track_model::{
+use railfem::elements::rail::geometry::track_model::{
     DipShape, JointDip, RailSection, RailSide, RailSupport, TrackMesh,
 };
 use railfem::framework::model::IntegratorKind;

@@ -5,9 +5,9 @@
 mod common;
 
 use common::{railfem, refused_with, temp_dir, Csv};
-use railfem::elements::rail::irregularity::csv::read_table;
-use railfem::elements::rail::irregularity::generate::{welch, PsdRequest};
-use railfem::elements::rail::irregularity::psd::{band_variance, Component, PsdClass};
+use railfem::elements::rail::geometry::irregularity::csv::read_table;
+use railfem::elements::rail::geometry::irregularity::generate::{welch, PsdRequest};
+use railfem::elements::rail::geometry::irregularity::psd::{band_variance, Component, PsdClass};
 use std::f64::consts::PI;
 
 /// 16384 samples at 0.25 m: the record is exactly one FFT (4096 m).

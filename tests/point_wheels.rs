@@ -13,8 +13,8 @@ mod common;
 
 use case::{build, Body, Case};
 use common::check_bad_model;
-use railfem::elements::rail::point_contact_law::HERTZ_PRELOAD;
-use railfem::elements::rail::track_model::{JointDip, RailSupport, TrackMesh};
+use railfem::elements::rail::contact::point_contact_law::HERTZ_PRELOAD;
+use railfem::elements::rail::geometry::track_model::{JointDip, RailSupport, TrackMesh};
 use railfem::framework::model::IntegratorKind;
 
 /// Hertz constant of the default (m/N^(2/3)).
@@ -221,7 +221,7 @@ fn wheelset_at_midspan_of_a_bridge_bends_the_girder_as_a_simple_span() {
     let (span, start) = (29.75, 10.0);
     let p = 200e3;
     for kind in ["hertz_wheel", "rigid_wheel"] {
-        let bridge: railfem::elements::rail::bridge::BridgeSpec =
+        let bridge: railfem::elements::rail::geometry::bridge::BridgeSpec =
             serde_json::from_value(serde_json::json!({"start": start, "spans": 1})).unwrap();
         let mut c = Case {
             kind,

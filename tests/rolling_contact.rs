@@ -6,7 +6,7 @@
 
 mod common;
 use common::temp_dir;
-use railfem::elements::rail::creep::linear_wheelset::{critical_speed, wheelset_system};
+use railfem::elements::rail::contact::creep::linear_wheelset::{critical_speed, wheelset_system};
 use railfem::rolling_contact::*;
 use std::f64::consts::PI;
 
@@ -85,7 +85,7 @@ fn fe_runs_bracket_the_linear_critical_speed() {
 /// and 200 %.
 #[test]
 fn suspended_wheelset_curves_as_linear_theory_says() {
-    use railfem::elements::rail::creep::linear_wheelset::steady_curving;
+    use railfem::elements::rail::contact::creep::linear_wheelset::steady_curving;
     let (r, v) = (1500.0, 10.0);
     let lambda = node_tangent_slope(41, 17);
     let mut case = Case::klingel(Wheel::Cone(lambda), v, 60.0);

@@ -3,7 +3,7 @@
 //!
 //! 1. the paper's five-segment track read from a model file's `[track]` table is the same
 //!    geometry as [`Track::paper`] (the Fresnel ends, the total length and the joint continuity
-//!    are unit tests in `elements/src/rail/alignment.rs` and `cant.rs`);
+//!    are unit tests in `elements/src/rail/geometry/alignment.rs` and `cant.rs`);
 //! 2. a lumped mass carried at constant speed through a canted circular curve settles to the
 //!    spring forces of the paper's Eqs. 22–23;
 //! 3. a carried mass under a prescribed acceleration `a` feels `−m·a` along the track, and on a
@@ -19,9 +19,9 @@
 
 mod common;
 
-use railfem::elements::rail::alignment::{Alignment, Hand, Segment};
-use railfem::elements::rail::cant::{Cant, Track};
-use railfem::elements::rail::track_model::{
+use railfem::elements::rail::geometry::alignment::{Alignment, Hand, Segment};
+use railfem::elements::rail::geometry::cant::{Cant, Track};
+use railfem::elements::rail::geometry::track_model::{
     self, mesh_stations, RailSection, RailSupport, TrackMesh, TrackModel,
 };
 use railfem::framework::builder::ModelBuilder;

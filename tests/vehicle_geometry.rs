@@ -1,6 +1,6 @@
 //! Finite rotations of rigid bodies: nonlinear rigid links against a closed form, and the
 //! carriage on the canted arc in nonlinear geometry against the quasi-static reference
-//! with body lean (`railfem::elements::rail::lean`), on shortened tracks.
+//! with body lean (`railfem::elements::rail::vehicle::lean`), on shortened tracks.
 
 use railfem::curve::{self, CurveCase};
 use railfem::framework::builder::ModelBuilder;

@@ -6,7 +6,7 @@
 
 mod common;
 use common::{railfem, temp_dir, Csv};
-use railfem::elements::rail::theory::{self, Carriage, Operation, TrackParams, Variant};
+use railfem::elements::rail::vehicle::theory::{self, Carriage, Operation, TrackParams, Variant};
 use railfem::framework::modelfile;
 use railfem::solvers::Driver;
 use std::path::Path;

@@ -9,9 +9,9 @@
 //! so the body's weight splits between the wheelsets by the lever rule alone. Every vehicle
 //! node rides on one carrier; its DOFs are in the wheel frame (1 lateral, 2 up, 3 forwards).
 
-use railfem::elements::rail::alignment::Alignment;
-use railfem::elements::rail::cant::{Cant, Track};
-use railfem::elements::rail::track_model::{self, TrackMesh, TrackModel};
+use railfem::elements::rail::geometry::alignment::Alignment;
+use railfem::elements::rail::geometry::cant::{Cant, Track};
+use railfem::elements::rail::geometry::track_model::{self, TrackMesh, TrackModel};
 use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
 use railfem::framework::model::AnalysisSpec;

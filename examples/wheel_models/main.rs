@@ -13,7 +13,7 @@
 #[allow(dead_code)]
 mod case;
 
-use railfem::elements::rail::track_model::{JointDip, RailSupport, TrackMesh};
+use railfem::elements::rail::geometry::track_model::{JointDip, RailSupport, TrackMesh};
 use railfem::framework::model::IntegratorKind;
 use railfem::framework::FemError;
 use std::time::Instant;

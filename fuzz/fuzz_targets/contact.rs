@@ -17,10 +17,10 @@
 
 use libfuzzer_sys::fuzz_target;
 use nalgebra::Vector2;
-use railfem::elements::rail::contact_geometry::{contact_nodes, rail_node_gap};
-use railfem::elements::rail::contact_law::SlidingTangent;
-use railfem::elements::rail::moving_axle::{sample_states, MovingAxle};
-use railfem::elements::rail::profiles::{Inclination, RailProfile, WheelProfile};
+use railfem::elements::rail::contact::contact_geometry::{contact_nodes, rail_node_gap};
+use railfem::elements::rail::contact::contact_law::SlidingTangent;
+use railfem::elements::rail::wheels::moving_axle::{sample_states, MovingAxle};
+use railfem::elements::rail::contact::profiles::{Inclination, RailProfile, WheelProfile};
 use railfem::framework::element::{Element, TrialState};
 
 /// Reads numbers from the fuzz bytes; past the end every read is 0 (the middle of a range).

@@ -3,7 +3,7 @@
 use crate::command::{Command, Context};
 use crate::contact_tool::profiles::{BuiltInProfiles, ProfileSet};
 use crate::contact_tool::{sweep, write_shifts, Balance, ContactCase, CreepLaw};
-use crate::elements::rail::profiles::Inclination;
+use crate::elements::rail::contact::profiles::Inclination;
 use crate::framework::FemError;
 use clap::Args;
 use serde::Serialize;

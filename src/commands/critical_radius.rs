@@ -2,7 +2,7 @@
 
 use crate::command::{Command, Context};
 use crate::critical::{Criterion, CriticalCase};
-use crate::elements::rail::creep::law::Tangential;
+use crate::elements::rail::contact::creep::law::Tangential;
 use crate::framework::FemError;
 use clap::Args;
 use serde::Serialize;

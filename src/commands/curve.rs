@@ -1,7 +1,7 @@
 //! `railfem curve`: the paper's Section 4 case ([`crate::curve`]), FE against theory.
 
 use crate::command::{Command, Context};
-use crate::elements::rail::creep::law::Tangential;
+use crate::elements::rail::contact::creep::law::Tangential;
 use crate::framework::FemError;
 use clap::Args;
 use serde::Serialize;
@@ -138,7 +138,7 @@ impl Command for CurveCmd {
             r.arc_mean_normal[1],
             case.geometry.name()
         );
-        let arc = crate::elements::rail::lean::ArcPoint {
+        let arc = crate::elements::rail::vehicle::lean::ArcPoint {
             speed: case.speed,
             curvature: 1.0 / case.radius,
             cant: case.ct / case.radius,
@@ -146,7 +146,7 @@ impl Command for CurveCmd {
             spacing: r.contact_spacing,
             pivot: None,
         };
-        if let Some(l) = crate::elements::rail::lean::wheel_loads(&case.carriage(), &arc) {
+        if let Some(l) = crate::elements::rail::vehicle::lean::wheel_loads(&case.carriage(), &arc) {
             let (c, b) = (l.state.car_body, l.state.bogie);
             println!(
                 "lean reference on the arc: car body lateral {:.4} m, vertical {:.4} m, roll {:.5} rad; bogie {:.4} m, {:.4} m, {:.5} rad; wheel loads inner {:.1} N, outer {:.1} N (statics {:.1} N, {:.1} N)",

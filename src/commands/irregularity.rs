@@ -1,8 +1,8 @@
 //! `railfem irregularity`: a track irregularity from a standard spectrum ([`crate::irregularity`]).
 
 use crate::command::{Command, Context};
-use crate::elements::rail::irregularity::generate::PsdRequest;
-use crate::elements::rail::irregularity::psd::{Component, PsdClass};
+use crate::elements::rail::geometry::irregularity::generate::PsdRequest;
+use crate::elements::rail::geometry::irregularity::psd::{Component, PsdClass};
 use crate::framework::FemError;
 use clap::Args;
 use serde::Serialize;

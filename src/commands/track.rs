@@ -28,10 +28,10 @@ impl Command for TrackCmd {
         crate::command::out_or(&self.out, "out/track")
     }
     fn run(&self, ctx: &Context) -> Result<i32, FemError> {
-        use crate::elements::rail::cant::Track;
+        use crate::elements::rail::geometry::cant::Track;
         let radius = self.radius.unwrap_or(6250.0);
         let ct = self.ct.unwrap_or(200.0);
-        let min = crate::elements::rail::alignment::MIN_RADIUS;
+        let min = crate::elements::rail::geometry::alignment::MIN_RADIUS;
         if radius < min {
             return Err(FemError::input(
                 "command line",
@@ -46,7 +46,7 @@ impl Command for TrackCmd {
         }
         let out = ctx.out();
         let t = Track::paper(radius, ct);
-        crate::elements::rail::railline::write_track_report(&t, out)
+        crate::elements::rail::geometry::railline::write_track_report(&t, out)
             .map_err(|e| FemError::output(out, e))?;
         println!(
             "track: R = {radius} m, Ct = {ct} m (θ = {:.6} rad on the arc), {:.4} m long; track.csv and track.svg in {}",

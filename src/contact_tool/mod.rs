@@ -2,7 +2,7 @@
 //! dynamic run. For each lateral shift `y` of the axle centre and a yaw `ψ`: per wheel, the
 //! contact points on wheel and rail, rolling radius, contact angle, the contact's lead
 //! ahead of the axle, the wheelset roll and `Δr(y)` (rigid profiles, [`yawed`], which is
-//! `railfem_elements::rail::creep::conicity`'s search for a yawed wheelset), Hertz's ellipse
+//! `railfem_elements::rail::contact::creep::conicity`'s search for a yawed wheelset), Hertz's ellipse
 //! (`creep::hertz`),
 //! the creepages of steady rolling and the creep forces of the three tangential laws
 //! (`creep::law`); the equivalent conicity `λ_e(ŷ)` (EN 15302, harmonic linearisation); a
@@ -37,18 +37,18 @@ pub mod profiles;
 pub mod two_point;
 pub mod yawed;
 
-use crate::elements::rail::creep::conicity::{
+use crate::elements::rail::contact::creep::conicity::{
     equivalent_conicity, secant_conicity, ConicityError, SideContact, WheelsetContact,
     WheelsetGeometry,
 };
-use crate::elements::rail::creep::dual::D4;
-use crate::elements::rail::creep::fastsim::FastsimGrid;
-use crate::elements::rail::creep::hertz::{hertz_ellipse, Curvatures, HertzEllipse};
-use crate::elements::rail::creep::kalker::kalker_coefficients;
-use crate::elements::rail::creep::law::{
+use crate::elements::rail::contact::creep::dual::D4;
+use crate::elements::rail::contact::creep::fastsim::FastsimGrid;
+use crate::elements::rail::contact::creep::hertz::{hertz_ellipse, Curvatures, HertzEllipse};
+use crate::elements::rail::contact::creep::kalker::kalker_coefficients;
+use crate::elements::rail::contact::creep::law::{
     creep_forces, EllipseShape, Material, TangentialLaw, POLACH_DRY,
 };
-use crate::elements::rail::profiles::Inclination;
+use crate::elements::rail::contact::profiles::Inclination;
 use crate::framework::plot::{Figure, Panel, Series, Style};
 use crate::framework::FemError;
 use profiles::{PlacedProfiles, ProfileSet};

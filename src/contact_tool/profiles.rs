@@ -19,14 +19,14 @@
 //! SIMPACK's `.prw`/`.prr` lists `y z` in mm between `point.begin` and `point.end`, `!`
 //! starting a comment, `z` pointing **down**. The benchmark rail is given already inclined
 //! (1:40) with its origin at the top, field side at `+y`: in the profile coordinates of
-//! `railfem_elements::rail::profiles` it is `(y, −z)/1000`. The wheel is given with the
+//! `railfem_elements::rail::contact::profiles` it is `(y, −z)/1000`. The wheel is given with the
 //! flange at `+y`: it is `(−y, −z)/1000`. The search needs the rail as a function `z(y)`, so
 //! the rail keeps its head down to [`RAIL_DEPTH`] below the top (the flange contact of the
 //! benchmark lies above 11 mm), thinned to nodes at least [`RAIL_SPACING`] apart in `y`
 //! (the file repeats nodes on the nearly vertical flanks within micrometres, which a cubic
 //! `z(y)` cannot follow).
 
-use crate::elements::rail::profiles::{Inclination, RailProfile, WheelProfile};
+use crate::elements::rail::contact::profiles::{Inclination, RailProfile, WheelProfile};
 use crate::framework::FemError;
 use nalgebra::Vector2;
 use std::path::PathBuf;
@@ -63,7 +63,7 @@ pub enum ProfileSet {
     S1002On60E1(Inclination),
     /// The Manchester contact benchmark's S1002 and UIC60 (rail inclined 1:40 in the file).
     ManchesterBenchmark,
-    /// CSV files (format of `railfem_elements::rail::profiles::read_points_csv`).
+    /// CSV files (format of `railfem_elements::rail::contact::profiles::read_points_csv`).
     Files {
         /// Wheel profile.
         wheel: PathBuf,
@@ -173,8 +173,8 @@ impl ProfileSet {
         let (wheel, rail, flange_back, origin) = match self {
             ProfileSet::ManchesterBenchmark => return manchester(),
             ProfileSet::S1002On60E1(incl) => (
-                WheelProfile::s1002(crate::elements::rail::profiles::DEFAULT_WHEEL_POINTS),
-                RailProfile::uic60(crate::elements::rail::creep::conicity::RAIL_NODES, *incl),
+                WheelProfile::s1002(crate::elements::rail::contact::profiles::DEFAULT_WHEEL_POINTS),
+                RailProfile::uic60(crate::elements::rail::contact::creep::conicity::RAIL_NODES, *incl),
                 S1002_FLANGE_BACK,
                 "the built-in 60E1".to_string(),
             ),

@@ -24,7 +24,7 @@
 //! down a steep flange, the case where [`share`] returns `None`). A second point whose gap
 //! exceeds the approach carries nothing: `N_2 = 0`, one patch.
 
-use crate::elements::rail::creep::hertz::{elliptic_ke, HertzEllipse};
+use crate::elements::rail::contact::creep::hertz::{elliptic_ke, HertzEllipse};
 
 /// Bisection steps of [`share`] at most.
 const STEPS: usize = 200;
@@ -129,7 +129,7 @@ mod tests {
     /// A sphere of radius `R` on a plane: `d = a²/R` with `a = (3NR/(4E*))^{1/3}` (Hertz).
     #[test]
     fn approach_of_a_sphere_on_a_plane() {
-        use crate::elements::rail::creep::hertz::{hertz_ellipse, Curvatures};
+        use crate::elements::rail::contact::creep::hertz::{hertz_ellipse, Curvatures};
         let (r, n, e, nu) = (0.3, 5e4, 2.1e11, 0.28);
         let c = Curvatures {
             wheel_rolling_radius: r,

@@ -37,7 +37,7 @@
 //! `R·x̂ = (cos ψ, sin ψ, 0)`; `x` of the contact in the track frame (from the wheelset's
 //! reference point) adds the wheel's own position `−Y·sin ψ` along the track.
 
-use crate::elements::rail::creep::conicity::{
+use crate::elements::rail::contact::creep::conicity::{
     ConicityError, SideContact, WheelsetContact, WheelsetGeometry,
 };
 

@@ -297,7 +297,7 @@ fn train_bridge_estimate(plan: &Plan, case: &Case) -> Option<(f64, f64)> {
     let len = c.spans as f64 * c.span + c.cars as f64 * 25.0 + 15.0;
     let duration = c.duration.unwrap_or(len / c.speed);
     // Every fastener is a node: each bay gets ceil(spacing / element_length) elements.
-    let spacing = crate::elements::rail::bridge::SlabTrack::default().fastener_spacing;
+    let spacing = crate::elements::rail::geometry::bridge::SlabTrack::default().fastener_spacing;
     let per_metre = (spacing / c.element_length).ceil() / spacing;
     let size = (2.0 * c.approach() + c.spans as f64 * c.span) * per_metre + 66.0 * c.cars as f64;
     Some((duration / c.dt * scale, size))

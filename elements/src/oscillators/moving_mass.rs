@@ -30,7 +30,7 @@
 use super::path::{ContactPath, ContactPoint};
 use super::{dot, sample_positions, speed_history, SampleContext};
 use crate::beam3d::support;
-use crate::rail::railline::RailSide;
+use crate::rail::geometry::railline::RailSide;
 use nalgebra::DMatrix;
 use railfem_framework::element::{
     Element, ElementError, ElementProperties, NodeDofs, StepContext, TrialState,

@@ -20,12 +20,12 @@
 //! ```
 //!
 //! `[track] irregularity` takes a table or a list of tables, `{file = "irr.csv"}` or
-//! `{psd = "fra4", seed = 1, wavelengths = [1, 50]}` ([`super::irregularity`]).
+//! `{psd = "fra4", seed = 1, wavelengths = [1, 50]}` ([`crate::rail::geometry::irregularity`]).
 
-use super::alignment::SegmentSpec;
-use super::cant::TrackSpec;
-use super::track_model::{generate_with, JointDip, RailSection, RailSupport, TrackMesh};
-use super::vehicle::section::apply_vehicles;
+use crate::rail::geometry::alignment::SegmentSpec;
+use crate::rail::geometry::cant::TrackSpec;
+use crate::rail::geometry::track_model::{generate_with, JointDip, RailSection, RailSupport, TrackMesh};
+use crate::rail::vehicle::section::apply_vehicles;
 use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
 use railfem_framework::limits;
@@ -56,7 +56,7 @@ struct TrackSection {
     window: Option<[f64; 2]>,
     #[serde(default)]
     dips: Vec<JointDip>,
-    /// Track irregularity: one table or a list ([`super::irregularity::from_value`]).
+    /// Track irregularity: one table or a list ([`crate::rail::geometry::irregularity::from_value`]).
     #[serde(default)]
     irregularity: Option<Value>,
 }
@@ -90,7 +90,7 @@ fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemE
                 .map(std::path::Path::to_path_buf)
                 .unwrap_or_default();
             let range = mesh.window.unwrap_or([0.0, track.alignment.length()]);
-            Some(Arc::new(super::irregularity::from_value(
+            Some(Arc::new(crate::rail::geometry::irregularity::from_value(
                 v, &base, range, origin,
             )?))
         }
@@ -100,10 +100,10 @@ fn apply_track(v: &Value, origin: &str, b: &mut ModelBuilder) -> Result<(), FemE
 }
 
 /// The track's part of the model's size estimate: the meshed length over `element_length`
-/// stations, each as [`super::track_model::check_mesh_size`] counts it (two rail nodes on a
+/// stations, each as [`crate::rail::geometry::track_model::check_mesh_size`] counts it (two rail nodes on a
 /// rigid support, 12 DOFs on discrete supports, 18 with a slab or girder).; a bridge's
-/// girders and piers ([`super::bridge::BridgeSpec::estimated_dofs`]); and every
-/// irregularity entry's samples or rows ([`super::irregularity::estimate`]).
+/// girders and piers ([`crate::rail::geometry::bridge::BridgeSpec::estimated_dofs`]); and every
+/// irregularity entry's samples or rows ([`crate::rail::geometry::irregularity::estimate`]).
 fn estimate_track(v: &Value, base: &std::path::Path) -> Vec<SizePart> {
     let Ok(t) = railfem_framework::keypath::from_value::<TrackSection>(v, "", "") else {
         return Vec::new();
@@ -141,7 +141,7 @@ fn estimate_track(v: &Value, base: &std::path::Path) -> Vec<SizePart> {
         });
     }
     if let Some(irr) = &t.irregularity {
-        parts.extend(super::irregularity::estimate::estimate(irr, base, range));
+        parts.extend(crate::rail::geometry::irregularity::estimate::estimate(irr, base, range));
     }
     parts
 }
@@ -162,6 +162,6 @@ railfem_framework::inventory::submit! {
         description: "trains of vehicles (presets, vehicle files or inline bodies and suspensions) riding the track on wheel elements",
         order: 10,
         apply: apply_vehicles,
-        estimate: Some(super::vehicle::section::estimate_vehicles),
+        estimate: Some(crate::rail::vehicle::section::estimate_vehicles),
     }
 }

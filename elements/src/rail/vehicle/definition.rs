@@ -7,7 +7,7 @@
 //! [`super::build`]); a suspension with `mirror = true` stands for itself and its mirror
 //! image at −y, built right after it ([`VehicleDef::normalized`]).
 
-use crate::rail::wheel_defect::WheelDefect;
+use crate::rail::wheels::wheel_defect::WheelDefect;
 use railfem_framework::limits::fmt_num;
 use serde::{Deserialize, Serialize};
 

@@ -6,7 +6,7 @@
 //! one the vehicle definition gives that wheel, in that copy only.
 
 use super::definition::VehicleDef;
-use crate::rail::wheel_defect::WheelDefect;
+use crate::rail::wheels::wheel_defect::WheelDefect;
 use railfem_framework::error::FemError;
 use serde::Deserialize;
 

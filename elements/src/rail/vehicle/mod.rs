@@ -46,13 +46,15 @@
 pub mod build;
 pub mod carriage;
 pub mod definition;
+pub mod lean;
 pub mod instance_defect;
 pub mod section;
 pub mod statics;
+pub mod theory;
 
 pub use carriage::{BodyData, CarriageData, Suspension};
 
-use super::track_model;
+use crate::rail::geometry::track_model;
 use crate::suspension::SuspensionTangent;
 use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;

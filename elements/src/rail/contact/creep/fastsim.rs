@@ -172,7 +172,7 @@ pub fn fastsim(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rail::creep::kalker::kalker_coefficients;
+    use crate::rail::contact::creep::kalker::kalker_coefficients;
     use std::f64::consts::PI;
 
     fn run(grid: &FastsimGrid, ab: (f64, f64), c: &CreepCoefficients, inp: [f64; 4]) -> (D4, D4) {

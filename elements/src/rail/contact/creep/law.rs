@@ -333,7 +333,7 @@ fn polach(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rail::creep::kalker::kalker_coefficients;
+    use crate::rail::contact::creep::kalker::kalker_coefficients;
 
     fn shape() -> EllipseShape {
         EllipseShape {

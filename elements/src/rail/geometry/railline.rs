@@ -9,8 +9,8 @@
 //! The rail lines are the gauge lines at ±G/2 (G = 1.435 m by default) about the centre
 //! line; where the wheels actually touch (about 1.5 m apart) is a matter of the profiles.
 
-use super::alignment::AlignmentError;
-use super::cant::Track;
+use crate::rail::geometry::alignment::AlignmentError;
+use crate::rail::geometry::cant::Track;
 use nalgebra::Vector3;
 use railfem_framework::moving::Path as _;
 use railfem_framework::plot::{Corner, Figure, Panel, Series, Style};
@@ -306,7 +306,7 @@ pub fn locate_in(stations: &[f64], station: f64) -> Option<(usize, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rail::cant::Cant;
+    use crate::rail::geometry::cant::Cant;
 
     #[test]
     fn stations_include_joints_and_respect_length() {
@@ -347,7 +347,7 @@ mod tests {
     #[test]
     fn lookup_exact_at_boundaries() {
         let t = Track::new(
-            crate::rail::alignment::Alignment::straight(10.0),
+            crate::rail::geometry::alignment::Alignment::straight(10.0),
             Cant::none(),
         )
         .unwrap();

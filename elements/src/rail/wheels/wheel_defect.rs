@@ -260,7 +260,7 @@ fn wrap(a: f64) -> f64 {
 }
 
 /// A wheel's tread deviation as it rolls, measured from its value at the wheel's first
-/// station (as the rail-top offsets are, [`super::track_model::OffsetFromStart`]). The
+/// station (as the rail-top offsets are, [`crate::rail::geometry::track_model::OffsetFromStart`]). The
 /// first call fixes the start station and the rolling radius. One per wheel.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct TreadOffset {

@@ -29,7 +29,7 @@
 //! measured along e1, which still points left). The track centre line stays at Z = 0 and the
 //! rails roll about it: the outer rail is (G/2)·sin θ above it, the inner one as much below.
 
-use super::alignment::{Alignment, AlignmentError, SegmentSpec};
+use crate::rail::geometry::alignment::{Alignment, AlignmentError, SegmentSpec};
 use nalgebra::{Matrix3, Vector3};
 use railfem_framework::moving::{Path, PathPoint};
 use serde::Deserialize;
@@ -274,7 +274,7 @@ impl TrackSpec {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rail::alignment::{Hand, Segment};
+    use crate::rail::geometry::alignment::{Hand, Segment};
 
     const G: f64 = 9.81;
 

@@ -6,7 +6,7 @@
 //!
 //! # Geometry (the `moving_axle` element's)
 //!
-//! Wheel and rail profiles are those of [`crate::rail::profiles`] (left side as stored,
+//! Wheel and rail profiles are those of [`crate::rail::contact::profiles`] (left side as stored,
 //! right side mirrored). In the wheelset's cross-section, `Y` lateral (positive to the
 //! **left** wheel), `Z` up: the left wheel's profile origin (tape-circle contact point) is at
 //! `Y = +contact_offset`, the right one's at `−contact_offset`, both at `Z = 0`; the rails'
@@ -60,7 +60,7 @@
 //! midpoint rule on [`HARMONIC_POINTS`] points integrates a smooth `Δr` to high order; a
 //! `Δr` with jumps (contact-point jumps between tread and flange) to O(1/n).
 
-use super::super::profiles::{CubicSpline, RailProfile, WheelProfile};
+use crate::rail::contact::profiles::{CubicSpline, RailProfile, WheelProfile};
 use thiserror::Error;
 
 /// Samples of the wheel spline in the contact search.
@@ -215,7 +215,7 @@ impl WheelsetGeometry {
     /// `inclination`, tape circles at ±0.75 m, rails at `gauge/2 + 0.036` m.
     pub fn s1002_60e1(
         wheel_points: usize,
-        inclination: super::super::profiles::Inclination,
+        inclination: crate::rail::contact::profiles::Inclination,
         gauge: f64,
         nominal_radius: f64,
     ) -> Result<Self, ConicityError> {
@@ -379,7 +379,7 @@ pub fn secant_conicity(geom: &WheelsetGeometry, amplitude: f64) -> Result<f64, C
 /// A conical wheel profile of slope `lambda` (`z = λ·y`, rising towards the field side),
 /// from `y_from` to `y_to` (m), through 4 points (the spline through collinear points is
 /// the straight line itself; more collinear points can trip the crossing test of
-/// [`crate::rail::profiles::validate_polyline`] on rounding noise).
+/// [`crate::rail::contact::profiles::validate_polyline`] on rounding noise).
 pub fn cone_profile(lambda: f64, y_from: f64, y_to: f64) -> WheelProfile {
     let n = 4;
     let pts: Vec<nalgebra::Vector2<f64>> = (0..n)
@@ -394,7 +394,7 @@ pub fn cone_profile(lambda: f64, y_from: f64, y_to: f64) -> WheelProfile {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rail::profiles::Inclination;
+    use crate::rail::contact::profiles::Inclination;
     use nalgebra::Vector2;
 
     /// A rail head that is a circular crown of radius `r` (m) over ±`half` (m), upright.

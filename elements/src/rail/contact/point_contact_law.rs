@@ -1,4 +1,4 @@
-//! The force laws of the point-contact wheels ([`super::point_wheel`]): the force the rail
+//! The force laws of the point-contact wheels ([`crate::rail::wheels::point_wheel`]): the force the rail
 //! puts on the wheel at one contact point as a function of the rail-minus-wheel
 //! displacement `Δ` there (wheel frame: 1 lateral, 2 up, 3 forwards), with its derivative.
 //!

@@ -45,11 +45,11 @@
 //! `Q_in + Q_out = −Σ n_i·F2_i / 4`,  `Q_in − Q_out = Σ n_i·(z_i·F1_i − y_i·F2_i) / (4a)`,
 //!
 //! `n = (1, 2, 4)`, `z_i = H_i + v_i`. With `y = v = 0` this is the rigid-body statics of
-//! [`super::theory`] (`± 2·ΣF1·H/(N·G)`); the lean adds `−y_i·F2_i` (the weight acting
+//! [`crate::rail::vehicle::theory`] (`± 2·ΣF1·H/(N·G)`); the lean adds `−y_i·F2_i` (the weight acting
 //! off-centre) and the change of height.
 
-use super::theory::body_forces;
-use super::vehicle::CarriageData;
+use crate::rail::vehicle::theory::body_forces;
+use crate::rail::vehicle::CarriageData;
 use nalgebra::{Matrix2, SMatrix, SVector, Vector2};
 
 /// Displaced state of the car body and a bogie: lateral (m), vertical (m), roll (rad).
@@ -261,7 +261,7 @@ pub fn wheel_loads(c: &CarriageData, op: &ArcPoint) -> Option<LeanLoads> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rail::theory::{self, Carriage, Operation, TrackParams, Variant};
+    use crate::rail::vehicle::theory::{self, Carriage, Operation, TrackParams, Variant};
 
     fn fig6() -> ArcPoint {
         ArcPoint {

@@ -9,9 +9,9 @@
 //! # Conventions
 //!
 //! - Coordinates `[y, z]` (m) in the wheel's cross-section plane, as in
-//!   [`super::profiles`]; the wheel curve and the rail node must be in the same frame.
+//!   [`crate::rail::contact::profiles`]; the wheel curve and the rail node must be in the same frame.
 //! - The wheel material lies on the **left** of the curve traversed with increasing
-//!   parameter (this is how [`WheelProfile`](super::profiles::WheelProfile) stores it).
+//!   parameter (this is how [`WheelProfile`](crate::rail::contact::profiles::WheelProfile) stores it).
 //!   The **outward normal** `n` points out of the wheel material, towards the rail: it is
 //!   the unit tangent `τ = c'/|c'|` turned clockwise by 90°, `n = (τ_z, −τ_y)`. On a flat
 //!   tread traversed towards +y, `τ = (1, 0)` and `n = (0, −1)` (down, towards the rail).
@@ -22,7 +22,7 @@
 //! - The tangent returned is `τ`, along increasing parameter; `(τ, n)` is a left-handed
 //!   pair in the `(y, z)` plane (`τ × n = −1`), i.e. `n` is `τ` turned clockwise.
 
-use super::profiles::ParametricSpline;
+use crate::rail::contact::profiles::ParametricSpline;
 use nalgebra::Vector2;
 use std::ops::Range;
 

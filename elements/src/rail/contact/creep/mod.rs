@@ -5,7 +5,7 @@
 //! Kalker's FASTSIM in [`fastsim`]); the
 //! wheelset contact geometry and equivalent conicity of rigid profiles ([`conicity`]) and
 //! the linearised wheelset and bogie with their critical speed ([`linear_wheelset`]).
-//! The creepages themselves come from the element's kinematics (`super::rolling`).
+//! The creepages themselves come from the element's kinematics (`crate::rail::contact::rolling`).
 
 pub mod conicity;
 pub mod dual;

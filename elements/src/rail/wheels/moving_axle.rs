@@ -16,15 +16,15 @@
 //!
 //! - **Springs A–B** (Eqs. 15–18): with `δ = u_B − u_A`, `u_A = u_K + θ_K × (x_B − x_K)`,
 //!   lateral `k1·δ1`, longitudinal `k3·δ3` and the power law `k2 = a + b·f2^c` vertically
-//!   ([`super::hertz_spring`]).
+//!   ([`crate::rail::contact::hertz_spring`]).
 //! - **Contact** (Eqs. 6–13): every rail profile node (attached rigidly to the rail point
-//!   C, which moves with the rail beam I–J by [`super::rail_point`], Eq. 14) is tested
+//!   C, which moves with the rail beam I–J by [`crate::rail::wheels::rail_point`], Eq. 14) is tested
 //!   against the wheel profile spline (attached rigidly to B). The relative displacement of
 //!   node `k`, `Δ_k = (u_C + θ_C × ρ_C) − (u_B + θ_K × ρ_B)` in the wheel frame, is linear
 //!   in the 21 DOFs (`Δ_k = T_k·q`, the reconstructed Eq. 12); its position in the wheel's
 //!   profile plane is `p_k = p_k⁰ + (Δ_k·e1, Δ_k·e2)`, whose signed distance to the wheel
 //!   spline is the gap. Each penetrating node is a contact point with the frictional penalty
-//!   law of [`super::contact_law`]; tread and flange contact happen together. The element
+//!   law of [`crate::rail::contact::contact_law`]; tread and flange contact happen together. The element
 //!   force and tangent are `Σ T_kᵀ·φ_k` and `Σ T_kᵀ·D_k·T_k`.
 //! - **Moving**: at each step the element reads the wheelset's station and frame, finds
 //!   the rail element under the wheel in O(log n), and re-picks I and J when the wheel
@@ -50,19 +50,19 @@
 //! C on the rail's beam line. At build time the wheel profile is shifted along axis 2 so
 //! that its smallest gap to the rail is −1 nm: the wheel starts just touching.
 
-use super::contact_geometry::{candidate_window, rail_node_gap};
-use super::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent, Status};
-use super::creep::fastsim::FastsimGrid;
-use super::creep::hertz::{hertz_ellipse, Curvatures};
-use super::creep::kalker::kalker_coefficients;
-use super::creep::law::{EllipseShape, Material, PolachSpin, Tangential, TangentialLaw};
-use super::hertz_spring::HertzSpring;
-use super::profiles::{Inclination, RailProfile, WheelProfile};
-use super::rail_point::{beam_axes, rail_point_matrix};
-use super::railline::RailSide;
-use super::rolling::{frame_rotation, point_creep, PointInput, Rolling};
-use super::track_model::{OffsetFromStart, TrackModel};
-use super::wheel_defect::{TreadOffset, WheelDefect};
+use crate::rail::contact::contact_geometry::{candidate_window, rail_node_gap};
+use crate::rail::contact::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent, Status};
+use crate::rail::contact::creep::fastsim::FastsimGrid;
+use crate::rail::contact::creep::hertz::{hertz_ellipse, Curvatures};
+use crate::rail::contact::creep::kalker::kalker_coefficients;
+use crate::rail::contact::creep::law::{EllipseShape, Material, PolachSpin, Tangential, TangentialLaw};
+use crate::rail::contact::hertz_spring::HertzSpring;
+use crate::rail::contact::profiles::{Inclination, RailProfile, WheelProfile};
+use crate::rail::wheels::rail_point::{beam_axes, rail_point_matrix};
+use crate::rail::geometry::railline::RailSide;
+use crate::rail::contact::rolling::{frame_rotation, point_creep, PointInput, Rolling};
+use crate::rail::geometry::track_model::{OffsetFromStart, TrackModel};
+use crate::rail::wheels::wheel_defect::{TreadOffset, WheelDefect};
 use nalgebra::{DMatrix, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use railfem_framework::element::*;
 use railfem_framework::error::FemError;
@@ -269,10 +269,10 @@ pub struct MovingAxle {
     found: Vec<Status>,
 }
 
-pub use super::profiles::MAX_PROFILE_POINTS;
+pub use crate::rail::contact::profiles::MAX_PROFILE_POINTS;
 /// Contact points (largest normal force first) whose creepages and creep forces are output.
 pub const CREEP_SLOTS: usize = 2;
-use super::rolling::YAW_DOF;
+use crate::rail::contact::rolling::YAW_DOF;
 /// Fewest points of the built-in wheel profile (`wheel_points`).
 pub const MIN_WHEEL_POINTS: usize = 20;
 /// Fewest nodes of the built-in rail profile (`rail_nodes`).
@@ -752,7 +752,7 @@ impl MovingAxle {
     /// displacement at the rail point C (m, wheel-frame axes 1 and 2) and its roll relative
     /// to the rail (rad, about axis 3, positive from axis 1 to axis 2). A wheel point at
     /// `x` (profile plane, relative to B's reference) is displaced relative to the rail by
-    /// `d + roll·ẑ × (x − (C − B))`. For drawing cross-sections ([`super::section_plot`]).
+    /// `d + roll·ẑ × (x − (C − B))`. For drawing cross-sections ([`crate::rail::contact::section_plot`]).
     pub fn relative_motion(&self) -> (Vector2<f64>, f64) {
         self.relative
     }
@@ -822,7 +822,7 @@ impl MovingAxle {
         // with no rolling kinematics (the paper's law) that would be a false slip of
         // v·dy/ds per second (docs/irregularities.md).
         // A tread defect acts on the contact as a rail-top deviation of the same sign does
-        // ([`super::wheel_defect`]), read on the tape circle's radius r0.
+        // ([`crate::rail::wheels::wheel_defect`]), read on the tape circle's radius r0.
         let tread = self.tread.at(&self.setup.params.defect, s, self.r0);
         self.rail_offset = Vector3::new(0.0, vert + tread, 0.0);
         let xc = self.track.rail_position(self.setup.rail, s) + w.column(0) * lat;
@@ -1772,8 +1772,8 @@ fn sample_wheel(
 /// separated and two-point (tread + flange) contact. Public for the element's tests.
 /// The sample track, rails and wheel nodes: (track model, node kinematics, rail offset).
 fn sample_scene() -> (Arc<TrackModel>, Vec<NodeKinematics>, f64) {
-    use super::alignment::Alignment;
-    use super::cant::{Cant, Track};
+    use crate::rail::geometry::alignment::Alignment;
+    use crate::rail::geometry::cant::{Cant, Track};
     let track =
         Arc::new(Track::new(Alignment::straight(10.0), Cant::none()).expect("straight track"));
     let stations = vec![2.0, 2.6, 3.2];
@@ -1782,11 +1782,11 @@ fn sample_scene() -> (Arc<TrackModel>, Vec<NodeKinematics>, f64) {
         track: track.clone(),
         stations: stations.clone(),
         rails: [
-            super::track_model::RailLine {
+            crate::rail::geometry::track_model::RailLine {
                 offset,
                 first_id: 100,
             },
-            super::track_model::RailLine {
+            crate::rail::geometry::track_model::RailLine {
                 offset: -offset,
                 first_id: 103,
             },
@@ -1974,7 +1974,7 @@ mod creep_tests {
     /// the parameter checks.
     #[test]
     fn polach_defaults_are_polachs_dry_set() {
-        use crate::rail::creep::law::{POLACH_DRY, POLACH_WET};
+        use crate::rail::contact::creep::law::{POLACH_DRY, POLACH_WET};
         let default = |key: &str| {
             MovingAxleParams::docs()
                 .into_iter()

@@ -2,7 +2,7 @@
 //! S1002 wheel (EN 13715) and 60E1/UIC60 rail head built from their published piecewise
 //! definitions, CSV input with unit checks, rail inclination and left/right mirroring.
 //! What does not live here: the contact search between a rail node and the wheel spline
-//! (see [`super::contact_geometry`]) and the mapping of 3-D positions into the profile
+//! (see [`crate::rail::contact::contact_geometry`]) and the mapping of 3-D positions into the profile
 //! plane (the moving-axle element does that).
 //!
 //! # Profile coordinates (one convention for wheel and rail)

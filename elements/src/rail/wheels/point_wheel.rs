@@ -14,7 +14,7 @@
 //! line (left wheel: +axis 1): `r = x_P − x_K = (±contact_offset, −h, 0)` in the wheel
 //! frame, `h` the height of K above the rail-top plane. The rail point C is on the rail's
 //! beam line (the top of the head) at the wheel's station; its displacement and rotation
-//! come from I and J by the Hermite interpolation of [`super::rail_point`] (Eq. 14), and the
+//! come from I and J by the Hermite interpolation of [`crate::rail::wheels::rail_point`] (Eq. 14), and the
 //! rail's material point under P is `u_C + θ_C × ρ` with `ρ = x_P − x_C` (the small lateral
 //! step between the contact point and the head centre). The rail-minus-wheel displacement
 //!
@@ -25,7 +25,7 @@
 //! `W` the wheel frame, `z(s)` the irregularity of the rail head at the station as a
 //! wheel-frame displacement (the track's irregularity and dipped joints; `rail_irregularity` is
 //! the one place it is read), is linear in the 18 DOFs.
-//! The contact law ([`super::point_contact_law`]) gives the force on the wheel `φ(Δ)` and
+//! The contact law ([`crate::rail::contact::point_contact_law`]) gives the force on the wheel `φ(Δ)` and
 //! `D = ∂φ/∂Δ`; the element force and tangent are `Tᵀ·φ` and `Tᵀ·D·T` (symmetric). A rigid
 //! motion of K and the rail leaves `Δ` unchanged, so the element is objective.
 //!
@@ -41,7 +41,7 @@
 //! Like `moving_axle`, the wheel starts just touching: at zero displacement P sits on the
 //! rail top. The initial static solve then compresses the contact under the vehicle's
 //! weight. The Hertz law has zero stiffness at zero penetration, so the `hertz_wheel`
-//! starts 1 nm into the rail ([`super::point_contact_law::HERTZ_PRELOAD`]): from there
+//! starts 1 nm into the rail ([`crate::rail::contact::point_contact_law::HERTZ_PRELOAD`]): from there
 //! Newton's first step overshoots into the rail and the next ones come back monotonically
 //! (the 3/2 law is convex), which converges from zero load in one load step (tested: 10
 //! iterations for a two-axle vehicle). A wheel in the air has no vertical stiffness, so a
@@ -55,11 +55,11 @@
 //! wheelset's rolling (spin about the axle with the matching forward motion of K): the
 //! vehicle's spin spring does, in statics.
 
-use super::point_contact_law::{ContactForce, PointLaw};
-use super::rail_point::{beam_axes, rail_point_matrix};
-use super::railline::RailSide;
-use super::track_model::{OffsetFromStart, TrackModel};
-use super::wheel_defect::{TreadOffset, WheelDefect};
+use crate::rail::contact::point_contact_law::{ContactForce, PointLaw};
+use crate::rail::wheels::rail_point::{beam_axes, rail_point_matrix};
+use crate::rail::geometry::railline::RailSide;
+use crate::rail::geometry::track_model::{OffsetFromStart, TrackModel};
+use crate::rail::wheels::wheel_defect::{TreadOffset, WheelDefect};
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 use railfem_framework::element::*;
 use railfem_framework::error::FemError;
@@ -374,7 +374,7 @@ impl PointWheel {
         // The wheel starts just touching the rail where it stands (see "Initial state"):
         // the irregularity is measured from its value at the first station. A tread
         // defect acts on the contact as a rail-top deviation of the same sign does
-        // ([`super::wheel_defect`]).
+        // ([`crate::rail::wheels::wheel_defect`]).
         self.irregularity = self.rail_irregularity(s);
         self.irregularity.y += self.tread.at(&self.setup.defect, s, h);
         let sign = if self.setup.rail == 0 { 1.0 } else { -1.0 };
@@ -603,8 +603,8 @@ fn build(spec: &ElementSpec, ctx: &mut dyn BuildContext) -> Result<Box<dyn Eleme
 /// and 3.2 m (rail node indices 0–2 left, 3–5 right) and the axle node K (index 6) at
 /// station `s`, 0.43 m above the rail top. Public to the crate's tests.
 pub(crate) fn sample_scene(s: f64, rigid: bool) -> (Arc<TrackModel>, Vec<NodeKinematics>) {
-    use super::alignment::Alignment;
-    use super::cant::{Cant, Track};
+    use crate::rail::geometry::alignment::Alignment;
+    use crate::rail::geometry::cant::{Cant, Track};
     let track =
         Arc::new(Track::new(Alignment::straight(10.0), Cant::none()).expect("straight track"));
     let stations = vec![2.0, 2.6, 3.2];
@@ -613,11 +613,11 @@ pub(crate) fn sample_scene(s: f64, rigid: bool) -> (Arc<TrackModel>, Vec<NodeKin
         track: track.clone(),
         stations: stations.clone(),
         rails: [
-            super::track_model::RailLine {
+            crate::rail::geometry::track_model::RailLine {
                 offset,
                 first_id: 100,
             },
-            super::track_model::RailLine {
+            crate::rail::geometry::track_model::RailLine {
                 offset: -offset,
                 first_id: 103,
             },
@@ -761,7 +761,7 @@ railfem_framework::inventory::submit! {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rail::point_contact_law::HERTZ_PRELOAD;
+    use crate::rail::contact::point_contact_law::HERTZ_PRELOAD;
 
     fn eval(e: &mut dyn Element, u: &[f64]) -> (Vec<f64>, DMatrix<f64>) {
         railfem_framework::conformance::static_force_tangent(e, u).unwrap()

@@ -17,20 +17,20 @@
 //! - `discrete`: a grounded `spring_damper` (vertical, lateral, longitudinal and rotational
 //!   springs in the wheel frame, with dampers) every `spacing` metres of track;
 //! - `slab`: rails on fasteners on a concrete slab on the subgrade, and `bridge`: the same
-//!   slab on simply supported girders with bearings and piers ([`super::bridge`], which
+//!   slab on simply supported girders with bearings and piers ([`crate::rail::geometry::bridge`], which
 //!   also documents the numbering of those components).
 //!
 //! Node ids of rail `r` are `first_id[r] + i` for station `i`, consecutive, so that a
 //! moving wheel can re-pick its nodes by index in O(log n) ([`TrackModel::locate`]).
 
-use super::bridge::{
+use crate::rail::geometry::bridge::{
     generate_structure, support_nodes, support_stations, BridgeLayout, BridgeSpec, RailsInfo,
     SlabLayout, SlabTrack,
 };
-use super::cant::Track;
-use super::irregularity::Irregularity;
-pub use super::rail_defect::{DipShape, JointDip, RailSide};
-pub use super::rail_section::RailSection;
+use crate::rail::geometry::cant::Track;
+use crate::rail::geometry::irregularity::Irregularity;
+pub use crate::rail::geometry::rail_defect::{DipShape, JointDip, RailSide};
+pub use crate::rail::geometry::rail_section::RailSection;
 use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
 use railfem_framework::limits::{self, fmt_num};
@@ -85,7 +85,7 @@ pub struct TrackMesh {
     #[serde(default)]
     pub window: Option<[f64; 2]>,
     /// Dipped rail joints and isolated rail-top defects (squats, dips), per rail: vertical
-    /// irregularities of the rail top under the wheels ([`super::rail_defect`]).
+    /// irregularities of the rail top under the wheels ([`crate::rail::geometry::rail_defect`]).
     #[serde(default)]
     pub dips: Vec<JointDip>,
 }
@@ -182,7 +182,7 @@ impl TrackModel {
     /// A station exactly on a node belongs to the element that starts there (the last
     /// node to the last element). `None` off the mesh.
     pub fn locate(&self, s: f64) -> Option<(usize, f64)> {
-        super::railline::locate_in(&self.stations, s)
+        crate::rail::geometry::railline::locate_in(&self.stations, s)
     }
 
     /// The longest rail element (m): `element_length` or less, the support spacing when
@@ -208,7 +208,7 @@ impl TrackModel {
 
     /// `[lateral (axis 1), vertical (axis 2)]` displacement of the head of rail `rail`
     /// (0 left, 1 right) at station `s` (m) in the wheel frame: the irregularity
-    /// ([`super::irregularity`]) plus the dipped joints (vertical). A wheel's contact
+    /// ([`crate::rail::geometry::irregularity`]) plus the dipped joints (vertical). A wheel's contact
     /// point C is moved by it; the rails' beam lines are not.
     pub fn rail_offset(&self, rail: usize, s: f64) -> [f64; 2] {
         let dip = self.rail_top_height(rail, s);

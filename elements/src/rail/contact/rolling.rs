@@ -1,6 +1,6 @@
 //! Rolling-contact creep at one contact point of the `moving_axle` element (issue 14): the
 //! creepages from the wheelset's kinematics over the step, the creep force of a tangential
-//! law ([`super::creep::law`]) on the wheel, and its exact derivative with respect to the
+//! law ([`crate::rail::contact::creep::law`]) on the wheel, and its exact derivative with respect to the
 //! element's 21 DOFs. The element owns the contact search; this module owns the
 //! kinematics and the chain rule.
 //!
@@ -41,7 +41,7 @@
 //! `Fx·e3 + Fy·u` and its derivative follows by the chain rule through `ξx, ξy, φ, N` (the
 //! law's exact gradient) and through `u(w(q))` (`∂w/∂Δ = ∇²g`).
 
-use super::creep::law::{creep_forces, EllipseShape, Material, TangentialLaw};
+use crate::rail::contact::creep::law::{creep_forces, EllipseShape, Material, TangentialLaw};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 /// Index of θ2 (yaw of the axle node K) among the element DOFs.
@@ -179,7 +179,7 @@ pub fn point_creep(
         SMatrix::zeros()
     };
     let (fx, fy) = creep_forces(law, shape, mat, roll.speed, [xi_x, xi_y, spin, n_p]);
-    let grad = |f: &super::creep::dual::D4| -> SMatrix<f64, 1, 21> {
+    let grad = |f: &crate::rail::contact::creep::dual::D4| -> SMatrix<f64, 1, 21> {
         (dxi_x * f.d[0] + dxi_y * f.d[1] + dspin * f.d[2] + dn_p * f.d[3]) * share + dshare * f.v
     };
     let (fx_v, fy_v) = (fx.v * share, fy.v * share);
@@ -200,8 +200,8 @@ pub fn point_creep(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::rail::creep::hertz::{hertz_ellipse, Curvatures};
-    use crate::rail::creep::kalker::kalker_coefficients;
+    use crate::rail::contact::creep::hertz::{hertz_ellipse, Curvatures};
+    use crate::rail::contact::creep::kalker::kalker_coefficients;
 
     const R0: f64 = 0.43;
     const DS: f64 = 0.2;

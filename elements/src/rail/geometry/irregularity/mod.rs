@@ -27,7 +27,7 @@ pub mod estimate;
 pub mod generate;
 pub mod psd;
 
-use super::profiles::CubicSpline;
+use crate::rail::contact::profiles::CubicSpline;
 use csv::IrregularityTable;
 use generate::PsdRequest;
 use psd::{Component, PsdClass};

@@ -15,8 +15,8 @@
 //! green circle when sticking, a red square when sliding. Each marker carries
 //! `class="contact stick"` or `class="contact slide"`, so a test can count them.
 
-use super::contact_law::Mode;
-use super::moving_axle::MovingAxle;
+use crate::rail::contact::contact_law::Mode;
+use crate::rail::wheels::moving_axle::MovingAxle;
 use nalgebra::Vector2;
 use std::fmt::Write as _;
 use std::io;

@@ -1,6 +1,6 @@
 //! Slab track and bridge components under the rails: a concrete slab on the subgrade or on
 //! simply supported girders, fasteners, bearings and piers, generated beside the rails of
-//! [`super::track_model::generate`].
+//! [`crate::rail::geometry::track_model::generate`].
 //!
 //! # Slab track (`support = {type = "slab", …}`)
 //!
@@ -43,8 +43,8 @@
 //! id block increases with station, so "the midspan girder node of span k" is an index
 //! computation ([`BridgeLayout::midspan_node`]).
 
-use super::cant::Track;
-use super::rail_section::RailSection;
+use crate::rail::geometry::cant::Track;
+use crate::rail::geometry::rail_section::RailSection;
 use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
 use railfem_framework::limits;
@@ -467,7 +467,7 @@ pub(super) struct RailsInfo<'a> {
 
 /// Stations of the rail supports (discrete supports or fasteners) on `[from, to]` (m):
 /// every multiple of `spacing`, `m·spacing`, whatever the element length. The mesh makes
-/// each of them a node ([`super::track_model::TrackMesh::cuts`]).
+/// each of them a node ([`crate::rail::geometry::track_model::TrackMesh::cuts`]).
 pub fn support_stations(from: f64, to: f64, spacing: f64) -> Vec<f64> {
     let first = (from / spacing - 1e-9).ceil() as i64;
     let last = (to / spacing + 1e-9).floor() as i64;
