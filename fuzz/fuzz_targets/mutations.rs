@@ -71,7 +71,7 @@ fuzz_target!(|data: &[u8]| {
     }
     let mut rng = mutate::Rng(u64::from_le_bytes(seed));
     if pick >= 128 {
-        use railfem::elements::rail::{irregularity, vehicle};
+        use railfem::elements::rail::{geometry::irregularity, vehicle};
         match pick % 3 {
             0 => {
                 let base: toml::Value = toml::from_str(VEHICLE).expect("the preset is valid");
