@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `railfem study` over MPI (docs/scale-out.md): install the system's Open MPI from Debian's
+# `railfem study` over MPI (docs/study.md): install the system's Open MPI from Debian's
 # packages (with clang/libclang for rsmpi's bindgen), build railfem with `--features mpi`,
 # and check under mpirun that
 #   - 1 rank gives the same study.csv bytes as the default (non-MPI) build,

@@ -182,7 +182,7 @@ commands! {
     /// load vector as Matrix Market files, with the DOF map (docs/matrices.md).
     Matrices(matrices::MatricesCmd),
     /// Run a parameter study: a base case over the Cartesian product of a plan's axes, on
-    /// threads or MPI ranks; study.csv, study.json, study.svg (docs/scale-out.md).
+    /// threads or MPI ranks; study.csv, study.json, study.svg (docs/study.md).
     Study(study::StudyCmd),
     /// The EN 1991-2 dynamic check of a railway bridge: HSLM and user trains over a speed
     /// range; envelope.csv, figures, report.md (docs/bridge-check.md).

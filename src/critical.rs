@@ -346,7 +346,8 @@ pub fn lean_separation_about(case: &CriticalCase, y_o: f64, z_o: f64, g: f64) ->
             spacing: -2.0 * y_o,
             pivot: Some((y_o, z_o)),
         };
-        crate::elements::rail::vehicle::lean::wheel_loads(&data, &op).map_or(f64::NAN, |l| l.pivot_moment)
+        crate::elements::rail::vehicle::lean::wheel_loads(&data, &op)
+            .map_or(f64::NAN, |l| l.pivot_moment)
     };
     first_root(&f, case.ct)
 }
@@ -591,8 +592,8 @@ fn write_sections(
     dir: &std::path::Path,
     what: &str,
 ) -> Result<(), FemError> {
-    use crate::elements::rail::wheels::moving_axle::MovingAxle;
     use crate::elements::rail::contact::section_plot::write_section_svg;
+    use crate::elements::rail::wheels::moving_axle::MovingAxle;
     std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
     for (k, side) in [(0, "left (inner)"), (1, "right (outer)")] {
         let Some(ei) = wheels.get(k) else { continue };

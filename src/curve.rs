@@ -11,12 +11,12 @@
 //! the wheel loads are also compared with the quasi-static reference with body lean
 //! ([`crate::elements::rail::vehicle::lean`]).
 
+use crate::elements::rail::contact::creep::law::Tangential;
 use crate::elements::rail::geometry::alignment::{Alignment, Segment};
 use crate::elements::rail::geometry::cant::{Cant, Track};
-use crate::elements::rail::contact::creep::law::Tangential;
+use crate::elements::rail::geometry::track_model::{self, TrackMesh};
 use crate::elements::rail::vehicle::lean::{self, ArcPoint};
 use crate::elements::rail::vehicle::theory::{self, Carriage, Operation, TrackParams, Variant};
-use crate::elements::rail::geometry::track_model::{self, TrackMesh};
 use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
 use crate::framework::builder::ModelBuilder;
 use crate::framework::model::{AnalysisSpec, Geometry, IntegratorKind, Predictor};

@@ -462,7 +462,9 @@ pub fn linear_model(
     ),
     FemError,
 > {
-    use crate::elements::rail::contact::creep::linear_wheelset::{creep_coefficients, Primary, Wheelset};
+    use crate::elements::rail::contact::creep::linear_wheelset::{
+        creep_coefficients, Primary, Wheelset,
+    };
     let lambda = match case.wheel {
         Wheel::Cone(l) => l,
         Wheel::S1002 => {

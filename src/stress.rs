@@ -8,11 +8,11 @@
 //! `tests/stability.rs` runs short ones and asserts on them. What does not live here: the
 //! driver and the energy ledger ([`crate::solvers::energy`]).
 
+use crate::elements::rail::contact::contact_law::Mode;
 use crate::elements::rail::geometry::alignment::{Alignment, Segment};
 use crate::elements::rail::geometry::cant::{Cant, Track};
-use crate::elements::rail::contact::contact_law::Mode;
-use crate::elements::rail::wheels::moving_axle::MovingAxle;
 use crate::elements::rail::geometry::track_model::{self, RailSupport, TrackMesh};
+use crate::elements::rail::wheels::moving_axle::MovingAxle;
 use crate::framework::builder::ModelBuilder;
 use crate::framework::limits;
 use crate::framework::loads::{LoadSpec, TimeSeries};

@@ -19,7 +19,9 @@
 use crate::elements::rail::geometry::alignment::{Alignment, Hand, Segment};
 use crate::elements::rail::geometry::bridge::BridgeSpec;
 use crate::elements::rail::geometry::cant::{Cant, Track};
-use crate::elements::rail::geometry::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
+use crate::elements::rail::geometry::track_model::{
+    self, RailSection, RailSupport, TrackMesh, TrackModel,
+};
 use crate::elements::rail::vehicle::{build_train, CarriageData, TrainIds, TrainSpec};
 use crate::framework::builder::ModelBuilder;
 use crate::framework::csv_input;

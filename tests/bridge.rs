@@ -20,7 +20,9 @@
 use railfem::elements::rail::geometry::alignment::Alignment;
 use railfem::elements::rail::geometry::bridge::{BridgeSpec, SlabTrack};
 use railfem::elements::rail::geometry::cant::{Cant, Track};
-use railfem::elements::rail::geometry::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
+use railfem::elements::rail::geometry::track_model::{
+    self, RailSection, RailSupport, TrackMesh, TrackModel,
+};
 use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
 use railfem::framework::model::{AnalysisKind, AnalysisSpec};

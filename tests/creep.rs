@@ -6,13 +6,13 @@
 //! unit tests in `elements/src/rail/{rolling,creep/law}.rs`; the tangent is checked by the
 //! conformance kit on rolling samples.
 
-use railfem::elements::rail::geometry::alignment::Alignment;
-use railfem::elements::rail::geometry::cant::{Cant, Track};
 use railfem::elements::rail::contact::creep::hertz::{hertz_ellipse, Curvatures};
 use railfem::elements::rail::contact::creep::kalker::kalker_coefficients;
-use railfem::elements::rail::wheels::moving_axle::MovingAxle;
 use railfem::elements::rail::contact::profiles::s1002_height_mm;
+use railfem::elements::rail::geometry::alignment::Alignment;
+use railfem::elements::rail::geometry::cant::{Cant, Track};
 use railfem::elements::rail::geometry::track_model::{self, RailSupport, TrackMesh};
+use railfem::elements::rail::wheels::moving_axle::MovingAxle;
 use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
 use railfem::framework::model::{AnalysisSpec, IntegratorKind, Predictor};

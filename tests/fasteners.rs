@@ -22,7 +22,9 @@ use nalgebra::{DMatrix, DVector};
 use railfem::elements::rail::geometry::alignment::Alignment;
 use railfem::elements::rail::geometry::bridge::BridgeSpec;
 use railfem::elements::rail::geometry::cant::{Cant, Track};
-use railfem::elements::rail::geometry::track_model::{self, RailSection, RailSupport, TrackMesh, TrackModel};
+use railfem::elements::rail::geometry::track_model::{
+    self, RailSection, RailSupport, TrackMesh, TrackModel,
+};
 use railfem::framework::builder::ModelBuilder;
 use railfem::framework::Dof;
 use std::sync::Arc;

@@ -8,12 +8,12 @@
 //! is tested inside `moving_axle.rs` and is not repeated here.
 
 use nalgebra::Vector3;
+use railfem::elements::rail::contact::contact_law::Mode;
+use railfem::elements::rail::contact::section_plot;
 use railfem::elements::rail::geometry::alignment::Alignment;
 use railfem::elements::rail::geometry::cant::{Cant, Track};
-use railfem::elements::rail::contact::contact_law::Mode;
-use railfem::elements::rail::wheels::moving_axle::MovingAxle;
-use railfem::elements::rail::contact::section_plot;
 use railfem::elements::rail::geometry::track_model::{self, RailSupport, TrackMesh};
+use railfem::elements::rail::wheels::moving_axle::MovingAxle;
 use railfem::framework::builder::ModelBuilder;
 use railfem::framework::loads::{LoadSpec, TimeSeries};
 use railfem::framework::model::{AnalysisSpec, IntegratorKind};
@@ -698,7 +698,8 @@ fn curve_validation_is_penalty_independent() {
             duration: 7.5,
             penalty: 1e10 * scale,
             record_every: 50,
-            sliding_tangent: railfem::elements::rail::contact::contact_law::SlidingTangent::Consistent,
+            sliding_tangent:
+                railfem::elements::rail::contact::contact_law::SlidingTangent::Consistent,
             ..Default::default()
         };
         let r = run(&case, None, &mut |_| {}).unwrap();

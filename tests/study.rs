@@ -1,4 +1,4 @@
-//! `railfem study` (issue 15, docs/scale-out.md): the table is the same bytes with one
+//! `railfem study` (issue 15, docs/study.md): the table is the same bytes with one
 //! thread, two threads, and after a stop and a resume (by `--stop-after` and by SIGINT);
 //! its numbers obey vertical equilibrium, symmetry and the invariance of a zero-intensity
 //! record to its seed, and equal `railfem train-bridge`'s summary for the same case; a

@@ -12,11 +12,11 @@
 //!
 //! `cargo test --release --test train_bridge` (about 20 s of stepping).
 
-use railfem::elements::rail::geometry::bridge::SlabTrack;
 use railfem::elements::rail::contact::contact_law::Mode;
-use railfem::elements::rail::wheels::moving_axle::MovingAxle;
+use railfem::elements::rail::geometry::bridge::SlabTrack;
 use railfem::elements::rail::geometry::track_model::RailSection;
 use railfem::elements::rail::vehicle::CarriageData;
+use railfem::elements::rail::wheels::moving_axle::MovingAxle;
 use railfem::train_bridge::{
     build, read_quake, run, synthetic_quake, Quake, QuakeRecord, TrainBridgeCase, TrainBridgeModel,
     G0,

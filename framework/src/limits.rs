@@ -6,7 +6,7 @@
 //! - `max_memory` (bytes): the default is half the machine's available memory
 //!   (`MemAvailable` of `/proc/meminfo`; [`FALLBACK_MEMORY`] where that cannot be read).
 //!   Half, because an estimate counts only the dominant arrays of a generator, and the
-//!   measured cost of a model (docs/performance.md: 2.9–4.9 KiB per DOF) varies by a
+//!   measured cost of a model (2.3–4.9 KiB per DOF measured, docs/performance.md) varies by a
 //!   factor of about two.
 //! - `max_steps`: time steps of a transient, load steps of a static analysis (default
 //!   [`DEFAULT_MAX_STEPS`]).
@@ -29,8 +29,8 @@ pub const DEFAULT_MAX_STEPS: u64 = 10_000_000;
 /// its first step instead of never ending.
 pub const ABSOLUTE_MAX_STEPS: u64 = 1_000_000_000;
 /// Estimated bytes per equation (DOF) of an assembled model: the smallest per-DOF cost
-/// measured for the train–bridge models (docs/performance.md, "KiB per DOF": 2.9–4.9),
-/// so that an estimate never refuses what the measurements show to run.
+/// measured for the train–bridge models below 1M DOF (docs/performance.md; 2.3 KiB at 1M DOF),
+/// so that an estimate refuses only what is within that ratio of the limit.
 pub const BYTES_PER_DOF: f64 = 2.9 * 1024.0;
 /// Estimated bytes of a node without free DOFs (id, coordinates, DOF map entries).
 pub const BYTES_PER_NODE: f64 = 256.0;

@@ -11,7 +11,7 @@ use std::path::PathBuf;
 #[derive(Args, Debug, Clone, PartialEq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub struct StudyCmd {
-    /// The study plan (TOML, docs/scale-out.md).
+    /// The study plan (TOML, docs/study.md).
     #[arg(value_name = "PLAN.toml")]
     #[serde(serialize_with = "crate::command::path_text")]
     pub plan: PathBuf,

@@ -174,7 +174,10 @@ impl ProfileSet {
             ProfileSet::ManchesterBenchmark => return manchester(),
             ProfileSet::S1002On60E1(incl) => (
                 WheelProfile::s1002(crate::elements::rail::contact::profiles::DEFAULT_WHEEL_POINTS),
-                RailProfile::uic60(crate::elements::rail::contact::creep::conicity::RAIL_NODES, *incl),
+                RailProfile::uic60(
+                    crate::elements::rail::contact::creep::conicity::RAIL_NODES,
+                    *incl,
+                ),
                 S1002_FLANGE_BACK,
                 "the built-in 60E1".to_string(),
             ),

@@ -1,4 +1,4 @@
-//! `railfem study PLAN.toml`: many runs of one case over parameter axes (docs/scale-out.md).
+//! `railfem study PLAN.toml`: many runs of one case over parameter axes (docs/study.md).
 //!
 //! The plan ([`plan`]) names a base case and axes; [`cases`] expands them into cases with
 //! stable ids; [`run`] computes a case and runs local worker threads; under `mpirun` with

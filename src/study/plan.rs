@@ -1,4 +1,4 @@
-//! The study plan (`railfem study PLAN.toml`, docs/scale-out.md): read the TOML file,
+//! The study plan (`railfem study PLAN.toml`, docs/study.md): read the TOML file,
 //! refuse every key, axis or value it does not know with one line naming the place and the
 //! fix, and hand back a [`Plan`]: a base case, the options of that case and the axes whose
 //! Cartesian product makes the cases ([`super::cases`]).
@@ -197,7 +197,7 @@ pub fn read(file: &Path) -> Result<Plan, FemError> {
     let text = std::fs::read_to_string(file).map_err(|e| {
         FemError::input(
             file.display().to_string(),
-            format!("cannot read the plan ({e}); give a TOML study plan (docs/scale-out.md)"),
+            format!("cannot read the plan ({e}); give a TOML study plan (docs/study.md)"),
         )
     })?;
     let table: toml::Table = toml::from_str(&text).map_err(|e| {
@@ -210,7 +210,7 @@ pub fn read(file: &Path) -> Result<Plan, FemError> {
                 Some(l) => format!("{}:{l}", file.display()),
                 None => file.display().to_string(),
             },
-            format!("{msg}; give valid TOML (docs/scale-out.md)"),
+            format!("{msg}; give valid TOML (docs/study.md)"),
         )
     })?;
     parse(file, &table)

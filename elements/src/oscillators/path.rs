@@ -29,9 +29,9 @@
 //! `r = 0`.
 
 use crate::beam3d::{hermite, hermite_d, hermite_dd};
-use crate::rail::wheels::rail_point::beam_axes;
 use crate::rail::geometry::railline::RailSide;
 use crate::rail::geometry::track_model::TrackModel;
+use crate::rail::wheels::rail_point::beam_axes;
 use nalgebra::{Matrix3, Vector3};
 use railfem_framework::beam_chain::BeamChain;
 use railfem_framework::limits::fmt_num;

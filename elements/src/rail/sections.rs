@@ -24,7 +24,9 @@
 
 use crate::rail::geometry::alignment::SegmentSpec;
 use crate::rail::geometry::cant::TrackSpec;
-use crate::rail::geometry::track_model::{generate_with, JointDip, RailSection, RailSupport, TrackMesh};
+use crate::rail::geometry::track_model::{
+    generate_with, JointDip, RailSection, RailSupport, TrackMesh,
+};
 use crate::rail::vehicle::section::apply_vehicles;
 use railfem_framework::builder::ModelBuilder;
 use railfem_framework::error::FemError;
@@ -141,7 +143,9 @@ fn estimate_track(v: &Value, base: &std::path::Path) -> Vec<SizePart> {
         });
     }
     if let Some(irr) = &t.irregularity {
-        parts.extend(crate::rail::geometry::irregularity::estimate::estimate(irr, base, range));
+        parts.extend(crate::rail::geometry::irregularity::estimate::estimate(
+            irr, base, range,
+        ));
     }
     parts
 }

@@ -46,8 +46,8 @@
 pub mod build;
 pub mod carriage;
 pub mod definition;
-pub mod lean;
 pub mod instance_defect;
+pub mod lean;
 pub mod section;
 pub mod statics;
 pub mod theory;

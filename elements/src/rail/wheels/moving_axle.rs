@@ -51,17 +51,21 @@
 //! that its smallest gap to the rail is −1 nm: the wheel starts just touching.
 
 use crate::rail::contact::contact_geometry::{candidate_window, rail_node_gap};
-use crate::rail::contact::contact_law::{Anchor, Mode, PenaltyLaw, PointState, SlidingTangent, Status};
+use crate::rail::contact::contact_law::{
+    Anchor, Mode, PenaltyLaw, PointState, SlidingTangent, Status,
+};
 use crate::rail::contact::creep::fastsim::FastsimGrid;
 use crate::rail::contact::creep::hertz::{hertz_ellipse, Curvatures};
 use crate::rail::contact::creep::kalker::kalker_coefficients;
-use crate::rail::contact::creep::law::{EllipseShape, Material, PolachSpin, Tangential, TangentialLaw};
+use crate::rail::contact::creep::law::{
+    EllipseShape, Material, PolachSpin, Tangential, TangentialLaw,
+};
 use crate::rail::contact::hertz_spring::HertzSpring;
 use crate::rail::contact::profiles::{Inclination, RailProfile, WheelProfile};
-use crate::rail::wheels::rail_point::{beam_axes, rail_point_matrix};
-use crate::rail::geometry::railline::RailSide;
 use crate::rail::contact::rolling::{frame_rotation, point_creep, PointInput, Rolling};
+use crate::rail::geometry::railline::RailSide;
 use crate::rail::geometry::track_model::{OffsetFromStart, TrackModel};
+use crate::rail::wheels::rail_point::{beam_axes, rail_point_matrix};
 use crate::rail::wheels::wheel_defect::{TreadOffset, WheelDefect};
 use nalgebra::{DMatrix, Matrix3, SMatrix, SVector, Vector2, Vector3};
 use railfem_framework::element::*;

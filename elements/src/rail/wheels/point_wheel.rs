@@ -56,9 +56,9 @@
 //! vehicle's spin spring does, in statics.
 
 use crate::rail::contact::point_contact_law::{ContactForce, PointLaw};
-use crate::rail::wheels::rail_point::{beam_axes, rail_point_matrix};
 use crate::rail::geometry::railline::RailSide;
 use crate::rail::geometry::track_model::{OffsetFromStart, TrackModel};
+use crate::rail::wheels::rail_point::{beam_axes, rail_point_matrix};
 use crate::rail::wheels::wheel_defect::{TreadOffset, WheelDefect};
 use nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 use railfem_framework::element::*;
