@@ -1,6 +1,6 @@
 //! `railfem reference`: the book's generated reference pages ([`crate::reference`]).
 
-use crate::command::{out_or, Command, Context};
+use crate::command::{Command, Context};
 use crate::framework::FemError;
 use clap::Args;
 use serde::Serialize;
@@ -16,12 +16,14 @@ pub struct ReferenceCmd {
 
 impl Command for ReferenceCmd {
     const NAME: &'static str = "reference";
-    fn out_dir(&self) -> Option<PathBuf> {
-        out_or(&self.out, "docs/reference")
-    }
-    fn run(&self, ctx: &Context) -> Result<i32, FemError> {
-        let n = crate::reference::write(ctx.out())?;
-        println!("{n} reference pages in {}", ctx.out().display());
+    // No `out_dir`: the pages go into the book, without a `run.json` beside them.
+    fn run(&self, _: &Context) -> Result<i32, FemError> {
+        let dir = self
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("docs/reference"));
+        let n = crate::reference::write(&dir)?;
+        println!("{n} reference pages in {}", dir.display());
         Ok(0)
     }
 }
