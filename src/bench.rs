@@ -34,7 +34,8 @@ pub const DT: f64 = 2.0e-3;
 pub const SPEED: f64 = 80.0;
 
 /// The mass matrix of the benchmark beam (`railfem bench --mass`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum BenchMass {
     /// `beam3d` `mass = "consistent"`: cubic Hermite bending mass, as OpenSees'
     /// `elasticBeamColumn ... -cMass`.
@@ -46,15 +47,6 @@ pub enum BenchMass {
 }
 
 impl BenchMass {
-    /// Parses `consistent` or `lumped`; `None` for anything else.
-    pub fn parse(name: &str) -> Option<BenchMass> {
-        match name {
-            "consistent" => Some(BenchMass::Consistent),
-            "lumped" => Some(BenchMass::Lumped),
-            _ => None,
-        }
-    }
-
     /// The name on the command line and in `model.json` (`mass_kind`).
     pub fn name(self) -> &'static str {
         match self {

@@ -59,14 +59,22 @@ pub struct BenchCmd {
 }
 
 /// The cases of `--case`.
-const CASES: [&str; 6] = [
-    "beam",
-    "train-bridge",
-    "sprung",
-    "threshold",
-    "floor",
-    "window",
-];
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+enum BenchCase {
+    /// The linear multi-span beam.
+    Beam,
+    /// The train on the viaduct.
+    TrainBridge,
+    /// A sprung mass crossing the beam, per linear solver.
+    Sprung,
+    /// Dense against sparse solver by size.
+    Threshold,
+    /// Time per step against the memory-bandwidth floor.
+    Floor,
+    /// Train-bridge step time against spans and carriages, activity window off and on.
+    Window,
+}
 
 /// `--cars` of the train-bridge case: one count (the window case takes a list).
 fn number(key: &str, v: Option<&str>) -> Result<Option<f64>, FemError> {
@@ -130,22 +138,19 @@ impl Command for BenchCmd {
         }
     }
     fn run(&self, ctx: &Context) -> Result<i32, FemError> {
-        let case = self.case.as_deref().unwrap_or("beam");
-        if !CASES.contains(&case) {
-            return Err(FemError::input(
-                "command line",
-                format!("--case {case}: use beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the beam, per solver), threshold (dense against sparse solver by size), floor (time per step against the memory-bandwidth floor) or window (train-bridge step time against spans and carriages, activity window on and off)"),
-            ));
-        }
+        let case = match self.case.as_deref() {
+            None => BenchCase::Beam,
+            Some(v) => crate::choice::parse("command line", "--case", v)?,
+        };
         // Without --export the folder is --out (default out/bench); with it, the export's.
         let out = self
             .out
             .clone()
             .unwrap_or_else(|| PathBuf::from("out/bench"));
-        if case == "window" {
+        if case == BenchCase::Window {
             return self.window(&out);
         }
-        if case == "threshold" {
+        if case == BenchCase::Threshold {
             crate::threshold::run(&out)?;
             return Ok(0);
         }
@@ -186,20 +191,14 @@ impl Command for BenchCmd {
         };
         let mass = match self.mass.as_deref() {
             None => crate::bench::BenchMass::Consistent,
-            Some(m) => match crate::bench::BenchMass::parse(m) {
-                Some(k) if case == "beam" || case == "floor" => k,
-                Some(_) => {
+            Some(m) => match crate::choice::parse("command line", "--mass", m)? {
+                k if case == BenchCase::Beam || case == BenchCase::Floor => k,
+                _ => {
                     return Err(FemError::input(
                         "command line",
                         format!(
                             "--mass {m}: only the beam and floor cases take --mass; drop it or use --case beam"
                         ),
-                    ))
-                }
-                None => {
-                    return Err(FemError::input(
-                        "command line",
-                        format!("--mass {m}: use consistent (the default) or lumped"),
                     ))
                 }
             },
@@ -222,7 +221,7 @@ impl Command for BenchCmd {
             return Ok(0);
         }
         let out = ctx.out();
-        if case == "train-bridge" {
+        if case == BenchCase::TrainBridge {
             let cars = match number("cars", self.cars.as_deref())? {
                 None => 1,
                 Some(v) if v >= 1.0 && v.fract() == 0.0 => v as usize,
@@ -248,11 +247,11 @@ impl Command for BenchCmd {
             crate::bench_train::run(&sizes, cars, steps, dt, start, geometry, out)?;
             return Ok(0);
         }
-        if case == "floor" {
+        if case == BenchCase::Floor {
             crate::floor::run(&sizes, steps, mass, out)?;
             return Ok(0);
         }
-        if case == "sprung" {
+        if case == BenchCase::Sprung {
             crate::small_models::run(&sizes, steps, out)?;
             return Ok(0);
         }
