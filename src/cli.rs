@@ -11,15 +11,11 @@ use crate::commands::{Cli, Commands, Global};
 use crate::framework::error::nearest;
 use crate::framework::FemError;
 use clap::parser::ValueSource;
-use clap::{ArgAction, CommandFactory, FromArgMatches};
+use clap::{ArgAction, FromArgMatches};
 use std::ffi::{OsStr, OsString};
 use std::path::{Path, PathBuf};
 
-/// The clap command with the settings every subcommand shares: a value may start with `-`
-/// (`--penalty -1` reaches the command, which says why it is refused).
-pub fn clap_command() -> clap::Command {
-    Cli::command().mut_subcommands(|c| c.allow_negative_numbers(true))
-}
+pub use crate::commands::clap_command;
 
 /// Turns a clap error into today's contract: one line naming the command line, the place
 /// and the fix.

@@ -90,6 +90,12 @@ pub struct Global {
     pub quiet: bool,
 }
 
+/// The clap command with the settings every subcommand shares: a value may start with `-`
+/// (`--penalty -1` reaches the command, which says why it is refused).
+pub fn clap_command() -> clap::Command {
+    <Cli as clap::CommandFactory>::command().mut_subcommands(|c| c.allow_negative_numbers(true))
+}
+
 /// Registers the commands: one line per command, `Variant(module::Struct)` with its doc
 /// comment (the summary `railfem help` shows). Generates the [`Commands`] enum clap parses
 /// into, and its dispatch to each command's [`Command`] implementation.

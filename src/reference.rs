@@ -1,7 +1,7 @@
 //! The book's generated reference pages (`railfem reference --out docs/reference`): the
 //! element, load, recorder and integrator kinds from their registries (the keys, units,
 //! defaults and descriptions that `element_params!` declares) and every command and option
-//! of the command line from clap's own declaration ([`crate::cli::clap_command`]).
+//! of the command line from clap's own declaration (`railfem::cli::clap_command`, given by the caller).
 //!
 //! The pages are written from the code, never by hand: `tests/book_reference.rs` regenerates
 //! them and fails when the checked-in pages differ. Only built-in kinds are listed (a
@@ -25,9 +25,9 @@ pub struct Page {
     pub text: String,
 }
 
-/// Every generated page, in the order the book lists them.
-pub fn pages() -> Vec<Page> {
-    crate::elements::link();
+/// Every generated page, in the order the book lists them; `cli` is the command line the
+/// `cli.md` page documents (`railfem::cli::clap_command()`).
+pub fn pages(cli: &clap::Command) -> Vec<Page> {
     vec![
         Page {
             file: "elements.md",
@@ -47,15 +47,15 @@ pub fn pages() -> Vec<Page> {
         },
         Page {
             file: "cli.md",
-            text: cli_page(),
+            text: cli_page(cli),
         },
     ]
 }
 
 /// Writes every page into `dir` (created if missing); returns the number of pages.
-pub fn write(dir: &Path) -> Result<usize, FemError> {
+pub fn write(dir: &Path, cli: &clap::Command) -> Result<usize, FemError> {
     std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
-    let all = pages();
+    let all = pages(cli);
     for p in &all {
         let path = dir.join(p.file);
         crate::atomic_file::write(&path, p.text.as_bytes())?;
@@ -242,8 +242,8 @@ fn arg_rows(cmd: &clap::Command, global: bool) -> String {
         .collect()
 }
 
-fn cli_page() -> String {
-    let mut root = crate::cli::clap_command();
+fn cli_page(cli: &clap::Command) -> String {
+    let mut root = cli.clone();
     root.build();
     let about = root
         .get_long_about()

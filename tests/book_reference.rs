@@ -11,7 +11,7 @@ fn dir() -> std::path::PathBuf {
 #[test]
 fn checked_in_reference_pages_are_up_to_date() {
     let mut stale = Vec::new();
-    for page in railfem::reference::pages() {
+    for page in railfem::reference::pages(&railfem::cli::clap_command()) {
         let path = dir().join(page.file);
         let on_disk = std::fs::read_to_string(&path).unwrap_or_default();
         if on_disk != page.text {
@@ -125,7 +125,7 @@ fn the_command_writes_the_pages() {
         .output()
         .expect("run railfem");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    for page in railfem::reference::pages() {
+    for page in railfem::reference::pages(&railfem::cli::clap_command()) {
         let written = std::fs::read_to_string(out.join(page.file)).expect("written page");
         assert_eq!(written, page.text, "{}", page.file);
     }
@@ -147,7 +147,7 @@ fn every_table_row_has_as_many_cells_as_its_header() {
             .filter(|&i| b[i] == b'|' && (i == 0 || b[i - 1] != b'\\'))
             .count()
     };
-    for page in railfem::reference::pages() {
+    for page in railfem::reference::pages(&railfem::cli::clap_command()) {
         let mut header: Option<usize> = None;
         for (i, line) in page.text.lines().enumerate() {
             if !line.starts_with('|') {

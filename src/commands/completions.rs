@@ -20,7 +20,7 @@ impl Command for CompletionsCmd {
     fn run(&self, _: &Context) -> Result<i32, FemError> {
         clap_complete::generate(
             self.shell,
-            &mut crate::cli::clap_command(),
+            &mut crate::commands::clap_command(),
             "railfem",
             &mut std::io::stdout(),
         );

@@ -22,7 +22,7 @@ impl Command for ReferenceCmd {
             .out
             .clone()
             .unwrap_or_else(|| PathBuf::from("docs/reference"));
-        let n = crate::reference::write(&dir)?;
+        let n = crate::reference::write(&dir, &crate::commands::clap_command())?;
         println!("{n} reference pages in {}", dir.display());
         Ok(0)
     }
