@@ -53,7 +53,9 @@ fn architecture_page_names_no_missing_module() {
     let page = std::fs::read_to_string(root.join("docs/architecture.md")).unwrap();
     let mut gone = Vec::new();
     for piece in page.split('`').skip(1).step_by(2) {
+        // `src/commands/NAME.rs` is a pattern, not a file.
         let is_module = piece.ends_with(".rs")
+            && !piece.contains("NAME")
             && ["framework/src/", "elements/src/", "solvers/src/", "src/"]
                 .iter()
                 .any(|p| piece.starts_with(p));
