@@ -126,8 +126,8 @@ fn unknown_wheel_model() {
         ),
         &[
             "wheelset[0]",
-            "`wheel.model` = \"elastic\" is not known",
-            "moving_axle, hertz_wheel, rigid_wheel",
+            "`wheel.model`: unknown variant `elastic`",
+            "`moving_axle`, `hertz_wheel`, `rigid_wheel`",
         ],
     );
 }
