@@ -1,6 +1,6 @@
 //! The rows a step's passes over the equations touch while the activity window holds
 //! blocks ([`crate::window`]): every row but the *deep* held ones, whose values a step
-//! does not change ([`HeldRows`]).
+//! does not change (`HeldRows`).
 //!
 //! **Why a deep held row needs no pass.** A held block's interior rows `H` keep `q` fixed
 //! and `v = a = 0`, so their weighted kinematics `a_w = v_w = 0` as well. A held row `i`

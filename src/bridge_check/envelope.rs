@@ -63,7 +63,7 @@ pub enum Next {
     Done,
 }
 
-/// The other ranks of an MPI job that share a check's runs ([`super::ranks`]); rank 0
+/// The other ranks of an MPI job that share a check's runs (`bridge_check::ranks`, with the `mpi` feature); rank 0
 /// serves them, the others work.
 pub trait Ranks {
     /// Rank 0, during a pass: hands the runs `take` gives to the other ranks and gives

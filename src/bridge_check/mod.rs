@@ -480,7 +480,7 @@ fn simplified_rows(r: &Results) -> Vec<SimplifiedRow> {
 
 /// `railfem bridge-check`: runs the check of the plan at `plan` into `out` and prints the
 /// governing case. Built with the `mpi` feature and started by `mpirun -n N` (N > 1), rank 0
-/// hands the runs out to the other ranks and writes every output ([`ranks`]).
+/// hands the runs out to the other ranks and writes every output (`bridge_check::ranks`).
 pub fn command(plan: &Path, out: &Path, opts: RunOptions) -> Result<i32, FemError> {
     #[cfg(feature = "mpi")]
     let world = crate::study::mpi::World::init().filter(|w| w.size() > 1);
