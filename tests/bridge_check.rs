@@ -817,16 +817,7 @@ fn sprung_mass_on_a_beam_fe_against_modal_solution() {
     let mut modal = vec![0.0; steps + 1];
     for i in 1..=steps * per {
         let t = (i - 1) as f64 * h;
-        let k1 = rhs(t, &y);
-        let y2: Vec<f64> = y.iter().zip(&k1).map(|(a, k)| a + 0.5 * h * k).collect();
-        let k2 = rhs(t + 0.5 * h, &y2);
-        let y3: Vec<f64> = y.iter().zip(&k2).map(|(a, k)| a + 0.5 * h * k).collect();
-        let k3 = rhs(t + 0.5 * h, &y3);
-        let y4: Vec<f64> = y.iter().zip(&k3).map(|(a, k)| a + h * k).collect();
-        let k4 = rhs(t + h, &y4);
-        for k in 0..y.len() {
-            y[k] += h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k]);
-        }
+        common::rk4_step(&rhs, t, h, &mut y);
         if i % per == 0 {
             modal[i / per] = (0..nm)
                 .map(|n| ((n + 1) as f64 * PI / 2.0).sin() * y[n])

@@ -300,16 +300,7 @@ fn full_vehicle_crossing_against_modal_runge_kutta() {
     let mut body_peak = (0.0f64, 0.0f64);
     for i in 1..=steps * per {
         let t = (i - 1) as f64 * h;
-        let k1 = rhs(t, &y);
-        let y2: Vec<f64> = y.iter().zip(&k1).map(|(a, k)| a + 0.5 * h * k).collect();
-        let k2 = rhs(t + 0.5 * h, &y2);
-        let y3: Vec<f64> = y.iter().zip(&k2).map(|(a, k)| a + 0.5 * h * k).collect();
-        let k3 = rhs(t + 0.5 * h, &y3);
-        let y4: Vec<f64> = y.iter().zip(&k3).map(|(a, k)| a + h * k).collect();
-        let k4 = rhs(t + h, &y4);
-        for k in 0..y.len() {
-            y[k] += h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k]);
-        }
+        common::rk4_step(&rhs, t, h, &mut y);
         body_peak = (
             body_peak.0.max(y[nm].abs()),
             body_peak.1.max(y[nm + 1].abs()),

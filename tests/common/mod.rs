@@ -266,3 +266,18 @@ pub fn solve_under_point_load(
     d.static_solve(0.0, 1).unwrap();
     d
 }
+
+/// One classical Runge–Kutta (RK4) step of `y' = rhs(t, y)` from `t` to `t + h`, in place:
+/// the independent time integration the modal references of the bridge tests use.
+pub fn rk4_step(rhs: &dyn Fn(f64, &[f64]) -> Vec<f64>, t: f64, h: f64, y: &mut [f64]) {
+    let k1 = rhs(t, y);
+    let y2: Vec<f64> = y.iter().zip(&k1).map(|(a, k)| a + 0.5 * h * k).collect();
+    let k2 = rhs(t + 0.5 * h, &y2);
+    let y3: Vec<f64> = y.iter().zip(&k2).map(|(a, k)| a + 0.5 * h * k).collect();
+    let k3 = rhs(t + 0.5 * h, &y3);
+    let y4: Vec<f64> = y.iter().zip(&k3).map(|(a, k)| a + h * k).collect();
+    let k4 = rhs(t + h, &y4);
+    for k in 0..y.len() {
+        y[k] += h / 6.0 * (k1[k] + 2.0 * k2[k] + 2.0 * k3[k] + k4[k]);
+    }
+}
