@@ -3,7 +3,7 @@
 
 What lives here, two comparisons:
 
-1. `opensees_compare.py EXPORT_DIR`: one size of `railfem bench --export` (model.json,
+1. `opensees_compare.py EXPORT_DIR`: one size of `railfem-measure export` (model.json,
    nodes.csv, elements.csv, loads.csv, railfem.csv, timing.json). The same continuous beam
    in OpenSees (elasticBeamColumn, consistent mass with `-cMass` or OpenSees' default
    lumped mass, as `mass_kind` in model.json says; the same pins and local axes), the
@@ -22,7 +22,7 @@ What lives here, two comparisons:
    measure (largest |w - w_Fryba| at midspan over the steps, relative to the series' peak
    at those steps; Fryba's modal series with 200 terms, written here independently), and
    the wall time of each run (model build + every step; the analysis alone in its own
-   column). OUT.csv is what `railfem pareto --cases force --peer OUT.csv` reads.
+   column). OUT.csv is what `railfem-measure peer OUT.csv` reads.
 
 Usage:
   opensees_compare.py EXPORT_DIR [--solvers UmfPack,BandSPD,...] [--loads pattern,path]
@@ -78,7 +78,7 @@ def read_export(d):
         with open(os.path.join(d, "timing.json")) as f:
             timing = json.load(f)
     except (OSError, ValueError, KeyError) as e:
-        fail(f"{d}: cannot read the export ({e}); run `railfem bench --export {d} ...` first")
+        fail(f"{d}: cannot read the export ({e}); run `railfem-measure export {d} ...` first")
     spec.setdefault("mass_kind", "consistent")  # exports before `--mass` existed
     if spec["mass_kind"] not in ("consistent", "lumped"):
         fail(f"{d}/model.json: mass_kind = {spec['mass_kind']!r}; expected consistent or lumped")

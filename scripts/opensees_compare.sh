@@ -6,7 +6,7 @@
 #
 #   scripts/opensees_compare.sh [SIZES] [STEPS] [SOLVERS] [MASSES] [LOADS]
 #     the linear moving-load multi-span beam of `railfem bench`: per mass matrix and size,
-#     exports the model with `railfem bench --export --mass M` (railfem's own timing and
+#     exports the model with `railfem-measure export --mass M` (railfem's own timing and
 #     answer, run twice: unpinned and pinned to one core with taskset), reruns it in
 #     OpenSees (pinned to one core) with every solver and both ways of applying the moving
 #     load, and writes out/opensees/<mass>/dof<N>/opensees.json;
@@ -19,7 +19,7 @@
 # or
 #   scripts/opensees_compare.sh pareto [SOLVERS] [LOADS]
 #     the moving-force case of `railfem pareto` in OpenSees over the same grid
-#     (out/opensees/pareto.csv), then `railfem pareto --cases force --peer` on it
+#     (out/opensees/pareto.csv), then `railfem-measure peer` on it
 #     (out/pareto-peer: pareto-force.svg with both codes, pareto-peers.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,8 +34,8 @@ fi
 # open shared object file" on machines without a system BLAS.
 OSLIB=$("$VENV/bin/python" -c "import importlib.util, os; print(os.path.join(os.path.dirname(importlib.util.find_spec('openseespylinux').origin), 'lib'))")
 export LD_LIBRARY_PATH="$OSLIB${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
-cargo build --release -p railfem
-BIN=target/release/railfem
+cargo build --release -p railfem-measure
+BIN=target/release/railfem-measure
 echo "load average at start: $(cat /proc/loadavg)"
 
 if [ "${1:-}" = pareto ]; then
@@ -44,7 +44,7 @@ if [ "${1:-}" = pareto ]; then
   mkdir -p "$OUT"
   taskset -c 0 "$VENV/bin/python" scripts/opensees_compare.py --pareto "$OUT/pareto.csv" \
     --solvers "$SOLVERS" --loads "$LOADS"
-  $BIN pareto --cases force --peer "$OUT/pareto.csv" --out out/pareto-peer
+  $BIN peer "$OUT/pareto.csv" --cases force --out out/pareto-peer
   echo "load average at end: $(cat /proc/loadavg)"
   exit 0
 fi
@@ -62,9 +62,9 @@ for m in "${MLIST[@]}"; do
     d="$OUT/$m/dof$n"
     # railfem unpinned (its default), then pinned to one core; the unpinned export is the
     # one OpenSees reruns (both write the same model and loads; only the timing differs).
-    $BIN bench --export "$OUT/$m" --mass "$m" --sizes "$n" --steps "$STEPS" > /dev/null
+    $BIN export "$OUT/$m" --mass "$m" --sizes "$n" --steps "$STEPS" > /dev/null
     cp "$d/timing.json" "$d/timing-default.json"
-    taskset -c 0 $BIN bench --export "$OUT/$m" --mass "$m" --sizes "$n" --steps "$STEPS"
+    taskset -c 0 $BIN export "$OUT/$m" --mass "$m" --sizes "$n" --steps "$STEPS"
     mv "$d/timing.json" "$d/timing-taskset.json"
     cp "$d/timing-default.json" "$d/timing.json"
     echo "railfem $m default: $(tr -d '\n ' < "$d/timing-default.json")"

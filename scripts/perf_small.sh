@@ -9,10 +9,11 @@
 #   floor      the same beam against its memory-bandwidth floor (`bench --case floor`)
 #   curve      the paper's curve case (Fig. 6, 20 205 steps) with each tangential law
 #   sprung     a sprung mass on the beam with the direct, low-rank and partitioned solvers
-#   threshold  dense against sparse factorization by size (`bench --case threshold`)
+#   threshold  dense against sparse factorization by size (`railfem-measure threshold`)
 # (default: all). Every command runs under /usr/bin/time -v with the load average before
 # and after written beside it. BIN=path overrides the binary (default
-# target/release/railfem, built here when missing).
+# target/release/railfem, built here when missing), MEASURE=path the project's measurement
+# binary (default target/release/railfem-measure, likewise).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${1:-out/perf-small}
@@ -20,6 +21,8 @@ shift || true
 PARTS=${*:-beam floor curve sprung threshold}
 BIN=${BIN:-target/release/railfem}
 [ -x "$BIN" ] || cargo build --release -p railfem
+MEASURE=${MEASURE:-target/release/railfem-measure}
+case " $PARTS " in *" threshold "*) [ -x "$MEASURE" ] || cargo build --release -p railfem-measure ;; esac
 mkdir -p "$OUT"
 
 run() { # run NAME COMMAND...: log the load, the command, its output and /usr/bin/time -v
@@ -48,7 +51,7 @@ for part in $PARTS; do
     sprung)
       run sprung "$BIN" bench --case sprung --sizes 1e3,1e4,1e5 --steps 40 --out "$OUT/sprung" ;;
     threshold)
-      run threshold "$BIN" bench --case threshold --out "$OUT/threshold" ;;
+      run threshold "$MEASURE" threshold --out "$OUT/threshold" ;;
     *) echo "perf_small.sh: unknown part '$part' (beam, floor, curve, sprung, threshold)" >&2; exit 2 ;;
   esac
 done

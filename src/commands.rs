@@ -172,8 +172,8 @@ commands! {
     Conformance(conformance::ConformanceCmd),
     /// The paper's five-segment track: track.csv and track.svg.
     Track(track::TrackCmd),
-    /// Time linear transient steps per DOF count (bench.md, bench.csv), the train-bridge
-    /// model by phase (`--case train-bridge`), or export the benchmark (`--export DIR`).
+    /// Time linear transient steps per DOF count (bench.md, bench.csv), or the
+    /// train-bridge model by phase (`--case train-bridge`).
     Bench(bench::BenchCmd),
     /// A train of sks700 carriages over a viaduct of simply supported spans.
     TrainBridge(train_bridge::TrainBridgeCmd),

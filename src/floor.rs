@@ -143,12 +143,10 @@ pub fn run(
     out: &Path,
 ) -> Result<Vec<FloorRow>, FemError> {
     let bw = bandwidth();
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     let mut s = format!(
-        "bandwidth (one thread, best of 5 over 3 × 128 MiB): copy {:.2} GB/s, triad {:.2} GB/s; load average {}\n\n",
+        "bandwidth (one thread, best of 5 over 3 × 128 MiB): copy {:.2} GB/s, triad {:.2} GB/s\n\n",
         bw.copy / 1e9,
-        bw.triad / 1e9,
-        load.split_whitespace().take(3).collect::<Vec<_>>().join(" ")
+        bw.triad / 1e9
     );
     eprint!("{s}");
     let mut rows = Vec::new();

@@ -395,6 +395,26 @@ pub fn curve_run(dt: f64, scheme: Scheme) -> Result<(f64, f64, usize), FemError>
     ))
 }
 
+/// The cases of [`Grid::cases`] (the train–bridge case has its own grid,
+/// [`crate::pareto_train`]).
+pub const CASES: [&str; 3] = ["force", "sprung", "curve"];
+
+/// Parses a `--cases` list (`force,sprung`): the names, each one of `known`; an unknown
+/// one is refused naming it and listing `known`.
+pub fn parse_cases(spec: &str, known: &[&str]) -> Result<Vec<String>, FemError> {
+    let cases: Vec<String> = spec.split(',').map(|x| x.trim().to_string()).collect();
+    match cases.iter().find(|x| !known.contains(&x.as_str())) {
+        Some(bad) => Err(FemError::input(
+            "command line",
+            format!(
+                "--cases {spec}: unknown case `{bad}`; use any of {}",
+                known.join(",")
+            ),
+        )),
+        None => Ok(cases),
+    }
+}
+
 /// The grid of one run of `railfem pareto`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Grid {
@@ -640,8 +660,6 @@ pub fn figure(runs: &[Run], case: &str) -> Figure {
 
 /// Runs the grid and writes `pareto.csv`, `pareto.md` and `pareto-<case>.svg` into `out`.
 pub fn run(grid: &Grid, out: &Path) -> Result<Vec<Run>, FemError> {
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    eprintln!("load average at start: {}", load.trim());
     let mut runs = Vec::new();
     let done = run_grid_into(grid, &mut runs);
     // A stop between runs writes the completed runs; any other error, nothing.
@@ -653,8 +671,6 @@ pub fn run(grid: &Grid, out: &Path) -> Result<Vec<Run>, FemError> {
         return Err(e);
     }
     write_outputs(grid, &runs, out)?;
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    eprintln!("load average at end: {}", load.trim());
     Ok(runs)
 }
 

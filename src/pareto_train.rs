@@ -577,13 +577,12 @@ fn make(path: &Path, job: &Job) -> Option<History> {
     let out = match r {
         Ok(h) => {
             eprintln!(
-                "pareto train-bridge: {} ({} eq, {} thread(s)): wall {:.2} s, cpu {:.2} s, load {}",
+                "pareto train-bridge: {} ({} eq, {} thread(s)): wall {:.2} s, cpu {:.2} s",
                 history_tag(s, *duration),
                 h.dofs,
                 h.threads,
                 h.wall,
-                h.cpu,
-                crate::load_average::loadavg()
+                h.cpu
             );
             Some(h)
         }
@@ -866,11 +865,6 @@ pub fn figure(runs: &[TbRun], q: usize) -> Figure {
 /// `pareto-train-bridge.csv`, `pareto-train-bridge.md` and
 /// `pareto-train-bridge-{Q,dQQ,w}.svg` into `out`.
 pub fn run(grid: &TbGrid, out: &Path) -> Result<Vec<TbRun>, FemError> {
-    let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    eprintln!(
-        "train-bridge pareto: load average at start: {}",
-        load.trim()
-    );
     std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
     let refs = reference_jobs(grid);
     let (ref_histories, histories) = run_all(grid, out);
@@ -890,29 +884,16 @@ pub fn run(grid: &TbGrid, out: &Path) -> Result<Vec<TbRun>, FemError> {
             })
         })
         .collect::<Result<_, _>>()?;
-    let load_end = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    eprintln!(
-        "train-bridge pareto: load average after the grid: {}",
-        load_end.trim()
-    );
     let reference = &ref_histories[0];
     let runs = evaluate(&histories, reference);
     let p = out.join("pareto-train-bridge.csv");
     std::fs::write(&p, csv(&runs)).map_err(|e| FemError::output(&p, e))?;
     let base = refs[0].1;
     let mut md = format!(
-        "Load average: {} at the start, {} at the end.\n\n\
-         Reference: h = {:.4} m (0.625/9), dt = {} s, generalized-α ρ∞ = 0.8, partitioned \
+        "Reference: h = {:.4} m (0.625/9), dt = {} s, generalized-α ρ∞ = 0.8, partitioned \
          solver ({} equations, {} steps over {} s, {:.0} s wall). Errors are measured from \
          t = {SETTLE} s on (after the start from rest).\n",
-        load.trim(),
-        load_end.trim(),
-        base.h,
-        base.dt,
-        reference.dofs,
-        reference.steps,
-        DURATION,
-        reference.wall,
+        base.h, base.dt, reference.dofs, reference.steps, DURATION, reference.wall,
     );
     md.push_str(&convergence_markdown(&refs, &ref_histories));
     md.push_str(&markdown(&runs));

@@ -267,15 +267,6 @@ fn todays_invocations_parse_to_the_same_options() {
             "5e-4",
         ],
         &[
-            "bench",
-            "--export",
-            "/tmp/rerun1e6",
-            "--sizes",
-            "1e6",
-            "--steps",
-            "100",
-        ],
-        &[
             "train-bridge",
             "--cars",
             "2",
@@ -392,7 +383,7 @@ fn todays_invocations_parse_to_the_same_options() {
         &["help"],
         &[],
     ];
-    const PATHS: [&str; 4] = ["quake", "quake-out", "export", "plugin"];
+    const PATHS: [&str; 3] = ["quake", "quake-out", "plugin"];
     for argv in table {
         let a = railfem::cli::parse(argv).unwrap_or_else(|e| panic!("{argv:?}: {e}"));
         let Some(cmd) = argv.first() else {

@@ -2,7 +2,7 @@
 //! `name [unit]` (`[-]` for a ratio, a count, a flag or a label). The test runs a set of
 //! commands that together write every kind of CSV (recorders of nodes, of every element
 //! family and comfort indices, energy, modes, the built-in cases' tables, the benchmark,
-//! phase and export tables, the irregularity and PSD tables, the DOF map), walks every `.csv`
+//! phase tables, the irregularity and PSD tables, the DOF map), walks every `.csv`
 //! under their output directories and checks each header; plus the files only a failure
 //! or a study writes, through the library functions that write them.
 
@@ -128,15 +128,6 @@ fn every_csv_header_field_carries_a_unit() {
         "2",
         "--out",
         &out("bench"),
-    ]);
-    run_ok(&[
-        "bench",
-        "--sizes",
-        "1e3",
-        "--steps",
-        "2",
-        "--export",
-        &out("export"),
     ]);
     run_ok(&[
         "bench",

@@ -11,11 +11,12 @@
 //! - the lumped linear step's fused passes (`solvers/src/lumped_step.rs`) give the general
 //!   attempt's states to the bit, for each integrator, across a change of Δt and from a
 //!   state whose internal force must be formed afresh;
-//! - `--mass` and `railfem pareto --peer FILE` refuse bad input with one line, exit 2.
+//! - `--mass` refuses bad input with one line, exit 2 (the peer file's refusals, of
+//!   `railfem-measure peer FILE`, are tested in `examples/measure/tests/bad_input.rs`).
 
 mod common;
 
-use common::{fryba, railfem, refused_with, temp_dir};
+use common::{fryba, railfem, refused_with};
 use railfem::bench::{BenchBeam, BenchMass, DT, SPAN, SPEED};
 use railfem::framework::model::{IntegratorKind, Rayleigh};
 use railfem::framework::Dof;
@@ -331,84 +332,4 @@ fn bench_mass_option_refuses_unknown_values() {
         "100",
     ]);
     refused_with("--mass with train-bridge", &o, &["--mass", "beam"]);
-}
-
-/// Every refusal of a peer CSV: one line naming the file, the line and the column where
-/// it applies, and the fix; exit 2 before the grid runs.
-#[test]
-fn pareto_peer_file_bad_input_is_refused_in_one_line() {
-    let dir = temp_dir("peer");
-    let head = "peer,elements,dt [s],steps,wall [s],error [-]\n";
-    let cases: [(&str, String, &[&str]); 8] = [
-        (
-            "empty.csv",
-            String::new(),
-            &["empty.csv", "empty", "header"],
-        ),
-        (
-            "nocol.csv",
-            "peer,elements,dt [s],steps,error [-]\nP,8,1e-3,10,1e-3\n".into(),
-            &["nocol.csv", "line 1", "`wall [s]`", "header must name"],
-        ),
-        ("norows.csv", head.into(), &["norows.csv", "no runs"]),
-        (
-            "fields.csv",
-            format!("{head}P,8,1e-3,10,0.5\n"),
-            &["fields.csv", "line 2", "5 fields", "6"],
-        ),
-        (
-            "dt.csv",
-            format!("{head}P,8,1e-3,10,0.5,1e-3\nP,8,-1,10,0.5,1e-3\n"),
-            &["dt.csv", "line 3", "`dt [s]`", "`-1`", "> 0"],
-        ),
-        (
-            "elements.csv",
-            format!("{head}P,2.5,1e-3,10,0.5,1e-3\n"),
-            &["elements.csv", "line 2", "`elements`", "whole number"],
-        ),
-        (
-            "error.csv",
-            format!("{head}P,8,1e-3,10,0.5,NaN\n"),
-            &["error.csv", "line 2", "`error [-]`", "Frýba"],
-        ),
-        (
-            "label.csv",
-            format!("{head},8,1e-3,10,0.5,1e-3\n"),
-            &["label.csv", "line 2", "`peer`", "name the code"],
-        ),
-    ];
-    for (name, text, expect) in cases {
-        let p = dir.join(name);
-        std::fs::write(&p, text).unwrap();
-        let o = railfem(&[
-            "pareto",
-            "--cases",
-            "force",
-            "--peer",
-            p.to_str().unwrap(),
-            "--out",
-            dir.join("out").to_str().unwrap(),
-        ]);
-        refused_with(name, &o, expect);
-    }
-    let o = railfem(&[
-        "pareto",
-        "--peer",
-        dir.join("missing.csv").to_str().unwrap(),
-        "--cases",
-        "force",
-    ]);
-    refused_with("missing", &o, &["missing.csv", "cannot read"]);
-    let p = dir.join("ok.csv");
-    std::fs::write(&p, format!("{head}P,8,1e-3,10,0.5,1e-3\n")).unwrap();
-    let o = railfem(&["pareto", "--cases", "sprung", "--peer", p.to_str().unwrap()]);
-    refused_with(
-        "peer without force",
-        &o,
-        &["--peer", "add force to --cases"],
-    );
-    assert!(
-        !dir.join("out").exists(),
-        "nothing may run before the refusal"
-    );
 }

@@ -12,9 +12,9 @@ use std::path::PathBuf;
 #[serde(rename_all = "kebab-case")]
 pub struct BenchCmd {
     /// beam (linear multi-span beam), train-bridge, sprung (a sprung mass crossing the
-    /// beam with each linear solver), threshold (dense against sparse solver by size) or
-    /// floor (time per step against the memory-bandwidth floor) [default: beam].
-    #[arg(value_parser = crate::command::text(), long, value_name = "beam|train-bridge|sprung|threshold|floor|window")]
+    /// beam with each linear solver) or floor (time per step against the memory-bandwidth
+    /// floor) [default: beam].
+    #[arg(value_parser = crate::command::text(), long, value_name = "beam|train-bridge|sprung|floor|window")]
     pub case: Option<String>,
     /// DOF counts, comma-separated [default: 1e4,1e5,1e6].
     #[arg(value_parser = crate::command::text(), long, value_name = "N1,N2,..")]
@@ -22,11 +22,6 @@ pub struct BenchCmd {
     /// Time steps per size [default: 20].
     #[arg(value_parser = crate::command::number(), long, value_name = "N")]
     pub steps: Option<f64>,
-    /// Write the benchmark model, its load vectors and railfem's answer per size into
-    /// DIR/dofN (for scripts/opensees_compare.sh) instead of timing.
-    #[arg(long, value_name = "DIR")]
-    #[serde(serialize_with = "crate::command::opt_path_text")]
-    pub export: Option<PathBuf>,
     /// Output directory [default: out/bench].
     #[arg(long, value_name = "DIR")]
     #[serde(serialize_with = "crate::command::opt_path_text")]
@@ -68,8 +63,6 @@ enum BenchCase {
     TrainBridge,
     /// A sprung mass crossing the beam, per linear solver.
     Sprung,
-    /// Dense against sparse solver by size.
-    Threshold,
     /// Time per step against the memory-bandwidth floor.
     Floor,
     /// Train-bridge step time against spans and carriages, activity window off and on.
@@ -132,63 +125,19 @@ impl Command for BenchCmd {
     const NAME: &'static str = "bench";
     const STOPS_AT_STEP: bool = true;
     fn out_dir(&self) -> Option<PathBuf> {
-        match &self.export {
-            Some(dir) => Some(dir.clone()),
-            None => crate::command::out_or(&self.out, "out/bench"),
-        }
+        crate::command::out_or(&self.out, "out/bench")
     }
     fn run(&self, ctx: &Context) -> Result<i32, FemError> {
         let case = match self.case.as_deref() {
             None => BenchCase::Beam,
             Some(v) => crate::choice::parse("command line", "--case", v)?,
         };
-        // Without --export the folder is --out (default out/bench); with it, the export's.
-        let out = self
-            .out
-            .clone()
-            .unwrap_or_else(|| PathBuf::from("out/bench"));
+        let out = ctx.out();
         if case == BenchCase::Window {
-            return self.window(&out);
+            return self.window(out);
         }
-        if case == BenchCase::Threshold {
-            crate::threshold::run(&out)?;
-            return Ok(0);
-        }
-        let spec = self.sizes.as_deref().unwrap_or("1e4,1e5,1e6");
-        let mut sizes = Vec::new();
-        for x in spec.split(',') {
-            match x.trim().parse::<f64>() {
-                Ok(v) if (1.0..=1e9).contains(&v) => sizes.push(v.round() as usize),
-                _ => {
-                    return Err(FemError::input(
-                        "command line",
-                        format!(
-                            "--sizes {spec}: give DOF counts >= 1, comma-separated (e.g. 1e4,1e5)"
-                        ),
-                    ))
-                }
-            }
-        }
-        for &n in &sizes {
-            crate::framework::limits::check_memory(
-                &format!("--sizes {spec}"),
-                n as f64,
-                "DOFs",
-                crate::framework::limits::BYTES_PER_DOF,
-                "give smaller sizes",
-            )
-            .map_err(|m| FemError::input("command line", m))?;
-        }
-        let steps = match self.steps {
-            None => 20,
-            Some(v) if v >= 1.0 && v.fract() == 0.0 => v as usize,
-            Some(v) => {
-                return Err(FemError::input(
-                    "command line",
-                    format!("--steps {v}: give a whole number of steps >= 1"),
-                ))
-            }
-        };
+        let sizes = crate::bench::sizes(self.sizes.as_deref())?;
+        let steps = crate::bench::steps(self.steps)?;
         let mass = match self.mass.as_deref() {
             None => crate::bench::BenchMass::Consistent,
             Some(m) => match crate::choice::parse("command line", "--mass", m)? {
@@ -203,24 +152,6 @@ impl Command for BenchCmd {
                 }
             },
         };
-        if let Some(dir) = &self.export {
-            // One directory per size: the model, the load vectors and railfem's answer, for
-            // scripts/opensees_compare.py.
-            for &n in &sizes {
-                let sub = dir.join(format!("dof{n}"));
-                let r = crate::bench::export(n, steps, mass, &sub)?;
-                println!(
-                    "bench export: {} equations, {} steps, first step {:.3} ms, then {:.3} ms/step; written to {}",
-                    r.equations,
-                    r.steps,
-                    r.first_step * 1e3,
-                    r.per_step * 1e3,
-                    sub.display()
-                );
-            }
-            return Ok(0);
-        }
-        let out = ctx.out();
         if case == BenchCase::TrainBridge {
             let cars = match number("cars", self.cars.as_deref())? {
                 None => 1,

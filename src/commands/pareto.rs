@@ -26,21 +26,6 @@ pub struct ParetoCmd {
         value_name = "force,sprung,curve,train-bridge"
     )]
     pub cases: Option<String>,
-    /// A peer code's runs of the force case (CSV: peer, elements, dt [s], steps, wall [s],
-    /// error [-]; scripts/opensees_compare.py --pareto writes it), drawn on
-    /// pareto-force.svg and compared at equal error in pareto-peers.md.
-    #[arg(long, value_name = "FILE")]
-    #[serde(serialize_with = "crate::command::opt_path_text")]
-    pub peer: Option<PathBuf>,
-    /// train-bridge only: after the grid, time the cheapest generalized-α runs within 5 %
-    /// and 1 % and their neighbours again, back to back, ROUNDS times in turn
-    /// (pareto-train-bridge-retime.md) [default: 0, none].
-    #[arg(value_parser = crate::command::number(), long, value_name = "ROUNDS")]
-    pub retime: Option<f64>,
-    /// train-bridge only: re-time these runs (element length : time step, generalized-α,
-    /// partitioned) in turn, --retime rounds (default 1), without running the grid.
-    #[arg(value_parser = crate::command::text(), long, value_name = "H:DT,H:DT,..")]
-    pub retime_at: Option<String>,
     /// train-bridge only: compute nothing, evaluate the runs already in --out.
     #[arg(long)]
     pub existing: bool,
@@ -59,73 +44,15 @@ impl Command for ParetoCmd {
     fn run(&self, ctx: &Context) -> Result<i32, FemError> {
         let mut grid = crate::pareto::Grid::default();
         if let Some(c) = &self.cases {
-            grid.cases = c.split(',').map(|x| x.trim().to_string()).collect();
-            if let Some(bad) = grid
-                .cases
-                .iter()
-                .find(|x| !["force", "sprung", "curve", "train-bridge"].contains(&x.as_str()))
-            {
-                return Err(FemError::input(
-                    "command line",
-                    format!(
-                        "--cases {c}: unknown case `{bad}`; use any of force,sprung,curve,train-bridge"
-                    ),
-                ));
-            }
-        }
-        // The peer file is read (and refused) before the grid runs for minutes.
-        let peers = match self.peer.as_deref() {
-            Some(p) if grid.cases.iter().any(|c| c == "force") => {
-                Some(crate::pareto_peer::read_peer_csv(p)?)
-            }
-            Some(p) => {
-                return Err(FemError::input(
-                    "command line",
-                    format!(
-                        "--peer {}: the peer runs are of the force case; add force to --cases",
-                        p.display()
-                    ),
-                ))
-            }
-            None => None,
-        };
-        let retime = match self.retime {
-            None => 0,
-            Some(r) if r >= 0.0 && r.fract() == 0.0 && r <= 100.0 => r as usize,
-            Some(r) => {
-                return Err(FemError::input(
-                    "command line",
-                    format!("--retime {r}: give a whole number of rounds, 0 to 100"),
-                ))
-            }
-        };
-        if retime > 0 && !grid.cases.iter().any(|c| c == "train-bridge") {
-            return Err(FemError::input(
-                "command line",
-                "--retime times train-bridge runs; add train-bridge to --cases",
-            ));
+            let known = [&crate::pareto::CASES[..], &["train-bridge"]].concat();
+            grid.cases = crate::pareto::parse_cases(c, &known)?;
         }
         let out = ctx.out();
-        if let Some(at) = &self.retime_at {
-            if grid.cases != ["train-bridge"] {
-                return Err(FemError::input(
-                    "command line",
-                    "--retime-at times train-bridge runs only; give --cases train-bridge",
-                ));
-            }
-            let at = crate::pareto_retime::parse_at(at)?;
-            crate::pareto_retime::run_at(&at, retime.max(1), out)?;
-            println!("pareto: results in {}", out.display());
-            return Ok(0);
-        }
         // The train–bridge case has its own grid, files and figures (`crate::pareto_train`).
         let train = grid.cases.iter().any(|c| c == "train-bridge");
         grid.cases.retain(|c| c != "train-bridge");
         if !grid.cases.is_empty() {
-            let runs = crate::pareto::run(&grid, out)?;
-            if let Some(peers) = &peers {
-                crate::pareto_peer::write(&runs, peers, out)?;
-            }
+            crate::pareto::run(&grid, out)?;
         }
         if train {
             let tb = crate::pareto_train::TbGrid {
@@ -133,10 +60,7 @@ impl Command for ParetoCmd {
                 finer_checks: self.finer,
                 ..Default::default()
             };
-            let runs = crate::pareto_train::run(&tb, out)?;
-            if retime > 0 {
-                crate::pareto_retime::run(&tb, &runs, retime, out)?;
-            }
+            crate::pareto_train::run(&tb, out)?;
         }
         println!("pareto: results in {}", out.display());
         Ok(0)

@@ -1,9 +1,9 @@
-//! `railfem bench --case threshold`: where the dense solver stops paying — dense LU
+//! `railfem-measure threshold`: where the dense solver stops paying — dense LU
 //! against the sparse direct solver per factorization + solve and per solve, on the
 //! effective tangents of two representative model families, for n ≈ 20 … 2000 equations.
 //!
 //! * `beam`: one span of `beam3d` elements (six DOF per node, consistent mass; the
-//!   benchmark beam of [`crate::bench`] with `n/6` elements), banded;
+//!   benchmark beam of [`railfem::bench`] with `n/6` elements), banded;
 //! * `vehicle`: trains of 1 … 30 `sks700` carriages on a rigid track (66 equations each;
 //!   bodies, suspensions and wheels), block diagonal with small dense blocks; frictionless
 //!   wheels (symmetric: sparse Cholesky) and with μ = 0.3 (the curve case's wheels,
@@ -11,13 +11,13 @@
 //!
 //! Each time is the median of repeated runs (at least 5, and at least 0.2 s in all), the
 //! factorization on a solver that has already seen the pattern (what a run repeats every
-//! Newton iteration). The driver's [`crate::solvers::driver::DENSE_LIMIT`] is chosen from
+//! Newton iteration). The driver's [`railfem::solvers::driver::DENSE_LIMIT`] is chosen from
 //! this table (docs/performance.md, "Small models and the bandwidth floor").
 
-use crate::framework::{FemError, Model};
-use crate::solvers::dense::DenseLu;
-use crate::solvers::linear::{solver_for, LinearSolver};
-use crate::solvers::Driver;
+use railfem::framework::{FemError, Model};
+use railfem::solvers::dense::DenseLu;
+use railfem::solvers::linear::{solver_for, LinearSolver};
+use railfem::solvers::Driver;
 use std::path::Path;
 use std::time::Instant;
 
@@ -55,10 +55,10 @@ fn median_time(mut f: impl FnMut()) -> f64 {
 }
 
 fn beam(n: usize) -> Result<Model, FemError> {
-    let geo = crate::bench::BenchBeam {
+    let geo = railfem::bench::BenchBeam {
         spans: 1,
         elements_per_span: (n / 6).max(1),
-        mass: crate::bench::BenchMass::Consistent,
+        mass: railfem::bench::BenchMass::Consistent,
     };
     geo.model(1)
 }
@@ -86,14 +86,14 @@ speed = 20.0
         60.0 + 40.0 * carriages as f64,
         30.0 + 30.0 * carriages as f64
     );
-    let value = crate::framework::modelfile::parse_toml(&text, "threshold vehicle")?;
-    crate::model_from_value(&value, "threshold vehicle", Path::new("."))
+    let value = railfem::framework::modelfile::parse_toml(&text, "threshold vehicle")?;
+    railfem::model_from_value(&value, "threshold vehicle", Path::new("."))
 }
 
 /// Times one model's effective tangent with both solvers.
 pub fn measure(family: &'static str, model: Model) -> Result<ThresholdRow, FemError> {
     let d = Driver::new(model)?;
-    let coef = d.integrator.coefficients(crate::bench::DT);
+    let coef = d.integrator.coefficients(railfem::bench::DT);
     let mut k = d.asm.k_const.zeros_like();
     d.asm.effective(coef, &mut k);
     // The variable elements' tangents are not formed before a step, and a wheel's DOFs

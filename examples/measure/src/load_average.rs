@@ -2,7 +2,7 @@
 //! run from a loaded one.
 
 /// The three load averages of `/proc/loadavg` (empty where there is none).
-pub(crate) fn loadavg() -> String {
+pub fn loadavg() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .unwrap_or_default()
         .split_whitespace()

@@ -1,5 +1,6 @@
-//! `railfem pareto --peer FILE`: another code's runs of the moving-force case on the same
-//! run-time-against-error plot as railfem's, and the wall-time ratio at equal error.
+//! `railfem-measure peer FILE`: another code's runs of the moving-force case on the same
+//! run-time-against-error plot as railfem's ([`railfem::pareto`]), and the wall-time ratio
+//! at equal error.
 //!
 //! The peer file is a CSV that the peer's own driver writes (`scripts/opensees_compare.py
 //! --pareto` for OpenSees), one run per line, with at least the columns
@@ -12,16 +13,16 @@
 //! ```
 //!
 //! `error [-]` must be the case's own measure (largest midspan deflection difference from
-//! Frýba's series over the crossing, relative to its peak; [`crate::pareto::fryba_midspan`])
+//! Frýba's series over the crossing, relative to its peak; [`railfem::pareto::fryba_midspan`])
 //! and `wall [s]` the peer's wall time for the whole run. The points are drawn as squares
 //! beside railfem's circles, each code's Pareto front as its own line, and
 //! `pareto-peers.md` lists, for every peer point on its front, the cheapest railfem
 //! Newmark run that is at least as accurate and the ratio of the two wall times.
 
-use crate::framework::limits::{check_count, check_file};
-use crate::framework::plot::{Figure, Series, Style};
-use crate::framework::FemError;
-use crate::pareto::{Run, Scheme};
+use railfem::framework::limits::{check_count, check_file};
+use railfem::framework::plot::{Figure, Series, Style};
+use railfem::framework::FemError;
+use railfem::pareto::{Run, Scheme};
 use std::path::Path;
 
 /// The columns a peer CSV must have (header names, units in brackets).
@@ -59,8 +60,8 @@ pub struct PeerRun {
 /// Reads a peer CSV; every refusal is one line naming the file, the line and column, and
 /// the fix.
 pub fn read_peer_csv(path: &Path) -> Result<Vec<PeerRun>, FemError> {
-    let origin = format!("--peer {}", path.display());
-    check_file(path, "--peer file").map_err(|m| FemError::input(&origin, m))?;
+    let origin = format!("peer file {}", path.display());
+    check_file(path, "peer file").map_err(|m| FemError::input(&origin, m))?;
     let text = std::fs::read_to_string(path).map_err(|e| {
         FemError::input(
             &origin,
@@ -72,7 +73,7 @@ pub fn read_peer_csv(path: &Path) -> Result<Vec<PeerRun>, FemError> {
 
 /// Parses the text of a peer CSV (see the module doc); `origin` names the file in messages.
 pub fn parse_peer_csv(text: &str, origin: &str) -> Result<Vec<PeerRun>, FemError> {
-    let mut lines = crate::framework::csv_input::strip_bom(text)
+    let mut lines = railfem::framework::csv_input::strip_bom(text)
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());
@@ -292,7 +293,7 @@ pub fn markdown(runs: &[Run], peers: &[PeerRun]) -> (String, Option<f64>) {
 /// Redraws `pareto-force.svg` (and its PNG) in `out` with the peer runs and writes
 /// `pareto-peers.md`.
 pub fn write(runs: &[Run], peers: &[PeerRun], out: &Path) -> Result<(), FemError> {
-    let mut fig = crate::pareto::figure(runs, "force");
+    let mut fig = railfem::pareto::figure(runs, "force");
     add_to_figure(&mut fig, peers);
     let p = out.join("pareto-force.svg");
     fig.write_svg_and_png(&p)

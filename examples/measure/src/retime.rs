@@ -1,7 +1,7 @@
-//! `railfem pareto --cases train-bridge --retime ROUNDS`: the wall times behind the
-//! study's 1 % and 5 % picks, taken again back to back.
+//! `railfem-measure retime --rounds N` and `retime-at H:DT,..`: the wall times behind the
+//! train–bridge Pareto study's 1 % and 5 % picks, taken again back to back.
 //!
-//! The grid of [`crate::pareto_train`] runs on a shared machine, one run after another
+//! The grid of [`railfem::pareto_train`] runs on a shared machine, one run after another
 //! over an hour, so two neighbouring runs may have met very different loads. Here the
 //! cheapest generalized-α run with the partitioned solver whose every error (Q, ΔQ/Q, w)
 //! is within 5 %, the same for 1 %, and their neighbours in the grid (the next coarser
@@ -15,11 +15,11 @@
 //! load's noise). The next shorter step is no neighbour: it doubles the steps, and the
 //! grid's wall times never came close to reversing that.
 
-use crate::framework::model::SolverChoice;
-use crate::framework::FemError;
 use crate::load_average::loadavg;
-use crate::pareto::Scheme;
-use crate::pareto_train::{simulate, Settings, TbGrid, TbRun, DURATION, MESH_K, SPACING};
+use railfem::framework::model::SolverChoice;
+use railfem::framework::FemError;
+use railfem::pareto::Scheme;
+use railfem::pareto_train::{simulate, Settings, TbGrid, TbRun, DURATION, MESH_K, SPACING};
 use std::path::Path;
 
 /// The accuracies a user is told which Δt and mesh to pick for.
@@ -130,13 +130,13 @@ pub fn run(grid: &TbGrid, runs: &[TbRun], rounds: usize, out: &Path) -> Result<(
     retime(list, rounds, out)
 }
 
-/// Parses `--retime-at H:DT,H:DT,…` (element length and time step in m and s; each run
+/// Parses `railfem-measure retime-at H:DT,H:DT,…` (element length and time step in m and s; each run
 /// generalized-α ρ∞ = 0.8 with the partitioned solver, like the picks).
 pub fn parse_at(list: &str) -> Result<Vec<Settings>, FemError> {
     let bad = |item: &str| {
         FemError::input(
             "command line",
-            format!("--retime-at: `{item}` is not H:DT (e.g. 0.3125:1e-3, both > 0)"),
+            format!("retime-at {list}: `{item}` is not H:DT (e.g. 0.3125:1e-3, both > 0)"),
         )
     };
     list.split(',')
@@ -340,7 +340,7 @@ mod tests {
         assert_eq!(n, vec![(SPACING / 2.0, 4e-3)]);
     }
 
-    /// `--retime-at` takes element length and step pairs; anything else is refused with
+    /// `retime-at` takes element length and step pairs; anything else is refused with
     /// the option's name and the form it wants.
     #[test]
     fn retime_at_list() {
@@ -351,7 +351,7 @@ mod tests {
         assert!(at.iter().all(|s| s.scheme == Scheme::GenAlpha));
         for bad in ["0.3125", "0.3125:", "x:1e-3", "0.3125:-1e-3", "0.3:1e-3,"] {
             let e = parse_at(bad).unwrap_err().to_string();
-            assert!(e.contains("--retime-at"), "{bad}: {e}");
+            assert!(e.contains("retime-at") && e.contains(bad), "{bad}: {e}");
         }
     }
 }
