@@ -8,6 +8,10 @@ use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
+// The one-line refusal check, shared with the railfem-measure member's tests.
+mod refusal;
+pub use refusal::refused_with;
+
 /// A fresh, empty directory under the system temp dir, unique per process and call.
 pub fn temp_dir(name: &str) -> PathBuf {
     static COUNTER: AtomicUsize = AtomicUsize::new(0);
@@ -125,30 +129,6 @@ pub fn check_bad_model(name: &str, text: &str, expect: &[&str]) -> String {
     let err = refused_with(name, &o, expect);
     assert!(err.contains(name), "{name}: the file is not named: {err}");
     let _ = std::fs::remove_dir_all(&dir);
-    err
-}
-
-/// Asserts that the run `o` (called `label` in failures) exited with code 2 and printed
-/// exactly one line on stderr, with no panic, containing every string of `expect`.
-/// Returns the line.
-pub fn refused_with(label: &str, o: &std::process::Output, expect: &[&str]) -> String {
-    let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(
-        o.status.code(),
-        Some(2),
-        "{label}: exit code; stderr: {err}"
-    );
-    assert!(
-        err.ends_with('\n') && err.lines().count() == 1,
-        "{label}: stderr must be exactly one line, got {err:?}"
-    );
-    assert!(
-        !err.contains("internal error") && !err.contains("panicked"),
-        "{label}: {err}"
-    );
-    for e in expect {
-        assert!(err.contains(e), "{label}: expected `{e}` in: {err}");
-    }
     err
 }
 

@@ -2,6 +2,10 @@
 //! file (with the line and column where it applies) or the option, and the fix; exit code
 //! 2; nothing run or written before the refusal.
 
+#[path = "../../../tests/common/refusal.rs"]
+mod refusal;
+
+use refusal::refused_with;
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
@@ -19,24 +23,6 @@ fn temp_dir(name: &str) -> PathBuf {
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("create temp dir");
     d
-}
-
-/// Exit code 2, exactly one line on stderr, no panic, and every piece of `expect` in it.
-fn refused_with(label: &str, o: &Output, expect: &[&str]) {
-    let err = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(
-        o.status.code(),
-        Some(2),
-        "{label}: exit code; stderr: {err}"
-    );
-    assert!(
-        err.ends_with('\n') && err.lines().count() == 1,
-        "{label}: stderr must be exactly one line, got {err:?}"
-    );
-    assert!(!err.contains("panicked"), "{label}: {err}");
-    for e in expect {
-        assert!(err.contains(e), "{label}: expected `{e}` in: {err}");
-    }
 }
 
 /// Every refusal of a peer CSV: one line naming the file, the line and the column where
