@@ -84,6 +84,8 @@ struct ExportCmd {
 }
 
 /// `railfem-measure peer`.
+// The doc comments are the --help text too, where `[s]` is a unit, not a link.
+#[allow(rustdoc::broken_intra_doc_links)]
 #[derive(Args, Debug)]
 struct PeerCmd {
     /// The peer code's runs of the force case (CSV: peer, elements, dt [s], steps, wall [s],
