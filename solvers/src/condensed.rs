@@ -308,7 +308,7 @@ impl Driver {
                 w.give_back(&mut sw, None);
                 self.work = sw;
                 self.asm.revert(&mut self.model);
-                self.linear.factored = None;
+                self.linear.invalidate();
                 self.condensed.stats.fallbacks += 1;
                 None
             }
@@ -316,7 +316,7 @@ impl Driver {
     }
 
     fn condensed_applicable(&self) -> bool {
-        let Some(p) = &self.linear.partition else {
+        let Some(p) = self.linear.partitioned() else {
             return false;
         };
         // Its iterations start from the committed state; another predictor takes the
@@ -572,7 +572,7 @@ impl Driver {
     }
 
     fn top_products(&mut self) {
-        let p = self.linear.partition.as_ref().expect("partitioned");
+        let p = self.linear.partitioned().expect("partitioned");
         let gen = p.top_generation();
         if self
             .condensed
@@ -614,7 +614,7 @@ impl Driver {
         if self.asm.constant_columns_kept() {
             // A promoted equation's column is kept by its block's owner alone, which sends
             // it (the top set is sorted: a top row is its position there).
-            let p = self.linear.partition.as_mut().expect("partitioned");
+            let p = self.linear.partitioned_mut().expect("partitioned");
             let top = p.top_equations().to_vec();
             let top_row = |i: usize| top.binary_search(&i).ok();
             let columns = p
@@ -753,7 +753,7 @@ impl Driver {
                     .add_variable_inertia_damping(&w.a_w, &w.v_w, in_var, damp_var);
                 let nt_top = top.len();
                 let delta: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
-                let p = self.linear.partition.as_mut().expect("partitioned");
+                let p = self.linear.partitioned_mut().expect("partitioned");
                 let mut rt = vec![0.0; nt_top];
                 p.top_constant_times(&delta, &mut rt);
                 // rt = g − S_A·δ + (A_TT·δ − Δc_T) − Δv_T
@@ -804,7 +804,7 @@ impl Driver {
                     let delta_now: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
                     let rows = self.held_rows.as_ref().and_then(|h| h.rows());
                     par_fill(&mut w.dq, 0.0, rows.as_deref(), nt);
-                    let p = self.linear.partition.as_mut().expect("partitioned");
+                    let p = self.linear.partitioned_mut().expect("partitioned");
                     let res = if last_from_base {
                         p.back_substitute(&[(Some(&w.r), &delta_now)], &mut [&mut w.dq], true)
                     } else {
@@ -870,7 +870,7 @@ impl Driver {
                     }
                     self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
                     self.summary.factorizations += 1;
-                    let p = self.linear.partition.as_mut().expect("partitioned");
+                    let p = self.linear.partitioned_mut().expect("partitioned");
                     if p.top_generation() != generation {
                         return Err(Exit::Fallback);
                     }
@@ -912,7 +912,7 @@ impl Driver {
             self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
             self.summary.factorizations += 1;
             self.top_products();
-            let p = self.linear.partition.as_mut().expect("partitioned");
+            let p = self.linear.partitioned_mut().expect("partitioned");
             generation = p.top_generation();
             top = p.top_equations().to_vec();
             if self

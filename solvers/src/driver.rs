@@ -32,7 +32,7 @@ use crate::dense::DenseLu;
 use crate::energy::EnergyLedger;
 use crate::integrator::Coefficients;
 use crate::linear::{solver_for, LinearSolver, SolverError};
-use crate::linear_backend::LinearBackend;
+use crate::linear_backend::{LinearBackend, Mode};
 use crate::lowrank::{LowRank, LowRankStats};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 pub use crate::state::State;
@@ -331,7 +331,7 @@ impl Driver {
         options: Option<PartitionOptions>,
     ) -> Result<Driver, FemError> {
         let mut d = Self::build(model, Some((exchange.clone(), options)))?;
-        if d.linear.partition.is_none() || d.rows_per_rank {
+        if d.linear.partitioned().is_none() || d.rows_per_rank {
             return Ok(d);
         }
         if let Some(o) = options {
@@ -400,7 +400,6 @@ impl Driver {
                 "the model has no free DOF (every DOF is fixed or unused); free some DOFs or add elements",
             ));
         }
-        let solver = direct_solver(n, asm.symmetric());
         let integrator = crate::time_integrator::resolve(&model.analysis, &model.origin)?;
         // Off the pattern the effective matrix is formed at the first factorization (across
         // ranks, only the columns the rank reads): no copy of the pattern before it.
@@ -409,10 +408,22 @@ impl Driver {
         } else {
             asm.k_const.zeros_like()
         };
-        let lowrank = (asm.solver() == SolverChoice::LowRank).then(LowRank::new);
-        let options = Self::model_partition_options(&model);
-        let partition = (asm.off_pattern() && lowrank.is_none() && split.is_none())
-            .then(|| Partitioned::new(asm.symmetric(), options));
+        // Across ranks the partitioned solver comes split with the rank's build
+        // ([`Driver::take_rank_split`]).
+        let mode = if !asm.off_pattern() || split.is_some() {
+            Mode::Direct(direct_solver(n, asm.symmetric()))
+        } else if asm.solver() == SolverChoice::LowRank {
+            Mode::LowRank(LowRank::new())
+        } else {
+            let options = Self::model_partition_options(&model);
+            Mode::Partitioned(Partitioned::new(asm.symmetric(), options))
+        };
+        // The low-rank mode's analysis picks Cholesky or LU before any value: the constant
+        // part is symmetric if each of `K`, `M`, `C` is.
+        let symmetric_hint = matches!(mode, Mode::LowRank(_))
+            && [&asm.k_const, &asm.m_const, &asm.c_const]
+                .iter()
+                .all(|m| m.asymmetry() == 0.0);
         let mut d = Driver {
             state: State {
                 t: 0.0,
@@ -429,7 +440,7 @@ impl Driver {
             model,
             asm,
             integrator,
-            linear: LinearBackend::new(solver, k_eff, partition, lowrank),
+            linear: LinearBackend::new(mode, k_eff, symmetric_hint),
             last_increment: None,
             initialized: false,
             trace: std::env::var_os("RAILFEM_TRACE").is_some(),
@@ -475,7 +486,7 @@ impl Driver {
     /// Work counters of the driver's linear solver (symbolic analyses, numeric
     /// factorizations, solves, factor size).
     pub fn solver_stats(&self) -> crate::linear::SolverStats {
-        self.linear.solver.stats()
+        self.linear.solver_stats()
     }
 
     fn singular(&self, e: SolverError) -> FemError {
@@ -524,9 +535,9 @@ impl Driver {
             !self.rows_per_rank,
             "set the partition options before `keep_own_rows`"
         );
-        if self.linear.partition.is_some() {
-            self.linear.partition = Some(self.new_partitioned(self.asm.symmetric(), options));
-            self.linear.factored = None;
+        if self.linear.partitioned().is_some() {
+            let p = self.new_partitioned(self.asm.symmetric(), options);
+            self.linear.set_partitioned(p);
         }
     }
 
@@ -550,13 +561,13 @@ impl Driver {
         &mut self,
         exchange: std::sync::Arc<dyn crate::exchange::Exchange>,
     ) -> Result<(), FemError> {
-        let Some(p) = self.linear.partition.as_mut() else {
+        let mode = self.linear.mode().name();
+        let Some(p) = self.linear.partitioned_mut() else {
             return Err(FemError::input(
                 &self.model.origin,
                 format!(
-                    "the solve across {} ranks needs the partitioned solver, and this model uses the {} one; set `solver = \"partitioned\"` in [analysis] (or run one process)",
+                    "the solve across {} ranks needs the partitioned solver, and this model uses the {mode} one; set `solver = \"partitioned\"` in [analysis] (or run one process)",
                     exchange.size(),
-                    if self.linear.lowrank.is_some() { "low-rank" } else { "direct" }
                 ),
             ));
         };
@@ -570,7 +581,7 @@ impl Driver {
         }
         p.set_exchange(exchange.clone());
         self.exchange = Some(exchange);
-        self.linear.factored = None;
+        self.linear.invalidate();
         Ok(())
     }
 
@@ -592,7 +603,7 @@ impl Driver {
         if self.exchange.is_none() || self.rows_per_rank {
             return self.rows_per_rank;
         }
-        let Some(p) = self.linear.partition.as_mut() else {
+        let Some(p) = self.linear.partitioned_mut() else {
             return false;
         };
         p.prepare(&self.asm.k_const);
@@ -644,7 +655,7 @@ impl Driver {
     /// Rows whose residual this rank forms and counts in the norms: every equation, or
     /// with [`Driver::keep_own_rows`] its owned ones (the ranks' add up to all of them).
     pub fn rows_owned(&self) -> usize {
-        match (&self.linear.partition, self.rows_per_rank) {
+        match (self.linear.partitioned(), self.rows_per_rank) {
             (Some(p), true) => p.rows_owned(),
             _ => self.neq(),
         }
@@ -682,7 +693,7 @@ impl Driver {
     /// collective.
     pub(crate) fn force_norms(&mut self, xs: &[&[f64]]) -> (Vec<f64>, f64) {
         let local = self.asm.element_force_norm();
-        let across = match (self.rows_per_rank, self.linear.partition.as_mut()) {
+        let across = match (self.rows_per_rank, self.linear.partitioned_mut()) {
             (true, Some(p)) => p.sums_of_squares_and_max(xs, Some(local * local)),
             _ => None,
         };
@@ -712,9 +723,15 @@ impl Driver {
         self.linear.set_solver(solver);
     }
 
+    /// The linear backend: its mode, its solver's counters and its last analysis
+    /// ([`crate::linear_backend`]).
+    pub fn linear(&self) -> &LinearBackend {
+        &self.linear
+    }
+
     /// Work counters of the low-rank solver, if the driver uses it.
     pub fn lowrank_stats(&self) -> Option<LowRankStats> {
-        self.linear.lowrank.as_ref().map(LowRank::stats)
+        self.linear.low_rank().map(LowRank::stats)
     }
 
     /// Bytes the driver holds, by part (capacities, as allocated; `railfem bench`'s memory
@@ -760,7 +777,7 @@ impl Driver {
         parts.push(("state vectors", vecs(&self.state)));
         parts.push(("step work vectors", work));
         parts.push(("variable triplets", 24 * self.linear.triplets.capacity()));
-        if let Some(p) = &self.linear.partition {
+        if let Some(p) = self.linear.partitioned() {
             parts.extend(p.memory());
         }
         parts
@@ -774,80 +791,54 @@ impl Driver {
 
     /// Work counters and times of the partitioned solver, if the driver uses it.
     pub fn partition_stats(&self) -> Option<PartitionStats> {
-        self.linear.partition.as_ref().map(Partitioned::stats)
+        self.linear.partitioned().map(Partitioned::stats)
     }
 
-    /// Forms and factors the effective tangent `k·K + m·M + c·C`.
+    /// Forms and factors the effective tangent `k·K + m·M + c·C`: the pattern analysed
+    /// once ([`LinearBackend::analyse`], counted as factorization time), the values filled
+    /// in on it, then the numeric factorization ([`LinearBackend::factor`]).
     pub(crate) fn factor_tangent(&mut self, coef: Coefficients) -> Result<(), FemError> {
-        if !self.asm.off_pattern() {
-            // Analysed once per pattern (counted as factorization time); the values of this
-            // factorization are filled in on it.
-            let pattern = &self.asm.k_const;
-            let symbolic = match self.linear.symbolic_of(pattern.pattern_id) {
-                Some(s) => s,
-                None => {
-                    let t0 = Instant::now();
-                    let s = self.linear.analyse(pattern);
-                    self.summary.timings.factor += t0.elapsed().as_secs_f64();
-                    s.map_err(|e| self.singular(e))?
-                }
-            };
-            let ta = Instant::now();
-            self.asm.effective(coef, self.linear.values_mut(&symbolic));
-            self.summary.timings.assembly += ta.elapsed().as_secs_f64();
-            let t0 = Instant::now();
-            let r = self.linear.factor(&symbolic, coef.key());
-            self.summary.timings.factor += t0.elapsed().as_secs_f64();
-            return r.map_err(|e| self.singular(e));
-        }
-        let ta = Instant::now();
-        // The constant part changes only with the coefficients (and never if every mass is
-        // constant); the variable elements come as triplets.
-        let key = if self.asm.constant_part_is_constant() {
-            coef.key()
-        } else {
-            [f64::NAN; 3]
-        };
-        if self.linear.a_key != Some(key)
-            || self.linear.k_eff.pattern_id != self.asm.k_const.pattern_id
-        {
-            // Across ranks, only the columns this rank's blocks (and rank 0's top) read.
-            match self.columns_read() {
-                Some(keep) => self
-                    .asm
-                    .effective_columns(coef, &keep, &mut self.linear.k_eff),
-                None => self.asm.effective(coef, &mut self.linear.k_eff),
+        let pattern = &self.asm.k_const;
+        let symbolic = match self.linear.symbolic_of(pattern.pattern_id) {
+            Some(s) => s,
+            None => {
+                let t0 = Instant::now();
+                let s = self.linear.analyse(pattern);
+                self.summary.timings.factor += t0.elapsed().as_secs_f64();
+                s.map_err(|e| self.singular(e))?
             }
-            self.linear.a_key = Some(key);
+        };
+        let ta = Instant::now();
+        if !self.asm.off_pattern() {
+            self.asm.effective(coef, self.linear.values_mut(&symbolic));
+        } else {
+            // The constant part changes only with the coefficients (and never if every mass
+            // is constant); the variable elements come as triplets.
+            let key = if self.asm.constant_part_is_constant() {
+                coef.key()
+            } else {
+                [f64::NAN; 3]
+            };
+            if self.linear.constant_values_stale(&symbolic, key) {
+                // Across ranks, only the columns this rank's blocks (and rank 0's top) read.
+                let keep = self.linear.columns_read();
+                let a = self.linear.constant_values_mut(key);
+                match keep {
+                    Some(keep) => self.asm.effective_columns(coef, &keep, a),
+                    None => self.asm.effective(coef, a),
+                }
+            }
+            let triplets = self.linear.triplets_mut();
+            self.asm.variable_triplets(coef, triplets);
+            // The condensed Newton keeps every equation of the variable elements on top.
+            let always = &self.condensed.promote_always;
+            triplets.extend(always.iter().map(|&e| (e, e, 0.0)));
         }
-        self.linear.triplets.clear();
-        self.asm.variable_triplets(coef, &mut self.linear.triplets);
-        // The condensed Newton keeps every equation of the variable elements on top.
-        let always = &self.condensed.promote_always;
-        self.linear
-            .triplets
-            .extend(always.iter().map(|&e| (e, e, 0.0)));
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         let t0 = Instant::now();
-        let r = match (self.linear.lowrank.as_mut(), self.linear.partition.as_mut()) {
-            (Some(l), _) => l.factor(&self.linear.k_eff, key, &self.linear.triplets),
-            (None, Some(p)) => p.factor(&self.linear.k_eff, key, &self.linear.triplets),
-            (None, None) => unreachable!("off the pattern the driver has a bordered solver"),
-        };
+        let r = self.linear.factor(&symbolic, coef.key());
         self.summary.timings.factor += t0.elapsed().as_secs_f64();
-        r.map_err(|e| self.singular(e))?;
-        self.linear.factored = Some((coef.key(), self.linear.k_eff.pattern_id));
-        Ok(())
-    }
-
-    /// When the partitioned solver's blocks are shared among ranks: the columns of the
-    /// constant part this rank's share reads ([`Partitioned::columns_read`]), the split
-    /// made first from the constant pattern if needed. `None` (every column) otherwise.
-    fn columns_read(&mut self) -> Option<Vec<bool>> {
-        self.exchange.as_ref()?;
-        let p = self.linear.partition.as_mut()?;
-        p.prepare(&self.asm.k_const);
-        p.columns_read()
+        r.map_err(|e| self.singular(e))
     }
 
     fn solve(&mut self, b: &mut [f64]) -> Result<(), FemError> {
@@ -882,7 +873,7 @@ impl Driver {
     /// rank of the job calls it at the same point; every rank names the equation one
     /// process would, [`Partitioned::largest_over_rows`]).
     fn largest(&mut self, r: &[f64]) -> (f64, String) {
-        let across = match (self.rows_per_rank, self.linear.partition.as_mut()) {
+        let across = match (self.rows_per_rank, self.linear.partitioned_mut()) {
             (true, Some(p)) => p.largest_over_rows(r),
             _ => None,
         };
@@ -993,7 +984,7 @@ impl Driver {
         self.state.t = t;
         self.state.f_int = f_int;
         self.state.f_ext = f_full;
-        self.linear.factored = None;
+        self.linear.invalidate();
         // A static solve moves the state without inertia: the balance starts again.
         if let Some(e) = self.energy.as_mut() {
             e.reset();
@@ -1035,12 +1026,7 @@ impl Driver {
         // the next factorization has other coefficients and factors every block anew. Drop
         // them, and the matrix they were made from, before the mass is factored, so that two
         // sets of factors are never held at once.
-        if let Some(p) = self.linear.partition.as_mut() {
-            p.release_factors();
-            self.linear.k_eff = CscMatrix::from_columns(Vec::new());
-            self.linear.a_key = None;
-            self.linear.factored = None;
-        }
+        self.linear.release_factors();
         self.solve_initial_mass(&mut rhs)?;
         self.state.a = rhs;
         self.state.f_int = f_int;
@@ -1312,7 +1298,7 @@ impl Driver {
                 && match settings.kind {
                     NewtonKind::Full => true,
                     NewtonKind::Modified => it == 0,
-                    NewtonKind::Initial => self.linear.factored.is_none(),
+                    NewtonKind::Initial => !self.linear.has_factor(),
                 };
             if linear && it > 0 {
                 // No variable element to update: K·q, M·v and the next inertia force in
@@ -1427,7 +1413,9 @@ impl Driver {
                 ))));
             }
             // Factor when needed.
-            let valid = self.linear.factored == Some((coef.key(), self.asm.k_const.pattern_id));
+            let valid = self
+                .linear
+                .is_factored(coef.key(), self.asm.k_const.pattern_id);
             let refactor = match (linear, settings.kind) {
                 (true, _) => !valid,
                 (false, NewtonKind::Full) => true,
@@ -1535,7 +1523,7 @@ impl Driver {
         {
             let spent = *iterations;
             self.asm.revert(&mut self.model);
-            self.linear.factored = None;
+            self.linear.invalidate();
             match method.last_resort(self, dt) {
                 None => {}
                 Some(Ok(a)) => {
@@ -1573,11 +1561,7 @@ impl Driver {
                     let cv = self.work.cv_ready.then_some(&mut self.work.cv);
                     // A rank forming its own rows sums the balance over them, in block
                     // order across the ranks.
-                    let ranks = self
-                        .linear
-                        .partition
-                        .as_mut()
-                        .filter(|_| self.rows_per_rank);
+                    let ranks = self.linear.partitioned_mut().filter(|_| self.rows_per_rank);
                     let held = self.held_rows.as_ref().and_then(|h| h.rows());
                     e.record(
                         &self.asm,
@@ -1616,7 +1600,7 @@ impl Driver {
                 iterations,
             }) => {
                 self.asm.revert(&mut self.model);
-                self.linear.factored = None;
+                self.linear.invalidate();
                 rep.iterations += iterations;
                 if depth >= max_cuts {
                     return Err(FemError::Convergence(format!(
@@ -1935,7 +1919,7 @@ impl Driver {
         if let (Some(dir), AnalysisKind::Transient) = (out, spec.kind) {
             self.write_energy(dir)?;
         }
-        let st = self.linear.solver.stats();
+        let st = self.linear.solver_stats();
         self.summary.symbolic = st.symbolic_analyses;
         self.summary.wall = start.elapsed().as_secs_f64();
         let kept = rec.map(Recorders::histories).unwrap_or_default();
@@ -1995,7 +1979,7 @@ impl Driver {
     /// solver, full Newton from the committed state, variable elements): the driver then
     /// picks it ([`Driver::default_step_method`]); each step checks the rest.
     pub(crate) fn may_condense(&self) -> bool {
-        self.linear.partition.is_some()
+        self.linear.partitioned().is_some()
             && self.model.analysis.newton.predictor.is_previous()
             && self.model.analysis.newton.kind == NewtonKind::Full
             && !self.asm.variable_elements().is_empty()

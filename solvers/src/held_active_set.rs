@@ -151,11 +151,11 @@ impl Driver {
                         ActiveSet::LastFoundStickingReversals
                     });
                     self.asm.revert(&mut self.model);
-                    self.linear.factored = None;
+                    self.linear.invalidate();
                 }
                 Err(attempt) => {
                     self.asm.revert(&mut self.model);
-                    self.linear.factored = None;
+                    self.linear.invalidate();
                     self.hold_active_sets(ActiveSet::Found);
                     let attempt = match attempt {
                         Attempt::NotConverged {

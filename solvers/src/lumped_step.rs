@@ -88,7 +88,10 @@ impl Driver {
             ))));
         }
         let coef = self.integrator.coefficients(dt);
-        if self.linear.factored != Some((coef.key(), self.asm.k_const.pattern_id)) {
+        if !self
+            .linear
+            .is_factored(coef.key(), self.asm.k_const.pattern_id)
+        {
             self.factor_tangent(coef)?;
             self.summary.factorizations += 1;
         }

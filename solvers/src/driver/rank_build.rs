@@ -78,9 +78,8 @@ impl Driver {
         } = split;
         self.asm
             .settle_across_ranks(&|flag| crate::exchange::any_rank(Some(exchange.as_ref()), flag));
-        self.linear.partition = Some(partition);
+        self.linear.set_partitioned(partition);
         self.exchange = Some(exchange);
-        self.linear.factored = None;
         self.release_unneeded_elements(&keep);
         if until_mass != keep {
             self.narrow_after_mass = Some(keep);
