@@ -558,7 +558,7 @@ impl Driver {
         // Each rank's rows alone, when the ranks keep their own rows.
         // The elements' own forces count with the assembled internal force (the driver's
         // reference, [`Driver::force_norms`]), reduced over the ranks with their norms.
-        let (rn, fn_, inn, elem) = if self.rows_per_rank {
+        let (rn, fn_, inn, elem) = if self.ranks.own_rows {
             let (v, elem) = self.force_norms(&[&w.r, &w.f_int, &w.inertia]);
             (v[0], v[1], v[2], elem)
         } else {

@@ -52,8 +52,33 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
+mod predictor;
 mod rank_build;
+mod ranks;
+use crate::held_active_set::ActiveSetHolds;
+use predictor::IncrementPredictor;
 use rank_build::RankSplit;
+use ranks::Ranks;
+
+/// Which step method the driver picks where several apply ([`Driver::default_step_method`]):
+/// switches for comparisons, each giving the same answers as the other choice (to the bit
+/// for the lumped step, to round-off for the condensed Newton).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MethodChoice {
+    /// The lumped linear step where it applies ([`crate::lumped_step`]).
+    pub(crate) lumped_step: bool,
+    /// The condensed Newton with the partitioned solver ([`crate::condensed`]).
+    pub(crate) condense_residual: bool,
+}
+
+impl Default for MethodChoice {
+    fn default() -> Self {
+        MethodChoice {
+            lumped_step: true,
+            condense_residual: true,
+        }
+    }
+}
 
 /// The linear solver of the whole tangent for a model of `n` equations: dense LU in the
 /// plain order up to [`DIRECT_DENSE_LIMIT`]; for an unsymmetric tangent [`StaticLu`] up to
@@ -111,6 +136,10 @@ pub(crate) struct StepWork {
     a_w_next: Vec<f64>,
     inertia_next: Vec<f64>,
     pub(crate) inertia_ready: bool,
+    /// The displacement the last linear attempt formed its internal force at (`K·q`, kept
+    /// as the state's `f_int`): the next step's first residual starts from the same `q`
+    /// and takes `f_int` from the state instead of a pass over `K`.
+    pub(crate) f_int_at: Vec<f64>,
 }
 
 impl StepWork {
@@ -248,48 +277,26 @@ pub struct Driver {
     /// The linear solver, the effective matrix and the factor cache
     /// ([`crate::linear_backend`]).
     pub(crate) linear: LinearBackend,
-    /// Length and increment `q_{n} − q_{n−1}` of the last converged transient step (for
-    /// [`Predictor::Increment`]; `None` before the first, and always with the default
-    /// predictor).
-    last_increment: Option<(f64, Vec<f64>)>,
+    /// The last converged step's increment, for [`Predictor::Increment`].
+    predictor: IncrementPredictor,
     /// Totals.
     pub summary: RunSummary,
     initialized: bool,
     /// Print each Newton iteration's residual to stderr (`RAILFEM_TRACE=1`).
     pub trace: bool,
-    /// The displacement the last linear attempt formed its internal force at (`K·q`, kept
-    /// as the state's `f_int`): the next step's first residual starts from the same `q`
-    /// and takes `f_int` from the state instead of a pass over `K`.
-    pub(crate) f_int_at: Vec<f64>,
-    /// A linear model with a diagonal mass and no damping takes its step in three fused
-    /// passes ([`crate::lumped_step`]); `false` sends it through the general attempt (same
-    /// answers to the bit; for comparisons).
-    pub lumped_step: bool,
+    /// Which step method the driver picks ([`Driver::default_step_method`]).
+    pub(crate) choice: MethodChoice,
     /// The energy balance, updated after each committed step ([`crate::energy`]); `None`
     /// skips the accounting (two matrix–vector products per step).
     pub energy: Option<EnergyLedger>,
-    /// Newton iterates only on the top system of the partitioned solver, the block
-    /// interiors condensed out of the residual too ([`crate::condensed`]); `false` keeps
-    /// the full-residual Newton (same answers to round-off; for comparisons).
-    pub condense_residual: bool,
     /// The condensed Newton's caches and counters.
     pub(crate) condensed: crate::condensed_cache::CondensedCache,
     /// The step attempt's vectors, kept between steps.
     pub(crate) work: StepWork,
-    /// Whether the held retry holds the contact's active sets ([`crate::held_active_set`]).
-    pub(crate) holding: bool,
-    /// Whether this step's first iteration holds them
-    /// ([`railfem_framework::model::FirstActiveSet`]).
-    pub(crate) first_held: bool,
-    /// The ranks the partitioned solver shares its blocks with ([`Driver::set_exchange`]).
-    exchange: Option<std::sync::Arc<dyn crate::exchange::Exchange>>,
-    /// Each rank forms the residual of its own rows only ([`Driver::keep_own_rows`]).
-    pub(crate) rows_per_rank: bool,
-    /// With `rows_per_rank`, until [`Driver::initialize`] takes it: the initial mass
-    /// solve's partitioned solver, split while the whole pattern was at hand.
-    mass_split: Option<Partitioned>,
-    /// The columns to keep once the initial mass solve is done, when it reads more.
-    narrow_after_mass: Option<Vec<bool>>,
+    /// What the contacts' active sets are held at ([`crate::held_active_set`]).
+    pub(crate) holds: ActiveSetHolds,
+    /// The run's share across ranks ([`Driver::set_exchange`], [`Driver::keep_own_rows`]).
+    pub(crate) ranks: Ranks,
     /// One flag per equation: held by the activity window ([`crate::window`]), its
     /// residual a reaction; empty when nothing is held.
     pub(crate) frozen_rows: Vec<bool>,
@@ -331,7 +338,7 @@ impl Driver {
         options: Option<PartitionOptions>,
     ) -> Result<Driver, FemError> {
         let mut d = Self::build(model, Some((exchange.clone(), options)))?;
-        if d.linear.partitioned().is_none() || d.rows_per_rank {
+        if d.linear.partitioned().is_none() || d.ranks.own_rows {
             return Ok(d);
         }
         if let Some(o) = options {
@@ -441,21 +448,15 @@ impl Driver {
             asm,
             integrator,
             linear: LinearBackend::new(mode, k_eff, symmetric_hint),
-            last_increment: None,
+            predictor: IncrementPredictor::default(),
             initialized: false,
             trace: std::env::var_os("RAILFEM_TRACE").is_some(),
-            f_int_at: Vec::new(),
             energy: Some(EnergyLedger::default()),
-            condense_residual: true,
-            lumped_step: true,
+            choice: MethodChoice::default(),
             condensed: Default::default(),
             work: StepWork::default(),
-            holding: false,
-            first_held: false,
-            exchange: None,
-            rows_per_rank: false,
-            mass_split: None,
-            narrow_after_mass: None,
+            holds: ActiveSetHolds::default(),
+            ranks: Ranks::default(),
             frozen_rows: Vec::new(),
             method: None,
             held_rows: None,
@@ -532,7 +533,7 @@ impl Driver {
         // A new split needs the whole pattern, which a rank keeping its own rows no longer
         // holds.
         assert!(
-            !self.rows_per_rank,
+            !self.ranks.own_rows,
             "set the partition options before `keep_own_rows`"
         );
         if self.linear.partitioned().is_some() {
@@ -544,7 +545,7 @@ impl Driver {
     /// A partitioned solver, sharing its blocks with the driver's ranks if it has some.
     fn new_partitioned(&self, symmetric: bool, options: PartitionOptions) -> Partitioned {
         let mut p = Partitioned::new(symmetric, options);
-        if let Some(ex) = &self.exchange {
+        if let Some(ex) = &self.ranks.exchange {
             p.set_exchange(ex.clone());
         }
         p
@@ -572,7 +573,7 @@ impl Driver {
             ));
         };
         // A driver built across these ranks ([`Driver::new_across_ranks`]) shares already.
-        if let Some(own) = &self.exchange {
+        if let Some(own) = &self.ranks.exchange {
             assert!(
                 std::ptr::addr_eq(Arc::as_ptr(own), Arc::as_ptr(&exchange)),
                 "the driver shares its blocks with other ranks already"
@@ -580,7 +581,7 @@ impl Driver {
             return Ok(());
         }
         p.set_exchange(exchange.clone());
-        self.exchange = Some(exchange);
+        self.ranks.exchange = Some(exchange);
         self.linear.invalidate();
         Ok(())
     }
@@ -600,8 +601,8 @@ impl Driver {
     /// process, without the partitioned solver, or where the assembler cannot keep columns
     /// exactly ([`Assembler::keep_constant_columns`]). Set the partition options before.
     pub fn keep_own_rows(&mut self) -> bool {
-        if self.exchange.is_none() || self.rows_per_rank {
-            return self.rows_per_rank;
+        if self.ranks.exchange.is_none() || self.ranks.own_rows {
+            return self.ranks.own_rows;
         }
         let Some(p) = self.linear.partitioned_mut() else {
             return false;
@@ -630,10 +631,10 @@ impl Driver {
         }
         self.release_unneeded_elements(&keep);
         if until_mass != keep {
-            self.narrow_after_mass = Some(keep);
+            self.ranks.narrow_after_mass = Some(keep);
         }
-        self.mass_split = mass;
-        self.rows_per_rank = true;
+        self.ranks.mass_split = mass;
+        self.ranks.own_rows = true;
         true
     }
 
@@ -655,7 +656,7 @@ impl Driver {
     /// Rows whose residual this rank forms and counts in the norms: every equation, or
     /// with [`Driver::keep_own_rows`] its owned ones (the ranks' add up to all of them).
     pub fn rows_owned(&self) -> usize {
-        match (self.linear.partitioned(), self.rows_per_rank) {
+        match (self.linear.partitioned(), self.ranks.own_rows) {
             (Some(p), true) => p.rows_owned(),
             _ => self.neq(),
         }
@@ -693,7 +694,7 @@ impl Driver {
     /// collective.
     pub(crate) fn force_norms(&mut self, xs: &[&[f64]]) -> (Vec<f64>, f64) {
         let local = self.asm.element_force_norm();
-        let across = match (self.rows_per_rank, self.linear.partitioned_mut()) {
+        let across = match (self.ranks.own_rows, self.linear.partitioned_mut()) {
             (true, Some(p)) => p.sums_of_squares_and_max(xs, Some(local * local)),
             _ => None,
         };
@@ -711,7 +712,7 @@ impl Driver {
     /// calls it at the same step and gets the same answer ([`crate::exchange::any_rank`]).
     pub fn stop_requested(&self) -> bool {
         crate::exchange::any_rank(
-            self.exchange.as_deref(),
+            self.ranks.exchange.as_deref(),
             railfem_framework::interrupt::requested(),
         )
     }
@@ -767,11 +768,8 @@ impl Driver {
         .map(|v| 8 * v.capacity())
         .sum::<usize>()
             + vecs(&w.next)
-            + 8 * self.f_int_at.capacity()
-            + self
-                .last_increment
-                .as_ref()
-                .map_or(0, |(_, v)| 8 * v.capacity());
+            + 8 * w.f_int_at.capacity()
+            + self.predictor.heap_bytes();
         let mut parts = self.asm.memory();
         parts.push(("effective matrix", self.linear.k_eff.heap_bytes()));
         parts.push(("state vectors", vecs(&self.state)));
@@ -873,7 +871,7 @@ impl Driver {
     /// rank of the job calls it at the same point; every rank names the equation one
     /// process would, [`Partitioned::largest_over_rows`]).
     fn largest(&mut self, r: &[f64]) -> (f64, String) {
-        let across = match (self.rows_per_rank, self.linear.partitioned_mut()) {
+        let across = match (self.ranks.own_rows, self.linear.partitioned_mut()) {
             (true, Some(p)) => p.largest_over_rows(r),
             _ => None,
         };
@@ -1031,7 +1029,7 @@ impl Driver {
         self.state.a = rhs;
         self.state.f_int = f_int;
         self.state.f_ext = f;
-        if let Some(keep) = self.narrow_after_mass.take() {
+        if let Some(keep) = self.ranks.narrow_after_mass.take() {
             self.asm.keep_constant_columns(&keep);
         }
         self.asm.commit(&mut self.model);
@@ -1053,14 +1051,14 @@ impl Driver {
             .variable_triplets(Coefficients::MASS, &mut variable_mass);
         // A rank keeping its own rows no longer holds the whole pattern to split: its mass
         // solver was split before ([`Driver::keep_own_rows`]).
-        let mut mass_solver = match self.mass_split.take() {
+        let mut mass_solver = match self.ranks.mass_split.take() {
             Some(p) => Some(p),
             None => self
                 .asm
                 .off_pattern()
                 .then(|| self.new_partitioned(true, PartitionOptions::default())),
         };
-        let keep = match (&self.exchange, mass_solver.as_mut()) {
+        let keep = match (&self.ranks.exchange, mass_solver.as_mut()) {
             (Some(_), Some(p)) => {
                 p.prepare(&self.asm.m_const);
                 p.columns_read()
@@ -1217,6 +1215,7 @@ impl Driver {
             a_w_next,
             inertia_next,
             inertia_ready,
+            f_int_at,
             ..
         } = w;
         let af = self.integrator.force_weight();
@@ -1236,7 +1235,7 @@ impl Driver {
         // A linear model is solved exactly by one correction from any start (and its first
         // residual reuses the committed internal force, formed at `q_n`): no predictor.
         if let (false, Predictor::Increment, Some((dt_prev, inc))) =
-            (linear, settings.predictor, &self.last_increment)
+            (linear, settings.predictor, self.predictor.last())
         {
             // `dq` is free until the first solve writes it.
             let scale = dt / dt_prev;
@@ -1309,8 +1308,8 @@ impl Driver {
                 // The next step re-forms masses that change between steps: its inertia
                 // force is formed anew then.
                 *inertia_ready = self.asm.mass_is_constant();
-                self.f_int_at.clear();
-                self.f_int_at.extend_from_slice(q);
+                f_int_at.clear();
+                f_int_at.extend_from_slice(q);
                 // A linear model was solved exactly by the one correction: v, a and f_int
                 // are updated above; the inertia and damping products of a residual check
                 // would only confirm round-off.
@@ -1321,7 +1320,7 @@ impl Driver {
             // Residual at the intermediate times. A linear model's first iterate is the
             // committed displacement, whose internal force the state holds (formed by the
             // same product, so the same to the bit): only M·a and C·v are formed.
-            if linear && it == 0 && self.f_int_at == s0.q {
+            if linear && it == 0 && *f_int_at == s0.q {
                 f_int.copy_from_slice(&s0.f_int);
                 if *inertia_ready && a_w == a_w_next {
                     // M·a_w was formed with the last step's K·q (the same product).
@@ -1354,7 +1353,7 @@ impl Driver {
             // check's reference is formed only for a nonlinear model or the trace.
             let check = !linear || self.trace;
             // Across ranks the norms are one collective, which every rank enters.
-            let (rn, parts) = if check || self.rows_per_rank {
+            let (rn, parts) = if check || self.ranks.own_rows {
                 let (v, elem) = self.force_norms(&[r, f_int, inertia]);
                 let parts = if check {
                     [norm(f_ref_ext), v[1], v[2], elem]
@@ -1455,7 +1454,7 @@ impl Driver {
 
     /// Zeroes the increment predictor's entries on the `held` rows ([`crate::window`]).
     pub(crate) fn zero_held_increment(&mut self, held: &[bool]) {
-        if let Some((_, inc)) = &mut self.last_increment {
+        if let Some(inc) = self.predictor.increment_mut() {
             zero_held(held, inc);
         }
     }
@@ -1561,7 +1560,10 @@ impl Driver {
                     let cv = self.work.cv_ready.then_some(&mut self.work.cv);
                     // A rank forming its own rows sums the balance over them, in block
                     // order across the ranks.
-                    let ranks = self.linear.partitioned_mut().filter(|_| self.rows_per_rank);
+                    let ranks = self
+                        .linear
+                        .partitioned_mut()
+                        .filter(|_| self.ranks.own_rows);
                     let held = self.held_rows.as_ref().and_then(|h| h.rows());
                     e.record(
                         &self.asm,
@@ -1575,13 +1577,13 @@ impl Driver {
                     );
                 }
                 // The increment for the next step's predictor, in last step's vector.
-                let kept = self.last_increment.take();
-                if dt > 0.0 && self.model.analysis.newton.predictor == Predictor::Increment {
-                    let mut inc = kept.map(|(_, v)| v).unwrap_or_default();
-                    inc.resize(s.q.len(), 0.0);
-                    self.asm.dofmap.increment(&self.state.q, &s.q, &mut inc);
-                    self.last_increment = Some((dt, inc));
-                }
+                self.predictor.committed(
+                    self.model.analysis.newton.predictor,
+                    &self.asm.dofmap,
+                    dt,
+                    &self.state.q,
+                    &s.q,
+                );
                 self.work.mv_ready = false;
                 self.work.cv_ready = false;
                 // The replaced state's vectors hold the next attempt's state.
@@ -1942,12 +1944,12 @@ impl StepMethod<Driver> for FullNewton {
 impl Driver {
     /// The method the driver picks for a model ([`crate::step_method`]): the lumped linear
     /// step where it applies ([`Driver::lumped_linear_applies`]), the condensed Newton with
-    /// the partitioned solver and variable elements ([`Driver::condense_residual`] on), else
+    /// the partitioned solver and variable elements ([`Driver::set_condense_residual`] on), else
     /// full Newton; each with the held active set's retry.
     pub fn default_step_method(&self) -> Box<dyn StepMethod<Driver>> {
         let inner: Box<dyn StepMethod<Driver>> = if self.lumped_linear_applies() {
             Box::new(LumpedLinear)
-        } else if self.condense_residual && self.may_condense() {
+        } else if self.choice.condense_residual && self.may_condense() {
             Box::new(CondensedNewton)
         } else {
             Box::new(FullNewton)
@@ -1960,6 +1962,22 @@ impl Driver {
     /// retry.
     pub fn set_step_method(&mut self, method: Box<dyn StepMethod<Driver>>) {
         self.method = Some(method);
+    }
+
+    /// Whether a linear model with a diagonal mass and no damping takes its step in three
+    /// fused passes ([`crate::lumped_step`]; default `true`); `false` sends it through the
+    /// general attempt (same answers to the bit; for comparisons). Takes effect when the
+    /// step method is picked: before the first step.
+    pub fn set_lumped_step(&mut self, on: bool) {
+        self.choice.lumped_step = on;
+    }
+
+    /// Whether Newton iterates only on the top system of the partitioned solver, the block
+    /// interiors condensed out of the residual too ([`crate::condensed`]; default `true`);
+    /// `false` keeps the full-residual Newton (same answers to round-off; for
+    /// comparisons). Takes effect when the step method is picked: before the first step.
+    pub fn set_condense_residual(&mut self, on: bool) {
+        self.choice.condense_residual = on;
     }
 
     /// The name of the step method the driver runs with (its pick if none was given yet).
