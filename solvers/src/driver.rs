@@ -69,6 +69,9 @@ pub(crate) struct MethodChoice {
     pub(crate) lumped_step: bool,
     /// The condensed Newton with the partitioned solver ([`crate::condensed`]).
     pub(crate) condense_residual: bool,
+    /// The condensed Newton's verification forms the next predictor's products
+    /// ([`Driver::set_products_ahead`]).
+    pub(crate) products_ahead: bool,
 }
 
 impl Default for MethodChoice {
@@ -76,6 +79,7 @@ impl Default for MethodChoice {
         MethodChoice {
             lumped_step: true,
             condense_residual: true,
+            products_ahead: true,
         }
     }
 }
@@ -289,8 +293,8 @@ pub struct Driver {
     /// The energy balance, updated after each committed step ([`crate::energy`]); `None`
     /// skips the accounting (two matrix–vector products per step).
     pub energy: Option<EnergyLedger>,
-    /// The condensed Newton's caches and counters.
-    pub(crate) condensed: crate::condensed_cache::CondensedCache,
+    /// The condensed Newton's counters (its caches are the method's own).
+    pub(crate) condensed: crate::condensed_cache::CondensedStats,
     /// The step attempt's vectors, kept between steps.
     pub(crate) work: StepWork,
     /// What the contacts' active sets are held at ([`crate::held_active_set`]).
@@ -826,11 +830,9 @@ impl Driver {
                     None => self.asm.effective(coef, a),
                 }
             }
-            let triplets = self.linear.triplets_mut();
-            self.asm.variable_triplets(coef, triplets);
+            self.asm.variable_triplets(coef, self.linear.triplets_mut());
             // The condensed Newton keeps every equation of the variable elements on top.
-            let always = &self.condensed.promote_always;
-            triplets.extend(always.iter().map(|&e| (e, e, 0.0)));
+            self.linear.add_kept_on_top();
         }
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         let t0 = Instant::now();
@@ -1950,7 +1952,7 @@ impl Driver {
         let inner: Box<dyn StepMethod<Driver>> = if self.lumped_linear_applies() {
             Box::new(LumpedLinear)
         } else if self.choice.condense_residual && self.may_condense() {
-            Box::new(CondensedNewton)
+            Box::new(CondensedNewton::default())
         } else {
             Box::new(FullNewton)
         };

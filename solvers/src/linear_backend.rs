@@ -91,6 +91,9 @@ pub struct LinearBackend {
     a_key: Option<[f64; 3]>,
     /// Variable elements' effective triplets (partitioned and low-rank modes).
     pub(crate) triplets: Vec<(usize, usize, f64)>,
+    /// Equations every factorization keeps among the variable ones (zero triplets on their
+    /// diagonals): the condensed Newton's, which the top system must hold all step.
+    on_top: Vec<usize>,
     /// The last analysis.
     symbolic: Option<Symbolic>,
     /// Low-rank mode: whether the constant part is expected symmetric (its solver is then
@@ -109,6 +112,7 @@ impl LinearBackend {
             factored: None,
             a_key: None,
             triplets: Vec::new(),
+            on_top: Vec::new(),
             symbolic: None,
             symmetric_hint,
         }
@@ -235,6 +239,25 @@ impl LinearBackend {
     pub fn triplets_mut(&mut self) -> &mut Vec<(usize, usize, f64)> {
         self.triplets.clear();
         &mut self.triplets
+    }
+
+    /// Off the pattern: the equations every following factorization keeps among the
+    /// variable ones ([`LinearBackend::add_kept_on_top`]); empty: none.
+    pub fn keep_on_top(&mut self, equations: Vec<usize>) {
+        self.on_top = equations;
+    }
+
+    /// The equations of [`LinearBackend::keep_on_top`].
+    pub fn kept_on_top(&self) -> &[usize] {
+        &self.on_top
+    }
+
+    /// Adds a zero triplet on the diagonal of each equation kept on top to the triplets
+    /// filled in ([`LinearBackend::triplets_mut`]): the partitioned solver then keeps them
+    /// on its top system.
+    pub fn add_kept_on_top(&mut self) {
+        self.triplets
+            .extend(self.on_top.iter().map(|&e| (e, e, 0.0)));
     }
 
     /// The numeric factorization of the values filled in ([`LinearBackend::values_mut`],
