@@ -285,6 +285,7 @@ pub struct Driver {
     predictor: IncrementPredictor,
     /// Totals.
     pub summary: RunSummary,
+    /// Whether the transient's initial state is formed ([`Driver::initialize`]).
     initialized: bool,
     /// Print each Newton iteration's residual to stderr (`RAILFEM_TRACE=1`).
     pub trace: bool,

@@ -50,6 +50,9 @@ pub struct Symbolic {
 }
 
 /// The solver a [`LinearBackend`] factors with.
+// One per driver, held for the whole run: the variants' sizes differ, but boxing the
+// partitioned solver would only add an indirection to each of its calls.
+#[allow(clippy::large_enum_variant)]
 pub enum Mode {
     /// The whole tangent on the assembler's pattern: dense or sparse by size
     /// ([`crate::driver::direct_solver`]).
