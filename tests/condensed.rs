@@ -29,7 +29,7 @@ fn history(
 ) {
     let mut m = build(case).expect("model");
     let d = &mut m.driver;
-    d.condense_residual = condensed;
+    d.set_condense_residual(condensed);
     d.set_partition_options(PartitionOptions {
         block_size: block,
         threads: 2,

@@ -82,7 +82,7 @@ fn history(
         _ => build(&case(SolverChoice::Partitioned)).expect("model"),
     };
     let d = &mut m.driver;
-    d.condense_residual = condensed;
+    d.set_condense_residual(condensed);
     if let Some(ex) = exchange {
         if own_rows {
             assert!(

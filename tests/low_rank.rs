@@ -58,6 +58,12 @@ fn auto_picks_the_low_rank_solver_for_a_rider() {
     }
     let st = d.lowrank_stats().expect("low-rank mode");
     assert_eq!(st.base_factorizations, 2);
+    // One pattern for the whole run (the rider is off it): its constant part analysed
+    // once, before the first of the two factorizations; the second performs none.
+    assert_eq!(d.asm.stats.patterns, 1);
+    let base = d.linear().low_rank().expect("low-rank mode").base_stats();
+    assert_eq!(base.symbolic_analyses, 1);
+    assert_eq!(base.numeric_factorizations, 2);
     // Static solve: 1 tangent; transient: 2 per step.
     assert_eq!(st.capacitance_factorizations, 1 + 2 * steps);
     // S = the rider's z, and uz, ry of the two nodes under it, at most (5 equations).

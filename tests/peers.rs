@@ -254,7 +254,7 @@ fn lumped_linear_step_equals_the_general_attempt_to_the_bit() {
             Driver::new(model).expect("driver")
         };
         let (mut fused, mut general) = (build(), build());
-        general.lumped_step = false;
+        general.set_lumped_step(false);
         assert!(fused.lumped_linear_applies() && !general.lumped_linear_applies());
         for d in [&mut fused, &mut general] {
             d.initialize().expect("initialize");

@@ -71,7 +71,7 @@
 
 use crate::chunks::{par_chunks, Shared};
 pub use crate::condensed_cache::CondensedStats;
-use crate::condensed_cache::TopProducts;
+use crate::condensed_cache::{CondensedCache, TopProducts};
 use crate::driver::{Accepted, Attempt, Driver, State, StepWork};
 use crate::held_rows;
 use crate::step_method::{CondensedNewton, FullNewton, StepMethod};
@@ -257,7 +257,7 @@ fn recover_and_norms(
 impl Driver {
     /// Work counters of the condensed Newton.
     pub fn condensed_stats(&self) -> CondensedStats {
-        self.condensed.stats
+        self.condensed
     }
 
     /// Whether a verification of the condensed Newton forms, in its pass over the constant
@@ -265,39 +265,49 @@ impl Driver {
     /// `C·v_w` (default `true`); `false` forms each in its own pass, as before (the same
     /// values: a comparison switch, no model key).
     pub fn set_products_ahead(&mut self, on: bool) {
-        self.condensed.no_products_ahead = !on;
-        self.condensed.ahead.dt = None;
+        self.choice.products_ahead = on;
     }
 
     /// The condensed Newton's attempt ([`crate::step_method::CondensedNewton`]): the
     /// accepted state, or `None` when it does not apply to this step or hands the step back
     /// (the elements reverted; the caller takes the step by the full-residual Newton).
-    pub(crate) fn attempt_condensed_or_fall_back(&mut self, dt: f64) -> Option<Accepted> {
+    pub(crate) fn attempt_condensed_or_fall_back(
+        &mut self,
+        cache: &mut CondensedCache,
+        dt: f64,
+    ) -> Option<Accepted> {
         if !self.condensed_applicable() {
             return None;
+        }
+        // The switch of the products ahead ([`Driver::set_products_ahead`]), applied: a
+        // change forgets what was formed ahead.
+        let no_ahead = !self.choice.products_ahead;
+        if cache.no_products_ahead != no_ahead {
+            cache.no_products_ahead = no_ahead;
+            cache.ahead.dt = None;
         }
         let s0 = std::mem::take(&mut self.state);
         let mut sw = std::mem::take(&mut self.work);
         let n = self.neq();
         let finite = self.asm.dofmap.has_finite_rotations();
-        let energy = self.energy.is_some() && !self.condensed.no_products_ahead;
+        let energy = self.energy.is_some() && !cache.no_products_ahead;
         let mut w = Full::take(&mut sw, n, finite, energy);
         // Whatever happens, the next predictor's products are valid only when this
         // attempt's accepted verification forms them again.
-        let ahead_dt = self.condensed.ahead.dt.take();
+        let ahead_dt = cache.ahead.dt.take();
         let t1 = s0.t + dt;
-        let r = self.attempt_condensed(dt, &s0, &mut w, ahead_dt);
+        let r = self.attempt_condensed(cache, dt, &s0, &mut w, ahead_dt);
         self.release_first_iteration();
         self.state = s0;
-        self.condensed.promote_always.clear();
+        self.linear.keep_on_top(Vec::new());
         match r {
             Ok((iterations, residual)) => {
-                self.condensed.ahead.dt = (!self.condensed.no_products_ahead).then_some(dt);
+                cache.ahead.dt = (!cache.no_products_ahead).then_some(dt);
                 let s = w.give_back(&mut sw, Some(t1));
                 sw.mv_ready = energy;
                 sw.cv_ready = energy;
                 self.work = sw;
-                self.condensed.stats.steps += 1;
+                self.condensed.steps += 1;
                 Some(Accepted {
                     state: s.expect("state asked for"),
                     iterations,
@@ -308,15 +318,15 @@ impl Driver {
                 w.give_back(&mut sw, None);
                 self.work = sw;
                 self.asm.revert(&mut self.model);
-                self.linear.factored = None;
-                self.condensed.stats.fallbacks += 1;
+                self.linear.invalidate();
+                self.condensed.fallbacks += 1;
                 None
             }
         }
     }
 
     fn condensed_applicable(&self) -> bool {
-        let Some(p) = &self.linear.partition else {
+        let Some(p) = self.linear.partitioned() else {
             return false;
         };
         // Its iterations start from the committed state; another predictor takes the
@@ -343,6 +353,7 @@ impl Driver {
     #[allow(clippy::too_many_arguments)]
     fn full_evaluation(
         &mut self,
+        cache: &mut CondensedCache,
         s0: &State,
         w: &mut Full,
         kind: Evaluation,
@@ -370,13 +381,13 @@ impl Driver {
             }
             self.asm.dofmap.increment(&s0.q, &w.q, &mut w.du);
         }
-        let reuse = predictor && ahead_dt == Some(dt) && self.condensed.ahead.q.len() == n;
-        let verification = !predictor && !self.condensed.no_products_ahead;
+        let reuse = predictor && ahead_dt == Some(dt) && cache.ahead.q.len() == n;
+        let verification = !predictor && !cache.no_products_ahead;
         if verification {
-            self.condensed.ahead.resize(n);
+            cache.ahead.resize(n);
         }
         let same = {
-            let ahead = &mut self.condensed.ahead;
+            let ahead = &mut cache.ahead;
             let (pq, pv, pa, paw, pvw, pfr) = (
                 Shared(w.q.as_mut_ptr()),
                 Shared(w.v.as_mut_ptr()),
@@ -475,13 +486,13 @@ impl Driver {
             // K·q_n, M·a_w and C·v_w as the last verification formed them (the same values,
             // bit for bit, a pass over the matrices would give); the variable parts added as
             // `update_transient` adds them.
-            let ahead = &mut self.condensed.ahead;
+            let ahead = &mut cache.ahead;
             std::mem::swap(&mut w.f_int, &mut ahead.kq);
             std::mem::swap(&mut w.inertia, &mut ahead.inertia);
             std::mem::swap(&mut w.damp, &mut ahead.damp);
             self.asm
                 .add_variable_inertia_damping(&w.a_w, &w.v_w, &mut w.inertia, &mut w.damp);
-            self.condensed.stats.predictors_reused += 1;
+            self.condensed.predictors_reused += 1;
         } else if !verification {
             self.asm.transient_products_on(
                 rows,
@@ -492,7 +503,7 @@ impl Driver {
                 &mut [],
             );
         } else {
-            let ahead = &mut self.condensed.ahead;
+            let ahead = &mut cache.ahead;
             let mut mass_more: Vec<(&[f64], &mut [f64])> = vec![(&ahead.a_w, &mut ahead.inertia)];
             let mut damping_more: Vec<(&[f64], &mut [f64])> = vec![(&ahead.v_w, &mut ahead.damp)];
             if energy {
@@ -558,7 +569,7 @@ impl Driver {
         // Each rank's rows alone, when the ranks keep their own rows.
         // The elements' own forces count with the assembled internal force (the driver's
         // reference, [`Driver::force_norms`]), reduced over the ranks with their norms.
-        let (rn, fn_, inn, elem) = if self.rows_per_rank {
+        let (rn, fn_, inn, elem) = if self.ranks.own_rows {
             let (v, elem) = self.force_norms(&[&w.r, &w.f_int, &w.inertia]);
             (v[0], v[1], v[2], elem)
         } else {
@@ -566,20 +577,15 @@ impl Driver {
             (sr.sqrt(), sf.sqrt(), si.sqrt(), elem)
         };
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
-        self.condensed.stats.full_evaluations += 1;
+        self.condensed.full_evaluations += 1;
         let fn_ = fn_.max(elem);
         Ok((rn, ext_norm.max(fn_).max(inn), fn_, inn))
     }
 
-    fn top_products(&mut self) {
-        let p = self.linear.partition.as_ref().expect("partitioned");
+    fn top_products(&mut self, cache: &mut CondensedCache) {
+        let p = self.linear.partitioned().expect("partitioned");
         let gen = p.top_generation();
-        if self
-            .condensed
-            .products
-            .as_ref()
-            .is_some_and(|t| t.generation == gen)
-        {
+        if cache.products.as_ref().is_some_and(|t| t.generation == gen) {
             return;
         }
         let (k, m, c) = (&self.asm.k_const, &self.asm.m_const, &self.asm.c_const);
@@ -614,7 +620,7 @@ impl Driver {
         if self.asm.constant_columns_kept() {
             // A promoted equation's column is kept by its block's owner alone, which sends
             // it (the top set is sorted: a top row is its position there).
-            let p = self.linear.partition.as_mut().expect("partitioned");
+            let p = self.linear.partitioned_mut().expect("partitioned");
             let top = p.top_equations().to_vec();
             let top_row = |i: usize| top.binary_search(&i).ok();
             let columns = p
@@ -642,7 +648,7 @@ impl Driver {
                 tp.col_ptr.push(tp.rows.len());
             }
         }
-        self.condensed.products = Some(tp);
+        cache.products = Some(tp);
     }
 
     /// One step by the condensed Newton (module documentation) from the committed `s0`,
@@ -650,6 +656,7 @@ impl Driver {
     /// `(iterations, |r|)`.
     fn attempt_condensed(
         &mut self,
+        cache: &mut CondensedCache,
         dt: f64,
         s0: &State,
         w: &mut Full,
@@ -665,19 +672,19 @@ impl Driver {
             .external_force(&self.model, t1, 1.0, &mut w.f_ext)
             .map_err(|_| Exit::Fallback)?;
         self.summary.timings.loads += tl.elapsed().as_secs_f64();
-        self.condensed.promote_always = self.asm.variable_equations();
+        self.linear.keep_on_top(self.asm.variable_equations());
         // Scratch for the variable elements' forces: zero between uses.
-        let mut scratch = std::mem::take(&mut self.condensed.var_scratch);
+        let mut scratch = std::mem::take(&mut cache.var_scratch);
         for x in &mut scratch {
             if x.len() != n {
                 *x = vec![0.0; n];
             }
         }
-        let r = self.condensed_iterations(dt, s0, w, ahead_dt, &mut scratch);
+        let r = self.condensed_iterations(cache, dt, s0, w, ahead_dt, &mut scratch);
         // Every path that writes the scratch zeroes it again before it can return `Ok`; a
         // fallback may leave values in it, and it is then dropped (formed afresh next time).
         if r.is_ok() {
-            self.condensed.var_scratch = scratch;
+            cache.var_scratch = scratch;
         }
         r
     }
@@ -686,6 +693,7 @@ impl Driver {
     /// `t1` and `f_ext(t1)` formed into `w.f_ext`.
     fn condensed_iterations(
         &mut self,
+        cache: &mut CondensedCache,
         dt: f64,
         s0: &State,
         w: &mut Full,
@@ -715,7 +723,7 @@ impl Driver {
         let mut full_now = true;
         // Reference norms for the screen: the previous step's and the last full evaluation
         // after a correction (the predictor's inertia is not representative).
-        let (mut f_norm_est, mut in_norm_est) = self.condensed.last_norms.unwrap_or((0.0, 0.0));
+        let (mut f_norm_est, mut in_norm_est) = cache.last_norms.unwrap_or((0.0, 0.0));
         // The predictor and the first base with the contact's statuses of the last
         // converged step (`FirstActiveSet`); released once the base's variable forces are
         // read, before any other evaluation.
@@ -753,14 +761,14 @@ impl Driver {
                     .add_variable_inertia_damping(&w.a_w, &w.v_w, in_var, damp_var);
                 let nt_top = top.len();
                 let delta: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
-                let p = self.linear.partition.as_mut().expect("partitioned");
+                let p = self.linear.partitioned_mut().expect("partitioned");
                 let mut rt = vec![0.0; nt_top];
                 p.top_constant_times(&delta, &mut rt);
                 // rt = g − S_A·δ + (A_TT·δ − Δc_T) − Δv_T
                 for k in 0..nt_top {
                     rt[k] = g[k] - rt[k];
                 }
-                let tp = self.condensed.products.as_ref().expect("built at the base");
+                let tp = cache.products.as_ref().expect("built at the base");
                 for (j, &gj) in top.iter().enumerate() {
                     let dk = coef.k * delta[j] - (1.0 - af) * (w.q[gj] - qb[j]);
                     let dm = coef.m * delta[j] - (w.a_w[gj] - awb[j]);
@@ -804,7 +812,7 @@ impl Driver {
                     let delta_now: Vec<f64> = (0..nt_top).map(|k| w.q[top[k]] - qb[k]).collect();
                     let rows = self.held_rows.as_ref().and_then(|h| h.rows());
                     par_fill(&mut w.dq, 0.0, rows.as_deref(), nt);
-                    let p = self.linear.partition.as_mut().expect("partitioned");
+                    let p = self.linear.partitioned_mut().expect("partitioned");
                     let res = if last_from_base {
                         p.back_substitute(&[(Some(&w.r), &delta_now)], &mut [&mut w.dq], true)
                     } else {
@@ -830,6 +838,7 @@ impl Driver {
                     base_q2 = qn2;
                     let disp_ok = dn <= settings.tol * qn + settings.disp_tol;
                     let (rn_full, reference_full, fn_, inn) = self.full_evaluation(
+                        cache,
                         s0,
                         w,
                         Evaluation::Verification,
@@ -842,7 +851,7 @@ impl Driver {
                     if settings.tol * reference_full > 2.0 * settings.tol * reference
                         || settings.tol * qn > 2.0 * settings.tol * q_est
                     {
-                        self.condensed.stats.margin_exceeded += 1;
+                        self.condensed.margin_exceeded += 1;
                     }
                     if self.trace {
                         eprintln!(
@@ -853,10 +862,10 @@ impl Driver {
                         );
                     }
                     if force_ok && disp_ok {
-                        self.condensed.last_norms = Some((fn_, inn));
+                        cache.last_norms = Some((fn_, inn));
                         return Ok((iters, rn_full));
                     }
-                    self.condensed.stats.rejected += 1;
+                    self.condensed.rejected += 1;
                     f_norm_est = fn_;
                     in_norm_est = inn;
                     // The full evaluation is the new base: continue as after one.
@@ -870,14 +879,14 @@ impl Driver {
                     }
                     self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
                     self.summary.factorizations += 1;
-                    let p = self.linear.partition.as_mut().expect("partitioned");
+                    let p = self.linear.partitioned_mut().expect("partitioned");
                     if p.top_generation() != generation {
                         return Err(Exit::Fallback);
                     }
                     let ts = Instant::now();
                     p.solve_top(&mut rt).map_err(|_| Exit::Fallback)?;
                     self.summary.timings.solve += ts.elapsed().as_secs_f64();
-                    self.condensed.stats.top_iterations += 1;
+                    self.condensed.top_iterations += 1;
                     iters += 1;
                     rn_prev = rn;
                     self.top_correction(&top, &rt, &mut w.q);
@@ -888,6 +897,7 @@ impl Driver {
             } else {
                 // --- A full evaluation (the predictor).
                 let (rn, _reference, fn_, _inn) = self.full_evaluation(
+                    cache,
                     s0,
                     w,
                     Evaluation::Predictor,
@@ -911,16 +921,16 @@ impl Driver {
             // condense the residual, solve the top system.
             self.factor_tangent(coef).map_err(|_| Exit::Fallback)?;
             self.summary.factorizations += 1;
-            self.top_products();
-            let p = self.linear.partition.as_mut().expect("partitioned");
+            self.top_products(cache);
+            let off_top = {
+                let p = self.linear.partitioned().expect("partitioned");
+                let on_top = self.linear.kept_on_top();
+                on_top.iter().any(|&e| p.top_position(e).is_none())
+            };
+            let p = self.linear.partitioned_mut().expect("partitioned");
             generation = p.top_generation();
             top = p.top_equations().to_vec();
-            if self
-                .condensed
-                .promote_always
-                .iter()
-                .any(|&e| p.top_position(e).is_none())
-            {
+            if off_top {
                 return Err(Exit::Fallback);
             }
             let ts = Instant::now();
@@ -980,7 +990,7 @@ impl StepMethod<Driver> for CondensedNewton {
     }
 
     fn attempt(&mut self, d: &mut Driver, dt: f64) -> Result<Accepted, Attempt> {
-        if let Some(accepted) = d.attempt_condensed_or_fall_back(dt) {
+        if let Some(accepted) = d.attempt_condensed_or_fall_back(&mut self.cache, dt) {
             return Ok(accepted);
         }
         FullNewton.attempt(d, dt)

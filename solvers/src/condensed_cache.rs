@@ -1,7 +1,9 @@
 //! The caches the condensed Newton keeps between steps ([`CondensedCache`]: the top
 //! equations' constant products, the next predictor's products formed ahead, scratch and
-//! the counters [`CondensedStats`]). The driver owns one; [`crate::condensed`] reads and
-//! fills it.
+//! the counters [`CondensedStats`]). The condensed Newton owns the caches
+//! ([`crate::step_method::CondensedNewton`]); the counters are the driver's record of the
+//! run ([`crate::driver::Driver::condensed_stats`]). [`crate::condensed`] reads and fills
+//! both.
 
 /// Counters of the condensed Newton.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
@@ -27,18 +29,15 @@ pub struct CondensedStats {
 /// Caches kept between steps.
 #[derive(Debug, Default)]
 pub struct CondensedCache {
-    /// Equations every factorization of the step keeps on top (those of the variable
-    /// elements), read by the driver's factorization.
-    pub(crate) promote_always: Vec<usize>,
     /// The constant matrices between top equations, for the top generation they were built.
     pub(crate) products: Option<TopProducts>,
     /// `|f_int|`, `|M·a_w|` at the last converged step.
     pub(crate) last_norms: Option<(f64, f64)>,
-    pub(crate) stats: CondensedStats,
     /// What the last accepted verification formed for the next step's predictor.
     pub(crate) ahead: Ahead,
     /// `false`: the verification forms no products for the next step or the energy
-    /// balance ([`Driver::set_products_ahead`]; a comparison switch).
+    /// balance (the driver's switch as last applied,
+    /// [`crate::driver::Driver::set_products_ahead`]; a comparison switch).
     pub(crate) no_products_ahead: bool,
     /// Scratch for the variable elements' forces, resisting, inertia and damping: zero
     /// between uses (only the variable elements' equations are ever written, and they are

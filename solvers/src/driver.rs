@@ -32,7 +32,7 @@ use crate::dense::DenseLu;
 use crate::energy::EnergyLedger;
 use crate::integrator::Coefficients;
 use crate::linear::{solver_for, LinearSolver, SolverError};
-use crate::linear_backend::LinearBackend;
+use crate::linear_backend::{LinearBackend, Mode};
 use crate::lowrank::{LowRank, LowRankStats};
 use crate::partition::{PartitionOptions, PartitionStats, Partitioned};
 pub use crate::state::State;
@@ -52,8 +52,37 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
+mod predictor;
 mod rank_build;
+mod ranks;
+use crate::held_active_set::ActiveSetHolds;
+use predictor::IncrementPredictor;
 use rank_build::RankSplit;
+use ranks::Ranks;
+
+/// Which step method the driver picks where several apply ([`Driver::default_step_method`]):
+/// switches for comparisons, each giving the same answers as the other choice (to the bit
+/// for the lumped step, to round-off for the condensed Newton).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct MethodChoice {
+    /// The lumped linear step where it applies ([`crate::lumped_step`]).
+    pub(crate) lumped_step: bool,
+    /// The condensed Newton with the partitioned solver ([`crate::condensed`]).
+    pub(crate) condense_residual: bool,
+    /// The condensed Newton's verification forms the next predictor's products
+    /// ([`Driver::set_products_ahead`]).
+    pub(crate) products_ahead: bool,
+}
+
+impl Default for MethodChoice {
+    fn default() -> Self {
+        MethodChoice {
+            lumped_step: true,
+            condense_residual: true,
+            products_ahead: true,
+        }
+    }
+}
 
 /// The linear solver of the whole tangent for a model of `n` equations: dense LU in the
 /// plain order up to [`DIRECT_DENSE_LIMIT`]; for an unsymmetric tangent [`StaticLu`] up to
@@ -111,6 +140,10 @@ pub(crate) struct StepWork {
     a_w_next: Vec<f64>,
     inertia_next: Vec<f64>,
     pub(crate) inertia_ready: bool,
+    /// The displacement the last linear attempt formed its internal force at (`K·q`, kept
+    /// as the state's `f_int`): the next step's first residual starts from the same `q`
+    /// and takes `f_int` from the state instead of a pass over `K`.
+    pub(crate) f_int_at: Vec<f64>,
 }
 
 impl StepWork {
@@ -248,48 +281,27 @@ pub struct Driver {
     /// The linear solver, the effective matrix and the factor cache
     /// ([`crate::linear_backend`]).
     pub(crate) linear: LinearBackend,
-    /// Length and increment `q_{n} − q_{n−1}` of the last converged transient step (for
-    /// [`Predictor::Increment`]; `None` before the first, and always with the default
-    /// predictor).
-    last_increment: Option<(f64, Vec<f64>)>,
+    /// The last converged step's increment, for [`Predictor::Increment`].
+    predictor: IncrementPredictor,
     /// Totals.
     pub summary: RunSummary,
+    /// Whether the transient's initial state is formed ([`Driver::initialize`]).
     initialized: bool,
     /// Print each Newton iteration's residual to stderr (`RAILFEM_TRACE=1`).
     pub trace: bool,
-    /// The displacement the last linear attempt formed its internal force at (`K·q`, kept
-    /// as the state's `f_int`): the next step's first residual starts from the same `q`
-    /// and takes `f_int` from the state instead of a pass over `K`.
-    pub(crate) f_int_at: Vec<f64>,
-    /// A linear model with a diagonal mass and no damping takes its step in three fused
-    /// passes ([`crate::lumped_step`]); `false` sends it through the general attempt (same
-    /// answers to the bit; for comparisons).
-    pub lumped_step: bool,
+    /// Which step method the driver picks ([`Driver::default_step_method`]).
+    pub(crate) choice: MethodChoice,
     /// The energy balance, updated after each committed step ([`crate::energy`]); `None`
     /// skips the accounting (two matrix–vector products per step).
     pub energy: Option<EnergyLedger>,
-    /// Newton iterates only on the top system of the partitioned solver, the block
-    /// interiors condensed out of the residual too ([`crate::condensed`]); `false` keeps
-    /// the full-residual Newton (same answers to round-off; for comparisons).
-    pub condense_residual: bool,
-    /// The condensed Newton's caches and counters.
-    pub(crate) condensed: crate::condensed_cache::CondensedCache,
+    /// The condensed Newton's counters (its caches are the method's own).
+    pub(crate) condensed: crate::condensed_cache::CondensedStats,
     /// The step attempt's vectors, kept between steps.
     pub(crate) work: StepWork,
-    /// Whether the held retry holds the contact's active sets ([`crate::held_active_set`]).
-    pub(crate) holding: bool,
-    /// Whether this step's first iteration holds them
-    /// ([`railfem_framework::model::FirstActiveSet`]).
-    pub(crate) first_held: bool,
-    /// The ranks the partitioned solver shares its blocks with ([`Driver::set_exchange`]).
-    exchange: Option<std::sync::Arc<dyn crate::exchange::Exchange>>,
-    /// Each rank forms the residual of its own rows only ([`Driver::keep_own_rows`]).
-    pub(crate) rows_per_rank: bool,
-    /// With `rows_per_rank`, until [`Driver::initialize`] takes it: the initial mass
-    /// solve's partitioned solver, split while the whole pattern was at hand.
-    mass_split: Option<Partitioned>,
-    /// The columns to keep once the initial mass solve is done, when it reads more.
-    narrow_after_mass: Option<Vec<bool>>,
+    /// What the contacts' active sets are held at ([`crate::held_active_set`]).
+    pub(crate) holds: ActiveSetHolds,
+    /// The run's share across ranks ([`Driver::set_exchange`], [`Driver::keep_own_rows`]).
+    pub(crate) ranks: Ranks,
     /// One flag per equation: held by the activity window ([`crate::window`]), its
     /// residual a reaction; empty when nothing is held.
     pub(crate) frozen_rows: Vec<bool>,
@@ -331,7 +343,7 @@ impl Driver {
         options: Option<PartitionOptions>,
     ) -> Result<Driver, FemError> {
         let mut d = Self::build(model, Some((exchange.clone(), options)))?;
-        if d.linear.partition.is_none() || d.rows_per_rank {
+        if d.linear.partitioned().is_none() || d.ranks.own_rows {
             return Ok(d);
         }
         if let Some(o) = options {
@@ -400,7 +412,6 @@ impl Driver {
                 "the model has no free DOF (every DOF is fixed or unused); free some DOFs or add elements",
             ));
         }
-        let solver = direct_solver(n, asm.symmetric());
         let integrator = crate::time_integrator::resolve(&model.analysis, &model.origin)?;
         // Off the pattern the effective matrix is formed at the first factorization (across
         // ranks, only the columns the rank reads): no copy of the pattern before it.
@@ -409,10 +420,22 @@ impl Driver {
         } else {
             asm.k_const.zeros_like()
         };
-        let lowrank = (asm.solver() == SolverChoice::LowRank).then(LowRank::new);
-        let options = Self::model_partition_options(&model);
-        let partition = (asm.off_pattern() && lowrank.is_none() && split.is_none())
-            .then(|| Partitioned::new(asm.symmetric(), options));
+        // Across ranks the partitioned solver comes split with the rank's build
+        // ([`Driver::take_rank_split`]).
+        let mode = if !asm.off_pattern() || split.is_some() {
+            Mode::Direct(direct_solver(n, asm.symmetric()))
+        } else if asm.solver() == SolverChoice::LowRank {
+            Mode::LowRank(LowRank::new())
+        } else {
+            let options = Self::model_partition_options(&model);
+            Mode::Partitioned(Partitioned::new(asm.symmetric(), options))
+        };
+        // The low-rank mode's analysis picks Cholesky or LU before any value: the constant
+        // part is symmetric if each of `K`, `M`, `C` is.
+        let symmetric_hint = matches!(mode, Mode::LowRank(_))
+            && [&asm.k_const, &asm.m_const, &asm.c_const]
+                .iter()
+                .all(|m| m.asymmetry() == 0.0);
         let mut d = Driver {
             state: State {
                 t: 0.0,
@@ -429,22 +452,16 @@ impl Driver {
             model,
             asm,
             integrator,
-            linear: LinearBackend::new(solver, k_eff, partition, lowrank),
-            last_increment: None,
+            linear: LinearBackend::new(mode, k_eff, symmetric_hint),
+            predictor: IncrementPredictor::default(),
             initialized: false,
             trace: std::env::var_os("RAILFEM_TRACE").is_some(),
-            f_int_at: Vec::new(),
             energy: Some(EnergyLedger::default()),
-            condense_residual: true,
-            lumped_step: true,
+            choice: MethodChoice::default(),
             condensed: Default::default(),
             work: StepWork::default(),
-            holding: false,
-            first_held: false,
-            exchange: None,
-            rows_per_rank: false,
-            mass_split: None,
-            narrow_after_mass: None,
+            holds: ActiveSetHolds::default(),
+            ranks: Ranks::default(),
             frozen_rows: Vec::new(),
             method: None,
             held_rows: None,
@@ -475,7 +492,7 @@ impl Driver {
     /// Work counters of the driver's linear solver (symbolic analyses, numeric
     /// factorizations, solves, factor size).
     pub fn solver_stats(&self) -> crate::linear::SolverStats {
-        self.linear.solver.stats()
+        self.linear.solver_stats()
     }
 
     fn singular(&self, e: SolverError) -> FemError {
@@ -521,19 +538,19 @@ impl Driver {
         // A new split needs the whole pattern, which a rank keeping its own rows no longer
         // holds.
         assert!(
-            !self.rows_per_rank,
+            !self.ranks.own_rows,
             "set the partition options before `keep_own_rows`"
         );
-        if self.linear.partition.is_some() {
-            self.linear.partition = Some(self.new_partitioned(self.asm.symmetric(), options));
-            self.linear.factored = None;
+        if self.linear.partitioned().is_some() {
+            let p = self.new_partitioned(self.asm.symmetric(), options);
+            self.linear.set_partitioned(p);
         }
     }
 
     /// A partitioned solver, sharing its blocks with the driver's ranks if it has some.
     fn new_partitioned(&self, symmetric: bool, options: PartitionOptions) -> Partitioned {
         let mut p = Partitioned::new(symmetric, options);
-        if let Some(ex) = &self.exchange {
+        if let Some(ex) = &self.ranks.exchange {
             p.set_exchange(ex.clone());
         }
         p
@@ -550,18 +567,18 @@ impl Driver {
         &mut self,
         exchange: std::sync::Arc<dyn crate::exchange::Exchange>,
     ) -> Result<(), FemError> {
-        let Some(p) = self.linear.partition.as_mut() else {
+        let mode = self.linear.mode().name();
+        let Some(p) = self.linear.partitioned_mut() else {
             return Err(FemError::input(
                 &self.model.origin,
                 format!(
-                    "the solve across {} ranks needs the partitioned solver, and this model uses the {} one; set `solver = \"partitioned\"` in [analysis] (or run one process)",
+                    "the solve across {} ranks needs the partitioned solver, and this model uses the {mode} one; set `solver = \"partitioned\"` in [analysis] (or run one process)",
                     exchange.size(),
-                    if self.linear.lowrank.is_some() { "low-rank" } else { "direct" }
                 ),
             ));
         };
         // A driver built across these ranks ([`Driver::new_across_ranks`]) shares already.
-        if let Some(own) = &self.exchange {
+        if let Some(own) = &self.ranks.exchange {
             assert!(
                 std::ptr::addr_eq(Arc::as_ptr(own), Arc::as_ptr(&exchange)),
                 "the driver shares its blocks with other ranks already"
@@ -569,8 +586,8 @@ impl Driver {
             return Ok(());
         }
         p.set_exchange(exchange.clone());
-        self.exchange = Some(exchange);
-        self.linear.factored = None;
+        self.ranks.exchange = Some(exchange);
+        self.linear.invalidate();
         Ok(())
     }
 
@@ -589,10 +606,10 @@ impl Driver {
     /// process, without the partitioned solver, or where the assembler cannot keep columns
     /// exactly ([`Assembler::keep_constant_columns`]). Set the partition options before.
     pub fn keep_own_rows(&mut self) -> bool {
-        if self.exchange.is_none() || self.rows_per_rank {
-            return self.rows_per_rank;
+        if self.ranks.exchange.is_none() || self.ranks.own_rows {
+            return self.ranks.own_rows;
         }
-        let Some(p) = self.linear.partition.as_mut() else {
+        let Some(p) = self.linear.partitioned_mut() else {
             return false;
         };
         p.prepare(&self.asm.k_const);
@@ -619,10 +636,10 @@ impl Driver {
         }
         self.release_unneeded_elements(&keep);
         if until_mass != keep {
-            self.narrow_after_mass = Some(keep);
+            self.ranks.narrow_after_mass = Some(keep);
         }
-        self.mass_split = mass;
-        self.rows_per_rank = true;
+        self.ranks.mass_split = mass;
+        self.ranks.own_rows = true;
         true
     }
 
@@ -644,7 +661,7 @@ impl Driver {
     /// Rows whose residual this rank forms and counts in the norms: every equation, or
     /// with [`Driver::keep_own_rows`] its owned ones (the ranks' add up to all of them).
     pub fn rows_owned(&self) -> usize {
-        match (&self.linear.partition, self.rows_per_rank) {
+        match (self.linear.partitioned(), self.ranks.own_rows) {
             (Some(p), true) => p.rows_owned(),
             _ => self.neq(),
         }
@@ -682,7 +699,7 @@ impl Driver {
     /// collective.
     pub(crate) fn force_norms(&mut self, xs: &[&[f64]]) -> (Vec<f64>, f64) {
         let local = self.asm.element_force_norm();
-        let across = match (self.rows_per_rank, self.linear.partition.as_mut()) {
+        let across = match (self.ranks.own_rows, self.linear.partitioned_mut()) {
             (true, Some(p)) => p.sums_of_squares_and_max(xs, Some(local * local)),
             _ => None,
         };
@@ -700,7 +717,7 @@ impl Driver {
     /// calls it at the same step and gets the same answer ([`crate::exchange::any_rank`]).
     pub fn stop_requested(&self) -> bool {
         crate::exchange::any_rank(
-            self.exchange.as_deref(),
+            self.ranks.exchange.as_deref(),
             railfem_framework::interrupt::requested(),
         )
     }
@@ -712,9 +729,15 @@ impl Driver {
         self.linear.set_solver(solver);
     }
 
+    /// The linear backend: its mode, its solver's counters and its last analysis
+    /// ([`crate::linear_backend`]).
+    pub fn linear(&self) -> &LinearBackend {
+        &self.linear
+    }
+
     /// Work counters of the low-rank solver, if the driver uses it.
     pub fn lowrank_stats(&self) -> Option<LowRankStats> {
-        self.linear.lowrank.as_ref().map(LowRank::stats)
+        self.linear.low_rank().map(LowRank::stats)
     }
 
     /// Bytes the driver holds, by part (capacities, as allocated; `railfem bench`'s memory
@@ -750,17 +773,14 @@ impl Driver {
         .map(|v| 8 * v.capacity())
         .sum::<usize>()
             + vecs(&w.next)
-            + 8 * self.f_int_at.capacity()
-            + self
-                .last_increment
-                .as_ref()
-                .map_or(0, |(_, v)| 8 * v.capacity());
+            + 8 * w.f_int_at.capacity()
+            + self.predictor.heap_bytes();
         let mut parts = self.asm.memory();
         parts.push(("effective matrix", self.linear.k_eff.heap_bytes()));
         parts.push(("state vectors", vecs(&self.state)));
         parts.push(("step work vectors", work));
         parts.push(("variable triplets", 24 * self.linear.triplets.capacity()));
-        if let Some(p) = &self.linear.partition {
+        if let Some(p) = self.linear.partitioned() {
             parts.extend(p.memory());
         }
         parts
@@ -774,80 +794,52 @@ impl Driver {
 
     /// Work counters and times of the partitioned solver, if the driver uses it.
     pub fn partition_stats(&self) -> Option<PartitionStats> {
-        self.linear.partition.as_ref().map(Partitioned::stats)
+        self.linear.partitioned().map(Partitioned::stats)
     }
 
-    /// Forms and factors the effective tangent `k·K + m·M + c·C`.
+    /// Forms and factors the effective tangent `k·K + m·M + c·C`: the pattern analysed
+    /// once ([`LinearBackend::analyse`], counted as factorization time), the values filled
+    /// in on it, then the numeric factorization ([`LinearBackend::factor`]).
     pub(crate) fn factor_tangent(&mut self, coef: Coefficients) -> Result<(), FemError> {
-        if !self.asm.off_pattern() {
-            // Analysed once per pattern (counted as factorization time); the values of this
-            // factorization are filled in on it.
-            let pattern = &self.asm.k_const;
-            let symbolic = match self.linear.symbolic_of(pattern.pattern_id) {
-                Some(s) => s,
-                None => {
-                    let t0 = Instant::now();
-                    let s = self.linear.analyse(pattern);
-                    self.summary.timings.factor += t0.elapsed().as_secs_f64();
-                    s.map_err(|e| self.singular(e))?
-                }
-            };
-            let ta = Instant::now();
-            self.asm.effective(coef, self.linear.values_mut(&symbolic));
-            self.summary.timings.assembly += ta.elapsed().as_secs_f64();
-            let t0 = Instant::now();
-            let r = self.linear.factor(&symbolic, coef.key());
-            self.summary.timings.factor += t0.elapsed().as_secs_f64();
-            return r.map_err(|e| self.singular(e));
-        }
-        let ta = Instant::now();
-        // The constant part changes only with the coefficients (and never if every mass is
-        // constant); the variable elements come as triplets.
-        let key = if self.asm.constant_part_is_constant() {
-            coef.key()
-        } else {
-            [f64::NAN; 3]
-        };
-        if self.linear.a_key != Some(key)
-            || self.linear.k_eff.pattern_id != self.asm.k_const.pattern_id
-        {
-            // Across ranks, only the columns this rank's blocks (and rank 0's top) read.
-            match self.columns_read() {
-                Some(keep) => self
-                    .asm
-                    .effective_columns(coef, &keep, &mut self.linear.k_eff),
-                None => self.asm.effective(coef, &mut self.linear.k_eff),
+        let pattern = &self.asm.k_const;
+        let symbolic = match self.linear.symbolic_of(pattern.pattern_id) {
+            Some(s) => s,
+            None => {
+                let t0 = Instant::now();
+                let s = self.linear.analyse(pattern);
+                self.summary.timings.factor += t0.elapsed().as_secs_f64();
+                s.map_err(|e| self.singular(e))?
             }
-            self.linear.a_key = Some(key);
+        };
+        let ta = Instant::now();
+        if !self.asm.off_pattern() {
+            self.asm.effective(coef, self.linear.values_mut(&symbolic));
+        } else {
+            // The constant part changes only with the coefficients (and never if every mass
+            // is constant); the variable elements come as triplets.
+            let key = if self.asm.constant_part_is_constant() {
+                coef.key()
+            } else {
+                [f64::NAN; 3]
+            };
+            if self.linear.constant_values_stale(&symbolic, key) {
+                // Across ranks, only the columns this rank's blocks (and rank 0's top) read.
+                let keep = self.linear.columns_read();
+                let a = self.linear.constant_values_mut(key);
+                match keep {
+                    Some(keep) => self.asm.effective_columns(coef, &keep, a),
+                    None => self.asm.effective(coef, a),
+                }
+            }
+            self.asm.variable_triplets(coef, self.linear.triplets_mut());
+            // The condensed Newton keeps every equation of the variable elements on top.
+            self.linear.add_kept_on_top();
         }
-        self.linear.triplets.clear();
-        self.asm.variable_triplets(coef, &mut self.linear.triplets);
-        // The condensed Newton keeps every equation of the variable elements on top.
-        let always = &self.condensed.promote_always;
-        self.linear
-            .triplets
-            .extend(always.iter().map(|&e| (e, e, 0.0)));
         self.summary.timings.assembly += ta.elapsed().as_secs_f64();
         let t0 = Instant::now();
-        let r = match (self.linear.lowrank.as_mut(), self.linear.partition.as_mut()) {
-            (Some(l), _) => l.factor(&self.linear.k_eff, key, &self.linear.triplets),
-            (None, Some(p)) => p.factor(&self.linear.k_eff, key, &self.linear.triplets),
-            (None, None) => unreachable!("off the pattern the driver has a bordered solver"),
-        };
+        let r = self.linear.factor(&symbolic, coef.key());
         self.summary.timings.factor += t0.elapsed().as_secs_f64();
-        r.map_err(|e| self.singular(e))?;
-        self.linear.factored = Some((coef.key(), self.linear.k_eff.pattern_id));
-        Ok(())
-    }
-
-    /// When the partitioned solver's blocks are shared among ranks: the columns of the
-    /// constant part this rank's share reads ([`Partitioned::columns_read`]), the split
-    /// made first from the constant pattern if needed. `None` (every column) otherwise.
-    fn columns_read(&mut self) -> Option<Vec<bool>> {
-        self.exchange.as_ref()?;
-        let p = self.linear.partition.as_mut()?;
-        p.prepare(&self.asm.k_const);
-        p.columns_read()
+        r.map_err(|e| self.singular(e))
     }
 
     fn solve(&mut self, b: &mut [f64]) -> Result<(), FemError> {
@@ -882,7 +874,7 @@ impl Driver {
     /// rank of the job calls it at the same point; every rank names the equation one
     /// process would, [`Partitioned::largest_over_rows`]).
     fn largest(&mut self, r: &[f64]) -> (f64, String) {
-        let across = match (self.rows_per_rank, self.linear.partition.as_mut()) {
+        let across = match (self.ranks.own_rows, self.linear.partitioned_mut()) {
             (true, Some(p)) => p.largest_over_rows(r),
             _ => None,
         };
@@ -993,7 +985,7 @@ impl Driver {
         self.state.t = t;
         self.state.f_int = f_int;
         self.state.f_ext = f_full;
-        self.linear.factored = None;
+        self.linear.invalidate();
         // A static solve moves the state without inertia: the balance starts again.
         if let Some(e) = self.energy.as_mut() {
             e.reset();
@@ -1035,17 +1027,12 @@ impl Driver {
         // the next factorization has other coefficients and factors every block anew. Drop
         // them, and the matrix they were made from, before the mass is factored, so that two
         // sets of factors are never held at once.
-        if let Some(p) = self.linear.partition.as_mut() {
-            p.release_factors();
-            self.linear.k_eff = CscMatrix::from_columns(Vec::new());
-            self.linear.a_key = None;
-            self.linear.factored = None;
-        }
+        self.linear.release_factors();
         self.solve_initial_mass(&mut rhs)?;
         self.state.a = rhs;
         self.state.f_int = f_int;
         self.state.f_ext = f;
-        if let Some(keep) = self.narrow_after_mass.take() {
+        if let Some(keep) = self.ranks.narrow_after_mass.take() {
             self.asm.keep_constant_columns(&keep);
         }
         self.asm.commit(&mut self.model);
@@ -1067,14 +1054,14 @@ impl Driver {
             .variable_triplets(Coefficients::MASS, &mut variable_mass);
         // A rank keeping its own rows no longer holds the whole pattern to split: its mass
         // solver was split before ([`Driver::keep_own_rows`]).
-        let mut mass_solver = match self.mass_split.take() {
+        let mut mass_solver = match self.ranks.mass_split.take() {
             Some(p) => Some(p),
             None => self
                 .asm
                 .off_pattern()
                 .then(|| self.new_partitioned(true, PartitionOptions::default())),
         };
-        let keep = match (&self.exchange, mass_solver.as_mut()) {
+        let keep = match (&self.ranks.exchange, mass_solver.as_mut()) {
             (Some(_), Some(p)) => {
                 p.prepare(&self.asm.m_const);
                 p.columns_read()
@@ -1231,6 +1218,7 @@ impl Driver {
             a_w_next,
             inertia_next,
             inertia_ready,
+            f_int_at,
             ..
         } = w;
         let af = self.integrator.force_weight();
@@ -1250,7 +1238,7 @@ impl Driver {
         // A linear model is solved exactly by one correction from any start (and its first
         // residual reuses the committed internal force, formed at `q_n`): no predictor.
         if let (false, Predictor::Increment, Some((dt_prev, inc))) =
-            (linear, settings.predictor, &self.last_increment)
+            (linear, settings.predictor, self.predictor.last())
         {
             // `dq` is free until the first solve writes it.
             let scale = dt / dt_prev;
@@ -1312,7 +1300,7 @@ impl Driver {
                 && match settings.kind {
                     NewtonKind::Full => true,
                     NewtonKind::Modified => it == 0,
-                    NewtonKind::Initial => self.linear.factored.is_none(),
+                    NewtonKind::Initial => !self.linear.has_factor(),
                 };
             if linear && it > 0 {
                 // No variable element to update: K·q, M·v and the next inertia force in
@@ -1323,8 +1311,8 @@ impl Driver {
                 // The next step re-forms masses that change between steps: its inertia
                 // force is formed anew then.
                 *inertia_ready = self.asm.mass_is_constant();
-                self.f_int_at.clear();
-                self.f_int_at.extend_from_slice(q);
+                f_int_at.clear();
+                f_int_at.extend_from_slice(q);
                 // A linear model was solved exactly by the one correction: v, a and f_int
                 // are updated above; the inertia and damping products of a residual check
                 // would only confirm round-off.
@@ -1335,7 +1323,7 @@ impl Driver {
             // Residual at the intermediate times. A linear model's first iterate is the
             // committed displacement, whose internal force the state holds (formed by the
             // same product, so the same to the bit): only M·a and C·v are formed.
-            if linear && it == 0 && self.f_int_at == s0.q {
+            if linear && it == 0 && *f_int_at == s0.q {
                 f_int.copy_from_slice(&s0.f_int);
                 if *inertia_ready && a_w == a_w_next {
                     // M·a_w was formed with the last step's K·q (the same product).
@@ -1368,7 +1356,7 @@ impl Driver {
             // check's reference is formed only for a nonlinear model or the trace.
             let check = !linear || self.trace;
             // Across ranks the norms are one collective, which every rank enters.
-            let (rn, parts) = if check || self.rows_per_rank {
+            let (rn, parts) = if check || self.ranks.own_rows {
                 let (v, elem) = self.force_norms(&[r, f_int, inertia]);
                 let parts = if check {
                     [norm(f_ref_ext), v[1], v[2], elem]
@@ -1427,7 +1415,9 @@ impl Driver {
                 ))));
             }
             // Factor when needed.
-            let valid = self.linear.factored == Some((coef.key(), self.asm.k_const.pattern_id));
+            let valid = self
+                .linear
+                .is_factored(coef.key(), self.asm.k_const.pattern_id);
             let refactor = match (linear, settings.kind) {
                 (true, _) => !valid,
                 (false, NewtonKind::Full) => true,
@@ -1467,7 +1457,7 @@ impl Driver {
 
     /// Zeroes the increment predictor's entries on the `held` rows ([`crate::window`]).
     pub(crate) fn zero_held_increment(&mut self, held: &[bool]) {
-        if let Some((_, inc)) = &mut self.last_increment {
+        if let Some(inc) = self.predictor.increment_mut() {
             zero_held(held, inc);
         }
     }
@@ -1535,7 +1525,7 @@ impl Driver {
         {
             let spent = *iterations;
             self.asm.revert(&mut self.model);
-            self.linear.factored = None;
+            self.linear.invalidate();
             match method.last_resort(self, dt) {
                 None => {}
                 Some(Ok(a)) => {
@@ -1575,9 +1565,8 @@ impl Driver {
                     // order across the ranks.
                     let ranks = self
                         .linear
-                        .partition
-                        .as_mut()
-                        .filter(|_| self.rows_per_rank);
+                        .partitioned_mut()
+                        .filter(|_| self.ranks.own_rows);
                     let held = self.held_rows.as_ref().and_then(|h| h.rows());
                     e.record(
                         &self.asm,
@@ -1591,13 +1580,13 @@ impl Driver {
                     );
                 }
                 // The increment for the next step's predictor, in last step's vector.
-                let kept = self.last_increment.take();
-                if dt > 0.0 && self.model.analysis.newton.predictor == Predictor::Increment {
-                    let mut inc = kept.map(|(_, v)| v).unwrap_or_default();
-                    inc.resize(s.q.len(), 0.0);
-                    self.asm.dofmap.increment(&self.state.q, &s.q, &mut inc);
-                    self.last_increment = Some((dt, inc));
-                }
+                self.predictor.committed(
+                    self.model.analysis.newton.predictor,
+                    &self.asm.dofmap,
+                    dt,
+                    &self.state.q,
+                    &s.q,
+                );
                 self.work.mv_ready = false;
                 self.work.cv_ready = false;
                 // The replaced state's vectors hold the next attempt's state.
@@ -1616,7 +1605,7 @@ impl Driver {
                 iterations,
             }) => {
                 self.asm.revert(&mut self.model);
-                self.linear.factored = None;
+                self.linear.invalidate();
                 rep.iterations += iterations;
                 if depth >= max_cuts {
                     return Err(FemError::Convergence(format!(
@@ -1935,7 +1924,7 @@ impl Driver {
         if let (Some(dir), AnalysisKind::Transient) = (out, spec.kind) {
             self.write_energy(dir)?;
         }
-        let st = self.linear.solver.stats();
+        let st = self.linear.solver_stats();
         self.summary.symbolic = st.symbolic_analyses;
         self.summary.wall = start.elapsed().as_secs_f64();
         let kept = rec.map(Recorders::histories).unwrap_or_default();
@@ -1958,13 +1947,13 @@ impl StepMethod<Driver> for FullNewton {
 impl Driver {
     /// The method the driver picks for a model ([`crate::step_method`]): the lumped linear
     /// step where it applies ([`Driver::lumped_linear_applies`]), the condensed Newton with
-    /// the partitioned solver and variable elements ([`Driver::condense_residual`] on), else
+    /// the partitioned solver and variable elements ([`Driver::set_condense_residual`] on), else
     /// full Newton; each with the held active set's retry.
     pub fn default_step_method(&self) -> Box<dyn StepMethod<Driver>> {
         let inner: Box<dyn StepMethod<Driver>> = if self.lumped_linear_applies() {
             Box::new(LumpedLinear)
-        } else if self.condense_residual && self.may_condense() {
-            Box::new(CondensedNewton)
+        } else if self.choice.condense_residual && self.may_condense() {
+            Box::new(CondensedNewton::default())
         } else {
             Box::new(FullNewton)
         };
@@ -1976,6 +1965,22 @@ impl Driver {
     /// retry.
     pub fn set_step_method(&mut self, method: Box<dyn StepMethod<Driver>>) {
         self.method = Some(method);
+    }
+
+    /// Whether a linear model with a diagonal mass and no damping takes its step in three
+    /// fused passes ([`crate::lumped_step`]; default `true`); `false` sends it through the
+    /// general attempt (same answers to the bit; for comparisons). Takes effect when the
+    /// step method is picked: before the first step.
+    pub fn set_lumped_step(&mut self, on: bool) {
+        self.choice.lumped_step = on;
+    }
+
+    /// Whether Newton iterates only on the top system of the partitioned solver, the block
+    /// interiors condensed out of the residual too ([`crate::condensed`]; default `true`);
+    /// `false` keeps the full-residual Newton (same answers to round-off; for
+    /// comparisons). Takes effect when the step method is picked: before the first step.
+    pub fn set_condense_residual(&mut self, on: bool) {
+        self.choice.condense_residual = on;
     }
 
     /// The name of the step method the driver runs with (its pick if none was given yet).
@@ -1995,7 +2000,7 @@ impl Driver {
     /// solver, full Newton from the committed state, variable elements): the driver then
     /// picks it ([`Driver::default_step_method`]); each step checks the rest.
     pub(crate) fn may_condense(&self) -> bool {
-        self.linear.partition.is_some()
+        self.linear.partitioned().is_some()
             && self.model.analysis.newton.predictor.is_previous()
             && self.model.analysis.newton.kind == NewtonKind::Full
             && !self.asm.variable_elements().is_empty()

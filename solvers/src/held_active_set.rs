@@ -54,6 +54,16 @@ use crate::step_method::{HeldActiveSet, LastResortFailure, StepMethod};
 use railfem_framework::element::ActiveSet;
 use railfem_framework::model::FirstActiveSet;
 
+/// What the contacts' active sets are held at, between the driver's attempts.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ActiveSetHolds {
+    /// The held retry of this module holds them.
+    pub(crate) retry: bool,
+    /// This step's first iteration holds them
+    /// ([`railfem_framework::model::FirstActiveSet`]).
+    pub(crate) first: bool,
+}
+
 /// Rounds of holding and checking with [`ActiveSet::LastFound`], and then as many with
 /// [`ActiveSet::LastFoundStickingReversals`], before the retry gives up.
 pub const HELD_ROUNDS: usize = 8;
@@ -62,7 +72,7 @@ impl Driver {
     /// Holds (or, with [`ActiveSet::Found`], releases) the active set of every variable
     /// element; whether any has one.
     fn hold_active_sets(&mut self, set: ActiveSet) -> bool {
-        self.holding = set != ActiveSet::Found;
+        self.holds.retry = set != ActiveSet::Found;
         self.set_active_sets(set)
     }
 
@@ -80,18 +90,18 @@ impl Driver {
     /// a linear model. Whether any element holds.
     pub(crate) fn hold_first_iteration(&mut self, linear: bool) -> bool {
         if linear
-            || self.holding
+            || self.holds.retry
             || self.model.analysis.newton.first_active_set != FirstActiveSet::Committed
         {
             return false;
         }
-        self.first_held = self.set_active_sets(ActiveSet::Committed);
-        self.first_held
+        self.holds.first = self.set_active_sets(ActiveSet::Committed);
+        self.holds.first
     }
 
     /// Releases what [`Driver::hold_first_iteration`] held (nothing if it held nothing).
     pub(crate) fn release_first_iteration(&mut self) {
-        if std::mem::take(&mut self.first_held) {
+        if std::mem::take(&mut self.holds.first) {
             self.set_active_sets(ActiveSet::Found);
         }
     }
@@ -151,11 +161,11 @@ impl Driver {
                         ActiveSet::LastFoundStickingReversals
                     });
                     self.asm.revert(&mut self.model);
-                    self.linear.factored = None;
+                    self.linear.invalidate();
                 }
                 Err(attempt) => {
                     self.asm.revert(&mut self.model);
-                    self.linear.factored = None;
+                    self.linear.invalidate();
                     self.hold_active_sets(ActiveSet::Found);
                     let attempt = match attempt {
                         Attempt::NotConverged {

@@ -60,6 +60,9 @@ pub struct LowRank {
     pattern_id: u64,
     /// Coefficients `A` was factored for.
     key: Option<[f64; 3]>,
+    /// After [`LowRank::analyse`]: whether its solver (Cholesky if `true`) still awaits the
+    /// first factorization's check against the values (module documentation).
+    unchecked: Option<bool>,
     /// Diagonal shifts `(equation, d_j)` added to `A`.
     shift: Vec<(usize, f64)>,
     /// The set `S` and each equation's place in it.
@@ -88,6 +91,7 @@ impl LowRank {
             n: 0,
             pattern_id: 0,
             key: None,
+            unchecked: None,
             shift: Vec::new(),
             set: Vec::new(),
             e: DMatrix::zeros(0, 0),
@@ -105,6 +109,24 @@ impl LowRank {
     /// Work counters of the sparse solver of the constant part.
     pub fn base_stats(&self) -> crate::linear::SolverStats {
         self.base.stats()
+    }
+
+    /// The symbolic analysis of the constant part's pattern `pattern` (values unread):
+    /// sparse Cholesky's if `symmetric`, else LU's, once per pattern; a factorization on
+    /// it then factors numerically only. The first factorization checks the guess against
+    /// the values (`A` exactly symmetric or not, the rule of a factorization without an
+    /// analysis) and analyses again with the other solver if it was wrong.
+    pub fn analyse(&mut self, pattern: &CscMatrix, symmetric: bool) -> Result<(), SolverError> {
+        if pattern.n == self.n && pattern.pattern_id == self.pattern_id {
+            return Ok(());
+        }
+        self.base = base_solver(symmetric);
+        self.n = pattern.n;
+        self.pattern_id = pattern.pattern_id;
+        self.key = None;
+        self.columns.clear();
+        self.unchecked = Some(symmetric);
+        self.base.analyse(pattern)
     }
 
     /// Factors `a + V`, `V` given by `(row, column, value)` triplets (duplicates summed),
@@ -201,15 +223,16 @@ impl LowRank {
         variable: &[(usize, usize, f64)],
     ) -> Result<(), SolverError> {
         if a.n != self.n || a.pattern_id != self.pattern_id {
-            let symmetric = a.asymmetry() == 0.0;
-            self.base = if symmetric {
-                Box::new(SparseCholesky::new())
-            } else {
-                Box::new(SparseLu::new())
-            };
+            self.base = base_solver(a.asymmetry() == 0.0);
             self.n = a.n;
             self.pattern_id = a.pattern_id;
+        } else if let Some(guess) = self.unchecked {
+            let symmetric = a.asymmetry() == 0.0;
+            if symmetric != guess {
+                self.base = base_solver(symmetric);
+            }
         }
+        self.unchecked = None;
         self.columns.clear();
         let n = a.n;
         let mut diag = vec![0.0; n];
@@ -278,6 +301,15 @@ impl LowRank {
             }
         }
         Ok(())
+    }
+}
+
+/// The sparse solver of a constant part `A`: Cholesky when it is symmetric, LU otherwise.
+fn base_solver(symmetric: bool) -> Box<dyn LinearSolver> {
+    if symmetric {
+        Box::new(SparseCholesky::new())
+    } else {
+        Box::new(SparseLu::new())
     }
 }
 

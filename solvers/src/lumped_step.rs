@@ -27,9 +27,9 @@ use std::time::Instant;
 impl Driver {
     /// Whether the next attempt takes the lumped linear step: no variable element, no
     /// finite rotation, a diagonal constant mass, no damping, no per-iteration trace, and
-    /// [`Driver::lumped_step`] left on.
+    /// [`Driver::set_lumped_step`] left on.
     pub fn lumped_linear_applies(&self) -> bool {
-        self.lumped_step
+        self.choice.lumped_step
             && !self.trace
             && self.asm.variable_elements().is_empty()
             && !self.asm.dofmap.has_finite_rotations()
@@ -54,7 +54,7 @@ impl Driver {
         let ta = Instant::now();
         // The internal force at the first iterate `q = q_n`: the committed one when the last
         // linear step formed it there, else `K·q_n` (the first step, after a static solve).
-        let fresh = self.f_int_at != s0.q;
+        let fresh = w.f_int_at != s0.q;
         if fresh {
             self.asm.constant_internal_force(&s0.q, &mut w.r);
         }
@@ -88,7 +88,10 @@ impl Driver {
             ))));
         }
         let coef = self.integrator.coefficients(dt);
-        if self.linear.factored != Some((coef.key(), self.asm.k_const.pattern_id)) {
+        if !self
+            .linear
+            .is_factored(coef.key(), self.asm.k_const.pattern_id)
+        {
             self.factor_tangent(coef)?;
             self.summary.factorizations += 1;
         }
@@ -99,7 +102,7 @@ impl Driver {
             .asm
             .mass_diagonal()
             .expect("checked by lumped_linear_applies");
-        self.f_int_at.resize(n, 0.0);
+        w.f_int_at.resize(n, 0.0);
         let mut bad = None;
         for lo in (0..n).step_by(BLOCK) {
             let hi = (lo + BLOCK).min(n);
@@ -110,7 +113,7 @@ impl Driver {
                 }
                 let q = s0.q[i] + d;
                 next.q[i] = q;
-                self.f_int_at[i] = q;
+                w.f_int_at[i] = q;
             }
             let du = Increment::Between {
                 q: &next.q[lo..hi],
@@ -124,7 +127,7 @@ impl Driver {
             }
         }
         if let Some(i) = bad {
-            self.f_int_at.clear();
+            w.f_int_at.clear();
             return Err(Attempt::Fatal(self.non_finite_solution(i)));
         }
         self.asm.constant_internal_force(&next.q, &mut next.f_int);

@@ -102,6 +102,9 @@ impl Default for PartitionOptions {
 /// Work counters and times of the partitioned solver.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PartitionStats {
+    /// Symbolic analyses: splits of a pattern into blocks, their boundaries and the top
+    /// chain's groups ([`Partitioned::prepare`]), once per pattern.
+    pub analyses: usize,
     /// Number of blocks.
     pub blocks: usize,
     /// Equations in block interiors (before promotion).
@@ -655,6 +658,7 @@ impl Partitioned {
         let ranks = self.comm.as_ref().map_or(1, Comm::size);
         self.ranges = ownership(&sizes, ranks);
         self.received = vec![Received::default(); self.blocks.len()];
+        self.stats.analyses += 1;
         self.stats.blocks = self.blocks.len();
         self.stats.interior_equations = self.blocks.iter().map(|b| b.all.len()).sum();
         self.stats.base_top_equations = self.base_top.len();

@@ -103,8 +103,12 @@ pub struct LumpedLinear;
 /// Newton on the top system of the partitioned solver, the block interiors condensed out
 /// of the residual (`condensed.rs`); a step it cannot condense (a top set that
 /// changes, a rising residual, ...) is taken again by [`FullNewton`].
-#[derive(Debug, Default, Clone, Copy)]
-pub struct CondensedNewton;
+/// It owns its caches between steps (the top equations' constant products, the products
+/// formed ahead for the next predictor, scratch).
+#[derive(Debug, Default)]
+pub struct CondensedNewton {
+    pub(crate) cache: crate::condensed_cache::CondensedCache,
+}
 
 /// Any step method with the held active set as the last resort of step cutting
 /// (`held_active_set.rs`): its rounds solve the step again with `inner`.

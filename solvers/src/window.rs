@@ -106,8 +106,7 @@ impl ActivityWindow {
     ) -> Result<ActivityWindow, String> {
         let p = driver
             .linear
-            .partition
-            .as_ref()
+            .partitioned()
             .filter(|p| p.block_count() > 0)
             .ok_or("the activity window needs the partitioned solver (solver = \"partitioned\") with at least one block")?;
         let mut extents = Vec::with_capacity(p.block_count());
@@ -163,8 +162,7 @@ impl ActivityWindow {
         } = self.settings;
         let p = driver
             .linear
-            .partition
-            .as_ref()
+            .partitioned()
             .expect("checked at construction");
         if let Some(b) =
             (0..self.phases.len()).find(|&b| p.block_frozen(b) && p.block_has_promoted(b))
@@ -243,8 +241,7 @@ impl Driver {
         let n = self.neq();
         let p = self
             .linear
-            .partition
-            .as_mut()
+            .partitioned_mut()
             .ok_or("held blocks need the partitioned solver")?;
         p.set_frozen_blocks(frozen)?;
         if !frozen.iter().any(|&f| f) {

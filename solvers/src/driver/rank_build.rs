@@ -78,14 +78,13 @@ impl Driver {
         } = split;
         self.asm
             .settle_across_ranks(&|flag| crate::exchange::any_rank(Some(exchange.as_ref()), flag));
-        self.linear.partition = Some(partition);
-        self.exchange = Some(exchange);
-        self.linear.factored = None;
+        self.linear.set_partitioned(partition);
+        self.ranks.exchange = Some(exchange);
         self.release_unneeded_elements(&keep);
         if until_mass != keep {
-            self.narrow_after_mass = Some(keep);
+            self.ranks.narrow_after_mass = Some(keep);
         }
-        self.mass_split = Some(mass);
-        self.rows_per_rank = true;
+        self.ranks.mass_split = Some(mass);
+        self.ranks.own_rows = true;
     }
 }
