@@ -107,6 +107,47 @@ impl Split {
     }
 }
 
+/// The equations of a block of a larger model and their split: `in_block[e]` marks the
+/// block's equations; those coupled to an equation outside the block by an entry of `K`,
+/// `M` or `C` form the boundary, the others the interior (whose rows then see only the
+/// block, as a partitioned solver's block interior does). Returns the block's equations in
+/// ascending order and the split in that local numbering (for [`restrict`] and
+/// [`CraigBampton::build`]).
+pub fn block_split(matrices: &[&CscMatrix], in_block: &[bool]) -> (Vec<usize>, Split) {
+    let eqs: Vec<usize> = (0..in_block.len()).filter(|&e| in_block[e]).collect();
+    let mut coupled = vec![false; in_block.len()];
+    for a in matrices {
+        for j in 0..a.n {
+            for p in a.col_ptr[j]..a.col_ptr[j + 1] {
+                let i = a.row_idx[p];
+                if in_block[i] != in_block[j] && a.values[p] != 0.0 {
+                    coupled[i] = true;
+                    coupled[j] = true;
+                }
+            }
+        }
+    }
+    let (mut interior, mut boundary) = (Vec::new(), Vec::new());
+    for (l, &e) in eqs.iter().enumerate() {
+        if coupled[e] {
+            boundary.push(l);
+        } else {
+            interior.push(l);
+        }
+    }
+    (eqs, Split { interior, boundary })
+}
+
+/// `A[eqs, eqs]`: the matrix of a model restricted to a block's equations (renumbered in
+/// the order of `eqs`).
+pub fn restrict(a: &CscMatrix, eqs: &[usize]) -> CscMatrix {
+    let mut local = vec![None; a.n];
+    for (l, &e) in eqs.iter().enumerate() {
+        local[e] = Some(l);
+    }
+    sparse_part(a, &local, eqs)
+}
+
 /// A block reduced to its boundary DOFs and its fixed-interface modes below the cut-off.
 ///
 /// Reduced coordinates are ordered `[q_B (boundary, in the order of `Split::boundary`),

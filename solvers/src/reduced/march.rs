@@ -65,6 +65,11 @@ impl LinearMarch {
         f: &DVector<f64>,
     ) -> Result<ReducedState, MarchError> {
         let rhs = f - &self.c * &v - &self.k * &x;
+        if rhs.iter().all(|r| *r == 0.0) {
+            // at rest and in balance: no solve (a mass with massless DOFs is singular)
+            let a = DVector::zeros(rhs.len());
+            return Ok(ReducedState { q: x, v, a });
+        }
         let chol = Cholesky::new(self.m.clone()).ok_or(MarchError::NotDefinite("mass"))?;
         Ok(ReducedState {
             q: x,
