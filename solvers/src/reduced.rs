@@ -30,17 +30,18 @@
 //! `K_II` is factored once with the sparse Cholesky factor of the workspace
 //! ([`crate::linear::SparseCholesky`]); `Ψ` is one multi-column solve with it, and the
 //! modes come from the subspace iteration of [`crate::modal`] on `(K_II, M_II)` with the
-//! same factor, asking for more modes until the highest one found lies above the cut-off
+//! same factor, asking for 16, 32, … modes until the highest one found lies above the cut-off
 //! (or every interior DOF with mass has its mode). The reduced matrices are dense: a span
 //! keeps its boundary plus a few tens of modes.
 //!
 //! What lives elsewhere: the choice of the cut-off ([`cutoff`]), the mapping of a state
 //! between the full and the reduced form and its energy ([`switch`]), the time march of a
-//! reduced (or any small dense linear) system with the generalized-α coefficients
-//! ([`march`]).
+//! linear system with the generalized-α coefficients ([`march`]), a model with some of its
+//! blocks reduced ([`mixed`]).
 
 pub mod cutoff;
 pub mod march;
+pub mod mixed;
 pub mod switch;
 #[cfg(test)]
 mod tests;
@@ -49,6 +50,7 @@ use crate::linear::{LinearSolver, SolverError, SparseCholesky};
 use crate::modal::{lowest_modes_with, ModalError, ModalOptions};
 use nalgebra::DMatrix;
 use railfem_framework::sparse::CscMatrix;
+use railfem_framework::Dof;
 
 /// Failure of a reduction.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -114,28 +116,70 @@ impl Split {
 /// ascending order and the split in that local numbering (for [`restrict`] and
 /// [`CraigBampton::build`]).
 pub fn block_split(matrices: &[&CscMatrix], in_block: &[bool]) -> (Vec<usize>, Split) {
-    let eqs: Vec<usize> = (0..in_block.len()).filter(|&e| in_block[e]).collect();
-    let mut coupled = vec![false; in_block.len()];
+    let block_of: Vec<Option<usize>> = in_block.iter().map(|&b| b.then_some(0)).collect();
+    block_splits(matrices, &block_of, 1)
+        .pop()
+        .expect("one block")
+}
+
+/// [`block_split`] of many blocks in one pass over the matrices: `block_of[e]` is
+/// equation `e`'s block (`None` outside every block); an equation is on its block's
+/// boundary when it is coupled to an equation of another block or of none.
+pub fn block_splits(
+    matrices: &[&CscMatrix],
+    block_of: &[Option<usize>],
+    blocks: usize,
+) -> Vec<(Vec<usize>, Split)> {
+    let mut coupled = vec![false; block_of.len()];
     for a in matrices {
         for j in 0..a.n {
             for p in a.col_ptr[j]..a.col_ptr[j + 1] {
                 let i = a.row_idx[p];
-                if in_block[i] != in_block[j] && a.values[p] != 0.0 {
+                if block_of[i] != block_of[j] && a.values[p] != 0.0 {
                     coupled[i] = true;
                     coupled[j] = true;
                 }
             }
         }
     }
-    let (mut interior, mut boundary) = (Vec::new(), Vec::new());
-    for (l, &e) in eqs.iter().enumerate() {
+    let mut out: Vec<(Vec<usize>, Split)> = (0..blocks)
+        .map(|_| {
+            (
+                Vec::new(),
+                Split {
+                    interior: Vec::new(),
+                    boundary: Vec::new(),
+                },
+            )
+        })
+        .collect();
+    for (e, b) in block_of.iter().enumerate() {
+        let Some(b) = *b else { continue };
+        let (eqs, split) = &mut out[b];
+        let l = eqs.len();
+        eqs.push(e);
         if coupled[e] {
-            boundary.push(l);
+            split.boundary.push(l);
         } else {
-            interior.push(l);
+            split.interior.push(l);
         }
     }
-    (eqs, Split { interior, boundary })
+    out
+}
+
+/// The load per unit ground acceleration along global X, Y and Z: `M·r` with `r` one on
+/// every translation along that axis (`dof_of(e)` is equation `e`'s DOF; nodes in global
+/// axes). A uniform ground motion `a_g(t)` loads the model, in coordinates relative to the
+/// ground, with `−M·r·a_g(t)`.
+pub fn ground_influence(m: &CscMatrix, dof_of: impl Fn(usize) -> Dof) -> [Vec<f64>; 3] {
+    std::array::from_fn(|axis| {
+        let r: Vec<f64> = (0..m.n)
+            .map(|e| f64::from(dof_of(e).index() == axis))
+            .collect();
+        let mut out = vec![0.0; m.n];
+        m.mul_vec(&r, &mut out);
+        out
+    })
 }
 
 /// `A[eqs, eqs]`: the matrix of a model restricted to a block's equations (renumbered in
@@ -323,8 +367,8 @@ impl CraigBampton {
     }
 }
 
-/// The fixed-interface modes with `ω ≤ cutoff`: asks the subspace iteration for 8 modes,
-/// then twice as many, until the highest found is above the cut-off or every interior DOF
+/// The fixed-interface modes with `ω ≤ cutoff`: asks the subspace iteration for 16 modes
+/// (a viaduct span keeps 10 to 12 at the default cut-off), then twice as many, until the highest found is above the cut-off or every interior DOF
 /// with mass has its mode. Reuses `solver`'s factor of `K_II` (same pattern: numeric only).
 fn modes_below(
     solver: &mut dyn LinearSolver,
@@ -334,7 +378,7 @@ fn modes_below(
     options: &ModalOptions,
 ) -> Result<(DMatrix<f64>, Vec<f64>), ReducedError> {
     let massive = (0..m_ii.n).filter(|&i| m_ii.get(i, i) > 0.0).count();
-    let mut want = massive.min(8);
+    let mut want = massive.min(16);
     loop {
         if want == 0 {
             return Ok((DMatrix::zeros(k_ii.n, 0), Vec::new()));

@@ -253,7 +253,7 @@ fn cutoff_keeps_the_modes_the_integrator_resolves() {
     assert!((x - (12.0 * eps).sqrt()).abs() < 0.01 * x, "x_ε = {x}");
     let (dt, omega) = (1e-3, x / 1e-3);
     let one = |v: f64| DMatrix::from_element(1, 1, v);
-    let march = LinearMarch::new(
+    let mut march = LinearMarch::new(
         Integrator::newmark(0.25, 0.5),
         dt,
         one(1.0),
@@ -313,7 +313,8 @@ fn a_switch_changes_the_energy_by_the_residual_above_the_cutoff() {
     let q0 = kd.clone().cholesky().unwrap().solve(&f);
     let integ = Integrator::newmark(0.25, 0.5);
     let dt = 1e-3;
-    let full = LinearMarch::new(integ, dt, md.clone(), DMatrix::zeros(n, n), kd.clone()).unwrap();
+    let mut full =
+        LinearMarch::new(integ, dt, md.clone(), DMatrix::zeros(n, n), kd.clone()).unwrap();
     let zero = DVector::zeros(n);
     let mut s = full.start(q0, DVector::zeros(n), &zero).unwrap();
     let e0 = dense_energy(&md, &kd, &s.q, &s.v);
@@ -343,7 +344,7 @@ fn a_switch_changes_the_energy_by_the_residual_above_the_cutoff() {
     );
 
     let zr = DVector::zeros(cb.size());
-    let red = LinearMarch::new(
+    let mut red = LinearMarch::new(
         integ,
         dt,
         cb.m_hat.clone(),
@@ -421,8 +422,8 @@ fn a_reduced_span_follows_ground_motion_like_the_full_span() {
     };
     let integ = Integrator::generalized_alpha(0.9);
     let (kd, md) = (dense(&k), dense(&m));
-    let full = LinearMarch::new(integ, dt, md, DMatrix::zeros(n, n), kd).unwrap();
-    let red = LinearMarch::new(
+    let mut full = LinearMarch::new(integ, dt, md, DMatrix::zeros(n, n), kd).unwrap();
+    let mut red = LinearMarch::new(
         integ,
         dt,
         cb.m_hat.clone(),
