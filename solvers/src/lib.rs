@@ -2,7 +2,8 @@
 //!
 //! What lives here: sparse and dense linear solvers ([`linear`], [`dense`], the replayed LU
 //! [`static_lu`]) and the driver's linear backend that holds them with the effective matrix
-//! and the factor cache ([`linear_backend`]), the low-rank (Woodbury) solver for a few moving equations ([`lowrank`]), modal analysis ([`modal`]), the
+//! and the factor cache ([`linear_backend`]), the low-rank (Woodbury) solver for a few moving equations ([`lowrank`]), modal analysis ([`modal`]), the Craig–Bampton reduction of a linear block to its boundary
+//! and its fixed-interface modes ([`reduced`]), the
 //! generalized-α family of integrators ([`integrator`]) and the Bathe composite method
 //! ([`bathe`]) behind the integrator trait and registry ([`time_integrator`]), the energy
 //! balance of a run
@@ -38,6 +39,7 @@ pub mod mechanism;
 pub mod modal;
 pub mod partition;
 pub mod preflight;
+pub mod reduced;
 pub mod state;
 pub mod static_lu;
 pub mod step_method;
