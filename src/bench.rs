@@ -579,7 +579,7 @@ pub fn export(
         }
         let _ = write!(hist, "{k},{t:.17e}");
         for &n in &mon {
-            let _ = write!(hist, ",{:.17e}", d.asm.dofmap.value(&d.state.q, n, 2));
+            let _ = write!(hist, ",{:.17e}", d.asm.dofmap.value(&d.state.q, n, Dof::Uz));
         }
         hist.push('\n');
     }

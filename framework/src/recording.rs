@@ -36,7 +36,7 @@ impl ComfortHistory {
     fn push(&mut self, asm: &Assembler, t: f64, a: &[f64]) {
         self.time.push(t);
         for (c, v) in self.columns.iter().zip(&mut self.values) {
-            v.push(asm.dofmap.value(a, c.node, c.dof.index()));
+            v.push(asm.dofmap.value(a, c.node, c.dof));
         }
     }
 
@@ -123,7 +123,7 @@ impl ComfortHistory {
 }
 
 enum Column {
-    Node { node: usize, dof: usize },
+    Node { node: usize, dof: Dof },
     Element { elem: usize, output: usize },
 }
 
@@ -275,10 +275,7 @@ impl Recorders {
                                 d.name(),
                                 quantity.unit(d.index() >= 3)
                             ));
-                            columns.push(Column::Node {
-                                node: n,
-                                dof: d.index(),
-                            });
+                            columns.push(Column::Node { node: n, dof: d });
                         }
                     }
                     *quantity
@@ -378,7 +375,7 @@ impl Recorders {
                         Quantity::Vel => v,
                         Quantity::Acc => a,
                     };
-                    asm.dofmap.value(src, node, dof.index())
+                    asm.dofmap.value(src, node, dof)
                 };
                 let model = &mut *model;
                 let mut element_outputs = |ei: usize, out: &mut Vec<f64>| {
