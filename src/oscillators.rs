@@ -350,7 +350,7 @@ pub fn fe_run(case: &Case, ne: usize, dt: f64) -> Result<Histories, FemError> {
         out.midspan
             .push(d.displacement(mid, Dof::Uz).unwrap_or(f64::NAN) - w0);
         let acc = match mass_index {
-            Some(i) => d.asm.dofmap.value(&d.state.a, i, Dof::Uz.index()),
+            Some(i) => d.asm.dofmap.value(&d.state.a, i, Dof::Uz),
             None => {
                 let mut o = Vec::new();
                 d.model.elements[osc].element.outputs(&mut o);

@@ -395,7 +395,7 @@ impl Wheelset {
             .map(|a| a.contact_force().y)
             .sum()
     }
-    fn value(&self, v: &[f64], dof: usize) -> f64 {
+    fn value(&self, v: &[f64], dof: Dof) -> f64 {
         self.d.asm.dofmap.value(v, self.k, dof)
     }
 }
@@ -590,7 +590,12 @@ pub fn drop(
     let mut in_contact = true;
     let mut run = |rep: &mut DropReport| -> Result<(), FemError> {
         ws.d.initialize()?;
-        let i = ws.d.asm.dofmap.terms(ws.k, 1).next().map_or(0, |t| t.0);
+        let i =
+            ws.d.asm
+                .dofmap
+                .terms(ws.k, Dof::Uy)
+                .next()
+                .map_or(0, |t| t.0);
         ws.d.state.v[i] = -v0;
         for _ in 0..steps {
             ws.d.step(dt)?;
@@ -598,7 +603,7 @@ pub fn drop(
             rep.peak_force = rep.peak_force.max(q);
             let touching = q > 0.0;
             if in_contact && !touching && rep.separations < 2 {
-                rep.rebound_speeds[rep.separations] = ws.value(&ws.d.state.v, 1);
+                rep.rebound_speeds[rep.separations] = ws.value(&ws.d.state.v, Dof::Uy);
                 rep.separations += 1;
             }
             in_contact = touching;

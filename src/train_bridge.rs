@@ -826,7 +826,9 @@ fn midspan_acceleration(d: &Driver, tm: &TrackModel, k: usize) -> f64 {
     let br = tm.bridge.as_ref().expect("a bridge");
     d.model
         .node(br.spans[k].midspan_node)
-        .map_or(f64::NAN, |i| d.asm.dofmap.value(&d.state.a, i, 2))
+        .map_or(f64::NAN, |i| {
+            d.asm.dofmap.value(&d.state.a, i, crate::framework::Dof::Uz)
+        })
 }
 
 /// Runs a built model for `steps` steps (all, if `None`), writing `wheels.csv`,

@@ -376,8 +376,8 @@ fn lean_step_matches_driver() {
     let (py, pa) = (peak(&w.deflection[j]), peak(&w.acceleration[j]));
     for i in 1..=steps {
         d.step(dt).expect("step");
-        let y = d.asm.dofmap.value(&d.state.q, node, Dof::Uz.index());
-        let a = d.asm.dofmap.value(&d.state.a, node, Dof::Uz.index());
+        let y = d.asm.dofmap.value(&d.state.q, node, Dof::Uz);
+        let a = d.asm.dofmap.value(&d.state.a, node, Dof::Uz);
         assert!(
             (y - w.deflection[j][i]).abs() < 1e-9 * py,
             "step {i}: {y} vs {}",

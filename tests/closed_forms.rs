@@ -201,10 +201,10 @@ fn simply_supported_frequencies_match_euler_bernoulli() {
         let (mut pp, mut ss, mut ps) = (0.0, 0.0, 0.0);
         for i in 0..=ne {
             let node = d.model.node(i as u64).expect("node");
-            let phi =
-                d.asm
-                    .dofmap
-                    .value(modes.shapes.column(n - 1).as_slice(), node, Dof::Uz.index());
+            let phi = d
+                .asm
+                .dofmap
+                .value(modes.shapes.column(n - 1).as_slice(), node, Dof::Uz);
             let s = (n as f64 * PI * i as f64 / ne as f64).sin();
             pp += phi * phi;
             ss += s * s;

@@ -356,7 +356,10 @@ fn increment_predictor_reaches_the_same_rolling_state_in_fewer_iterations() {
             ws.run(300);
             let moment: f64 = (0..2).map(|w| ws.fx(w) * ws.out(w, "rolling_radius")).sum();
             // Node 1 (K) is the model's first node; DOF 3 is rx, the spin about the axle.
-            let spin = ws.d.asm.dofmap.value(&ws.d.state.q, 0, 3);
+            let spin =
+                ws.d.asm
+                    .dofmap
+                    .value(&ws.d.state.q, 0, railfem::framework::Dof::Rx);
             (moment, spin, ws.d.summary.iterations - it0)
         };
         let (m0, s0, i0) = run(Predictor::Previous);

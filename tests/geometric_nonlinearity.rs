@@ -582,7 +582,11 @@ fn finite_rotation_marks_from_outside_elements() {
     let triples: Vec<[usize; 3]> = asm.dofmap.rotation_triples().collect();
     assert_eq!(triples.len(), 1);
     let want: Vec<usize> = (3..6)
-        .map(|d| asm.dofmap.equation(master, d).unwrap())
+        .map(|d| {
+            asm.dofmap
+                .equation(master, railfem::framework::Dof::ALL[d])
+                .unwrap()
+        })
         .collect();
     assert_eq!(triples[0].to_vec(), want);
     // Composition on that triple, plain sum elsewhere.
@@ -676,9 +680,17 @@ fn rotated_free_bar_dissipates_as_generalized_alpha_predicts() {
             let u = r0 * x + shift + axis * (sign * s0 / 2.0) - x;
             let ni = d.model.node(node).unwrap();
             for c in 0..3 {
-                let e = d.asm.dofmap.equation(ni, c).unwrap();
+                let e = d
+                    .asm
+                    .dofmap
+                    .equation(ni, railfem::framework::Dof::ALL[c])
+                    .unwrap();
                 d.state.q[e] = u[c];
-                let e = d.asm.dofmap.equation(ni, 3 + c).unwrap();
+                let e = d
+                    .asm
+                    .dofmap
+                    .equation(ni, railfem::framework::Dof::ALL[3 + c])
+                    .unwrap();
                 d.state.q[e] = psi0[c];
             }
         }

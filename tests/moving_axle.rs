@@ -153,11 +153,17 @@ impl Wheelset {
 
     /// Committed value of DOF `dof` of node index `node`.
     fn disp(&self, node: usize, dof: usize) -> f64 {
-        self.d.asm.dofmap.value(&self.d.state.q, node, dof)
+        self.d
+            .asm
+            .dofmap
+            .value(&self.d.state.q, node, railfem::framework::Dof::ALL[dof])
     }
 
     fn acc(&self, node: usize, dof: usize) -> f64 {
-        self.d.asm.dofmap.value(&self.d.state.a, node, dof)
+        self.d
+            .asm
+            .dofmap
+            .value(&self.d.state.a, node, railfem::framework::Dof::ALL[dof])
     }
 
     /// Node index of wheel `w`'s contact master B.
@@ -516,7 +522,9 @@ fn lift_off_frees_the_wheelset_and_recontact_restores_equilibrium() {
             // A free rigid body: m·a = F − c·v exactly (Newmark's equilibrium at the end
             // of the step, residual 1e-11 of the load); no other force acts.
             let (v, a) = (
-                ws.d.asm.dofmap.value(&ws.d.state.v, ws.k, 1),
+                ws.d.asm
+                    .dofmap
+                    .value(&ws.d.state.v, ws.k, railfem::framework::Dof::Uy),
                 ws.acc(ws.k, 1),
             );
             let expect = (up - c * v) / MASS;

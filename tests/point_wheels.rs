@@ -380,7 +380,10 @@ fn contact_is_lost_over_a_deep_short_dip_and_recovers() {
         let k = v.ks[0];
         let sum_q = |v: &case::Built| v.out(0, 0, "Q") + v.out(0, 1, "Q");
         assert!(rel(sum_q(&v), p) < 1e-8);
-        let vel0 = v.d.asm.dofmap.value(&v.d.state.v, k, 1);
+        let vel0 =
+            v.d.asm
+                .dofmap
+                .value(&v.d.state.v, k, railfem::framework::Dof::Uy);
         let mut impulse = 0.0;
         let mut f_prev = sum_q(&v) - p;
         let (mut lost, mut landed_after_loss, mut free_fall_checked) = (false, false, 0);
@@ -404,7 +407,10 @@ fn contact_is_lost_over_a_deep_short_dip_and_recovers() {
                 q_max_after = q_max_after.max(v.out(0, 0, "Q"));
             }
         }
-        let vel1 = v.d.asm.dofmap.value(&v.d.state.v, k, 1);
+        let vel1 =
+            v.d.asm
+                .dofmap
+                .value(&v.d.state.v, k, railfem::framework::Dof::Uy);
         let momentum = m * (vel1 - vel0);
         println!(
             "dip {depth} m: lost = {lost} ({free_fall_checked} steps off), min Q = {q_min:.1} N, max Q after landing {q_max_after:.0} N; m·Δv = {momentum:.6} N·s, impulse {impulse:.6} N·s"

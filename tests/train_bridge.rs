@@ -365,7 +365,7 @@ impl Balance {
             d.asm.mass_times(&self.x, &mut self.mx);
             for &b in &self.bodies {
                 for dof in 0..3 {
-                    if let Some(eq) = d.asm.dofmap.equation(b, dof) {
+                    if let Some(eq) = d.asm.dofmap.equation(b, railfem::framework::Dof::ALL[dof]) {
                         inertia[c] += kin[b].frame[(dir, dof)] * self.mx[eq];
                     }
                 }

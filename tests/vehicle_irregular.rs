@@ -7,7 +7,7 @@
 
 mod common;
 use common::{railfem, temp_dir, Csv};
-use railfem::framework::comfort::{sperling_wz, Direction};
+use railfem::elements::rail::vehicle::comfort::{sperling_wz, Direction};
 
 /// Body and axle masses of the wagon below (kg).
 const BODY: f64 = 20_000.0;

@@ -262,12 +262,18 @@ impl Built {
 
     /// Committed value of DOF `dof` of node index `node`.
     pub fn disp(&self, node: usize, dof: usize) -> f64 {
-        self.d.asm.dofmap.value(&self.d.state.q, node, dof)
+        self.d
+            .asm
+            .dofmap
+            .value(&self.d.state.q, node, railfem::framework::Dof::ALL[dof])
     }
 
     /// Committed acceleration of DOF `dof` of node index `node`.
     pub fn acc(&self, node: usize, dof: usize) -> f64 {
-        self.d.asm.dofmap.value(&self.d.state.a, node, dof)
+        self.d
+            .asm
+            .dofmap
+            .value(&self.d.state.a, node, railfem::framework::Dof::ALL[dof])
     }
 
     /// Upward displacement of rail `r`'s node at mesh station index `i` (m).

@@ -329,7 +329,7 @@ impl Assembler {
         let mut mass = vec![false; n];
         let mark = |ei: usize, flags: &mut Vec<bool>| {
             for &(node, d) in &self.maps[ei].dofs {
-                for (e, _) in self.dofmap.terms(node, d) {
+                for (e, _) in self.dofmap.terms_at(node, d) {
                     flags[e] = true;
                 }
             }
@@ -440,7 +440,7 @@ impl Assembler {
                 for nd in e.connectivity() {
                     carried |= carried_node[nd.node];
                     for d in nd.dofs.iter() {
-                        if self.dofmap.terms(nd.node, d.index()).next().is_some() {
+                        if self.dofmap.terms(nd.node, d).next().is_some() {
                             active = true;
                         }
                         dofs.push((nd.node, d.index()));
@@ -465,7 +465,7 @@ impl Assembler {
             }
             eqbuf.clear();
             for &(node, d) in &map.dofs {
-                eqbuf.extend(self.dofmap.terms(node, d).map(|t| t.0));
+                eqbuf.extend(self.dofmap.terms_at(node, d).map(|t| t.0));
             }
             eqbuf.sort_unstable();
             eqbuf.dedup();
@@ -515,9 +515,9 @@ impl Assembler {
             let nd = map.dofs.len();
             let mut sc = Vec::new();
             for (b, &(nb, db)) in map.dofs.iter().enumerate() {
-                for (eb, cb) in self.dofmap.terms(nb, db) {
+                for (eb, cb) in self.dofmap.terms_at(nb, db) {
                     for (a, &(na, da)) in map.dofs.iter().enumerate() {
-                        for (ea, ca) in self.dofmap.terms(na, da) {
+                        for (ea, ca) in self.dofmap.terms_at(na, da) {
                             let p = pattern.position(ea, eb).expect("pattern holds the element");
                             sc.push((p as u32, (a * nd + b) as u32, ca * cb));
                         }
@@ -723,7 +723,7 @@ impl Assembler {
             off.terms.clear();
             off.ndof = self.maps[ei].dofs.len();
             for (a, &(node, d)) in self.maps[ei].dofs.iter().enumerate() {
-                for (e, c) in self.dofmap.terms(node, d) {
+                for (e, c) in self.dofmap.terms_at(node, d) {
                     off.terms.push((a as u32, e as u32, c));
                 }
             }
@@ -868,7 +868,7 @@ impl Assembler {
     fn gather(&self, ei: usize, q: &[f64], out: &mut Vec<f64>) {
         out.clear();
         for &(node, d) in &self.maps[ei].dofs {
-            out.push(self.dofmap.value(q, node, d));
+            out.push(self.dofmap.value_at(q, node, d));
         }
     }
 
@@ -1180,7 +1180,7 @@ impl Assembler {
                 maps[ei]
                     .dofs
                     .iter()
-                    .map(|&(n, d)| dofmap.value(x, n, d))
+                    .map(|&(n, d)| dofmap.value_at(x, n, d))
                     .collect()
             };
             let (ue, ve, ae) = (pick(q), pick(v), pick(a));
@@ -1585,7 +1585,7 @@ impl Assembler {
                     series,
                 } => {
                     let f = value * series.value(t);
-                    for (e, c) in self.dofmap.terms(*node, dof.index()) {
+                    for (e, c) in self.dofmap.terms(*node, *dof) {
                         out[e] += c * f;
                     }
                 }
@@ -1612,7 +1612,7 @@ impl Assembler {
                 }
                 Load::MovingForce(mf) => self.add_moving_force(mf, t, out),
                 Load::Registered(r) => r.load.nodal_forces(t, &mut |node, dof, f| {
-                    for (e, c) in self.dofmap.terms(node, dof.index()) {
+                    for (e, c) in self.dofmap.terms(node, dof) {
                         out[e] += c * f;
                     }
                 })?,
@@ -1640,10 +1640,10 @@ impl Assembler {
         let f = MovingForce::nodal_forces(mf.force, xa, xb, xi);
         for (node, fv, mv) in [(a, f.force_i, f.moment_i), (b, f.force_j, f.moment_j)] {
             for d in 0..3 {
-                for (e, c) in self.dofmap.terms(node, d) {
+                for (e, c) in self.dofmap.terms_at(node, d) {
                     out[e] += c * fv[d];
                 }
-                for (e, c) in self.dofmap.terms(node, d + 3) {
+                for (e, c) in self.dofmap.terms_at(node, d + 3) {
                     out[e] += c * mv[d];
                 }
             }
@@ -1789,13 +1789,13 @@ fn scatter_dense(
     mut diagonal: Option<&mut [f64]>,
 ) {
     for (b, &(nb, db)) in dofs.iter().enumerate() {
-        for (eb, cb) in map.terms(nb, db) {
+        for (eb, cb) in map.terms_at(nb, db) {
             for (a, &(na, da)) in dofs.iter().enumerate() {
                 let v = k[(a, b)];
                 if v == 0.0 {
                     continue;
                 }
-                for (ea, ca) in map.terms(na, da) {
+                for (ea, ca) in map.terms_at(na, da) {
                     if let Some(p) = out.position(ea, eb) {
                         out.values[p] += ca * cb * v;
                     }
@@ -1836,7 +1836,7 @@ fn scatter_vec(map: &DofMap, dofs: &[(usize, usize)], f: &[f64], out: &mut [f64]
         if f[a] == 0.0 {
             continue;
         }
-        for (e, c) in map.terms(n, d) {
+        for (e, c) in map.terms_at(n, d) {
             out[e] += c * f[a];
         }
     }

@@ -477,12 +477,44 @@ impl ModelBuilder {
         for (i, r) in recorders.iter().enumerate() {
             if let Err(e) = r.validate_at(&model, Some(i)) {
                 errors.push(e);
+            } else if let Some(e) = registered_reads_slave(&model, r, i, &nonlinear_links) {
+                errors.push(e);
             }
         }
         FemError::from_list(errors)?;
         model.recorders = recorders;
         Ok(model)
     }
+}
+
+/// A registered recorder (`recorder[i]`) reading a node that is the slave of a
+/// geometry = "nonlinear" link, refused as a node recorder on one is
+/// ([`crate::finite_link`]): the slave's DOFs are its master's rigid-body motion.
+fn registered_reads_slave(
+    model: &Model,
+    r: &crate::recorder::RecorderSpec,
+    i: usize,
+    nonlinear_links: &[(usize, usize, String)],
+) -> Option<FemError> {
+    let crate::recorder::RecorderSpec::Registered(e) = r else {
+        return None;
+    };
+    if nonlinear_links.is_empty() {
+        return None;
+    }
+    let origin = format!("{}: recorder[{i}]", model.origin);
+    let built = crate::recorder_kind::build(e, model, &origin).ok()?;
+    let slave = built
+        .nodes()
+        .into_iter()
+        .find(|n| nonlinear_links.iter().any(|l| l.1 == *n))?;
+    Some(FemError::input(
+        origin,
+        format!(
+            "node {} is the slave of a geometry = \"nonlinear\" link; a `{}` recorder must read its master instead",
+            model.nodes[slave].id, e.kind
+        ),
+    ))
 }
 
 /// A problem with an element's `nodes`: a node that does not exist, or one listed twice

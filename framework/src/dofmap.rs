@@ -20,7 +20,7 @@
 //! unused, or following a master), or exactly one free (rotation about one fixed nodal
 //! axis, where composition is addition); two free and one fixed is refused.
 
-use crate::dof::DofSet;
+use crate::dof::{Dof, DofSet};
 use crate::element::NodeKinematics;
 use crate::error::FemError;
 use crate::model::Model;
@@ -275,8 +275,20 @@ impl DofMap {
         }
     }
 
-    /// The equations and coefficients nodal DOF `d` of node `node` depends on.
-    pub fn terms(&self, node: usize, d: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+    /// The equations and coefficients DOF `dof` of node index `node` depends on: its value
+    /// is `Σ c·q[e]` over the pairs `(e, c)` (one pair `(e, 1)` for a free DOF, the
+    /// master's terms for a slave, none for a fixed or inactive one).
+    pub fn terms(&self, node: usize, dof: Dof) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.terms_at(node, dof.index())
+    }
+
+    /// As [`DofMap::terms`], the DOF by its index in [`Dof::ALL`] (the framework's own
+    /// loops over the six DOFs of a node).
+    pub(crate) fn terms_at(
+        &self,
+        node: usize,
+        d: usize,
+    ) -> impl Iterator<Item = (usize, f64)> + '_ {
         let k = node * 6 + d;
         let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
         self.eqs[a..b]
@@ -285,9 +297,10 @@ impl DofMap {
             .map(|(e, c)| (*e as usize, *c))
     }
 
-    /// The equation of nodal DOF `(node, d)` if it is free (not fixed, slave or inactive).
-    pub fn equation(&self, node: usize, d: usize) -> Option<usize> {
-        let k = node * 6 + d;
+    /// The equation of DOF `dof` of node index `node` if it is free (not fixed, slave or
+    /// inactive).
+    pub fn equation(&self, node: usize, dof: Dof) -> Option<usize> {
+        let k = node * 6 + dof.index();
         let (a, b) = (self.start[k] as usize, self.start[k + 1] as usize);
         if b == a + 1 && self.eq_dof[self.eqs[a] as usize] == k {
             Some(self.eqs[a] as usize)
@@ -296,15 +309,21 @@ impl DofMap {
         }
     }
 
-    /// Value of nodal DOF `(node, d)` given the equation vector `q`.
-    pub fn value(&self, q: &[f64], node: usize, d: usize) -> f64 {
-        self.terms(node, d).map(|(e, c)| c * q[e]).sum()
+    /// Value of DOF `dof` of node index `node` given the equation vector `q` (m or rad for
+    /// displacements, per second for velocities, per second squared for accelerations).
+    pub fn value(&self, q: &[f64], node: usize, dof: Dof) -> f64 {
+        self.value_at(q, node, dof.index())
+    }
+
+    /// As [`DofMap::value`], the DOF by its index in [`Dof::ALL`].
+    pub(crate) fn value_at(&self, q: &[f64], node: usize, d: usize) -> f64 {
+        self.terms_at(node, d).map(|(e, c)| c * q[e]).sum()
     }
 
     /// Node index and DOF of equation `eq`.
     pub fn dof_of(&self, eq: usize) -> (usize, crate::dof::Dof) {
         let k = self.eq_dof[eq];
-        (k / 6, crate::dof::Dof::ALL[k % 6])
+        (k / 6, Dof::ALL[k % 6])
     }
 }
 

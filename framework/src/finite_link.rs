@@ -451,9 +451,7 @@ pub fn apply(
         }
     }
     for (i, r) in recorders.iter().enumerate() {
-        if let crate::recorder::RecorderSpec::Node { node, nodes, .. }
-        | crate::recorder::RecorderSpec::Comfort { node, nodes, .. } = r
-        {
+        if let crate::recorder::RecorderSpec::Node { node, nodes, .. } = r {
             for id in node.iter().chain(nodes) {
                 if model
                     .node_index

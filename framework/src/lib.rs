@@ -22,7 +22,6 @@ pub mod assembly;
 pub mod beam_chain;
 pub mod builder;
 pub mod coefficients;
-pub mod comfort;
 pub mod conformance;
 pub mod csv_input;
 pub mod dof;

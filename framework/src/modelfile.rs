@@ -260,6 +260,7 @@ fn recorder_spec(v: &Value, name: &str, i: usize) -> Result<RecorderSpec, FemErr
                     kind: kind.to_string(),
                     file,
                     params,
+                    at: format!("recorder[{i}]"),
                 }));
             }
             Some(RecorderBuild::BuiltIn) => {}

@@ -788,6 +788,25 @@ pub mod guard {
                 )))
             })
         }
+        fn writes_rows(&self) -> bool {
+            catch_unwind(AssertUnwindSafe(|| self.inner.writes_rows())).unwrap_or(true)
+        }
+        fn finish(
+            &mut self,
+            out: &mut dyn std::io::Write,
+            path: &std::path::Path,
+        ) -> Result<(), FemError> {
+            catch_unwind(AssertUnwindSafe(|| self.inner.finish(out, path))).unwrap_or_else(|p| {
+                Err(FemError::Plugin(format!(
+                    "panic in plugin recorder `{}` while finishing its file: {}",
+                    self.kind,
+                    message(p.as_ref())
+                )))
+            })
+        }
+        fn nodes(&self) -> Vec<usize> {
+            catch_unwind(AssertUnwindSafe(|| self.inner.nodes())).unwrap_or_default()
+        }
     }
 
     /// An element of a plugin whose every method runs under the plugin's `catch_unwind`.

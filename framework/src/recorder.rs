@@ -8,12 +8,10 @@
 //! with its unit (`2_uz [m]`, [`Quantity::unit`]); element recorders write the named outputs
 //! an element reports ([`crate::Element::output_names`]), each with the unit the element
 //! declares for it (`5_Q [N]`, [`crate::Element::output_units`]; `[?]` if it declares none).
-//! The `comfort` recorder keeps the acceleration histories of its node DOFs through the run
-//! and writes, when the run finishes, a ride-comfort index (Sperling's `Wz` per node and
-//! DOF, or EN 12299's `N_MV` per node; [`crate::comfort`]). Plugins add kinds of their own
-//! ([`crate::recorder_kind`]).
+//! Every other kind (a plugin's, or the railway ride-comfort recorder the elements crate
+//! registers) is a registered kind ([`crate::recorder_kind`]), held here as its keys
+//! ([`RecorderSpec::Registered`]).
 
-use crate::comfort::{ComfortMethod, EN12299_WINDOW_S};
 use crate::dof::{Dof, DofSet};
 use crate::error::FemError;
 use crate::lookup::ModelLookup;
@@ -60,42 +58,13 @@ pub enum RecorderSpec {
         /// Output file name, relative to the output directory.
         file: String,
     },
-    /// Ride comfort index of node accelerations, written at the end of the run.
-    Comfort {
-        /// Node ids (`node = 3` or `nodes = [3, 4]`).
-        #[serde(default)]
-        node: Option<u64>,
-        /// More node ids.
-        #[serde(default)]
-        nodes: Vec<u64>,
-        /// Translational DOFs weighted as vertical (`["uz"]`).
-        #[serde(default)]
-        vertical: Vec<Dof>,
-        /// Translational DOFs weighted as lateral (`["uy"]`).
-        #[serde(default)]
-        lateral: Vec<Dof>,
-        /// The longitudinal DOF (`["ux"]`), EN 12299 only.
-        #[serde(default)]
-        longitudinal: Vec<Dof>,
-        /// `"sperling"` (Sperling's Wz) or `"en12299"` (the simplified N_MV).
-        #[serde(default)]
-        method: ComfortMethod,
-        /// Output file name, relative to the output directory.
-        file: String,
-    },
-    /// A recorder of a registered (plugin) kind: its keys, built by the kind's factory
+    /// A recorder of a registered kind (a plugin's, the ride-comfort recorder): its keys,
+    /// built by the kind's factory
     /// ([`crate::recorder_kind`]). Model files reach it by the kind's `type`; it has no
     /// serde form of its own.
     #[serde(skip)]
     Registered(RecorderEntry),
 }
-
-/// Bytes a comfort recorder keeps or allocates per column and recorded step: the
-/// history, its resampled copy (up to twice as long) and the transform's two buffers.
-const COMFORT_BYTES_PER_SAMPLE: f64 = 8.0 * 7.0;
-
-/// Sperling's weightings reach 30 Hz: the recorded steps must resolve it (Nyquist).
-const COMFORT_MAX_INTERVAL: f64 = 1.0 / (2.0 * crate::comfort::BAND_HZ.1);
 
 impl RecorderSpec {
     /// A node recorder of `dofs` of the nodes with user ids `nodes`: their displacements,
@@ -133,13 +102,10 @@ impl RecorderSpec {
         }
     }
 
-    /// The node ids (node and comfort recorders) or element ids (element recorder) the
-    /// recorder names.
+    /// The node ids (node recorder) or element ids (element recorder) the recorder names.
     pub(crate) fn node_ids(&self, model: &dyn ModelLookup) -> Vec<u64> {
         match self {
-            RecorderSpec::Node { node, nodes, .. } | RecorderSpec::Comfort { node, nodes, .. } => {
-                node.iter().chain(nodes).copied().collect()
-            }
+            RecorderSpec::Node { node, nodes, .. } => node.iter().chain(nodes).copied().collect(),
             RecorderSpec::Element {
                 element,
                 elements,
@@ -168,9 +134,7 @@ impl RecorderSpec {
     /// Output file name.
     pub fn file(&self) -> &str {
         match self {
-            RecorderSpec::Node { file, .. }
-            | RecorderSpec::Element { file, .. }
-            | RecorderSpec::Comfort { file, .. } => file,
+            RecorderSpec::Node { file, .. } | RecorderSpec::Element { file, .. } => file,
             RecorderSpec::Registered(e) => &e.file,
         }
     }
@@ -215,29 +179,6 @@ impl RecorderSpec {
                     }
                 }
             }
-            RecorderSpec::Comfort {
-                vertical,
-                lateral,
-                longitudinal,
-                method,
-                ..
-            } => {
-                for id in &ids {
-                    if model.node_index(*id).is_none() {
-                        return Err(FemError::input(
-                            &o,
-                            format!("node {id} does not exist; define it in a [[node]] table or fix the id"),
-                        ));
-                    }
-                }
-                validate_comfort(
-                    model,
-                    &o,
-                    ids.len(),
-                    [vertical, lateral, longitudinal],
-                    *method,
-                )?;
-            }
             RecorderSpec::Element { outputs, .. } => {
                 let found = model.element_indices(&ids);
                 for (id, at) in ids.into_iter().zip(found) {
@@ -266,83 +207,4 @@ impl RecorderSpec {
         }
         Ok(())
     }
-}
-
-/// Checks a comfort recorder's directions, method, analysis and size (`o` names it).
-fn validate_comfort(
-    model: &dyn ModelLookup,
-    o: &str,
-    nodes: usize,
-    [vertical, lateral, longitudinal]: [&Vec<Dof>; 3],
-    method: ComfortMethod,
-) -> Result<(), FemError> {
-    let bad = |m: String| FemError::input(o, m);
-    let en = method == ComfortMethod::En12299;
-    if vertical.is_empty() && lateral.is_empty() && longitudinal.is_empty() {
-        return Err(bad(
-            "names no direction; add `vertical = [\"uz\"]` and/or `lateral = [\"uy\"]` (translational DOFs)".into(),
-        ));
-    }
-    if !en && !longitudinal.is_empty() {
-        return Err(bad(
-            "`longitudinal` is read by `method = \"en12299\"` only (Sperling rates vertical and lateral motion); remove it or change the method".into(),
-        ));
-    }
-    for (key, list) in [
-        ("vertical", vertical),
-        ("lateral", lateral),
-        ("longitudinal", longitudinal),
-    ] {
-        for dof in list {
-            if !DofSet::TRANSLATIONS.contains(*dof) {
-                return Err(bad(format!(
-                    "`{key}` names `{dof}`; the comfort indices weight translational accelerations: use ux, uy or uz"
-                )));
-            }
-        }
-        if en && list.len() > 1 {
-            return Err(bad(format!(
-                "`{key}` names {} DOFs; EN 12299's N_MV takes one DOF per direction (e.g. `{key} = [\"{}\"]`)",
-                list.len(),
-                list[0]
-            )));
-        }
-    }
-    let a = model.analysis();
-    if a.kind != crate::analysis::AnalysisKind::Transient {
-        return Err(bad(
-            "a comfort recorder needs a transient analysis (accelerations over time); set `[analysis] kind = \"transient\"` or remove it".into(),
-        ));
-    }
-    if en && a.duration < EN12299_WINDOW_S {
-        return Err(bad(format!(
-            "`duration` = {} s is shorter than one {} s window of EN 12299; run at least {} s (the standard asks for 5 min)",
-            crate::limits::fmt_num(a.duration),
-            EN12299_WINDOW_S,
-            EN12299_WINDOW_S
-        )));
-    }
-    let interval = a.dt * a.record_every as f64;
-    if interval > COMFORT_MAX_INTERVAL {
-        return Err(bad(format!(
-            "records every {} s (`dt`·`record_every`), too coarse to resolve Sperling's band up to {} Hz; record at least every {} s",
-            crate::limits::fmt_num(interval),
-            crate::limits::fmt_num(crate::comfort::BAND_HZ.1),
-            crate::limits::fmt_num(COMFORT_MAX_INTERVAL)
-        )));
-    }
-    let samples = (a.duration / interval).ceil() + 2.0;
-    let columns = (nodes * (vertical.len() + lateral.len() + longitudinal.len())) as f64;
-    crate::limits::check_memory(
-        &format!(
-            "`duration` = {} s recorded every {} s",
-            crate::limits::fmt_num(a.duration),
-            crate::limits::fmt_num(interval)
-        ),
-        samples * columns,
-        "comfort samples",
-        COMFORT_BYTES_PER_SAMPLE,
-        "record fewer nodes or directions, or a shorter run",
-    )
-    .map_err(bad)
 }

@@ -2,12 +2,14 @@
 //! built in or added by a plugin, with its documented keys ([`RecorderKind`]), and the trait
 //! a plugin's recorder implements ([`RecordedColumns`]).
 //!
-//! The built-in kinds (`node`, `element`, `comfort`) register their documentation here and
-//! keep their typed spec ([`crate::recorder::RecorderSpec`]). A plugin kind registers a
-//! factory: from its keys (parsed into a [`Params`] struct) and the model's ids
-//! ([`ModelLookup`]) it builds a [`RecordedColumns`], whose columns
-//! [`crate::recording::Recorders`] writes to the entry's `file` like any other recorder's
-//! (same number format, same behaviour on a full disk, same in-memory histories).
+//! The framework's own kinds (`node`, `element`) register their documentation here and
+//! keep their typed spec ([`crate::recorder::RecorderSpec`]). Every other kind (a plugin's,
+//! or the railway ride-comfort recorder of the elements crate) registers a factory: from its
+//! keys (parsed into a [`Params`] struct) and the model's ids ([`ModelLookup`]) it builds a
+//! [`RecordedColumns`], whose columns [`crate::recording::Recorders`] writes to the entry's
+//! `file` like any other recorder's (same number format, same behaviour on a full disk, same
+//! in-memory histories), or which keeps its rows and writes a summary of them when the run
+//! finishes ([`RecordedColumns::writes_rows`], [`RecordedColumns::finish`]).
 //! `railfem recorders` prints every registered kind.
 
 use crate::dof::Dof;
@@ -16,6 +18,7 @@ use crate::kind_list::KindList;
 use crate::lookup::ModelLookup;
 use crate::registry::{ParamDoc, Params};
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 /// Which kinematic quantity a recorder reads.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -93,6 +96,26 @@ pub trait RecordedColumns: Send {
     fn columns(&self) -> Vec<String>;
     /// Appends one value per column for the state `s` to `out`.
     fn row(&mut self, s: &mut RecordState, out: &mut Vec<f64>) -> Result<(), FemError>;
+    /// Whether the file holds the rows, one per recorded step (the default). A recorder
+    /// that returns `false` writes nothing per step: its rows are still kept in memory when
+    /// asked ([`crate::recording::History`]), and its file is written by
+    /// [`RecordedColumns::finish`] (a summary of the whole run, e.g. a ride-comfort index).
+    fn writes_rows(&self) -> bool {
+        true
+    }
+    /// Called once when the run finishes, with the recorder's file (`path` names it in
+    /// messages), when the run writes files: after the rows for a recorder that
+    /// [writes rows](RecordedColumns::writes_rows), the whole file for one that does not.
+    /// Does nothing by default.
+    fn finish(&mut self, out: &mut dyn std::io::Write, path: &Path) -> Result<(), FemError> {
+        let _ = (out, path);
+        Ok(())
+    }
+    /// Indices of the nodes the recorder reads (none by default): a node that is the slave
+    /// of a geometry = "nonlinear" link is refused, as for a node recorder.
+    fn nodes(&self) -> Vec<usize> {
+        Vec::new()
+    }
 }
 
 /// A `[[recorder]]` entry of a registered (plugin) kind, as the registry sees it.
@@ -104,16 +127,20 @@ pub struct RecorderEntry {
     pub file: String,
     /// The recorder's own keys (everything but `type` and `file`).
     pub params: serde_json::Map<String, serde_json::Value>,
+    /// The entry's key path in its model file (`"recorder[3]"`), which a refused key's
+    /// message names (`recorder[3].method`); empty for an entry made in code.
+    pub at: String,
 }
 
 impl RecorderEntry {
     /// Deserializes the keys into `P`, filling documented defaults first; errors name
     /// `origin`, the key and the kind ([`crate::registry::parse_params`]).
     pub fn parse<P: Params>(&self, origin: &str) -> Result<P, FemError> {
-        crate::registry::parse_params(
+        crate::registry::parse_params_at(
             &self.params,
             origin,
             &format!("recorder type `{}`", self.kind),
+            &self.at,
         )
     }
 }
@@ -202,7 +229,8 @@ fn doc(
     }
 }
 
-fn file_doc() -> ParamDoc {
+/// The documentation of every recorder's `file` key, for a kind that lists it with its own.
+pub fn file_doc() -> ParamDoc {
     doc(
         "file",
         "",
@@ -259,34 +287,6 @@ fn element_docs() -> Vec<ParamDoc> {
     v
 }
 
-fn comfort_docs() -> Vec<ParamDoc> {
-    let mut v = ids_docs("node", "nodes", "Node id.").to_vec();
-    for (key, what) in [
-        (
-            "vertical",
-            "Translational DOFs weighted as vertical ([\"uz\"]).",
-        ),
-        (
-            "lateral",
-            "Translational DOFs weighted as lateral ([\"uy\"]).",
-        ),
-        (
-            "longitudinal",
-            "The longitudinal DOF ([\"ux\"]), EN 12299 only.",
-        ),
-    ] {
-        v.push(doc(key, "", Some(serde_json::json!([])), what));
-    }
-    v.push(doc(
-        "method",
-        "",
-        Some(serde_json::json!("sperling")),
-        "sperling (Sperling's Wz) or en12299 (the simplified N_MV).",
-    ));
-    v.push(file_doc());
-    v
-}
-
 inventory::submit! {
     RecorderKind {
         name: "node",
@@ -301,15 +301,6 @@ inventory::submit! {
         name: "element",
         description: "named outputs of elements (by id or by type)",
         params: element_docs,
-        build: RecorderBuild::BuiltIn,
-    }
-}
-
-inventory::submit! {
-    RecorderKind {
-        name: "comfort",
-        description: "ride-comfort index of node accelerations, written at the end of the run",
-        params: comfort_docs,
         build: RecorderBuild::BuiltIn,
     }
 }
@@ -338,10 +329,6 @@ mod tests {
                 outputs: vec![],
                 file: "b.csv".into(),
             },
-            serde_json::from_value::<RecorderSpec>(serde_json::json!({
-                "type": "comfort", "node": 1, "vertical": ["uz"], "file": "c.csv"
-            }))
-            .unwrap(),
         ];
         for s in specs {
             let v = serde_json::to_value(&s).unwrap();

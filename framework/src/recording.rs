@@ -5,7 +5,6 @@
 //! numpy. After a failed write (a full disk, a size limit) every file ends on a whole line.
 
 use crate::assembly::Assembler;
-use crate::comfort::{en12299_p95, n_mv, sperling_wz, ComfortMethod, Direction, W_B, W_D};
 use crate::dof::Dof;
 use crate::error::FemError;
 use crate::model::Model;
@@ -15,124 +14,20 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 
-/// One column of a comfort recorder: the node (id, index), the DOF and its weighting.
-struct ComfortColumn {
-    id: u64,
-    node: usize,
-    dof: Dof,
-    direction: Direction,
-}
-
-/// The histories of a comfort recorder, turned into indices by [`Recorders::finish`].
-struct ComfortHistory {
-    /// EN 12299's N_MV (else Sperling's Wz).
-    en12299: bool,
-    columns: Vec<ComfortColumn>,
-    time: Vec<f64>,
-    values: Vec<Vec<f64>>,
-}
-
-impl ComfortHistory {
-    fn push(&mut self, asm: &Assembler, t: f64, a: &[f64]) {
-        self.time.push(t);
-        for (c, v) in self.columns.iter().zip(&mut self.values) {
-            v.push(asm.dofmap.value(a, c.node, c.dof.index()));
-        }
-    }
-
-    /// Writes the indices: Sperling's as `node [-],dof [-],weighting [-],wz [-],duration [s],samples [-]`, one
-    /// row per column; EN 12299's as
-    /// `node [-],n_mv [-],ax_p95 [m/s²],ay_p95 [m/s²],az_p95 [m/s²],windows [-],duration [s]`, one row per node.
-    fn write(&self, out: &mut BufWriter<File>, path: &Path) -> Result<(), FemError> {
-        if self.en12299 {
-            return self.write_en12299(out, path);
-        }
-        let io = |e: std::io::Error| FemError::output(path, e);
-        writeln!(
-            out,
-            "node [-],dof [-],weighting [-],wz [-],duration [s],samples [-]"
-        )
-        .map_err(io)?;
-        let duration = match (self.time.first(), self.time.last()) {
-            (Some(a), Some(b)) => b - a,
-            _ => 0.0,
-        };
-        for (c, v) in self.columns.iter().zip(&self.values) {
-            let wz = sperling_wz(&self.time, v, c.direction).map_err(|e| {
-                FemError::output(path, format!("node {} {}: {e}", c.id, c.dof.name()))
-            })?;
-            writeln!(
-                out,
-                "{},{},{},{wz:.6},{duration:.6e},{}",
-                c.id,
-                c.dof.name(),
-                c.direction.name(),
-                self.time.len()
-            )
-            .map_err(io)?;
-        }
-        Ok(())
-    }
-}
-
-impl ComfortHistory {
-    fn write_en12299(&self, out: &mut BufWriter<File>, path: &Path) -> Result<(), FemError> {
-        let io = |e: std::io::Error| FemError::output(path, e);
-        writeln!(
-            out,
-            "node [-],n_mv [-],ax_p95 [m/s²],ay_p95 [m/s²],az_p95 [m/s²],windows [-],duration [s]"
-        )
-        .map_err(io)?;
-        let duration = match (self.time.first(), self.time.last()) {
-            (Some(a), Some(b)) => b - a,
-            _ => 0.0,
-        };
-        let mut ids: Vec<u64> = self.columns.iter().map(|c| c.id).collect();
-        ids.dedup();
-        for id in ids {
-            // [longitudinal (Wd), lateral (Wd), vertical (Wb)]; a direction not given is 0.
-            let mut p95 = [0.0; 3];
-            let mut windows = 0;
-            for (c, v) in self.columns.iter().zip(&self.values) {
-                if c.id != id {
-                    continue;
-                }
-                let (slot, w) = match c.direction {
-                    Direction::Longitudinal => (0, &W_D),
-                    Direction::Lateral => (1, &W_D),
-                    Direction::Vertical => (2, &W_B),
-                };
-                let (p, n) = en12299_p95(&self.time, v, w).map_err(|e| {
-                    FemError::output(path, format!("node {} {}: {e}", c.id, c.dof.name()))
-                })?;
-                p95[slot] = p;
-                windows = n;
-            }
-            writeln!(
-                out,
-                "{id},{:.6},{:.6e},{:.6e},{:.6e},{windows},{duration:.6e}",
-                n_mv(p95[0], p95[1], p95[2]),
-                p95[0],
-                p95[1],
-                p95[2]
-            )
-            .map_err(io)?;
-        }
-        Ok(())
-    }
-}
-
 enum Column {
-    Node { node: usize, dof: usize },
+    Node { node: usize, dof: Dof },
     Element { elem: usize, output: usize },
 }
 
 struct Open {
     quantity: Quantity,
-    /// A comfort recorder's histories (its file is written at the end).
-    comfort: Option<ComfortHistory>,
     /// A registered kind's recorder, which computes its own row.
     custom: Option<Box<dyn RecordedColumns>>,
+    /// Whether the rows go to the file (all but a registered kind that writes a summary
+    /// at the end, [`RecordedColumns::writes_rows`]).
+    rows_to_file: bool,
+    /// Whether [`RecordedColumns::finish`] has run (it runs once).
+    finished: bool,
     /// Values per row (the header's columns after `time`).
     width: usize,
     columns: Vec<Column>,
@@ -148,8 +43,9 @@ struct Open {
 pub struct History {
     /// The recorder's file name (`file` in the model), which names it.
     pub file: String,
-    /// Column names, the CSV header without its leading `time`. A comfort recorder keeps
-    /// its acceleration histories (`<node>_<dof>`, m/s² or rad/s²), not its indices.
+    /// Column names, the CSV header without its leading `time`. A recorder that writes a
+    /// summary at the end (the ride-comfort recorder) keeps the rows it summarised (its
+    /// acceleration histories, `<node>_<dof>`, m/s² or rad/s²), not the summary.
     pub columns: Vec<String>,
     /// Recorded times (s), one per row.
     pub time: Vec<f64>,
@@ -222,7 +118,6 @@ impl Recorders {
             };
             let mut header = vec!["time [s]".to_string()];
             let mut columns = Vec::new();
-            let mut comfort = None;
             let mut custom: Option<Box<dyn RecordedColumns>> = None;
             let quantity = match spec {
                 RecorderSpec::Registered(e) => {
@@ -231,39 +126,6 @@ impl Recorders {
                     header.extend(c.columns());
                     custom = Some(c);
                     Quantity::Disp
-                }
-                RecorderSpec::Comfort {
-                    vertical,
-                    lateral,
-                    longitudinal,
-                    method,
-                    ..
-                } => {
-                    let mut cols = Vec::new();
-                    for id in spec.node_ids(model) {
-                        let n = model.node(id).expect("validated");
-                        for (list, direction) in [
-                            (vertical, Direction::Vertical),
-                            (lateral, Direction::Lateral),
-                            (longitudinal, Direction::Longitudinal),
-                        ] {
-                            for &dof in list {
-                                cols.push(ComfortColumn {
-                                    id,
-                                    node: n,
-                                    dof,
-                                    direction,
-                                });
-                            }
-                        }
-                    }
-                    comfort = Some(ComfortHistory {
-                        en12299: *method == ComfortMethod::En12299,
-                        values: vec![Vec::new(); cols.len()],
-                        columns: cols,
-                        time: Vec::new(),
-                    });
-                    Quantity::Acc
                 }
                 RecorderSpec::Node { dofs, quantity, .. } => {
                     let set = *dofs;
@@ -275,10 +137,7 @@ impl Recorders {
                                 d.name(),
                                 quantity.unit(d.index() >= 3)
                             ));
-                            columns.push(Column::Node {
-                                node: n,
-                                dof: d.index(),
-                            });
+                            columns.push(Column::Node { node: n, dof: d });
                         }
                     }
                     *quantity
@@ -309,26 +168,21 @@ impl Recorders {
                     Quantity::Disp
                 }
             };
-            if let (None, Some(out)) = (&comfort, out.as_mut()) {
+            let rows_to_file = custom.as_ref().is_none_or(|c| c.writes_rows());
+            if let (true, Some(out)) = (rows_to_file, out.as_mut()) {
                 writeln!(out, "{}", header.join(",")).map_err(|e| FemError::output(&path, e))?;
             }
             let kept = keep.then(|| History {
                 file: spec.file().to_string(),
-                columns: match &comfort {
-                    Some(c) => c
-                        .columns
-                        .iter()
-                        .map(|k| format!("{}_{}", k.id, k.dof.name()))
-                        .collect(),
-                    None => header[1..].to_vec(),
-                },
+                columns: header[1..].to_vec(),
                 time: Vec::new(),
                 values: Vec::new(),
             });
             open.push(Open {
                 quantity,
-                comfort,
                 custom,
+                rows_to_file,
+                finished: false,
                 width: header.len() - 1,
                 columns,
                 out,
@@ -355,18 +209,15 @@ impl Recorders {
         a: &[f64],
     ) -> Result<(), FemError> {
         for o in &mut self.open {
-            if let Some(c) = o.comfort.as_mut() {
-                c.push(asm, t, a);
-                continue;
-            }
             let src = match o.quantity {
                 Quantity::Disp => q,
                 Quantity::Vel => v,
                 Quantity::Acc => a,
             };
-            let mut line = match o.out {
-                Some(_) => format!("{t:.9e}"),
-                None => String::new(),
+            let to_file = o.rows_to_file && o.out.is_some();
+            let mut line = match to_file {
+                true => format!("{t:.9e}"),
+                false => String::new(),
             };
             if let Some(k) = o.kept.as_mut() {
                 k.time.push(t);
@@ -378,7 +229,7 @@ impl Recorders {
                         Quantity::Vel => v,
                         Quantity::Acc => a,
                     };
-                    asm.dofmap.value(src, node, dof.index())
+                    asm.dofmap.value(src, node, dof)
                 };
                 let model = &mut *model;
                 let mut element_outputs = |ei: usize, out: &mut Vec<f64>| {
@@ -404,7 +255,7 @@ impl Recorders {
             let mut cached: Option<usize> = None;
             if o.custom.is_some() {
                 for val in &self.buf {
-                    if o.out.is_some() {
+                    if to_file {
                         line.push(',');
                         line.push_str(&format!("{val:.12e}"));
                     }
@@ -426,7 +277,7 @@ impl Recorders {
                         self.buf.get(*output).copied().unwrap_or(f64::NAN)
                     }
                 };
-                if o.out.is_some() {
+                if to_file {
                     line.push(',');
                     line.push_str(&format!("{val:.12e}"));
                 }
@@ -434,7 +285,7 @@ impl Recorders {
                     k.values.push(val);
                 }
             }
-            if let Some(out) = o.out.as_mut() {
+            if let (true, Some(out)) = (to_file, o.out.as_mut()) {
                 if let Err(e) = writeln!(out, "{line}") {
                     let err = FemError::output(&o.path, e);
                     self.stop_writing();
@@ -462,8 +313,9 @@ impl Recorders {
         }
     }
 
-    /// Writes the comfort recorders' indices (once) and flushes every file; after a
-    /// failed write every file ends on a whole line (`Recorders::stop_writing`).
+    /// Lets each registered kind finish its file ([`RecordedColumns::finish`]: a summary
+    /// such as a ride-comfort index) and flushes every file; after a failed write every
+    /// file ends on a whole line (`Recorders::stop_writing`).
     pub fn finish(&mut self) -> Result<(), FemError> {
         let r = self.finish_files();
         if r.is_err() {
@@ -474,22 +326,14 @@ impl Recorders {
 
     fn finish_files(&mut self) -> Result<(), FemError> {
         for o in &mut self.open {
-            let Some(c) = o.comfort.take() else {
-                if let Some(out) = o.out.as_mut() {
-                    out.flush().map_err(|e| FemError::output(&o.path, e))?;
-                }
+            let Some(out) = o.out.as_mut() else {
                 continue;
             };
-            if let Some(k) = o.kept.as_mut() {
-                k.time.clone_from(&c.time);
-                k.values = (0..c.time.len())
-                    .flat_map(|i| c.values.iter().map(move |v| v[i]))
-                    .collect();
+            if let (Some(c), false) = (o.custom.as_mut(), o.finished) {
+                o.finished = true;
+                c.finish(out, &o.path)?;
             }
-            if let Some(out) = o.out.as_mut() {
-                c.write(out, &o.path)?;
-                out.flush().map_err(|e| FemError::output(&o.path, e))?;
-            }
+            out.flush().map_err(|e| FemError::output(&o.path, e))?;
         }
         Ok(())
     }

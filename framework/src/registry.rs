@@ -140,6 +140,17 @@ pub fn parse_params<P: Params>(
     origin: &str,
     what: &str,
 ) -> Result<P, FemError> {
+    parse_params_at(params, origin, what, "")
+}
+
+/// As [`parse_params`], for keys at key path `at` of their file (`"recorder[3]"`): a value
+/// serde refuses is named by its full path (`recorder[3].method`).
+pub fn parse_params_at<P: Params>(
+    params: &serde_json::Map<String, serde_json::Value>,
+    origin: &str,
+    what: &str,
+    at: &str,
+) -> Result<P, FemError> {
     let docs = P::docs();
     let mut map = params.clone();
     // Unknown keys first: a misspelt key (`Iyy`) also leaves its correct key missing,
@@ -177,7 +188,7 @@ pub fn parse_params<P: Params>(
             }
         }
     }
-    let p: P = crate::keypath::from_value(&serde_json::Value::Object(map), origin, "").map_err(
+    let p: P = crate::keypath::from_value(&serde_json::Value::Object(map), origin, at).map_err(
         |e| match e {
             FemError::Input { origin, message } => {
                 FemError::input(origin, format!("{what}: {message}"))
@@ -185,8 +196,19 @@ pub fn parse_params<P: Params>(
             e => e,
         },
     )?;
-    // Refuse NaN / infinity in any numeric key.
-    let v = serde_json::to_value(&p).unwrap_or(serde_json::Value::Null);
+    // Refuse NaN / infinity in any numeric key. A key documented with a null default (an
+    // optional id left out) may stay null.
+    let mut v = serde_json::to_value(&p).unwrap_or(serde_json::Value::Null);
+    if let serde_json::Value::Object(m) = &mut v {
+        for d in docs
+            .iter()
+            .filter(|d| d.default == Some(serde_json::Value::Null))
+        {
+            if m.get(d.key).is_some_and(serde_json::Value::is_null) {
+                m.remove(d.key);
+            }
+        }
+    }
     if let Some(bad) = first_non_finite(&v, "") {
         return Err(FemError::input(
             origin,

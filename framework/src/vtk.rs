@@ -166,7 +166,7 @@ impl VtkSeries {
             let p = kin[i].position;
             pts.extend_from_slice(&[p.x, p.y, p.z]);
             for (src, out) in [(frame.q, &mut disp), (frame.v, &mut vel)] {
-                let u = nalgebra::Vector3::from_fn(|d, _| asm.dofmap.value(src, i, d));
+                let u = nalgebra::Vector3::from_fn(|d, _| asm.dofmap.value_at(src, i, d));
                 let g = kin[i].frame * u;
                 out.extend_from_slice(&[g.x, g.y, g.z]);
             }

@@ -1701,10 +1701,7 @@ impl Driver {
                 s.push_str(&format!("{},{}", nd.id, d.name()));
                 for j in 0..modes.omega.len() {
                     let col: Vec<f64> = (0..self.neq()).map(|r| modes.shapes[(r, j)]).collect();
-                    s.push_str(&format!(
-                        ",{:.9e}",
-                        self.asm.dofmap.value(&col, ni, d.index())
-                    ));
+                    s.push_str(&format!(",{:.9e}", self.asm.dofmap.value(&col, ni, d)));
                 }
                 s.push('\n');
             }
@@ -1746,20 +1743,20 @@ impl Driver {
     /// the node's axes; `None` for an unknown node.
     pub fn displacement(&self, node: u64, dof: railfem_framework::Dof) -> Option<f64> {
         let i = self.model.node(node)?;
-        Some(self.asm.dofmap.value(&self.state.q, i, dof.index()))
+        Some(self.asm.dofmap.value(&self.state.q, i, dof))
     }
 
     /// Velocity (m/s, rad/s) of DOF `dof` of node user id `node` in the committed state.
     pub fn velocity(&self, node: u64, dof: railfem_framework::Dof) -> Option<f64> {
         let i = self.model.node(node)?;
-        Some(self.asm.dofmap.value(&self.state.v, i, dof.index()))
+        Some(self.asm.dofmap.value(&self.state.v, i, dof))
     }
 
     /// Acceleration (m/s², rad/s²) of DOF `dof` of node user id `node` in the committed
     /// state.
     pub fn acceleration(&self, node: u64, dof: railfem_framework::Dof) -> Option<f64> {
         let i = self.model.node(node)?;
-        Some(self.asm.dofmap.value(&self.state.a, i, dof.index()))
+        Some(self.asm.dofmap.value(&self.state.a, i, dof))
     }
 
     /// The value of output `name` of the element with user id `element`
@@ -1790,14 +1787,13 @@ impl Driver {
         );
         for (i, nd) in self.model.nodes.iter().enumerate() {
             for d in self.asm.dofmap.active[i].iter() {
-                let k = d.index();
                 s.push_str(&format!(
                     "{},{},{:.12e},{:.12e},{:.12e}\n",
                     nd.id,
                     d.name(),
-                    self.asm.dofmap.value(&self.state.q, i, k),
-                    self.asm.dofmap.value(&self.state.v, i, k),
-                    self.asm.dofmap.value(&self.state.a, i, k)
+                    self.asm.dofmap.value(&self.state.q, i, d),
+                    self.asm.dofmap.value(&self.state.v, i, d),
+                    self.asm.dofmap.value(&self.state.a, i, d)
                 ));
             }
         }

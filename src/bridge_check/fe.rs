@@ -120,7 +120,9 @@ impl Deck {
         };
         let mut driver = Driver::new(model).map_err(|e| e.in_file(origin))?;
         let sys = driver.reference_system().map_err(|e| e.in_file(origin))?;
-        let terms = |node: usize, d: usize| -> Terms { driver.asm.dofmap.terms(node, d).collect() };
+        let terms = |node: usize, d: usize| -> Terms {
+            driver.asm.dofmap.terms(node, Dof::ALL[d]).collect()
+        };
         let dofs: Vec<[[Terms; 6]; 2]> = path
             .segments
             .iter()

@@ -3,7 +3,7 @@
 //! railfem's answer and its own timing, one directory per size.
 
 use railfem::bench::{BenchBeam, BenchMass, DT, SPAN, SPEED};
-use railfem::framework::FemError;
+use railfem::framework::{Dof, FemError};
 use railfem::solvers::Driver;
 use serde_json::json;
 use std::path::Path;
@@ -138,7 +138,7 @@ pub fn export(
         }
         let _ = write!(hist, "{k},{t:.17e}");
         for &n in &mon {
-            let _ = write!(hist, ",{:.17e}", d.asm.dofmap.value(&d.state.q, n, 2));
+            let _ = write!(hist, ",{:.17e}", d.asm.dofmap.value(&d.state.q, n, Dof::Uz));
         }
         hist.push('\n');
     }

@@ -52,7 +52,7 @@ impl Assembler {
             }
             let touches = self.maps[ei].dofs.iter().any(|&(node, d)| {
                 self.dofmap
-                    .terms(node, d)
+                    .terms_at(node, d)
                     .any(|(e, _)| rows.get(e).copied().unwrap_or(false))
             });
             if !touches {

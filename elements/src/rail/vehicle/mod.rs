@@ -6,7 +6,9 @@
 //! ([`build`]); the two-bogie carriage of the paper ([`CarriageData`], the `sks700`
 //! preset) is a template that expands into that definition ([`carriage`]). The static
 //! preloads of nonlinear geometry come from the template's share rule or a static solve
-//! ([`statics`]); `[[vehicle]]` in a model file is read by [`section`].
+//! ([`statics`]); `[[vehicle]]` in a model file is read by [`section`]. The ride-comfort
+//! indices of the sensors' accelerations, and the recorder that writes them, are in
+//! [`comfort`].
 //!
 //! A carriage is a car body, two bogies and four wheelsets, each a rigid body: a master
 //! node at its mass centre with a lumped `mass` element (mass and inertia), and slave nodes
@@ -45,6 +47,7 @@
 
 pub mod build;
 pub mod carriage;
+pub mod comfort;
 pub mod definition;
 pub mod instance_defect;
 pub mod lean;

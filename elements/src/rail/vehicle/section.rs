@@ -8,12 +8,12 @@
 //! lists them: `vehicles = [{preset = "sks700", count = 2}, {file = "v.toml"}]`.
 
 use super::build::{self, CouplerDef, Train};
+use super::comfort::{recorder::ComfortParams, ComfortMethod};
 use super::definition::VehicleDef;
 use super::track_model::TrackModel;
 use super::{build_train_at, CarriageData, TrainSpec};
 use crate::suspension::SuspensionTangent;
 use railfem_framework::builder::ModelBuilder;
-use railfem_framework::comfort::ComfortMethod;
 use railfem_framework::dof::{Dof, DofSet};
 use railfem_framework::error::FemError;
 use railfem_framework::keypath::{self, from_value};
@@ -483,15 +483,15 @@ fn record(
         } else {
             Vec::new()
         };
-        b.recorder(RecorderSpec::Comfort {
-            node: None,
-            nodes: ids.sensors.iter().map(|s| s.1).collect(),
-            vertical: vec![Dof::Uy],
-            lateral: vec![Dof::Ux],
-            longitudinal,
-            method,
-            file: f.clone(),
-        });
+        let sensors: Vec<u64> = ids.sensors.iter().map(|s| s.1).collect();
+        b.recorder(
+            ComfortParams {
+                longitudinal,
+                method,
+                ..ComfortParams::new(&sensors, &[Dof::Uy], &[Dof::Ux])
+            }
+            .spec(f.clone()),
+        );
     }
     Ok(())
 }

@@ -3,9 +3,9 @@
 //! `N_MV` with the `W_b` / `W_d` weightings, both from records first resampled onto a
 //! uniform time grid.
 //!
-//! What does not live here: collecting the histories during a run (the `comfort` recorder,
-//! [`crate::recorder`]), and EN 12299's other indices (complete method, standing and
-//! seated continuous comfort, discrete events).
+//! The `comfort` recorder kind that collects the histories during a run and writes these
+//! indices when it finishes is in [`recorder`]. What does not live here: EN 12299's other
+//! indices (complete method, standing and seated continuous comfort, discrete events).
 //!
 //! # Sperling's ride index
 //!
@@ -41,9 +41,11 @@
 //! bins (leakage), which the cube of the amplitudes does not conserve — run long enough
 //! (many periods of the lowest frequency of interest) for a stable index.
 
-use crate::fft::fft;
 use nalgebra::Complex;
+use railfem_framework::fft::fft;
 use thiserror::Error;
+
+pub mod recorder;
 
 /// The frequency band (Hz) over which Sperling's weightings are applied.
 pub const BAND_HZ: (f64, f64) = (0.5, 30.0);
