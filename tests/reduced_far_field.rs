@@ -33,6 +33,7 @@ use railfem::train_bridge::{build, read_quake, TrainBridgeCase, TrainBridgeModel
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
+use railfem::framework::Dof;
 
 /// The middle span's block: its matrices, split, midspan girder `Uz` (local index) and the
 /// ground motion's load per unit acceleration along X, Y, Z (`M·r`).
@@ -80,7 +81,7 @@ fn span_block(dt: f64) -> SpanBlock {
         .and_then(|b| b.midspan_node(1))
         .expect("middle span");
     let mid_node = d.model.node(mid_id).expect("midspan node");
-    let mid_eq = d.asm.dofmap.equation(mid_node, 2).expect("midspan Uz");
+    let mid_eq = d.asm.dofmap.equation(mid_node, Dof::Uz).expect("midspan Uz");
     let mid = eqs
         .iter()
         .position(|&e| e == mid_eq)
