@@ -128,3 +128,27 @@ fn dense_and_sparse_agree_across_the_threshold() {
         assert!(diff <= 1e-10, "{n} equations: {diff:e}");
     }
 }
+
+/// The train–bridge case's wheelsets are held against rolling about the axle only by the
+/// contact, a variable element, so the constant part the low-rank solver factors alone is
+/// singular there. Asked for anyway, the run is refused in one line that names the solver,
+/// the free DOF and the solver that works, with exit code 2 (not the mechanism advice to
+/// fix a DOF the user did not write).
+#[test]
+fn low_rank_on_a_contact_held_dof_names_the_solver_to_use() {
+    let dir = std::env::temp_dir().join(format!("railfem-lowrank-{}", std::process::id()));
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args(["train-bridge", "--cars", "1", "--spans", "2", "--steps", "3"])
+        .args(["--solver", "low_rank", "--quiet", "--out"])
+        .arg(&dir)
+        .output()
+        .expect("run railfem");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "one line: {err}");
+    for want in ["low-rank solver factors the constant part alone", " rx ", "partitioned"] {
+        assert!(err.contains(want), "missing {want:?} in {err}");
+    }
+}

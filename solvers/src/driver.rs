@@ -502,6 +502,16 @@ impl Driver {
                     .asm
                     .dofmap
                     .dof_of(equation.min(self.neq().saturating_sub(1)));
+                if self.linear.low_rank().is_some() {
+                    // The low-rank solver factors the constant part alone: a DOF that only a
+                    // variable element (a wheel's contact, say) holds is free there, though
+                    // the whole tangent is not singular.
+                    return FemError::Singular(format!(
+                        "{}: the low-rank solver factors the constant part alone, and it has no stiffness at {} (equation {equation}): that DOF is held only by the variable elements (the contact); use solver = \"partitioned\" (--solver partitioned) or \"direct\"",
+                        self.model.origin,
+                        self.model.dof_name(n, d)
+                    ));
+                }
                 FemError::Singular(format!(
                     "{}: no stiffness at {} (equation {equation}) once the equations before it are held: the model is a mechanism (a rigid-body or zero-energy mode that the supports and elements leave free); fix that DOF, connect it to an element, or add a spring",
                     self.model.origin,
