@@ -46,6 +46,20 @@ impl railfem_framework::registry::ElementParams for MassParams {
     const KIND: &'static str = "mass";
 }
 
+impl MassParams {
+    /// A point mass `m` (kg; the one required key) with no rotary inertia; set the
+    /// inertias with struct update syntax, `MassParams { inertia, ..MassParams::new(m) }`.
+    pub fn new(m: f64) -> MassParams {
+        MassParams {
+            m,
+            inertia: [0.0; 3],
+            Ixy: 0.0,
+            Iyz: 0.0,
+            Ixz: 0.0,
+        }
+    }
+}
+
 /// The inertia tensor (kg·m²) of a parameter set, see the module documentation.
 pub fn inertia_tensor(p: &MassParams) -> Matrix3<f64> {
     let [ixx, iyy, izz] = p.inertia;

@@ -58,6 +58,22 @@ impl railfem_framework::registry::ElementParams for SpringDamperParams {
     const KIND: &'static str = "spring_damper";
 }
 
+impl SpringDamperParams {
+    /// Springs of stiffness `k` along [ux, uy, uz, rx, ry, rz] of the node's axes (N/m,
+    /// N·m/rad; the one required key) with every other key at its documented default: no
+    /// dashpots, no tables, no bump stops. Set the rest with struct update syntax,
+    /// `SpringDamperParams { c, ..SpringDamperParams::new(k) }`.
+    pub fn new(k: [f64; 6]) -> SpringDamperParams {
+        SpringDamperParams {
+            k,
+            c: [0.0; 6],
+            axes: Vec::new(),
+            force_table: ForceTables::new(),
+            bump_stop: BumpStops::new(),
+        }
+    }
+}
+
 /// The local frame of a spring from its `axes` key: `R` with rows local x, y, z in nodal
 /// axes (orthonormal, right-handed). Rows: none → identity; `[x, y]` → `x̂ = x/|x|`,
 /// `ẑ = x × y/|x × y|`, `ŷ = ẑ × x̂` (Gram–Schmidt); `[x, y, z]` → as for two rows, and

@@ -117,6 +117,26 @@ impl railfem_framework::registry::ElementParams for SuspensionParams {
     const KIND: &'static str = "suspension";
 }
 
+impl SuspensionParams {
+    /// Spring rates `k` along body I's axes 1, 2, 3 (N/m; the one required key) with every
+    /// other key at its documented default: attached at the nodes, no dashpots, no
+    /// preload, no rotational stiffness, the consistent tangent, no tables or stops.
+    pub fn new(k: [f64; 3]) -> SuspensionParams {
+        SuspensionParams {
+            offset_i: [0.0; 3],
+            offset_j: [0.0; 3],
+            k,
+            c: [0.0; 3],
+            preload: [0.0; 3],
+            k_rot: [0.0; 3],
+            j_from_i: Vec::new(),
+            tangent: SuspensionTangent::Consistent,
+            force_table: ForceTables::new(),
+            bump_stop: BumpStops::new(),
+        }
+    }
+}
+
 /// The axis names, the keys of `force_table` and `bump_stop`.
 pub const AXES: [&str; 3] = ["1", "2", "3"];
 

@@ -37,13 +37,14 @@ pub type Resources = HashMap<String, Arc<dyn Any + Send + Sync>>;
 /// use railfem_framework::loads::{LoadSpec, TimeSeries};
 /// use railfem_framework::model::{AnalysisKind, AnalysisSpec};
 /// use railfem_framework::{Dof, DofSet};
+/// use railfem_elements::spring_damper::SpringDamperParams;
 ///
-/// railfem_elements::link(); // this crate does not depend on the built-in kinds: name them
 /// let (k, force) = (2.0e6, -1.0e4); // N/m, N
 /// let mut b = ModelBuilder::new("spring");
 /// b.node_fixed(1, [0.0, 0.0, 0.0], DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Ry, Dof::Rz]));
-/// // A spring on one node acts between the node and the ground.
-/// b.element("spring_damper", 1, &[1], &serde_json::json!({"k": [0.0, 0.0, k, 0.0, 0.0, 0.0]}));
+/// // A spring on one node acts between the node and the ground; its parameters name
+/// // their kind (`spring_damper`), every key but `k` at its documented default.
+/// b.add(1, &[1], &SpringDamperParams::new([0.0, 0.0, k, 0.0, 0.0, 0.0]));
 /// b.load(LoadSpec::Nodal { node: 1, dof: Dof::Uz, value: force, series: TimeSeries::Constant });
 /// b.analysis(AnalysisSpec { kind: AnalysisKind::Static, steps: 1, ..Default::default() });
 /// let model = b.build()?;
@@ -175,13 +176,27 @@ impl ModelBuilder {
 
     /// Adds an element whose typed parameters name their kind
     /// ([`crate::registry::ElementParams`]): `b.add(7, &[1, 2], &beam)`.
+    ///
+    /// A struct cannot leave a key out, so a field at its documented default reads as not
+    /// given, as in a model file that omits the key: the element is the one the same keys
+    /// build from a file, and a kind that refuses a key nothing would read (a `rail`
+    /// beside a `path`) is not given it.
     pub fn add<P: crate::registry::ElementParams>(
         &mut self,
         id: u64,
         nodes: &[u64],
         params: &P,
     ) -> &mut Self {
-        self.element(P::KIND, id, nodes, params)
+        let Ok(serde_json::Value::Object(mut keys)) = serde_json::to_value(params) else {
+            // Not a table: `element` reports it.
+            return self.element(P::KIND, id, nodes, params);
+        };
+        for d in P::docs() {
+            if d.default.is_some() && keys.get(d.key) == d.default.as_ref() {
+                keys.remove(d.key);
+            }
+        }
+        self.element(P::KIND, id, nodes, &keys)
     }
 
     /// Adds an element of registered type `kind` with parameters `params` (any serde

@@ -249,13 +249,14 @@ pub struct RunSummary {
 /// use railfem_framework::{Dof, DofSet};
 /// use railfem_solvers::Driver;
 ///
-/// railfem_elements::link(); // this crate does not depend on the built-in kinds: name them
+/// use railfem_elements::{mass::MassParams, spring_damper::SpringDamperParams};
+///
 /// let (m, k, force): (f64, f64, f64) = (1.0e3, 4.0e5, 2.0e3); // kg, N/m, N
 /// let period = 2.0 * std::f64::consts::PI * (m / k).sqrt();
 /// let mut b = ModelBuilder::new("oscillator");
 /// b.node_fixed(1, [0.0, 0.0, 0.0], DofSet::of(&[Dof::Ux, Dof::Uy, Dof::Rx, Dof::Ry, Dof::Rz]));
-/// b.element("spring_damper", 1, &[1], &serde_json::json!({"k": [0.0, 0.0, k, 0.0, 0.0, 0.0]}));
-/// b.element("mass", 2, &[1], &serde_json::json!({"m": m}));
+/// b.add(1, &[1], &SpringDamperParams::new([0.0, 0.0, k, 0.0, 0.0, 0.0]));
+/// b.add(2, &[1], &MassParams::new(m));
 /// b.load(LoadSpec::Nodal { node: 1, dof: Dof::Uz, value: force, series: TimeSeries::Constant });
 /// b.analysis(AnalysisSpec {
 ///     dt: period / 400.0,

@@ -67,6 +67,26 @@ impl railfem_framework::registry::ElementParams for MovingMassParams {
     const KIND: &'static str = "moving_mass";
 }
 
+impl MovingMassParams {
+    /// A moving mass `m` (kg; the one required key) with every other key at its
+    /// documented default: at rest at station 0 of an empty `path`. Give the path (or
+    /// `track`) and the motion with struct update syntax,
+    /// `MovingMassParams { path, speed, ..MovingMassParams::new(m) }`.
+    pub fn new(m: f64) -> MovingMassParams {
+        MovingMassParams {
+            m,
+            path: Vec::new(),
+            track: String::new(),
+            rail: RailSide::Left,
+            start: 0.0,
+            speed: 0.0,
+            accel: 0.0,
+            speed_table: Vec::new(),
+            gravity: 9.81,
+        }
+    }
+}
+
 /// Element DOFs: the 12 DOFs of the segment's two nodes.
 const N: usize = 12;
 

@@ -93,6 +93,30 @@ impl railfem_framework::registry::ElementParams for SprungMassParams {
     const KIND: &'static str = "moving_sprung_mass";
 }
 
+impl SprungMassParams {
+    /// A sprung mass `m` (kg) on a spring `k` (N/m), the two required keys, with every
+    /// other key at its documented default: no dashpot or wheel mass, bonded, at rest at
+    /// station 0 of an empty `path`. Give the path (or `track`) and the motion with struct
+    /// update syntax, `SprungMassParams { path, speed, ..SprungMassParams::new(m, k) }`.
+    pub fn new(m: f64, k: f64) -> SprungMassParams {
+        SprungMassParams {
+            m,
+            k,
+            c: 0.0,
+            m_w: 0.0,
+            contact: Contact::Bonded,
+            path: Vec::new(),
+            track: String::new(),
+            rail: RailSide::Left,
+            start: 0.0,
+            speed: 0.0,
+            accel: 0.0,
+            speed_table: Vec::new(),
+            gravity: 9.81,
+        }
+    }
+}
+
 /// How the wheel meets the beam (`contact`): `"bonded"` (bilateral) or `"unilateral"` (the
 /// wheel cannot pull and may lift off).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

@@ -84,11 +84,11 @@ railfem_framework::element_params! {
         /// Lateral distance of the wheel's tape-circle contact point from the centre line (m).
         contact_offset: f64 ["m"] = 0.75,
         /// Wheel profile: "s1002" or a CSV file (header states the units).
-        wheel_profile: String [""] = "s1002",
+        wheel_profile: WheelProfileSource [""] = "s1002",
         /// Number of points sampling a built-in wheel profile.
         wheel_points: usize ["-"] = 120,
         /// Rail profile: "60e1" or a CSV file of rail nodes.
-        rail_profile: String [""] = "60e1",
+        rail_profile: RailProfileSource [""] = "60e1",
         /// Number of rail profile nodes (30–60 in the paper's Figure 4).
         rail_nodes: usize ["-"] = 41,
         /// Rail inclination: "none", "1:40" or "1:20".
@@ -148,6 +148,104 @@ railfem_framework::element_params! {
 
 impl railfem_framework::registry::ElementParams for MovingAxleParams {
     const KIND: &'static str = "moving_axle";
+}
+
+/// Where a wheel's profile comes from (`wheel_profile`): the built-in S1002 (`"s1002"`, any
+/// case) or a CSV file (any other string, its path).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum WheelProfileSource {
+    /// The S1002 profile sampled at `wheel_points` points.
+    S1002,
+    /// A CSV file of profile points (its header states the units).
+    File(String),
+}
+
+/// Where a rail's profile comes from (`rail_profile`): the built-in 60E1 (`"60e1"` or its
+/// older name `"uic60"`, any case) or a CSV file (any other string, its path).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum RailProfileSource {
+    /// The 60E1 (UIC 60) profile sampled at `rail_nodes` nodes.
+    Uic60,
+    /// A CSV file of rail nodes.
+    File(String),
+}
+
+impl serde::Serialize for WheelProfileSource {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(match self {
+            WheelProfileSource::S1002 => "s1002",
+            WheelProfileSource::File(path) => path,
+        })
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for WheelProfileSource {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        Ok(match name.to_ascii_lowercase().as_str() {
+            "s1002" => WheelProfileSource::S1002,
+            _ => WheelProfileSource::File(name),
+        })
+    }
+}
+
+impl serde::Serialize for RailProfileSource {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(match self {
+            RailProfileSource::Uic60 => "60e1",
+            RailProfileSource::File(path) => path,
+        })
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for RailProfileSource {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        Ok(match name.to_ascii_lowercase().as_str() {
+            "60e1" | "uic60" => RailProfileSource::Uic60,
+            _ => RailProfileSource::File(name),
+        })
+    }
+}
+
+impl MovingAxleParams {
+    /// The wheel on `side` (the one required key) with every other key at its documented
+    /// default: S1002 on 60E1 inclined 1:40, the stand-in springs and penalties, μ = 0.3,
+    /// Coulomb friction with the symmetric sliding tangent, a round wheel. Change any with
+    /// struct update syntax, `MovingAxleParams { mu: 0.2, ..MovingAxleParams::new(side) }`.
+    pub fn new(side: RailSide) -> MovingAxleParams {
+        MovingAxleParams {
+            side,
+            contact_offset: 0.75,
+            wheel_profile: WheelProfileSource::S1002,
+            wheel_points: 120,
+            rail_profile: RailProfileSource::Uic60,
+            rail_nodes: 41,
+            inclination: Inclination::OneIn40,
+            k1: 1.0e9,
+            k3: 1.0e9,
+            a: 1.0e7,
+            b: 3.03e7,
+            c: 0.333_333_333_333_333_3,
+            k: 1.0e10,
+            k_v: 1.0e10,
+            mu: 0.3,
+            sliding_tangent: SlidingTangent::Symmetric,
+            track: "track".to_string(),
+            static_load: 0.0,
+            tangential: Tangential::Coulomb,
+            shear_modulus: 8.0e10,
+            poisson: 0.28,
+            polach_ka: 1.0,
+            polach_ks: 0.4,
+            polach_a: 0.4,
+            polach_b: 0.6,
+            polach_spin: PolachSpin::Off,
+            fastsim_strips: 20,
+            fastsim_elements: 20,
+            defect: WheelDefect::None,
+        }
+    }
 }
 
 /// Settings of one wheel that do not change while it runs.
@@ -400,14 +498,14 @@ impl Setup {
                 )));
             }
         }
-        let wheel = match params.wheel_profile.to_ascii_lowercase().as_str() {
-            "s1002" => WheelProfile::s1002(params.wheel_points),
-            path => WheelProfile::from_csv_file(path)
+        let wheel = match &params.wheel_profile {
+            WheelProfileSource::S1002 => WheelProfile::s1002(params.wheel_points),
+            WheelProfileSource::File(path) => WheelProfile::from_csv_file(path)
                 .map_err(|e| err(format!("`wheel_profile`: {e}")))?,
         };
-        let rail = match params.rail_profile.to_ascii_lowercase().as_str() {
-            "60e1" | "uic60" => RailProfile::uic60(params.rail_nodes, incl),
-            path => RailProfile::from_csv_file(path, incl)
+        let rail = match &params.rail_profile {
+            RailProfileSource::Uic60 => RailProfile::uic60(params.rail_nodes, incl),
+            RailProfileSource::File(path) => RailProfile::from_csv_file(path, incl)
                 .map_err(|e| err(format!("`rail_profile`: {e}")))?,
         };
         let (wheel, rail) = if side == 0 {

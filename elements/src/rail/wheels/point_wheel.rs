@@ -97,6 +97,23 @@ impl railfem_framework::registry::ElementParams for HertzWheelParams {
     const KIND: &'static str = "hertz_wheel";
 }
 
+impl HertzWheelParams {
+    /// The wheel on `side` (the one required key) with every other key at its documented
+    /// default (module documentation of each key).
+    pub fn new(side: RailSide) -> HertzWheelParams {
+        HertzWheelParams {
+            side,
+            contact_offset: 0.75,
+            G: 4.95e-8,
+            k1: 1.0e9,
+            k3: 1.0e9,
+            track: "track".to_string(),
+            static_load: 0.0,
+            defect: WheelDefect::None,
+        }
+    }
+}
+
 railfem_framework::element_params! {
     /// Model-file keys of `rigid_wheel` (SI units).
     pub struct RigidWheelParams {
@@ -120,6 +137,21 @@ railfem_framework::element_params! {
 
 impl railfem_framework::registry::ElementParams for RigidWheelParams {
     const KIND: &'static str = "rigid_wheel";
+}
+
+impl RigidWheelParams {
+    /// The wheel on `side` (the one required key) with every other key at its documented
+    /// default.
+    pub fn new(side: RailSide) -> RigidWheelParams {
+        RigidWheelParams {
+            side,
+            contact_offset: 0.75,
+            k: 1.0e10,
+            track: "track".to_string(),
+            static_load: 0.0,
+            defect: WheelDefect::None,
+        }
+    }
 }
 
 /// Half the width of the rail head (m): 60E1's head is 72 mm wide. A contact point farther

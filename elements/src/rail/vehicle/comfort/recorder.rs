@@ -42,18 +42,31 @@ railfem_framework::element_params! {
     }
 }
 
+/// Every key at its documented default: no node, no direction, Sperling's method (give
+/// the nodes and directions with struct update syntax).
+impl Default for ComfortParams {
+    fn default() -> ComfortParams {
+        ComfortParams {
+            node: None,
+            nodes: Vec::new(),
+            vertical: Vec::new(),
+            lateral: Vec::new(),
+            longitudinal: Vec::new(),
+            method: ComfortMethod::Sperling,
+        }
+    }
+}
+
 impl ComfortParams {
     /// Sperling's index of the nodes with user ids `nodes`, weighted as vertical along
     /// `vertical` and as lateral along `lateral` (translational DOFs); set `method` and
     /// `longitudinal` with struct update syntax for EN 12299.
     pub fn new(nodes: &[u64], vertical: &[Dof], lateral: &[Dof]) -> ComfortParams {
         ComfortParams {
-            node: None,
             nodes: nodes.to_vec(),
             vertical: vertical.to_vec(),
             lateral: lateral.to_vec(),
-            longitudinal: Vec::new(),
-            method: ComfortMethod::Sperling,
+            ..ComfortParams::default()
         }
     }
 
