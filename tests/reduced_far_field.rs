@@ -349,7 +349,7 @@ fn a_viaduct_with_every_span_reduced_shakes_like_the_full_viaduct() {
         mids.push(
             d.asm
                 .dofmap
-                .equation(d.model.node(id).expect("node"), 2)
+                .equation(d.model.node(id).expect("node"), Dof::Uz)
                 .expect("Uz"),
         );
     }
