@@ -48,6 +48,7 @@ pub mod study;
 pub mod threshold;
 pub mod train_bridge;
 pub mod train_window;
+pub mod window_error;
 
 /// Loads a model file, building every element through the registry.
 pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework::FemError> {
