@@ -60,11 +60,12 @@ pub struct WindowTrack {
 }
 
 /// The activity window's choice for a case.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum WindowChoice {
     /// Every block solved every step (the answers of a run without the window, bit for
     /// bit): the default, since no reach measured keeps ΔQ/Q within its target at the
     /// paper's step (module documentation).
+    #[default]
     Off,
     /// Blocks far from the train held ([`WindowOptions`]); a case the window does not
     /// apply to is refused.
@@ -73,12 +74,6 @@ pub enum WindowChoice {
     /// process, a straight track, no ground motion), else [`WindowChoice::Off`], saying
     /// why ([`auto_off_reason`]).
     Auto(WindowOptions),
-}
-
-impl Default for WindowChoice {
-    fn default() -> Self {
-        WindowChoice::Off
-    }
 }
 
 /// The user's settings of the window; `None`: the default (module documentation).
