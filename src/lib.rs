@@ -44,6 +44,7 @@ pub mod stress;
 pub mod study;
 pub mod train_bridge;
 pub mod train_window;
+pub mod window_error;
 
 /// Loads a model file, building every element through the registry.
 pub fn load_model(path: &std::path::Path) -> Result<framework::Model, framework::FemError> {

@@ -436,6 +436,8 @@ impl TrainBridgeCase {
             front_centre: self.approach() + self.train_start,
             speed: self.speed,
             cars: self.cars,
+            ground_motion: self.quake != Quake::None,
+            curved: self.radius.is_some(),
         }
     }
 
@@ -802,6 +804,8 @@ pub struct TrainBridgeReport {
     pub wall: f64,
     /// The activity window's counters (`None`: no window).
     pub window: Option<crate::solvers::window::WindowStats>,
+    /// Why `auto` left the window off (`None`: it ran, or it was not asked for).
+    pub window_off: Option<&'static str>,
 }
 
 fn output(d: &Driver, ei: usize, pos: &[usize; 4], buf: &mut Vec<f64>) -> [f64; 4] {
@@ -846,6 +850,12 @@ pub fn run(
     d.initialize()?;
     let track = case.window_track();
     let mut window = crate::train_window::open(d, case.window, &track)?;
+    let window_off = match case.window {
+        crate::train_window::WindowChoice::Auto(_) => {
+            crate::train_window::auto_off_reason(d, &track)
+        }
+        _ => None,
+    };
     let names = d.model.elements[m.wheel_index[0]].element.output_names();
     let find = |k: &str| {
         names
@@ -1028,6 +1038,8 @@ pub fn run(
         }
         let p = dir.join("summary.csv");
         std::fs::write(&p, s).map_err(|e| FemError::output(&p, e))?;
+        // The energy ledger's rows (energy.csv): the balance a window is checked against.
+        d.write_energy(dir)?;
     }
     if let Some(t) = interrupted {
         return Err(FemError::Interrupted { t });
@@ -1042,5 +1054,6 @@ pub fn run(
         iterations,
         wall: start.elapsed().as_secs_f64(),
         window: window.map(|w| w.stats()),
+        window_off,
     })
 }

@@ -1,30 +1,38 @@
-//! The activity window of the train–bridge case (`railfem train-bridge --window on`):
-//! where the train is along the track at each step, the window's default distances from
-//! the rail's decay length and the span, and the checks that refuse a case the window does
-//! not apply to. The window itself — what a held block is, what stays exact and what is
-//! approximated — is `railfem_solvers::window`. The case hands what the window needs of
-//! it as a [`WindowTrack`] (`railfem::train_bridge` builds it), so this module does not
-//! read the case.
+//! The activity window of the train–bridge case (`railfem train-bridge --window`): where
+//! the train is along the track at each step, the window's default reach and tolerance,
+//! the choice between off (the default), on, and auto (on where the window applies), and
+//! the checks that refuse a case an explicit `on` does not apply to. The window itself —
+//! what a held block is, what stays exact and what is approximated — is
+//! `railfem_solvers::window`. The case hands what the window needs of it as a
+//! [`WindowTrack`] (`railfem::train_bridge` builds it), so this module does not read the
+//! case.
 //!
-//! **Default distances.** A rail on discrete fasteners of vertical stiffness `k_f` per seat
-//! at spacing `a` is a beam on an elastic foundation of modulus `k = k_f/a`; under a load
-//! its deflection at a distance `x` is `w(0)·e^{−βx}(cos βx + sin βx)` (Hetényi), with
-//! `β = (k/(4·EI))^{1/4}`. For the UIC 60 rail (`EI` = 6.38 MN·m²) on 60 MN/m seats every
-//! 0.625 m, `1/β` = 0.72 m. The envelope `√2·e^{−βx}` is below 1e-4 at `x = 3π/β` (2.2 m
-//! of decay per π; 6.8 m here): that is `behind`, and the rail part of `ahead`. The
-//! bridge adds couplings the rail's static basin does not cover: a wheel on span `k` loads
-//! the pier it shares with span `k + 1` and tilts that span as a rigid body (one span), and
-//! the track and girders carry waves ahead of the train that a held block reflects instead
-//! of letting them pass. Measured on 2 carriages entering 10 spans (`tests/train_window.rs`,
-//! Δt = 2 ms), the largest ΔQ/Q error against the full model, as a fraction of each
-//! wheel's own peak,
-//! falls with `ahead` as 0.73 % (one span + 3π/β = 36.5 m), 0.48 % (50 m), 0.29 % (66 m),
-//! 0.25 % (80 m), 0.12 % (120 m), 0.01 % (200 m): the default is **two spans + 3π/β**
-//! (66 m for 29.75 m spans), the shortest of these with a margin of almost two under the
-//! 0.5 % target. For the paper's 12 carriages entering 20 spans (Δt = 0.5 ms, blocks of
-//! 3 000 equations) the same default gives about 1 % of the wheels' largest ΔQ/Q peak
-//! (`docs/activity-window.md`): the window is therefore not on by default. The default tolerance, 1 %, drops at most about 1e-4 of a block's largest
-//! kinetic energy when it is held behind (`railfem_solvers::window`).
+//! **The default reach.** A held block is a wall for the waves the train sends along the
+//! rails, slab and girders: it reflects them back to the wheels. The reach `D` (how far
+//! ahead of the front a block joins, and how far behind the rear it may be held) sets how
+//! long a wave takes to come back, `2D/c`, and how much of it is left when it does.
+//! The static part is short: a rail on discrete fasteners of stiffness `k_f` per seat at
+//! spacing `a` is a beam on an elastic foundation of modulus `k = k_f/a` whose deflection
+//! under a load decays as `e^{−βx}(cos βx + sin βx)` (Hetényi), `β = (k/(4·EI))^{1/4}`:
+//! for the UIC 60 rail (`EI` = 6.38 MN·m²) on 60 MN/m seats every 0.625 m, `1/β` =
+//! 0.72 m, and the envelope `√2·e^{−βx}` is below 1e-4 at `3π/β` = 6.8 m (the basin; the
+//! reach is never less behind the rear). The waves are long: the 12-carriage train at
+//! Δt = 0.5 ms (the paper's step; `docs/activity-window.md`, "Error against the full
+//! model") first differs from the full model after 0.34 s with `D` = 150 m and after
+//! 0.57 s with 200 m, so they run at about 800 m/s (`2D/t`) and come back at any time of
+//! a crossing; what `D` buys is their decay on the way. Over the same samples the largest
+//! ΔQ/Q difference falls with `D` (entry, first 0.95 s: 0.52 % at 150 m, 0.20 % at 200 m,
+//! 0.12 % at 300 m of the wheels' largest peak), but it keeps growing with time: over
+//! 2.2 s of a middle segment, 300 m gives 1.2 %, against a 0.5 % target.
+//! **300 m** is the default reach, the best of those measured; no measured reach meets
+//! the ΔQ/Q target on both segments, so the window is **off by default**. At a larger
+//! step the integrator's damping (generalized-α, ρ∞ = 0.5) removes the waves sooner: at
+//! Δt = 2 ms, 66 m already gives 0.29 % (`tests/train_window.rs`). The reach does not
+//! depend on the bridge's length, so the cost of a windowed step grows with the train
+//! and not with the bridge.
+//!
+//! **The default tolerance**, 1 %, drops at most about 1e-4 of a block's largest kinetic
+//! energy when it is held behind (`railfem_solvers::window`).
 
 use crate::solvers::window::{ActivityWindow, WindowSettings};
 use crate::solvers::Driver;
@@ -45,17 +53,27 @@ pub struct WindowTrack {
     pub speed: f64,
     /// Number of carriages.
     pub cars: usize,
+    /// Whether the ground moves (`--quake`).
+    pub ground_motion: bool,
+    /// Whether the track is curved (`--radius`).
+    pub curved: bool,
 }
 
 /// The activity window's choice for a case.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum WindowChoice {
     /// Every block solved every step (the answers of a run without the window, bit for
-    /// bit).
+    /// bit): the default, since no reach measured keeps ΔQ/Q within its target at the
+    /// paper's step (module documentation).
     #[default]
     Off,
-    /// Blocks far from the train held ([`WindowOptions`]).
+    /// Blocks far from the train held ([`WindowOptions`]); a case the window does not
+    /// apply to is refused.
     On(WindowOptions),
+    /// [`WindowChoice::On`] where the window applies (the partitioned solver on one
+    /// process, a straight track, no ground motion), else [`WindowChoice::Off`], saying
+    /// why ([`auto_off_reason`]).
+    Auto(WindowOptions),
 }
 
 /// The user's settings of the window; `None`: the default (module documentation).
@@ -70,6 +88,10 @@ pub struct WindowOptions {
 /// The default tolerance (module documentation).
 pub const DEFAULT_TOLERANCE: f64 = 0.01;
 
+/// The default reach of the window (m): how far ahead of the train's front a block joins,
+/// and how far behind its rear a block is held at the earliest (module documentation).
+pub const DEFAULT_REACH: f64 = 300.0;
+
 /// The rail's decay length `1/β` (m), `β = (k/(4·EI))^{1/4}`, `k` the fasteners' vertical
 /// stiffness per metre (module documentation).
 pub fn decay_length(track: &WindowTrack) -> f64 {
@@ -82,9 +104,12 @@ pub fn decay_length(track: &WindowTrack) -> f64 {
 /// The window's settings for `track` with the user's `options` (defaults filled in).
 pub fn settings(track: &WindowTrack, options: WindowOptions) -> WindowSettings {
     let basin = 3.0 * std::f64::consts::PI * decay_length(track);
+    let reach = options.ahead.unwrap_or(DEFAULT_REACH);
     WindowSettings {
-        ahead: options.ahead.unwrap_or(2.0 * track.span + basin),
-        behind: basin,
+        ahead: reach,
+        // The waves the rear wheels send back are reflected by a held block as those the
+        // front sends ahead: the same reach, and never less than the rail's basin.
+        behind: reach.max(basin),
         tolerance: options.tolerance.unwrap_or(DEFAULT_TOLERANCE),
     }
 }
@@ -100,10 +125,14 @@ pub fn train_extent(track: &WindowTrack, t: f64) -> [f64; 2] {
 }
 
 /// Checks the choice against the case — with or without ground motion (`quake`), on a
-/// curve (`curved`) — in one line naming the option and the fix.
+/// curve (`curved`) — in one line naming the option and the fix. [`WindowChoice::Auto`]
+/// is never refused for the case: it stays off where the window does not apply
+/// ([`auto_off_reason`]); only its distances are checked.
 pub fn validate(window: WindowChoice, quake: bool, curved: bool) -> Result<(), FemError> {
-    let WindowChoice::On(o) = window else {
-        return Ok(());
+    let (o, explicit) = match window {
+        WindowChoice::Off => return Ok(()),
+        WindowChoice::On(o) => (o, true),
+        WindowChoice::Auto(o) => (o, false),
     };
     let o_ = "command line";
     if let Some(a) = o.ahead {
@@ -122,6 +151,9 @@ pub fn validate(window: WindowChoice, quake: bool, curved: bool) -> Result<(), F
             ));
         }
     }
+    if !explicit {
+        return Ok(());
+    }
     if quake {
         return Err(FemError::input(
             o_,
@@ -137,15 +169,36 @@ pub fn validate(window: WindowChoice, quake: bool, curved: bool) -> Result<(), F
     Ok(())
 }
 
-/// The window of a run, after the driver's initialization (`None` when off). Refused
-/// (an input error) when the model has no partitioned solver.
+/// Why [`WindowChoice::Auto`] stays off for a run on `driver` (after
+/// its initialization) over `track`, or `None` when it applies: the partitioned solver on
+/// one process, a straight track, no ground motion.
+pub fn auto_off_reason(driver: &Driver, track: &WindowTrack) -> Option<&'static str> {
+    if track.ground_motion {
+        return Some("ground motion moves the whole viaduct");
+    }
+    if track.curved {
+        return Some("the window maps nodes to stations on a straight track only");
+    }
+    match driver.partition_stats() {
+        None => Some("the model is not on the partitioned solver (auto picks it from 50 000 equations; --solver partitioned)"),
+        Some(p) if p.ranks > 1 => Some("the partitioned solver's blocks are shared among MPI ranks"),
+        Some(_) => None,
+    }
+}
+
+/// The window of a run, after the driver's initialization (`None` when off, or when
+/// `auto` finds that it does not apply: [`auto_off_reason`]). An explicit
+/// [`WindowChoice::On`] on a model without the partitioned solver is refused (an input
+/// error).
 pub fn open(
     driver: &Driver,
     window: WindowChoice,
     track: &WindowTrack,
 ) -> Result<Option<ActivityWindow>, FemError> {
-    let WindowChoice::On(o) = window else {
-        return Ok(None);
+    let o = match window {
+        WindowChoice::Off => return Ok(None),
+        WindowChoice::Auto(_) if auto_off_reason(driver, track).is_some() => return Ok(None),
+        WindowChoice::On(o) | WindowChoice::Auto(o) => o,
     };
     // On the straight track (checked) a node's station is its X coordinate.
     let station = |node: usize| driver.model.nodes[node].position.x;
@@ -159,25 +212,55 @@ pub fn open(
         })
 }
 
-/// The window's options of `railfem train-bridge` (`--window on|off`, `--window-ahead`,
-/// `--window-tolerance`; the last two need `--window on`).
+/// How the window's three settings are named where they were given: the command line's
+/// options or a study plan's keys (for the one-line errors of [`parse_options`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WindowKeys {
+    /// Where the settings were read (the error's origin).
+    pub origin: &'static str,
+    /// The mode's name, the distance's and the tolerance's.
+    pub names: [&'static str; 3],
+}
+
+/// `railfem train-bridge`'s options.
+pub const COMMAND_LINE: WindowKeys = WindowKeys {
+    origin: "command line",
+    names: ["--window", "--window-ahead", "--window-tolerance"],
+};
+
+/// A study plan's keys of the train–bridge case (`docs/study.md`).
+pub const STUDY: WindowKeys = WindowKeys {
+    origin: "study case",
+    names: ["`window`", "`window_ahead`", "`window_tolerance`"],
+};
+
+/// The window's choice from its settings named by `keys`: the mode `window` (`on`, `auto`
+/// or `off`, the default), the distance `ahead` and the `tolerance` (refused with `off`,
+/// and out of range, in one line naming the key and the fix).
 pub fn parse_options(
+    keys: WindowKeys,
     window: Option<&str>,
     ahead: Option<f64>,
     tolerance: Option<f64>,
 ) -> Result<WindowChoice, FemError> {
-    let o = "command line";
+    let [mode, a_, t_] = keys.names;
+    let bad = |m: String| Err(FemError::input(keys.origin, m));
+    if let Some(a) = ahead.filter(|a| !(a.is_finite() && *a >= 0.0)) {
+        return bad(format!("{a_} {a}: give a distance ≥ 0 m"));
+    }
+    if let Some(t) = tolerance.filter(|t| !(t.is_finite() && (0.0..1.0).contains(t))) {
+        return bad(format!(
+            "{t_} {t}: give a value from 0 (never hold a block behind) to below 1"
+        ));
+    }
     let options = WindowOptions { ahead, tolerance };
     match window {
         Some("on") => Ok(WindowChoice::On(options)),
+        Some("auto") => Ok(WindowChoice::Auto(options)),
         Some("off") | None if options == WindowOptions::default() => Ok(WindowChoice::Off),
-        Some("off") | None => Err(FemError::input(
-            o,
-            "--window-ahead and --window-tolerance set the activity window; add --window on",
+        Some("off") | None => bad(format!(
+            "{a_} and {t_} set the activity window, which is off unless {mode} is on or auto; add {mode} on (or auto), or drop them"
         )),
-        Some(other) => Err(FemError::input(
-            o,
-            format!("--window {other}: give on or off"),
-        )),
+        Some(other) => bad(format!("{mode} {other}: give on, off or auto")),
     }
 }

@@ -853,3 +853,5 @@ mod round_four;
 mod round_three;
 #[path = "bad_input/validation.rs"]
 mod validation;
+#[path = "bad_input/window.rs"]
+mod window;

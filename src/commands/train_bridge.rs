@@ -98,18 +98,20 @@ pub struct TrainBridgeCmd {
     #[arg(value_parser = crate::command::number(), long, value_name = "N")]
     pub block_size: Option<f64>,
     /// Activity window: on holds the partitioned solver's blocks far from the train at
-    /// their state (straight track, no ground motion) [default: off].
-    #[arg(value_parser = crate::command::text(), long, value_name = "on|off")]
+    /// their state (straight track, no ground motion); auto is on where it applies and
+    /// off elsewhere; off solves every block [default: off].
+    #[arg(value_parser = crate::command::text(), long, value_name = "on|off|auto")]
     pub window: Option<String>,
-    /// With --window on: a block joins when the train's front is within M metres of it
-    /// [default: two spans plus 3π times the rail's decay length].
+    /// The activity window's reach: a block joins when the train's front is within M
+    /// metres of it, and is held behind only once it is M metres behind the rear
+    /// [default: 300].
     #[arg(value_parser = crate::command::number(), long, value_name = "M")]
     pub window_ahead: Option<f64>,
-    /// With --window on: a block behind the train is held once its velocity norm is below
-    /// X times its largest [default: 0.01].
+    /// A block behind the train is held once its velocity norm is below X times its
+    /// largest [default: 0.01].
     #[arg(value_parser = crate::command::number(), long, value_name = "X")]
     pub window_tolerance: Option<f64>,
-    /// Output directory: wheels.csv, midspan.csv, summary.csv, run.json
+    /// Output directory: wheels.csv, midspan.csv, summary.csv, energy.csv, run.json
     /// [default: out/train_bridge].
     #[arg(long, value_name = "DIR")]
     #[serde(serialize_with = "crate::command::opt_path_text")]
@@ -186,6 +188,7 @@ impl TrainBridgeCmd {
             })?;
         }
         c.window = crate::train_window::parse_options(
+            crate::train_window::COMMAND_LINE,
             self.window.as_deref(),
             self.window_ahead,
             self.window_tolerance,
@@ -294,6 +297,9 @@ impl Command for TrainBridgeCmd {
                 w.joined,
                 w.left
             );
+        }
+        if let Some(why) = r.window_off {
+            println!("activity window (auto): off here: {why}");
         }
         if let Some(p) = m.driver.partition_stats().filter(|p| p.ranks > 1) {
             println!(

@@ -80,6 +80,7 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
     let mut c = TrainBridgeCase::default();
     let (mut record, mut seed, mut pga, mut qdur, mut scale) = (None, None, 0.3, 30.0, 1.0);
     let mut synthetic = false;
+    let (mut window, mut ahead, mut tolerance) = (None, None, None);
     for (k, v) in settings(plan, case) {
         match k {
             "cars" => c.cars = count(k, v)?,
@@ -128,6 +129,9 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
                     })?;
             }
             "first_active_set" => c.first_active_set = first_active_set(v)?,
+            "window" => window = Some(v.label()),
+            "window_ahead" => ahead = Some(num(k, v)?),
+            "window_tolerance" => tolerance = Some(num(k, v)?),
             _ => unreachable!("plan.rs admits only train-bridge keys"),
         }
     }
@@ -174,6 +178,12 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
         }
     }
     c.quake = rec.map_or(Quake::None, Quake::Record);
+    c.window = crate::train_window::parse_options(
+        crate::train_window::STUDY,
+        window.as_deref(),
+        ahead,
+        tolerance,
+    )?;
     c.record_every = 1;
     Ok(c)
 }

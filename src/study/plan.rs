@@ -22,7 +22,7 @@ const TOP_KEYS: [&str; 5] = ["case", "base", "options", "histories", "axis"];
 /// Keys of one `[[axis]]` table.
 const AXIS_KEYS: [&str; 6] = ["name", "values", "start", "stop", "step", "count"];
 /// Keys of the train–bridge case, as options and as axes.
-pub const TRAIN_BRIDGE_KEYS: [&str; 19] = [
+pub const TRAIN_BRIDGE_KEYS: [&str; 22] = [
     "cars",
     "spans",
     "span",
@@ -42,6 +42,9 @@ pub const TRAIN_BRIDGE_KEYS: [&str; 19] = [
     "quake_duration",
     "midspans",
     "first_active_set",
+    "window",
+    "window_ahead",
+    "window_tolerance",
 ];
 /// Keys of the curve case, as options and as axes.
 pub const CURVE_KEYS: [&str; 12] = [

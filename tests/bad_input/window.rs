@@ -1,0 +1,74 @@
+//! The activity window's options (`railfem train-bridge --window …`, docs/activity-window.md):
+//! each refused combination exits with code 2 and one stderr line, naming the option and
+//! the fix, before any stepping.
+
+use super::common::{railfem, refused_with};
+
+/// `railfem train-bridge` on a small case with `args` added; asserts the refusal `line`
+/// (exact, after the origin).
+fn refused(args: &[&str], line: &str) {
+    let mut all = vec![
+        "train-bridge",
+        "--cars",
+        "1",
+        "--spans",
+        "2",
+        "--steps",
+        "1",
+    ];
+    all.extend_from_slice(args);
+    let err = refused_with(&format!("{args:?}"), &railfem(&all), &[line]);
+    assert_eq!(
+        err.trim_end(),
+        format!("error: command line: {line}"),
+        "{args:?}"
+    );
+}
+
+#[test]
+fn a_window_mode_other_than_on_off_or_auto_is_refused() {
+    refused(
+        &["--window", "maybe"],
+        "--window maybe: give on, off or auto",
+    );
+}
+
+#[test]
+fn window_settings_with_the_window_off_are_refused() {
+    refused(
+        &["--window", "off", "--window-ahead", "100"],
+        "--window-ahead and --window-tolerance set the activity window, which is off unless --window is on or auto; add --window on (or auto), or drop them",
+    );
+    refused(
+        &["--window-tolerance", "0.1"],
+        "--window-ahead and --window-tolerance set the activity window, which is off unless --window is on or auto; add --window on (or auto), or drop them",
+    );
+}
+
+#[test]
+fn window_settings_out_of_range_are_refused() {
+    refused(
+        &["--window-ahead=-5"],
+        "--window-ahead -5: give a distance ≥ 0 m",
+    );
+    refused(
+        &["--window-tolerance", "1"],
+        "--window-tolerance 1: give a value from 0 (never hold a block behind) to below 1",
+    );
+}
+
+#[test]
+fn the_window_asked_for_where_it_does_not_apply_is_refused() {
+    refused(
+        &["--window", "on", "--quake", "synthetic"],
+        "--window on with --quake: under ground motion the whole viaduct moves; give --window off",
+    );
+    refused(
+        &["--window", "on", "--radius", "1000"],
+        "--window on with --radius: the window maps nodes to stations on a straight track only; give --window off",
+    );
+    refused(
+        &["--window", "on", "--solver", "direct"],
+        "--window on: the activity window needs the partitioned solver (solver = \"partitioned\") with at least one block; give --solver partitioned or --window off",
+    );
+}
