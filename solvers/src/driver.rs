@@ -52,10 +52,11 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
+mod holds;
 mod predictor;
 mod rank_build;
 mod ranks;
-use crate::held_active_set::ActiveSetHolds;
+pub(crate) use holds::ActiveSetHolds;
 use predictor::IncrementPredictor;
 use rank_build::RankSplit;
 use ranks::Ranks;

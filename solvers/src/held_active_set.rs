@@ -54,16 +54,6 @@ use crate::step_method::{HeldActiveSet, LastResortFailure, StepMethod};
 use railfem_framework::element::ActiveSet;
 use railfem_framework::model::FirstActiveSet;
 
-/// What the contacts' active sets are held at, between the driver's attempts.
-#[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct ActiveSetHolds {
-    /// The held retry of this module holds them.
-    pub(crate) retry: bool,
-    /// This step's first iteration holds them
-    /// ([`railfem_framework::model::FirstActiveSet`]).
-    pub(crate) first: bool,
-}
-
 /// Rounds of holding and checking with [`ActiveSet::LastFound`], and then as many with
 /// [`ActiveSet::LastFoundStickingReversals`], before the retry gives up.
 pub const HELD_ROUNDS: usize = 8;
