@@ -138,7 +138,15 @@ fn dense_and_sparse_agree_across_the_threshold() {
 fn low_rank_on_a_contact_held_dof_names_the_solver_to_use() {
     let dir = std::env::temp_dir().join(format!("railfem-lowrank-{}", std::process::id()));
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
-        .args(["train-bridge", "--cars", "1", "--spans", "2", "--steps", "3"])
+        .args([
+            "train-bridge",
+            "--cars",
+            "1",
+            "--spans",
+            "2",
+            "--steps",
+            "3",
+        ])
         .args(["--solver", "low_rank", "--quiet", "--out"])
         .arg(&dir)
         .output()
@@ -148,7 +156,11 @@ fn low_rank_on_a_contact_held_dof_names_the_solver_to_use() {
     let err = String::from_utf8_lossy(&out.stderr);
     let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
     assert_eq!(lines.len(), 1, "one line: {err}");
-    for want in ["low-rank solver factors the constant part alone", " rx ", "partitioned"] {
+    for want in [
+        "low-rank solver factors the constant part alone",
+        " rx ",
+        "partitioned",
+    ] {
         assert!(err.contains(want), "missing {want:?} in {err}");
     }
 }

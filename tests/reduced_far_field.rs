@@ -20,6 +20,7 @@
 //! the errors.
 
 use nalgebra::{DMatrix, DVector};
+use railfem::framework::Dof;
 use railfem::solvers::integrator::Integrator;
 use railfem::solvers::linear::{LinearSolver, SparseLu};
 use railfem::solvers::modal::{lowest_modes, ModalOptions};
@@ -33,7 +34,6 @@ use railfem::train_bridge::{build, read_quake, TrainBridgeCase, TrainBridgeModel
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
-use railfem::framework::Dof;
 
 /// The middle span's block: its matrices, split, midspan girder `Uz` (local index) and the
 /// ground motion's load per unit acceleration along X, Y, Z (`M·r`).
@@ -81,7 +81,11 @@ fn span_block(dt: f64) -> SpanBlock {
         .and_then(|b| b.midspan_node(1))
         .expect("middle span");
     let mid_node = d.model.node(mid_id).expect("midspan node");
-    let mid_eq = d.asm.dofmap.equation(mid_node, Dof::Uz).expect("midspan Uz");
+    let mid_eq = d
+        .asm
+        .dofmap
+        .equation(mid_node, Dof::Uz)
+        .expect("midspan Uz");
     let mid = eqs
         .iter()
         .position(|&e| e == mid_eq)
