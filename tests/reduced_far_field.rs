@@ -102,10 +102,6 @@ fn span_block(dt: f64) -> SpanBlock {
     }
 }
 
-fn dense(a: &railfem::framework::sparse::CscMatrix) -> DMatrix<f64> {
-    DMatrix::from_fn(a.n, a.n, |i, j| a.get(i, j))
-}
-
 /// ω of `K̂·x = ω²·M̂·x` ascending, through `K̂ = L·Lᵀ` (`M̂` may be singular):
 /// the eigenvalues of `L⁻¹·M̂·L⁻ᵀ` are `1/ω²`.
 fn reduced_omegas(k: &DMatrix<f64>, m: &DMatrix<f64>) -> Vec<f64> {
@@ -253,7 +249,7 @@ fn a_viaduct_span_started_reduced_shakes_like_the_full_span() {
         f
     };
     let integ = Integrator::generalized_alpha(0.5);
-    let (kd, md, cd) = (dense(&b.k), dense(&b.m), dense(&b.c));
+    let (kd, md, cd) = (b.k.to_dense(), b.m.to_dense(), b.c.to_dense());
     let mut full = LinearMarch::new(integ, dt, md.clone(), cd, kd.clone()).expect("full march");
     let mut red = LinearMarch::new(
         integ,

@@ -84,6 +84,18 @@ impl CscMatrix {
         self.position(i, j).map_or(0.0, |p| self.values[p])
     }
 
+    /// The matrix as a dense `n × n` matrix (zeros outside the pattern), for tests and
+    /// small systems: one pass over the stored entries.
+    pub fn to_dense(&self) -> nalgebra::DMatrix<f64> {
+        let mut d = nalgebra::DMatrix::zeros(self.n, self.n);
+        for j in 0..self.n {
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                d[(self.row_idx[p], j)] = self.values[p];
+            }
+        }
+        d
+    }
+
     /// Bytes of its three arrays (capacity, as allocated): `8·(n + 1)` column pointers,
     /// `8·nnz` row indices and `8·nnz` values.
     pub fn heap_bytes(&self) -> usize {

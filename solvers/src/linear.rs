@@ -898,7 +898,7 @@ fn check_rhs(len: usize, n: usize, ncols: usize) -> Result<bool, SolverError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{DMatrix, DVector};
+    use nalgebra::DVector;
 
     /// Small deterministic xorshift generator, uniform in [-1, 1).
     struct Rng(u64);
@@ -963,10 +963,6 @@ mod tests {
 
     fn norm(v: &[f64]) -> f64 {
         v.iter().map(|x| x * x).sum::<f64>().sqrt()
-    }
-
-    fn dense(a: &CscMatrix) -> DMatrix<f64> {
-        DMatrix::from_fn(a.n, a.n, |i, j| a.get(i, j))
     }
 
     fn solve(s: &mut dyn LinearSolver, a: &CscMatrix, b: &[f64]) -> Vec<f64> {
@@ -1050,7 +1046,8 @@ mod tests {
         }
         let a = CscMatrix::from_triplets(n, &t);
         let b = rng.vec(n);
-        let reference = dense(&a)
+        let reference = a
+            .to_dense()
             .cholesky()
             .unwrap()
             .solve(&DVector::from_vec(b.clone()));
@@ -1186,7 +1183,8 @@ mod tests {
         }
         let small = convection_diffusion(6, 7, 3.0);
         let b = Rng(1).vec(small.n);
-        let reference = dense(&small)
+        let reference = small
+            .to_dense()
             .lu()
             .solve(&DVector::from_vec(b.clone()))
             .unwrap();

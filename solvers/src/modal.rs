@@ -423,7 +423,7 @@ mod tests {
                 assert!(d < 1e-6 * scale, "mode {j} DOF {i}: {d:e}");
             }
         }
-        let gram = modes.shapes.transpose() * dense(&mm) * &modes.shapes;
+        let gram = modes.shapes.transpose() * mm.to_dense() * &modes.shapes;
         assert!((gram - DMatrix::identity(5, 5)).amax() < 1e-10);
     }
 
@@ -484,9 +484,9 @@ mod tests {
         }
         let kk = CscMatrix::from_triplets(n, &tk);
         let mm = CscMatrix::from_triplets(n, &tm);
-        let l = dense(&mm).cholesky().unwrap().l();
+        let l = mm.to_dense().cholesky().unwrap().l();
         let linv = l.clone().try_inverse().unwrap();
-        let c = &linv * dense(&kk) * linv.transpose();
+        let c = &linv * kk.to_dense() * linv.transpose();
         let mut reference: Vec<f64> = SymmetricEigen::new(0.5 * (&c + c.transpose()))
             .eigenvalues
             .iter()
@@ -510,9 +510,5 @@ mod tests {
             lowest_modes(&kk, &mm, 1, &ModalOptions::default()),
             Err(ModalError::Solver(SolverError::Singular { .. }))
         ));
-    }
-
-    fn dense(a: &CscMatrix) -> DMatrix<f64> {
-        DMatrix::from_fn(a.n, a.n, |i, j| a.get(i, j))
     }
 }

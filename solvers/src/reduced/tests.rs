@@ -66,10 +66,6 @@ fn beam(fixed: &[usize]) -> (CscMatrix, CscMatrix, Vec<Option<usize>>) {
     )
 }
 
-fn dense(a: &CscMatrix) -> DMatrix<f64> {
-    DMatrix::from_fn(a.n, a.n, |i, j| a.get(i, j))
-}
-
 /// Eigenvalues ω² of `K·x = ω²·M·x` (dense, `M` positive definite), ascending:
 /// `L⁻¹·K·L⁻ᵀ` with `M = L·Lᵀ`.
 fn dense_eigenvalues(k: &DMatrix<f64>, m: &DMatrix<f64>) -> Vec<f64> {
@@ -139,7 +135,7 @@ fn guyan_part_is_statically_exact() {
         )
     };
     // the full model's static interior field, by a dense LU of K_II
-    let kd = dense(&k);
+    let kd = k.to_dense();
     let kii = DMatrix::from_fn(interior.len(), interior.len(), |i, j| {
         kd[(interior[i], interior[j])]
     });
@@ -204,7 +200,7 @@ fn reduced_span_frequencies_match_the_full_span_below_the_cutoff() {
     for (w, c) in cb.omega.iter().zip(&clamped) {
         assert!((w - c).abs() / c < 1e-3, "clamped mode {w} against {c}");
     }
-    let full = dense_eigenvalues(&dense(&k), &dense(&m));
+    let full = dense_eigenvalues(&k.to_dense(), &m.to_dense());
     let reduced = dense_eigenvalues(&cb.k_hat, &cb.m_hat);
     let mut compared = 0;
     for (j, (&lf, &lr)) in full.iter().zip(&reduced).enumerate() {
@@ -305,7 +301,7 @@ fn a_switch_changes_the_energy_by_the_residual_above_the_cutoff() {
         &ModalOptions::default(),
     )
     .unwrap();
-    let (kd, md) = (dense(&k), dense(&m));
+    let (kd, md) = (k.to_dense(), m.to_dense());
     let n = k.n;
     let mid = map[2 * (ELEMENTS / 2)].unwrap(); // w at midspan
     let mut f = DVector::zeros(n);
@@ -421,7 +417,7 @@ fn a_reduced_span_follows_ground_motion_like_the_full_span() {
             * ((2.0 * PI * 1.3 * t).sin() + (2.0 * PI * 3.4 * t).sin() + (2.0 * PI * 6.1 * t).sin())
     };
     let integ = Integrator::generalized_alpha(0.9);
-    let (kd, md) = (dense(&k), dense(&m));
+    let (kd, md) = (k.to_dense(), m.to_dense());
     let mut full = LinearMarch::new(integ, dt, md, DMatrix::zeros(n, n), kd).unwrap();
     let mut red = LinearMarch::new(
         integ,
@@ -460,7 +456,7 @@ fn a_reduced_span_follows_ground_motion_like_the_full_span() {
         "{worst:e} m against a peak of {peak:e} m"
     );
     // switching the shaking full span to the reduced form: the ledger changes by E_res
-    let e_full = dense_energy(&dense(&m), &dense(&k), &sf.q, &sf.v);
+    let e_full = dense_energy(&m.to_dense(), &k.to_dense(), &sf.q, &sf.v);
     let (sw, discarded) = cb.to_reduced(sf.q.as_slice(), sf.v.as_slice(), sf.a.as_slice());
     let ledger = e_full - cb.energy(&sw);
     println!(
