@@ -58,12 +58,35 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
         l.split_whitespace().take(3).collect::<Vec<_>>().join(" ")
     });
     let (t0, c0) = (Instant::now(), crate::cpu_time::process_seconds());
+    let (tm0, p0) = (d.summary.timings, d.partition_stats().unwrap_or_default());
     let mut iterations = 0;
     for _ in 0..steps {
         iterations += step(d)?;
     }
     let wall = t0.elapsed().as_secs_f64();
     let cpu = crate::cpu_time::process_seconds() - c0;
+    let (tm1, p1) = (d.summary.timings, d.partition_stats().unwrap_or_default());
+    let ms = |x: f64| 1e3 * x / steps as f64;
+    let per = |a: usize, b: usize| (b - a) as f64 / steps as f64;
+    eprintln!(
+        "  per step: assembly {:.1} ms, loads {:.1} ms, factor {:.1} ms (top form {:.1}, top factor {:.1}, blocks {:.1}, promotions {:.1}), solve {:.1} ms; top factorizations {:.2}, top symbolic analyses {:.2}, top constant forms {:.2}, refits {:.2}, block factorizations {:.2}, promotions {:.2}; top equations {}, reduced {}",
+        ms(tm1.assembly - tm0.assembly),
+        ms(tm1.loads - tm0.loads),
+        ms(tm1.factor - tm0.factor),
+        ms(p1.time_top_form - p0.time_top_form),
+        ms(p1.time_top_factor - p0.time_top_factor),
+        ms(p1.time_blocks - p0.time_blocks),
+        ms(p1.time_promote - p0.time_promote),
+        ms(tm1.solve - tm0.solve),
+        per(p0.top_factorizations, p1.top_factorizations),
+        per(p0.top_symbolic_analyses, p1.top_symbolic_analyses),
+        per(p0.top_constant_forms, p1.top_constant_forms),
+        per(p0.top_refits, p1.top_refits),
+        per(p0.block_factorizations, p1.block_factorizations),
+        per(p0.promotions, p1.promotions),
+        p1.top_equations,
+        p1.top_reduced_equations,
+    );
     let held = window.as_ref().map_or(0.0, |w| {
         let s = w.stats();
         s.held_block_steps as f64 / s.block_steps.max(1) as f64
