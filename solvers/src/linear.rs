@@ -255,6 +255,11 @@ struct TrianglePattern {
 impl TrianglePattern {
     /// The entries `(i, j)`, `i >= j`, of `a`, renumbered `(inv[i], inv[j])` and stored in
     /// the `upper` or lower triangle, rows sorted in each column.
+    ///
+    /// Two counting passes, by row and then (stably) by column, sort the entries by
+    /// `(column, row)` in `O(nnz + n)`; each `(column, row)` occurs once (`a` stores an
+    /// entry once and the renumbering is a permutation), so the order is the one a
+    /// comparison sort gives.
     fn build(a: &CscMatrix, inv: Option<&[usize]>, upper: bool) -> TrianglePattern {
         let n = a.n;
         let map = |i: usize| inv.map_or(i, |inv| inv[i]);
@@ -269,21 +274,37 @@ impl TrianglePattern {
                 }
             }
         }
-        entries.sort_unstable();
-        let mut col_ptr = vec![0; n + 1];
-        for &(c, _, _) in &entries {
-            col_ptr[c + 1] += 1;
+        let starts = |key: &dyn Fn(&(usize, usize, usize)) -> usize| {
+            let mut at = vec![0usize; n + 1];
+            for e in &entries {
+                at[key(e) + 1] += 1;
+            }
+            for j in 0..n {
+                at[j + 1] += at[j];
+            }
+            at
+        };
+        let mut next = starts(&|e| e.1);
+        let mut by_row = vec![(0, 0, 0); entries.len()];
+        for &e in &entries {
+            by_row[next[e.1]] = e;
+            next[e.1] += 1;
         }
-        for j in 0..n {
-            col_ptr[j + 1] += col_ptr[j];
+        let col_ptr = starts(&|e| e.0);
+        let mut next = col_ptr.clone();
+        let (mut row_idx, mut gather) = (vec![0; entries.len()], vec![0; entries.len()]);
+        for &(c, r, p) in &by_row {
+            row_idx[next[c]] = r;
+            gather[next[c]] = p;
+            next[c] += 1;
         }
         TrianglePattern {
             pattern_id: a.pattern_id,
             n,
             full_nnz: a.row_idx.len(),
             col_ptr,
-            row_idx: entries.iter().map(|e| e.1).collect(),
-            gather: entries.iter().map(|e| e.2).collect(),
+            row_idx,
+            gather,
             values: vec![0.0; entries.len()],
         }
     }
@@ -911,6 +932,43 @@ mod tests {
         }
         fn vec(&mut self, n: usize) -> Vec<f64> {
             (0..n).map(|_| self.next()).collect()
+        }
+    }
+
+    /// The triangle pattern of a matrix renumbered by a permutation, in either triangle:
+    /// each column's rows strictly increasing, and the same `(column, row, source
+    /// position)` list as the entries collected and sorted by a comparison sort (the
+    /// independent reference).
+    #[test]
+    fn triangle_pattern_is_the_sorted_renumbered_triangle() {
+        let a = laplacian(7, 5, 1.0, 0.5);
+        let n = a.n;
+        let inv: Vec<usize> = (0..n).map(|i| (i * 13 + 5) % n).collect();
+        for upper in [false, true] {
+            let t = TrianglePattern::build(&a, Some(&inv), upper);
+            let mut reference = Vec::new();
+            for j in 0..n {
+                for p in a.col_ptr[j]..a.col_ptr[j + 1] {
+                    let i = a.row_idx[p];
+                    if i >= j {
+                        let (r, c) = (inv[i], inv[j]);
+                        let (r, c) = if (r < c) == upper { (r, c) } else { (c, r) };
+                        reference.push((c, r, p));
+                    }
+                }
+            }
+            reference.sort();
+            let mut got = Vec::new();
+            for c in 0..n {
+                let rows = &t.row_idx[t.col_ptr[c]..t.col_ptr[c + 1]];
+                assert!(rows.windows(2).all(|w| w[0] < w[1]), "column {c}");
+                for k in t.col_ptr[c]..t.col_ptr[c + 1] {
+                    let r = t.row_idx[k];
+                    assert!(if upper { r <= c } else { r >= c }, "({r}, {c})");
+                    got.push((c, t.row_idx[k], t.gather[k]));
+                }
+            }
+            assert_eq!(got, reference);
         }
     }
 
