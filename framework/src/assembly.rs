@@ -31,6 +31,7 @@ use crate::row_set::RowSet;
 use crate::sparse::CscMatrix;
 use nalgebra::{DMatrix, Vector3};
 
+mod held_loads;
 mod nonzero_products;
 mod own_columns;
 mod own_elements;
@@ -1538,10 +1539,47 @@ impl Assembler {
         load_factor: f64,
         out: &mut [f64],
     ) -> Result<(), FemError> {
+        self.external_force_rows(model, t, load_factor, out, None)
+    }
+
+    /// [`Assembler::external_force`] (`load_factor` 1) on the rows of `rows` alone, the
+    /// others left as they are: `Ok(false)`, with nothing written, where some load could
+    /// reach a row outside `rows` ([`held_loads`]).
+    pub fn external_force_on(
+        &mut self,
+        model: &Model,
+        t: f64,
+        out: &mut [f64],
+        rows: &RowSet,
+    ) -> Result<bool, FemError> {
+        if !self.loads_within(model, rows) {
+            return Ok(false);
+        }
+        self.external_force_rows(model, t, 1.0, out, Some(rows))?;
+        Ok(true)
+    }
+
+    /// [`Assembler::external_force`], its passes over the equations (zero, the constant
+    /// gravity, the finiteness check) on the rows of `rows` (every row: `None`); the loads
+    /// that reach a few rows are added wherever they act.
+    fn external_force_rows(
+        &mut self,
+        model: &Model,
+        t: f64,
+        load_factor: f64,
+        out: &mut [f64],
+        rows: Option<&RowSet>,
+    ) -> Result<(), FemError> {
         self.set_time(model, t);
-        out.iter_mut().for_each(|x| *x = 0.0);
-        for (o, g) in out.iter_mut().zip(&self.gravity_fixed) {
-            *o += g;
+        let parts = held_loads::parts(rows, out.len());
+        for p in &parts {
+            out[p.clone()].iter_mut().for_each(|x| *x = 0.0);
+            for (o, g) in out[p.clone()]
+                .iter_mut()
+                .zip(&self.gravity_fixed[p.clone()])
+            {
+                *o += g;
+            }
         }
         let grav = model
             .analysis
@@ -1621,7 +1659,13 @@ impl Assembler {
         if load_factor != 1.0 {
             out.iter_mut().for_each(|x| *x *= load_factor);
         }
-        if let Some(i) = out.iter().position(|x| !x.is_finite()) {
+        let not_finite = parts.iter().find_map(|p| {
+            out[p.clone()]
+                .iter()
+                .position(|x| !x.is_finite())
+                .map(|k| p.start + k)
+        });
+        if let Some(i) = not_finite {
             let (n, d) = self.dofmap.dof_of(i);
             return Err(FemError::NonFinite(format!(
                 "external load at {} is not finite at t = {t} s",

@@ -668,9 +668,18 @@ impl Driver {
         self.asm
             .advance(&mut self.model, t1, dt)
             .map_err(|_| Exit::Fallback)?;
-        self.asm
-            .external_force(&self.model, t1, 1.0, &mut w.f_ext)
-            .map_err(|_| Exit::Fallback)?;
+        // While blocks are held, the deep held rows keep their constant load
+        // ([`crate::held_rows`]): formed on the other rows where no load reaches them.
+        let rows = self.held_rows.as_ref().and_then(|h| h.rows());
+        let formed = match rows.as_deref() {
+            Some(r) => self.asm.external_force_on(&self.model, t1, &mut w.f_ext, r),
+            None => Ok(false),
+        };
+        if !formed.map_err(|_| Exit::Fallback)? {
+            self.asm
+                .external_force(&self.model, t1, 1.0, &mut w.f_ext)
+                .map_err(|_| Exit::Fallback)?;
+        }
         self.summary.timings.loads += tl.elapsed().as_secs_f64();
         self.linear.keep_on_top(self.asm.variable_equations());
         // Scratch for the variable elements' forces: zero between uses.
