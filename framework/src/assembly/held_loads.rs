@@ -23,7 +23,7 @@ use std::ops::Range;
 pub(super) fn parts(rows: Option<&RowSet>, n: usize) -> Vec<Range<usize>> {
     match rows {
         Some(r) => r.within(0, n).collect(),
-        None => vec![0..n],
+        None => std::iter::once(0..n).collect(),
     }
 }
 
@@ -69,7 +69,7 @@ mod tests {
         let mask: Vec<bool> = (0..10).map(|i| !(3..7).contains(&i)).collect();
         let rows = RowSet::from_mask(&mask);
         assert_eq!(parts(Some(&rows), 10), vec![0..3, 7..10]);
-        assert_eq!(parts(None, 10), vec![0..10]);
+        assert_eq!(parts(None, 10), std::iter::once(0..10).collect::<Vec<_>>());
         let inside: Vec<bool> = (0..10).map(|i| contains(&rows, i)).collect();
         assert_eq!(inside, mask);
     }
