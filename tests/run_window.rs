@@ -11,22 +11,13 @@ mod common;
 #[path = "run_window/spans.rs"]
 mod spans;
 
-use common::{railfem, temp_dir, Csv};
+use common::{run_model_in, temp_dir, Csv};
 use std::path::{Path, PathBuf};
 
 /// Runs `railfem run` on `text` in a fresh directory; returns the output directory and
 /// stdout. Panics when the run fails.
 fn run(name: &str, text: &str) -> (PathBuf, String) {
-    let dir = temp_dir(name);
-    let model = dir.join(format!("{name}.toml"));
-    std::fs::write(&model, text).expect("write model");
-    let out = dir.join("out");
-    let o = railfem(&[
-        "run",
-        model.to_str().expect("utf-8"),
-        "--out",
-        out.to_str().expect("utf-8"),
-    ]);
+    let (out, o) = run_model_in(&temp_dir(name), &format!("{name}.toml"), text);
     assert!(
         o.status.success(),
         "{name}: {}",
