@@ -127,3 +127,84 @@ fn the_window_off_or_left_out_writes_the_bytes_of_a_run_without_it() {
         "{stdout}"
     );
 }
+
+/// A straight path along X for a carrier: station `s` at `(s, 0, 0)`.
+#[derive(Debug)]
+struct AlongX;
+
+impl railfem::framework::moving::Path for AlongX {
+    fn length(&self) -> f64 {
+        100.0
+    }
+    fn at(&self, station: f64) -> railfem::framework::moving::PathPoint {
+        use nalgebra::{Matrix3, Vector3};
+        railfem::framework::moving::PathPoint {
+            station,
+            position: Vector3::new(station, 0.0, 0.0),
+            tangent: Vector3::x(),
+            curvature: 0.0,
+            curvature_rate: 0.0,
+            cant: 0.0,
+            frame: Matrix3::new(0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0),
+        }
+    }
+}
+
+/// The extent of what moves, by hand. Ten 1 m beams from x = 0; a moving force from 1 m
+/// along them at 2 m/s (`x = 1 + 2t`); a sprung mass standing at 0.5 m on them (attached
+/// to the nodes at x = 0 and 1), its own node at x = 50 (attached to it alone, so not
+/// counted); a carrier from station 10 at 5 m/s carrying nodes 3 m behind and 4 m ahead
+/// (`x = 7 + 5t` and `14 + 5t`). At t = 0: [0, 14]; at t = 1.5: the mass at 0–1, the
+/// force at 4, the carrier at 14.5–21.5: [0, 21.5]. Without the mass, [4, 21.5].
+#[test]
+fn the_extent_of_what_moves_by_hand() {
+    use railfem::framework::builder::ModelBuilder;
+    use railfem::framework::loads::LoadSpec;
+    use railfem::framework::moving::Carrier;
+    use railfem::framework::DofSet;
+    let mut b = ModelBuilder::new("extent");
+    for i in 0..=10u64 {
+        b.node(i, [i as f64, 0.0, 0.0]);
+    }
+    let beam =
+        serde_json::json!({"E": 2.1e11, "G": 8.1e10, "A": 1e-2, "Iy": 1e-4, "Iz": 1e-4, "J": 1e-4});
+    for e in 1..=10u64 {
+        b.element("beam3d", e, &[e - 1, e], &beam);
+    }
+    b.load(LoadSpec::MovingForce {
+        elements: (1..=10).collect(),
+        force: [0.0, 0.0, -1.0],
+        speed: 2.0,
+        start: 1.0,
+    });
+    b.node(100, [50.0, 0.0, 1.0]);
+    b.element(
+        "moving_sprung_mass",
+        100,
+        &[100],
+        &serde_json::json!({"m": 1.0, "k": 1.0, "path": (1..=10).collect::<Vec<u64>>(), "start": 0.5}),
+    );
+    b.node_fixed(200, [0.0; 3], DofSet::ALL);
+    b.node_fixed(201, [0.0; 3], DofSet::ALL);
+    b.carrier(
+        Carrier {
+            name: "train".into(),
+            path: std::sync::Arc::new(AlongX),
+            start: 10.0,
+            speed: 5.0,
+            accel: 0.0,
+            speed_table: None,
+            nodes: Vec::new(),
+        },
+        vec![(200, -3.0, [0.0; 3]), (201, 4.0, [0.0; 3])],
+    );
+    let model = b.build().expect("the model builds");
+    let movers = railfem::run_window::MovingExtent::new(&model);
+    assert!(!movers.is_empty(&model));
+    assert_eq!(movers.extent(&model, 0.0), Some([0.0, 14.0]));
+    assert_eq!(movers.extent(&model, 1.5), Some([0.0, 21.5]));
+    let mut model = model;
+    model.elements.retain(|e| e.id != 100);
+    let movers = railfem::run_window::MovingExtent::new(&model);
+    assert_eq!(movers.extent(&model, 1.5), Some([4.0, 21.5]));
+}
