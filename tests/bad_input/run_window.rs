@@ -13,16 +13,25 @@ fn refused(window: &str, solver: &str, extra: &str, line: &str) {
     refused_text(&spans::model(Some(window), solver, extra), line);
 }
 
+/// `railfem run` and `railfem check` refuse `text` with `line` (exact, after the file).
 fn refused_text(text: &str, line: &str) {
     let name = "run_window.toml";
+    let dir = super::common::temp_dir("run_window_check");
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write model");
+    let o = super::common::railfem(&["check", path.to_str().expect("utf-8")]);
+    let checked = super::common::refused_with("check", &o, &[line]);
+    let _ = std::fs::remove_dir_all(&dir);
     let err = check(name, text, &[line]);
     // The file is named by the path it was given as.
-    let (head, tail) = err
-        .trim_end()
-        .split_once(&format!("{name}: "))
-        .unwrap_or_else(|| panic!("the file is not named: {err}"));
-    assert!(head.starts_with("error: "), "{err}");
-    assert_eq!(tail, line);
+    for e in [&err, &checked] {
+        let (head, tail) = e
+            .trim_end()
+            .split_once(&format!("{name}: "))
+            .unwrap_or_else(|| panic!("the file is not named: {e}"));
+        assert!(head.starts_with("error: "), "{e}");
+        assert_eq!(tail, line);
+    }
 }
 
 #[test]
