@@ -220,6 +220,16 @@ pub enum Plan {
     On(Box<RunWindow>),
 }
 
+impl Plan {
+    /// Moves the window before a step ([`RunWindow::before_step`]); nothing when off.
+    pub fn before_step(&mut self, driver: &mut Driver) -> Result<(), FemError> {
+        match self {
+            Plan::On(w) => w.before_step(driver),
+            Plan::Off | Plan::AutoOff(_) => Ok(()),
+        }
+    }
+}
+
 /// The window of the model of `driver` as `spec` asks for it (`file` names the model file
 /// in messages): an explicit `mode = "on"` on a model the window does not apply to is an
 /// input error naming `[analysis.window]` and the fix.
