@@ -202,3 +202,40 @@ fn the_extent_of_what_moves_by_hand() {
     let movers = railfem::run_window::MovingExtent::new(&model);
     near(movers.extent(&model, 1.5), [4.0, 21.5]);
 }
+
+/// `mode = "auto"` where the window applies runs it: the bytes of `mode = "on"`. Where the
+/// partitioned solver makes no block (a block size above the model's equations), known
+/// only once it has factored, `auto` stays off (the bytes of a run without the table)
+/// and says why, once.
+#[test]
+fn auto_runs_the_window_where_it_applies_and_says_why_not_elsewhere() {
+    let files = ["mass.csv", "midspans.csv"];
+    let same = |a: &Path, b: &Path, what: &str| {
+        for f in files {
+            let (x, y) = (std::fs::read(a.join(f)), std::fs::read(b.join(f)));
+            assert_eq!(x.expect("written"), y.expect("written"), "{what}: {f}");
+        }
+    };
+    let (on, _) = run(
+        "on",
+        &spans::model(Some("mode = \"on\"\nahead = 15.0"), "partitioned", ""),
+    );
+    let (auto, stdout) = run(
+        "auto",
+        &spans::model(Some("mode = \"auto\"\nahead = 15.0"), "partitioned", ""),
+    );
+    same(&on, &auto, "auto where the window applies");
+    assert!(stdout.contains("activity window: "), "{stdout}");
+    let one_block = |t: String| t.replace("block_size = 14", "block_size = 100000");
+    let (none, _) = run("none", &one_block(spans::model(None, "partitioned", "")));
+    let (auto, stdout) = run(
+        "auto",
+        &one_block(spans::model(Some("mode = \"auto\""), "partitioned", "")),
+    );
+    same(&none, &auto, "auto without blocks");
+    assert_eq!(
+        stdout.lines().filter(|l| l.contains("activity window")).collect::<Vec<_>>(),
+        ["activity window (auto): off here: the activity window needs the partitioned solver (solver = \"partitioned\") with at least one block"],
+        "{stdout}"
+    );
+}
