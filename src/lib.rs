@@ -38,6 +38,7 @@ pub mod progress;
 pub mod ranks;
 pub mod reference;
 pub mod rolling_contact;
+pub mod run_window;
 pub mod sidecar;
 pub mod small_models;
 pub mod stress;

@@ -851,6 +851,8 @@ mod round_five;
 mod round_four;
 #[path = "bad_input/round_three.rs"]
 mod round_three;
+#[path = "bad_input/run_window.rs"]
+mod run_window;
 #[path = "bad_input/validation.rs"]
 mod validation;
 #[path = "bad_input/window.rs"]

@@ -302,6 +302,100 @@ pub struct Rayleigh {
     pub beta: f64,
 }
 
+/// Whether the activity window runs (`[analysis.window] mode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum WindowMode {
+    /// Every block of the partitioned solver solved every step: the run is that of a
+    /// model without the window, bit for bit (the default).
+    #[default]
+    Off,
+    /// Blocks far from what moves held at their state; a model the window does not apply
+    /// to is refused.
+    On,
+    /// [`WindowMode::On`] where the window applies, [`WindowMode::Off`] elsewhere (the run's
+    /// summary says why, once).
+    Auto,
+}
+
+impl WindowMode {
+    /// The name a model file spells it with.
+    pub fn name(self) -> &'static str {
+        match self {
+            WindowMode::Off => "off",
+            WindowMode::On => "on",
+            WindowMode::Auto => "auto",
+        }
+    }
+}
+
+/// The activity window of a transient on the partitioned solver (`[analysis.window]`):
+/// blocks far from the model's moving elements are held at their state
+/// (`railfem_solvers::window`; what moves and where is `railfem::run_window`'s).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct WindowSpec {
+    /// `"off"` (the default), `"on"` or `"auto"`.
+    pub mode: WindowMode,
+    /// The reach (m): a block joins when the front of what moves comes within this
+    /// distance, and is held behind only once it is this far behind the rear (`None`: the
+    /// default reach of `railfem train-bridge --window`, 300 m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ahead: Option<f64>,
+    /// A block behind is held once its interior's velocity norm is below this fraction of
+    /// the largest it reached, in `[0, 1)` (`None`: the default, 0.01).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
+}
+
+impl WindowSpec {
+    /// Whether the window is off with no setting given (the table left out, as before it
+    /// existed; kept out of serialized settings).
+    pub fn is_off(&self) -> bool {
+        *self == WindowSpec::default()
+    }
+
+    /// The checks of the keys alone (ranges, settings without the window, the analysis
+    /// kind): one error per problem, naming `origin`'s `[analysis.window]` key and the fix.
+    /// Whether the window applies to the model is checked where the model is known.
+    pub fn check(&self, kind: AnalysisKind, origin: &str) -> Vec<FemError> {
+        let o = format!("{origin}: [analysis.window]");
+        let mut errors = Vec::new();
+        if let Some(a) = self.ahead.filter(|a| !(a.is_finite() && *a >= 0.0)) {
+            errors.push(FemError::input(
+                &o,
+                format!("`ahead` = {}: give a distance ≥ 0 m", fmt_num(a)),
+            ));
+        }
+        if let Some(t) = self
+            .tolerance
+            .filter(|t| !(t.is_finite() && (0.0..1.0).contains(t)))
+        {
+            errors.push(FemError::input(
+                &o,
+                format!(
+                    "`tolerance` = {}: give a value from 0 (never hold a block behind) to below 1",
+                    fmt_num(t)
+                ),
+            ));
+        }
+        let settings = self.ahead.is_some() || self.tolerance.is_some();
+        if self.mode == WindowMode::Off && settings {
+            errors.push(FemError::input(
+                &o,
+                "`ahead` and `tolerance` set the activity window, which is off unless `mode` is \"on\" or \"auto\"; add mode = \"on\" (or \"auto\"), or drop them",
+            ));
+        }
+        if kind != AnalysisKind::Transient && (self.mode != WindowMode::Off || settings) {
+            errors.push(FemError::input(
+                &o,
+                "the activity window follows what moves in a transient; remove [analysis.window] or set `kind` = \"transient\"",
+            ));
+        }
+        errors
+    }
+}
+
 /// The `[analysis]` table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -350,6 +444,9 @@ pub struct AnalysisSpec {
     pub block_size: Option<usize>,
     /// Geometry of rigid links and vehicle suspensions: "linear" or "nonlinear".
     pub geometry: Geometry,
+    /// The activity window (`[analysis.window]`): off unless asked for.
+    #[serde(skip_serializing_if = "WindowSpec::is_off")]
+    pub window: WindowSpec,
 }
 
 impl Default for AnalysisSpec {
@@ -374,6 +471,7 @@ impl Default for AnalysisSpec {
             solver: SolverChoice::Auto,
             block_size: None,
             geometry: Geometry::Linear,
+            window: WindowSpec::default(),
         }
     }
 }
@@ -446,6 +544,7 @@ impl AnalysisSpec {
         if self.block_size == Some(0) {
             bad("`block_size` must be at least 1 (interior equations per block of the partitioned solver; leave it out for 3000)".into());
         }
+        errors.extend(self.window.check(self.kind, origin));
         // The step count means something only once `dt` and `duration` are valid.
         if errors.is_empty() {
             if let Err(e) = self.check_step_count(&o) {

@@ -1856,6 +1856,20 @@ impl Driver {
         progress: &mut dyn FnMut(f64),
         observe: &mut dyn FnMut(&Model, f64),
     ) -> Result<(RunSummary, Vec<History>), FemError> {
+        self.run_preparing(out, keep, progress, observe, &mut |_| Ok(()))
+    }
+
+    /// [`Driver::run_observing`], and `before(driver)` before every transient step, after
+    /// the initialization (a model file's activity window moves there: `railfem run`). An
+    /// error there ends the run as a failed step does.
+    pub fn run_preparing(
+        &mut self,
+        out: Option<&Path>,
+        keep: bool,
+        progress: &mut dyn FnMut(f64),
+        observe: &mut dyn FnMut(&Model, f64),
+        before: &mut dyn FnMut(&mut Driver) -> Result<(), FemError>,
+    ) -> Result<(RunSummary, Vec<History>), FemError> {
         let start = Instant::now();
         let spec = self.model.analysis.clone();
         let mut rec = if out.is_some() || keep {
@@ -1887,7 +1901,7 @@ impl Driver {
                     } else {
                         spec.dt
                     };
-                    if let Err(e) = self.step(dt) {
+                    if let Err(e) = before(self).and_then(|()| self.step(dt).map(|_| ())) {
                         if let (Some(r), Some(dir)) = (rec.as_mut(), out) {
                             let _ = r.finish();
                             let _ = self

@@ -46,7 +46,12 @@ impl Command for CheckCmd {
     const NAME: &'static str = "check";
     fn run(&self, _: &Context) -> Result<i32, FemError> {
         let path = self.model.as_path();
+        let file = path.display().to_string();
         let checked = super::run::prepare(path, true)
+            // The activity window's refusals, as `run` makes them before its first step.
+            .and_then(|(d, pre)| {
+                crate::run_window::plan(&d, &d.model.analysis.window, &file).map(|_| (d, pre))
+            })
             .and_then(|(mut d, pre)| mechanism_check(&mut d, self.factor).map(|note| (pre, note)));
         match checked {
             Ok((pre, note)) => {

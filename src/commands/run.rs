@@ -85,16 +85,21 @@ impl Command for RunCmd {
         let ranks = crate::ranks::launcher_exchange("run")?;
         // Across ranks, K, M, C formed on each rank's columns only.
         let (mut driver, _) = prepare_on(path, false, ranks.clone())?;
+        let shared = ranks.is_some();
         if let Some(ex) = ranks {
             share_among_ranks(&mut driver, ex, path)?;
+        }
+        // The activity window (`[analysis.window]`): decided alike on every rank.
+        let file = path.display().to_string();
+        let spec = driver.model.analysis.window;
+        let mut window = crate::run_window::plan(&driver, &spec, &file)?;
+        if shared && !crate::ranks::writes_outputs() {
             // Rank 0 alone prints and writes the recorders; the others compute.
-            if !crate::ranks::writes_outputs() {
-                crate::progress::set_quiet(true);
-                driver
-                    .run(None, &mut |_| {})
-                    .map_err(|e| e.in_file(&path.display().to_string()))?;
-                return Ok(0);
-            }
+            crate::progress::set_quiet(true);
+            driver
+                .run(None, &mut |_| {})
+                .map_err(|e| e.in_file(&file))?;
+            return Ok(0);
         }
         let an = &driver.model.analysis;
         let steps = match an.kind {
@@ -104,9 +109,19 @@ impl Command for RunCmd {
             _ => 1,
         };
         let mut bar = crate::progress::Progress::new("run", steps, "steps");
-        let s = driver
-            .run(Some(out), &mut |f| bar.fraction(f))
-            .map_err(|e| e.in_file(&path.display().to_string()))?;
+        let s = match &mut window {
+            crate::run_window::Plan::On(w) => driver
+                .run_preparing(
+                    Some(out),
+                    false,
+                    &mut |f| bar.fraction(f),
+                    &mut |_, _| {},
+                    &mut |d| w.before_step(d),
+                )
+                .map(|(s, _)| s),
+            _ => driver.run(Some(out), &mut |f| bar.fraction(f)),
+        }
+        .map_err(|e| e.in_file(&file))?;
         bar.finish();
         println!(
             "{}: {} steps, {} Newton iterations, {} factorizations, {} equations, {:.3} s; results in {}",
@@ -118,6 +133,20 @@ impl Command for RunCmd {
             s.wall,
             out.display()
         );
+        match &window {
+            crate::run_window::Plan::On(w) => {
+                if let Some(st) = w.stats() {
+                    println!("{}", crate::run_window::stats_line(&st));
+                }
+                if let Some(why) = w.auto_off() {
+                    println!("activity window (auto): off here: {why}")
+                }
+            }
+            crate::run_window::Plan::AutoOff(why) => {
+                println!("activity window (auto): off here: {why}")
+            }
+            crate::run_window::Plan::Off => {}
+        }
         if let Some(e) = driver.energy.as_ref().filter(|e| e.started()) {
             println!("{}", e.summary());
         }

@@ -289,14 +289,7 @@ impl Command for TrainBridgeCmd {
             out.display()
         );
         if let Some(w) = r.window {
-            println!(
-                "activity window: {} of {} block-steps held ({:.1} %), {} blocks joined, {} held behind",
-                w.held_block_steps,
-                w.block_steps,
-                100.0 * w.held_block_steps as f64 / w.block_steps.max(1) as f64,
-                w.joined,
-                w.left
-            );
+            println!("{}", crate::run_window::stats_line(&w));
         }
         if let Some(why) = r.window_off {
             println!("activity window (auto): off here: {why}");

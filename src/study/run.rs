@@ -62,10 +62,17 @@ fn run_case(plan: &Plan, case: &Case, out: &Path) -> Result<Vec<String>, FemErro
             let model = crate::model_from_value(&v, &name, folder);
             let (mut driver, _) = crate::prepare(model, &name, false)?;
             let mut wheels = WheelExtremes::of(&driver.model);
+            // The model's activity window (`[analysis.window]`), as `railfem run` has it.
+            let spec = driver.model.analysis.window;
+            let mut window = crate::run_window::plan(&driver, &spec, &name)?;
             let (s, _) = driver
-                .run_observing(hist.as_deref(), false, &mut |_| {}, &mut |m, t| {
-                    wheels.observe(m, t)
-                })
+                .run_preparing(
+                    hist.as_deref(),
+                    false,
+                    &mut |_| {},
+                    &mut |m, t| wheels.observe(m, t),
+                    &mut |d| window.before_step(d),
+                )
                 .map_err(|e| e.in_file(&name))?;
             let peak = driver.state.q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let mut c = vec![

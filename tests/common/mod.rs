@@ -112,20 +112,27 @@ pub fn fryba(x: f64, t: f64, p: f64, v: f64, l: f64, ei: f64, m: f64, terms: usi
         .sum()
 }
 
-/// Writes `text` as `name` into a fresh directory, runs `railfem run` on it and checks
-/// the exit code (2), that stderr is one line, that it names the file, and that it contains
-/// every string of `expect` (the place and the fix). Returns the line.
-pub fn check_bad_model(name: &str, text: &str, expect: &[&str]) -> String {
-    let dir = temp_dir(name.split('.').next().unwrap_or("case"));
+/// Writes `text` as `name` into `dir` and runs `railfem run` on it, its outputs into
+/// `dir/out-NAME`: that directory and the process's output.
+pub fn run_model_in(dir: &Path, name: &str, text: &str) -> (PathBuf, Output) {
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write model");
-    let out = dir.join("out");
+    let out = dir.join(format!("out-{name}"));
     let o = railfem(&[
         "run",
         path.to_str().expect("utf-8"),
         "--out",
         out.to_str().expect("utf-8"),
     ]);
+    (out, o)
+}
+
+/// Writes `text` as `name` into a fresh directory, runs `railfem run` on it and checks
+/// the exit code (2), that stderr is one line, that it names the file, and that it contains
+/// every string of `expect` (the place and the fix). Returns the line.
+pub fn check_bad_model(name: &str, text: &str, expect: &[&str]) -> String {
+    let dir = temp_dir(name.split('.').next().unwrap_or("case"));
+    let (_, o) = run_model_in(&dir, name, text);
     let err = refused_with(name, &o, expect);
     assert!(err.contains(name), "{name}: the file is not named: {err}");
     let _ = std::fs::remove_dir_all(&dir);

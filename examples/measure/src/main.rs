@@ -10,7 +10,9 @@
 //!   runs) timed again back to back, in turn, with the load average of every round
 //!   ([`retime`]);
 //! - `threshold`: dense against sparse factorization by size, the table the solvers' dense
-//!   limit was chosen from ([`threshold`]).
+//!   limit was chosen from ([`threshold`]);
+//! - `window-front`: run time against error of the train–bridge model with the activity
+//!   window beside full runs ([`window_front`]).
 //!
 //! The commands users run to time their own machine and model (`railfem bench`, `railfem
 //! pareto`, `railfem stress`) stay in `railfem`. This crate depends on `railfem`'s library
@@ -23,6 +25,7 @@ mod load_average;
 mod peer;
 mod retime;
 mod threshold;
+mod window_front;
 
 use clap::{Args, Parser, Subcommand};
 use railfem::framework::FemError;
@@ -62,6 +65,9 @@ enum Measure {
     /// Dense LU against the sparse direct solver by size on two model families
     /// (threshold.md): where the dense solver stops paying.
     Threshold(ThresholdCmd),
+    /// Run time against error of the train–bridge model, windowed runs beside full runs,
+    /// on 3 carriages over 12 spans (window-front.csv, window-front.svg).
+    WindowFront(WindowFrontCmd),
 }
 
 /// `railfem-measure export`.
@@ -135,6 +141,15 @@ struct RetimeAtCmd {
 #[derive(Args, Debug)]
 struct ThresholdCmd {
     /// Output directory [default: out/threshold].
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+}
+
+/// `railfem-measure window-front`.
+#[derive(Args, Debug)]
+struct WindowFrontCmd {
+    /// Output directory: the runs in DIR/runs (read, not run again, when there),
+    /// window-front.csv and window-front.svg [default: out/window-front].
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
 }
@@ -252,6 +267,18 @@ impl ThresholdCmd {
     }
 }
 
+impl WindowFrontCmd {
+    fn run(&self) -> Result<(), FemError> {
+        let out = out(&self.out, "out/window-front");
+        eprintln!("load average at start: {}", load_average::loadavg());
+        let points = window_front::measure(&window_front::default_set(), &out)?;
+        eprintln!("load average at end: {}", load_average::loadavg());
+        print!("{}", window_front::csv(&points));
+        println!("railfem-measure window-front: results in {}", out.display());
+        Ok(())
+    }
+}
+
 /// Parses the command line and runs the measurement; the process exit code.
 fn main_code(argv: Vec<std::ffi::OsString>) -> i32 {
     let cli = match Cli::try_parse_from(argv) {
@@ -281,6 +308,7 @@ fn main_code(argv: Vec<std::ffi::OsString>) -> i32 {
         Measure::Retime(c) => c.run(),
         Measure::RetimeAt(c) => c.run(),
         Measure::Threshold(c) => c.run(),
+        Measure::WindowFront(c) => c.run(),
     };
     match result {
         Ok(()) => 0,
