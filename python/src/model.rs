@@ -167,10 +167,34 @@ impl Model {
             start: std::time::SystemTime::now(),
         });
         let ran = guarded(py, || -> Result<Ran, FemError> {
-            let (mut driver, pre) = self.source.prepare(false)?;
-            let (summary, histories) = driver
-                .run_keeping(out.as_deref(), true, &mut |_| {})
-                .map_err(|e| e.in_file(&self.source.name()))?;
+            let (mut driver, mut pre) = self.source.prepare(false)?;
+            // The activity window (`[analysis.window]`), planned and moved as `railfem
+            // run` does it; `auto` where it does not apply says why among the warnings.
+            let name = self.source.name();
+            let spec = driver.model.analysis.window;
+            let mut window = railfem::run_window::plan(&driver, &spec, &name)?;
+            let (summary, histories) = match &mut window {
+                railfem::run_window::Plan::On(w) => driver
+                    .run_preparing(
+                        out.as_deref(),
+                        true,
+                        &mut |_| {},
+                        &mut |_, _| {},
+                        &mut |d| w.before_step(d),
+                    )
+                    .map(|r| {
+                        if let Some(why) = w.auto_off() {
+                            pre.warnings.push(format!("activity window (auto): off here: {why}"));
+                        }
+                        r
+                    }),
+                railfem::run_window::Plan::AutoOff(why) => {
+                    pre.warnings.push(format!("activity window (auto): off here: {why}"));
+                    driver.run_keeping(out.as_deref(), true, &mut |_| {})
+                }
+                railfem::run_window::Plan::Off => driver.run_keeping(out.as_deref(), true, &mut |_| {}),
+            }
+            .map_err(|e| e.in_file(&name))?;
             let energy = driver
                 .energy
                 .as_ref()
