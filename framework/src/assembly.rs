@@ -31,6 +31,7 @@ use crate::row_set::RowSet;
 use crate::sparse::CscMatrix;
 use nalgebra::{DMatrix, Vector3};
 
+mod damping_diagonal;
 mod nonzero_products;
 mod own_columns;
 mod own_elements;
