@@ -412,8 +412,14 @@ fn the_absorbing_layer_dissipates_as_damping_work_and_the_balance_closes() {
     }
     let (full, layer, bare) = (results[0], results[1], results[2]);
     println!(
-        "damping work: full {:.6e}, layer {:.6e}, bare {:.6e} J; integrator residual {:.6e} / {:.6e} / {:.6e} J",
-        full.damping, layer.damping, bare.damping, full.integrator, layer.integrator, bare.integrator
+        "damping work: full {:.6e}, layer {:.6e}, bare {:.6e} J (layer − bare {:.3e} J); integrator residual {:.6e} / {:.6e} / {:.6e} J",
+        full.damping,
+        layer.damping,
+        bare.damping,
+        layer.damping - bare.damping,
+        full.integrator,
+        layer.integrator,
+        bare.integrator
     );
     assert!(
         layer.damping > bare.damping,

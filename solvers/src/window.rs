@@ -34,6 +34,11 @@
 //! case measures them against the full model (`tests/train_window.rs`, "The activity
 //! window" in `docs/performance.md`).
 //!
+//! A held block is a fixed wall for the waves the load sends along the structure; the
+//! [`absorb`] layer damps them over the last stretch before it, so that little comes back
+//! ([`ActivityWindow::set_absorbing_layer`]). That damping is the third approximation:
+//! the active structure there is damped more than the model is, far from the load.
+//!
 //! The window itself ([`ActivityWindow`]) knows only stations: each block's extent along
 //! the track and the load's extent `[rear, front]`; the case maps nodes to stations.
 
