@@ -124,6 +124,8 @@ pub struct TrainBridgeCase {
     pub first_active_set: crate::framework::model::FirstActiveSet,
     /// The activity window (`--window`, [`crate::train_window`]): off by default.
     pub window: crate::train_window::WindowChoice,
+    /// The window's absorbing layer (`--window-layer`, [`crate::train_window::layer`]).
+    pub window_layer: crate::train_window::LayerOptions,
 }
 
 impl Default for TrainBridgeCase {
@@ -155,6 +157,7 @@ impl Default for TrainBridgeCase {
             train_start: -15.0,
             first_active_set: Default::default(),
             window: Default::default(),
+            window_layer: Default::default(),
         }
     }
 }
@@ -850,6 +853,10 @@ pub fn run(
     d.initialize()?;
     let track = case.window_track();
     let mut window = crate::train_window::open(d, case.window, &track)?;
+    if let Some(w) = window.as_mut() {
+        let reach = w.settings().ahead;
+        w.set_absorbing_layer(crate::train_window::layer(reach, case.window_layer));
+    }
     let window_off = match case.window {
         crate::train_window::WindowChoice::Auto(_) => {
             crate::train_window::auto_off_reason(d, &track)

@@ -33,7 +33,18 @@
 //!
 //! **The default tolerance**, 1 %, drops at most about 1e-4 of a block's largest kinetic
 //! energy when it is held behind (`railfem_solvers::window`).
+//!
+//! **The absorbing layer** ([`layer`], `railfem_solvers::window::absorb`): damping
+//! `α_max·ξ²·M_ii` over the last `L` before a held block, which returns the amplitude
+//! `R = exp(−α_max·L/(3c))` of a wave at group velocity `c`. By default `L` is a third of
+//! the reach (the layer's inner edge then stays two thirds of the reach from the train)
+//! and `α_max = 3·c·ln(1/R)/L` with `c` = 1 500 m/s (above the fastest first arrivals
+//! measured, about 1 200 m/s) and `R` = 0.01, but at most `2.5·L` (1/s, `L` in m): a
+//! steeper layer reflects more by itself than it absorbs (a 40 m layer did best at
+//! 100 /s and worse at 200 and 518 /s; `docs/activity-window.md`, "Why the window
+//! errs"). With the default reach, `L` = 100 m and `α_max` = 207 /s.
 
+use crate::solvers::window::absorb::LayerSettings;
 use crate::solvers::window::{ActivityWindow, WindowSettings};
 use crate::solvers::Driver;
 use railfem_framework::FemError;
@@ -202,15 +213,75 @@ pub fn open(
     };
     // On the straight track (checked) a node's station is its X coordinate.
     let station = |node: usize| driver.model.nodes[node].position.x;
-    ActivityWindow::new(driver, settings(track, o), station)
-        .map(Some)
-        .map_err(|m| {
-            FemError::input(
-                "command line",
-                format!("--window on: {m}; give --solver partitioned or --window off"),
-            )
-        })
+    let settings = settings(track, o);
+    let mut w = ActivityWindow::new(driver, settings, station).map_err(|m| {
+        FemError::input(
+            "command line",
+            format!("--window on: {m}; give --solver partitioned or --window off"),
+        )
+    })?;
+    w.set_absorbing_layer(layer(settings.ahead, LayerOptions::default()));
+    Ok(Some(w))
 }
+
+/// The user's settings of the absorbing layer (`--window-layer`,
+/// `--window-layer-damping`); `None`: the default (module documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LayerOptions {
+    /// Thickness `L` (m); `0`: no layer.
+    pub thickness: Option<f64>,
+    /// `α_max` (1/s).
+    pub damping: Option<f64>,
+}
+
+/// The absorbing layer of a window of reach `reach` (m) with the user's `options`
+/// (module documentation): by default a third of the reach thick, `α_max` by the
+/// reflection rule for [`LAYER_WAVE_SPEED`] and [`LAYER_REFLECTION`], at most
+/// [`LAYER_GRADIENT`] times the thickness; `None` for a thickness of zero.
+pub fn layer(reach: f64, options: LayerOptions) -> Option<LayerSettings> {
+    let thickness = options.thickness.unwrap_or(reach / 3.0);
+    if thickness <= 0.0 {
+        return None;
+    }
+    let mut s = LayerSettings::for_reflection(thickness, LAYER_WAVE_SPEED, LAYER_REFLECTION);
+    s.alpha_max = options
+        .damping
+        .unwrap_or(s.alpha_max.min(LAYER_GRADIENT * thickness));
+    Some(s)
+}
+
+/// The layer's settings from the command line: refused, in one line naming the option
+/// and the fix, when negative or not finite, or given while the window is off.
+pub fn parse_layer(
+    window: WindowChoice,
+    thickness: Option<f64>,
+    damping: Option<f64>,
+) -> Result<LayerOptions, FemError> {
+    let bad = |m: String| Err(FemError::input("command line", m));
+    for (name, v) in [
+        ("--window-layer", thickness),
+        ("--window-layer-damping", damping),
+    ] {
+        if let Some(x) = v.filter(|x| !(x.is_finite() && *x >= 0.0)) {
+            return bad(format!("{name} {x}: give a value ≥ 0"));
+        }
+    }
+    let options = LayerOptions { thickness, damping };
+    if window == WindowChoice::Off && options != LayerOptions::default() {
+        return bad("--window-layer and --window-layer-damping shape the activity window's absorbing layer, which is off unless --window is on or auto; add --window on (or auto), or drop them".into());
+    }
+    Ok(options)
+}
+
+/// The group velocity the absorbing layer is sized for (m/s) (module documentation).
+pub const LAYER_WAVE_SPEED: f64 = 1500.0;
+
+/// The amplitude the absorbing layer returns of a wave at [`LAYER_WAVE_SPEED`] (-).
+pub const LAYER_REFLECTION: f64 = 0.01;
+
+/// The largest `α_max/L` of the absorbing layer (1/(s·m)): a steeper layer reflects
+/// more itself than it absorbs (module documentation).
+pub const LAYER_GRADIENT: f64 = 2.5;
 
 /// How the window's three settings are named where they were given: the command line's
 /// options or a study plan's keys (for the one-line errors of [`parse_options`]).

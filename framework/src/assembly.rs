@@ -31,6 +31,7 @@ use crate::row_set::RowSet;
 use crate::sparse::CscMatrix;
 use nalgebra::{DMatrix, Vector3};
 
+mod damping_diagonal;
 mod held_loads;
 mod nonzero_products;
 mod own_columns;

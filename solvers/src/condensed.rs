@@ -286,6 +286,11 @@ impl Driver {
             cache.no_products_ahead = no_ahead;
             cache.ahead.dt = None;
         }
+        // The constant damping changed (an absorbing layer): what was formed ahead is stale.
+        if std::mem::take(&mut self.constant_changed) {
+            cache.ahead.dt = None;
+            cache.products = None;
+        }
         let s0 = std::mem::take(&mut self.state);
         let mut sw = std::mem::take(&mut self.work);
         let n = self.neq();

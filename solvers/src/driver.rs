@@ -315,6 +315,10 @@ pub struct Driver {
     pub(crate) held_rows: Option<crate::held_rows::HeldRows>,
     /// Whether held rows are left out ([`Driver::set_skip_held_rows`]).
     pub(crate) skip_held_rows: bool,
+    /// The constant damping changed since the last step (an absorbing layer,
+    /// [`crate::window::absorb`]): the condensed Newton forgets the products it formed
+    /// ahead with the old one.
+    pub(crate) constant_changed: bool,
 }
 
 fn norm(x: &[f64]) -> f64 {
@@ -468,6 +472,7 @@ impl Driver {
             method: None,
             held_rows: None,
             skip_held_rows: true,
+            constant_changed: false,
         };
         if let (Some(split), Some((ex, _))) = (split, shared) {
             d.take_rank_split(ex, split);

@@ -308,6 +308,15 @@ impl LinearBackend {
         self.factored = None;
     }
 
+    /// Forgets the constant part's values and the factor (the constant matrices changed
+    /// between steps, `railfem_solvers::window::absorb`): the next factorization forms the
+    /// constant part again. The partitioned mode's block factors are kept; the caller
+    /// names the blocks to factor anew ([`Partitioned::refactor_blocks`]).
+    pub fn forget_constant_values(&mut self) {
+        self.a_key = None;
+        self.factored = None;
+    }
+
     /// Releases the partitioned mode's factors and the effective matrix they were made
     /// from, before another solver factors another matrix (the initial mass solve): two
     /// sets of block factors are then never held at once, and the next factorization

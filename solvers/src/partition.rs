@@ -72,6 +72,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 mod frozen;
+mod refactor;
 mod rows;
 
 const NONE: u32 = u32::MAX;

@@ -34,10 +34,18 @@
 //! case measures them against the full model (`tests/train_window.rs`, "The activity
 //! window" in `docs/performance.md`).
 //!
+//! A held block is a fixed wall for the waves the load sends along the structure; the
+//! [`absorb`] layer damps them over the last stretch before it, so that little comes back
+//! ([`ActivityWindow::set_absorbing_layer`]). That damping is the third approximation:
+//! the active structure there is damped more than the model is, far from the load.
+//!
 //! The window itself ([`ActivityWindow`]) knows only stations: each block's extent along
 //! the track and the load's extent `[rear, front]`; the case maps nodes to stations.
 
+pub mod absorb;
+
 use crate::driver::Driver;
+use absorb::{AbsorbingLayer, LayerSettings};
 use railfem_framework::error::FemError;
 
 /// Settings of the activity window.
@@ -88,6 +96,12 @@ pub struct ActivityWindow {
     extents: Vec<[f64; 2]>,
     /// Each block's interior equations.
     interiors: Vec<Vec<usize>>,
+    /// The station of each of them (m).
+    stations: Vec<Vec<f64>>,
+    /// The top equations coupled to a block (the separators), and their stations (m).
+    separators: (Vec<usize>, Vec<f64>),
+    /// The absorbing layer at the window's edges ([`absorb`]; none unless set).
+    layer: AbsorbingLayer,
     phases: Vec<Phase>,
     /// The flags last handed to the driver (held blocks stay at rest by themselves).
     held: Vec<bool>,
@@ -111,26 +125,57 @@ impl ActivityWindow {
             .ok_or("the activity window needs the partitioned solver (solver = \"partitioned\") with at least one block")?;
         let mut extents = Vec::with_capacity(p.block_count());
         let mut interiors = Vec::with_capacity(p.block_count());
+        let mut stations = Vec::with_capacity(p.block_count());
         for b in 0..p.block_count() {
             let all = p.block_interior(b);
-            let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-            for &i in all {
-                let s = station(driver.asm.dofmap.dof_of(i).0);
-                lo = lo.min(s);
-                hi = hi.max(s);
-            }
+            let at: Vec<f64> = all
+                .iter()
+                .map(|&i| station(driver.asm.dofmap.dof_of(i).0))
+                .collect();
+            let lo = at.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = at.iter().copied().fold(f64::NEG_INFINITY, f64::max);
             extents.push([lo, hi]);
             interiors.push(all.to_vec());
+            stations.push(at);
         }
+        let mut top: Vec<usize> = (0..p.block_count())
+            .flat_map(|b| p.block_boundary(b).iter().copied())
+            .collect();
+        top.sort_unstable();
+        top.dedup();
+        let at = top
+            .iter()
+            .map(|&i| station(driver.asm.dofmap.dof_of(i).0))
+            .collect();
+        let separators = (top, at);
         let phases = vec![Phase::Ahead; extents.len()];
         Ok(ActivityWindow {
             settings,
             extents,
             interiors,
+            stations,
+            separators,
+            layer: AbsorbingLayer::default(),
             phases,
             held: Vec::new(),
             stats: WindowStats::default(),
         })
+    }
+
+    /// Sets the absorbing layer at the window's edges ([`absorb`]; `None`: none, a held
+    /// block then reflects what reaches it). Before the first [`ActivityWindow::update`].
+    pub fn set_absorbing_layer(&mut self, settings: Option<LayerSettings>) {
+        self.layer = AbsorbingLayer::new(settings);
+    }
+
+    /// The window's settings.
+    pub fn settings(&self) -> WindowSettings {
+        self.settings
+    }
+
+    /// The absorbing layer.
+    pub fn absorbing_layer(&self) -> &AbsorbingLayer {
+        &self.layer
     }
 
     /// Each block's phase.
@@ -209,7 +254,40 @@ impl ActivityWindow {
             .hold_blocks(&frozen)
             .map_err(|m| FemError::input("activity window", m))?;
         self.held = frozen;
-        Ok(())
+        self.move_layer(driver)
+    }
+
+    /// Moves the absorbing layer to the held regions' edges (after a change of the held
+    /// set): ahead, the first station of the blocks still ahead; behind, the last station
+    /// of the blocks held behind.
+    fn move_layer(&mut self, driver: &mut Driver) -> Result<(), FemError> {
+        let edge = |phase: Phase, pick: fn(&[f64; 2]) -> f64, join: fn(f64, f64) -> f64| {
+            self.phases
+                .iter()
+                .zip(&self.extents)
+                .filter(|(p, _)| **p == phase)
+                .map(|(_, e)| pick(e))
+                .reduce(join)
+        };
+        let ahead = edge(Phase::Ahead, |e| e[0], f64::min);
+        let behind = edge(Phase::Behind, |e| e[1], f64::max);
+        let blocks: Vec<(&[usize], &[f64])> = self
+            .interiors
+            .iter()
+            .zip(&self.stations)
+            .map(|(i, s)| (&i[..], &s[..]))
+            .collect();
+        let active: Vec<bool> = self.held.iter().map(|h| !h).collect();
+        self.layer
+            .apply(
+                driver,
+                &blocks,
+                &active,
+                (&self.separators.0, &self.separators.1),
+                ahead,
+                behind,
+            )
+            .map_err(|m| FemError::input("activity window", m))
     }
 }
 

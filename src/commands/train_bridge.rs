@@ -111,6 +111,15 @@ pub struct TrainBridgeCmd {
     /// largest [default: 0.01].
     #[arg(value_parser = crate::command::number(), long, value_name = "X")]
     pub window_tolerance: Option<f64>,
+    /// The activity window's absorbing layer: damping growing over M metres towards a held
+    /// block, so that it does not send the train's waves back; 0: none [default: a third
+    /// of the reach].
+    #[arg(value_parser = crate::command::number(), long, value_name = "M")]
+    pub window_layer: Option<f64>,
+    /// The absorbing layer's largest mass-proportional damping, in 1/s [default: derived
+    /// from the thickness, docs/activity-window.md].
+    #[arg(value_parser = crate::command::number(), long, value_name = "A")]
+    pub window_layer_damping: Option<f64>,
     /// Output directory: wheels.csv, midspan.csv, summary.csv, energy.csv, run.json
     /// [default: out/train_bridge].
     #[arg(long, value_name = "DIR")]
@@ -192,6 +201,11 @@ impl TrainBridgeCmd {
             self.window.as_deref(),
             self.window_ahead,
             self.window_tolerance,
+        )?;
+        c.window_layer = crate::train_window::parse_layer(
+            c.window,
+            self.window_layer,
+            self.window_layer_damping,
         )?;
         Ok(c)
     }
