@@ -450,7 +450,7 @@ impl TrainBridgeCase {
     }
 
     /// The track mesh at rail element length `h` (at most; fasteners are nodes).
-    fn mesh(&self, h: f64) -> TrackMesh {
+    pub(crate) fn mesh(&self, h: f64) -> TrackMesh {
         TrackMesh {
             element_length: h,
             support: RailSupport::Bridge(Box::new(self.bridge())),
@@ -689,20 +689,7 @@ fn build_with(
     });
     let ids = build_train(&mut b, &tm, &spec)?;
     if let Some(q) = &quake {
-        for (c, dir) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-            .iter()
-            .enumerate()
-        {
-            if q.a[c].iter().all(|v| *v == 0.0) {
-                continue;
-            }
-            let points = q.t.iter().zip(&q.a[c]).map(|(t, a)| [*t, *a]).collect();
-            b.load(LoadSpec::GroundMotion {
-                direction: *dir,
-                series: TimeSeries::Table { points },
-                scale: 1.0,
-            });
-        }
+        ground_motion(&mut b, q);
     }
     let t_gen = t0.elapsed().as_secs_f64();
     let rss = || crate::bench::resident_memory_mib().unwrap_or(f64::NAN);
@@ -743,6 +730,25 @@ fn build_with(
         duration,
         quake,
     })
+}
+
+/// The record `q`'s ground motion as loads of the model (`−M·r·a_g(t)` along each axis
+/// the record moves).
+pub(crate) fn ground_motion(b: &mut ModelBuilder, q: &QuakeRecord) {
+    for (c, dir) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+        .iter()
+        .enumerate()
+    {
+        if q.a[c].iter().all(|v| *v == 0.0) {
+            continue;
+        }
+        let points = q.t.iter().zip(&q.a[c]).map(|(t, a)| [*t, *a]).collect();
+        b.load(LoadSpec::GroundMotion {
+            direction: *dir,
+            series: TimeSeries::Table { points },
+            scale: 1.0,
+        });
+    }
 }
 
 /// The round-off floor of the residual norm (N) on the mesh of `tm` with girders of
