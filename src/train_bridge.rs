@@ -124,6 +124,8 @@ pub struct TrainBridgeCase {
     pub first_active_set: crate::framework::model::FirstActiveSet,
     /// The activity window (`--window`, [`crate::train_window`]): off by default.
     pub window: crate::train_window::WindowChoice,
+    /// The far field (`--far-field`, [`crate::far_field`]): full by default.
+    pub far_field: crate::far_field::FarFieldChoice,
 }
 
 impl Default for TrainBridgeCase {
@@ -155,6 +157,7 @@ impl Default for TrainBridgeCase {
             train_start: -15.0,
             first_active_set: Default::default(),
             window: Default::default(),
+            far_field: Default::default(),
         }
     }
 }
@@ -812,6 +815,8 @@ pub struct TrainBridgeReport {
     pub window: Option<crate::solvers::window::WindowStats>,
     /// Why `auto` left the window off (`None`: it ran, or it was not asked for).
     pub window_off: Option<&'static str>,
+    /// The reduced far field's counters (`None`: full).
+    pub far_field: Option<crate::far_field::FarFieldStats>,
 }
 
 fn output(d: &Driver, ei: usize, pos: &[usize; 4], buf: &mut Vec<f64>) -> [f64; 4] {
@@ -862,6 +867,7 @@ pub fn run(
         }
         _ => None,
     };
+    let mut far = crate::far_field::open(d, case.far_field, &track, case.dt, window.is_some())?;
     let names = d.model.elements[m.wheel_index[0]].element.output_names();
     let find = |k: &str| {
         names
@@ -953,6 +959,9 @@ pub fn run(
         if let Some(w) = window.as_mut() {
             let [rear, front] = crate::train_window::train_extent(&track, d.state.t);
             w.update(d, rear, front)?;
+        }
+        if let Some(f) = far.as_mut() {
+            f.update(d)?;
         }
         let r = d.step(dt)?;
         iterations += r.iterations;
@@ -1061,5 +1070,6 @@ pub fn run(
         wall: start.elapsed().as_secs_f64(),
         window: window.map(|w| w.stats()),
         window_off,
+        far_field: far.map(|f| f.stats()),
     })
 }

@@ -23,7 +23,7 @@
 //! on the state: it adds and removes nothing.
 
 use super::{restrict, CraigBampton, ReducedError, Split};
-use crate::driver::{Driver, ReferenceSystem};
+use crate::driver::Driver;
 use crate::modal::ModalOptions;
 use crate::partition::ReducedBasis;
 use nalgebra::{DMatrix, DVector};
@@ -43,16 +43,9 @@ impl Driver {
         Some(out)
     }
 
-    /// The Craig–Bampton reduction of the partitioned solver's block `b` from the linear
-    /// system `sys` ([`Driver::reference_system`]): its interior and boundary as the
-    /// partition split them, the modes up to `cutoff` (rad/s). `None` without the
-    /// partitioned solver or before its first factorization.
-    pub fn block_reduction(
-        &self,
-        sys: &ReferenceSystem,
-        b: usize,
-        cutoff: f64,
-    ) -> Option<Result<CraigBampton, ReducedError>> {
+    /// Block `b`'s equations (interior and boundary, ascending) and its split in that
+    /// local numbering; `None` without the partitioned solver or such a block.
+    fn block_split_of(&self, b: usize) -> Option<(Vec<usize>, Split)> {
         let p = self.linear.partitioned()?;
         if b >= p.block_count() {
             return None;
@@ -65,14 +58,51 @@ impl Driver {
             interior: interior.iter().map(|&g| local(g)).collect(),
             boundary: boundary.iter().map(|&g| local(g)).collect(),
         };
+        Some((eqs, split))
+    }
+
+    /// The Craig–Bampton reduction of the partitioned solver's block `b` from the
+    /// model's constant `K`, `M`, `C` (the far field is linear; its interior holds no
+    /// variable element): its interior and boundary as the partition split them, the modes
+    /// up to `cutoff` (rad/s). `None` without the partitioned solver or such a block.
+    pub fn block_reduction(
+        &self,
+        b: usize,
+        cutoff: f64,
+    ) -> Option<Result<CraigBampton, ReducedError>> {
+        let (eqs, split) = self.block_split_of(b)?;
+        let a = &self.asm;
         Some(CraigBampton::build(
-            &restrict(&sys.stiffness, &eqs),
-            &restrict(&sys.mass, &eqs),
-            Some(&restrict(&sys.damping, &eqs)),
+            &restrict(&a.k_const, &eqs),
+            &restrict(&a.m_const, &eqs),
+            Some(&restrict(&a.c_const, &eqs)),
             &split,
             cutoff,
             &ModalOptions::default(),
         ))
+    }
+
+    /// Whether blocks `a` and `b` have the same split and the same `K` and `M` in their
+    /// local numbering, entry by entry within `tol` of the largest (then one reduction
+    /// serves both).
+    pub fn blocks_alike(&self, a: usize, b: usize, tol: f64) -> bool {
+        let (Some((ea, sa)), Some((eb, sb))) = (self.block_split_of(a), self.block_split_of(b))
+        else {
+            return false;
+        };
+        if sa != sb {
+            return false;
+        }
+        [&self.asm.k_const, &self.asm.m_const].iter().all(|m| {
+            let (x, y) = (restrict(m, &ea), restrict(m, &eb));
+            let scale = x.values.iter().fold(0.0f64, |s, v| s.max(v.abs()));
+            x.col_ptr == y.col_ptr
+                && x.row_idx == y.row_idx
+                && x.values
+                    .iter()
+                    .zip(&y.values)
+                    .all(|(u, v)| (u - v).abs() <= tol * scale)
+        })
     }
 
     /// Switches block `b` to the reduced form `basis` (rows: its interior, columns of
