@@ -12,7 +12,7 @@
 //! left. Each block is reduced once, at the start, with its modes up to the cut-off
 //! ([`FarFieldOptions::cutoff_hz`], or the library's rule from `Δt`,
 //! [`CutOffRule`]); blocks whose matrices are equal (to 1e-12 of their largest entry)
-//! share one reduction.
+//! share one reduction. A block whose modes do not converge stays full.
 //!
 //! **Energy.** Each switch to reduced form removes `E_res`, the energy of the motion the
 //! kept modes do not describe; the far field sums them ([`FarFieldStats::e_res`]).
@@ -112,6 +112,8 @@ pub struct FarFieldStats {
     pub blocks: usize,
     /// Distinct reductions made (blocks with equal matrices share one).
     pub reductions: usize,
+    /// Blocks whose reduction failed (their modes did not converge): they stay full.
+    pub failed: usize,
     /// Modes kept, summed over the candidate blocks.
     pub modes: usize,
     /// Seconds spent reducing.
@@ -221,20 +223,26 @@ pub fn open(
             .map(|(_, basis)| basis.clone());
         let basis = match shared {
             Some(basis) => basis,
-            None => {
-                let cb = driver
-                    .block_reduction(b, cutoff)
-                    .expect("partitioned")
-                    .map_err(|e| {
-                        FemError::input(o, format!("--far-field reduced: block {b}: {e}"))
-                    })?;
-                let basis = Arc::new(ReducedBasis {
-                    psi: cb.psi,
-                    phi: cb.phi,
-                });
-                made.push((b, basis.clone()));
-                basis
-            }
+            None => match driver.block_reduction(b, cutoff).expect("partitioned") {
+                Ok(cb) => {
+                    let basis = Arc::new(ReducedBasis {
+                        psi: cb.psi,
+                        phi: cb.phi,
+                    });
+                    made.push((b, basis.clone()));
+                    basis
+                }
+                Err(e) => {
+                    // The block stays full: slower, never wrong.
+                    stats.failed += 1;
+                    stats.candidates -= 1;
+                    if stats.failed == 1 {
+                        eprintln!("far field: block {b} stays full ({e})");
+                    }
+                    bases.push(None);
+                    continue;
+                }
+            },
         };
         stats.modes += basis.phi.ncols();
         bases.push(Some(basis));

@@ -320,7 +320,7 @@ impl Command for TrainBridgeCmd {
         }
         if let Some(f) = r.far_field {
             println!(
-                "far field: {} of {} block-steps reduced ({:.1} %); {} of {} blocks reducible, {} reductions ({} modes, {:.1} s); {} switches to reduced, {} to full, E_res {:.4e} J",
+                "far field: {} of {} block-steps reduced ({:.1} %); {} of {} blocks reducible, {} reductions ({} modes, {:.1} s; {} failed, kept full); {} switches to reduced, {} to full, E_res {:.4e} J",
                 f.reduced_block_steps,
                 f.block_steps,
                 100.0 * f.reduced_block_steps as f64 / f.block_steps.max(1) as f64,
@@ -329,6 +329,7 @@ impl Command for TrainBridgeCmd {
                 f.reductions,
                 f.modes,
                 f.setup_seconds,
+                f.failed,
                 f.to_reduced,
                 f.to_full,
                 f.e_res
