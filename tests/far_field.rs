@@ -13,7 +13,9 @@
 //!    library's reduction meets on this span);
 //! 3. a switch of the shaking block to reduced form removes the energy
 //!    `E_res` that the library's closed form gives (`CraigBampton::to_reduced`), to 1e-9
-//!    of the block's energy.
+//!    of the block's energy, and the energy ledger books the jump as `E_res` plus the
+//!    ground motion's work over it (`EnergyLedger::book_jump`, from the whole model's
+//!    state against the driver's block matrices).
 //!
 //! 4. `railfem train-bridge --far-field full` writes the same bytes as a run without the
 //!    option; `--far-field reduced` under ground motion switches blocks both ways and its
@@ -222,12 +224,30 @@ fn a_switch_in_the_driver_removes_the_library_residual_energy() {
         phi: cb.phi.clone(),
     });
     let n = d.neq();
+    let before = d.state.clone();
+    let booked_before = d.energy.as_ref().expect("ledger").totals().switched;
     let e_res = d.reduce_block(b, basis, &vec![0.0; n]).expect("reduce");
     println!(
         "switch at 1.5 s: E_res = {e_res:.4e} J (library {:.4e} J), block energy {e_block:.4e} J",
         discarded.total()
     );
     assert!((e_res - discarded.total()).abs() <= 1e-9 * e_block);
+    // The ledger books the jump: E_res plus the ground motion's work over it (no gravity
+    // here, so all of f_ext), against the driver's E_res from its block matrices.
+    let after = d.state.clone();
+    let work: f64 = (0..n)
+        .map(|i| before.f_ext[i] * (after.q[i] - before.q[i]))
+        .sum();
+    let booked = d.energy.as_ref().expect("ledger").totals().switched - booked_before;
+    println!(
+        "ledger: booked {booked:.6e} J, E_res + f_ext·Δq = {:.6e} J",
+        e_res + work
+    );
+    assert!((booked - (e_res + work)).abs() <= 1e-9 * e_block);
+    // The integrator's residual over the step before the switch and over the step after
+    // it (printed; docs/reduced-far-field.md, "Not done yet").
+    let rows = &d.energy.as_ref().expect("ledger").history;
+    let step_before = (rows[rows.len() - 1].integrator - rows[rows.len() - 2].integrator).abs();
     // The state is on the subspace now: a second switch removes nothing.
     let basis = Arc::new(ReducedBasis {
         psi: cb.psi.clone(),
@@ -237,6 +257,11 @@ fn a_switch_in_the_driver_removes_the_library_residual_energy() {
     let again = d.reduce_block(b, basis, &vec![0.0; n]).expect("reduce");
     assert!(again.abs() <= 1e-12 * e_block, "{again:e}");
     d.step(DT).expect("a step after the switch");
+    let rows = &d.energy.as_ref().expect("ledger").history;
+    let step_after = (rows[rows.len() - 1].integrator - rows[rows.len() - 2].integrator).abs();
+    println!(
+        "integrator residual over a step: {step_before:.3e} J before, {step_after:.3e} J across the switch (booked {booked:.3e} J)"
+    );
 }
 
 /// `xᵀ·A·x` over the block's equations `eqs` (rows and columns).

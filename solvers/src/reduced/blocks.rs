@@ -19,8 +19,11 @@
 //! `½·Δvᵀ·M·(v + v') + ½·Δdᵀ·K·(d + d')`, `Δ` non-zero on the interior only:
 //! [`Driver::reduce_block`] returns `E_res = E − E'`, the energy of the motion above the
 //! cut-off that the projection drops (the library's closed form of it:
-//! [`crate::reduced::CraigBampton::to_reduced`]). Returning to full form is the identity
-//! on the state: it adds and removes nothing.
+//! [`crate::reduced::CraigBampton::to_reduced`]). The energy ledger books the jump
+//! ([`crate::energy::EnergyLedger::book_jump`]): its works over the jump, and the energy
+//! removed in its own column — `E_res` plus the work of the loads other than the static
+//! ones over the jump, `(f_ext − K·q₀)ᵀ·Δq` (the ground motion's). Returning to full form
+//! is the identity on the state: it adds and removes nothing.
 
 use super::{restrict, CraigBampton, ReducedError, Split};
 use crate::driver::Driver;
@@ -177,6 +180,8 @@ impl Driver {
             }
             out
         };
+        // The state before, for the energy ledger's booking of the jump.
+        let before = self.energy.is_some().then(|| self.state.clone());
         let s = &mut self.state;
         let new_q = project(&s.q, Some(origin));
         let new_v = project(&s.v, None);
@@ -204,6 +209,9 @@ impl Driver {
         let change = 0.5 * dot(&dq, &k_sum) + 0.5 * dot(&dv, &m_sum);
         for (l, &g) in eqs.iter().enumerate() {
             s.f_int[g] += k_dq[l];
+        }
+        if let (Some(e), Some(before)) = (self.energy.as_mut(), before) {
+            e.book_jump(&self.asm, &before, &self.state);
         }
         Ok(-change)
     }
