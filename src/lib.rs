@@ -28,6 +28,7 @@ pub mod contact_tool;
 pub mod cpu_time;
 pub mod critical;
 pub mod curve;
+pub mod far_field;
 pub mod floor;
 pub mod irregularity;
 pub mod matrices;

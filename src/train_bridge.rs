@@ -126,6 +126,8 @@ pub struct TrainBridgeCase {
     pub window: crate::train_window::WindowChoice,
     /// The window's absorbing layer (`--window-layer`, [`crate::train_window::layer`]).
     pub window_layer: crate::train_window::LayerOptions,
+    /// The far field (`--far-field`, [`crate::far_field`]): full by default.
+    pub far_field: crate::far_field::FarFieldChoice,
 }
 
 impl Default for TrainBridgeCase {
@@ -158,6 +160,7 @@ impl Default for TrainBridgeCase {
             first_active_set: Default::default(),
             window: Default::default(),
             window_layer: Default::default(),
+            far_field: Default::default(),
         }
     }
 }
@@ -453,7 +456,7 @@ impl TrainBridgeCase {
     }
 
     /// The track mesh at rail element length `h` (at most; fasteners are nodes).
-    fn mesh(&self, h: f64) -> TrackMesh {
+    pub(crate) fn mesh(&self, h: f64) -> TrackMesh {
         TrackMesh {
             element_length: h,
             support: RailSupport::Bridge(Box::new(self.bridge())),
@@ -692,20 +695,7 @@ fn build_with(
     });
     let ids = build_train(&mut b, &tm, &spec)?;
     if let Some(q) = &quake {
-        for (c, dir) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-            .iter()
-            .enumerate()
-        {
-            if q.a[c].iter().all(|v| *v == 0.0) {
-                continue;
-            }
-            let points = q.t.iter().zip(&q.a[c]).map(|(t, a)| [*t, *a]).collect();
-            b.load(LoadSpec::GroundMotion {
-                direction: *dir,
-                series: TimeSeries::Table { points },
-                scale: 1.0,
-            });
-        }
+        ground_motion(&mut b, q);
     }
     let t_gen = t0.elapsed().as_secs_f64();
     let rss = || crate::bench::resident_memory_mib().unwrap_or(f64::NAN);
@@ -746,6 +736,25 @@ fn build_with(
         duration,
         quake,
     })
+}
+
+/// The record `q`'s ground motion as loads of the model (`−M·r·a_g(t)` along each axis
+/// the record moves).
+pub(crate) fn ground_motion(b: &mut ModelBuilder, q: &QuakeRecord) {
+    for (c, dir) in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+        .iter()
+        .enumerate()
+    {
+        if q.a[c].iter().all(|v| *v == 0.0) {
+            continue;
+        }
+        let points = q.t.iter().zip(&q.a[c]).map(|(t, a)| [*t, *a]).collect();
+        b.load(LoadSpec::GroundMotion {
+            direction: *dir,
+            series: TimeSeries::Table { points },
+            scale: 1.0,
+        });
+    }
 }
 
 /// The round-off floor of the residual norm (N) on the mesh of `tm` with girders of
@@ -809,6 +818,8 @@ pub struct TrainBridgeReport {
     pub window: Option<crate::solvers::window::WindowStats>,
     /// Why `auto` left the window off (`None`: it ran, or it was not asked for).
     pub window_off: Option<&'static str>,
+    /// The reduced far field's counters (`None`: full).
+    pub far_field: Option<crate::far_field::FarFieldStats>,
 }
 
 fn output(d: &Driver, ei: usize, pos: &[usize; 4], buf: &mut Vec<f64>) -> [f64; 4] {
@@ -863,6 +874,7 @@ pub fn run(
         }
         _ => None,
     };
+    let mut far = crate::far_field::open(d, case.far_field, &track, case.dt, window.is_some())?;
     let names = d.model.elements[m.wheel_index[0]].element.output_names();
     let find = |k: &str| {
         names
@@ -954,6 +966,9 @@ pub fn run(
         if let Some(w) = window.as_mut() {
             let [rear, front] = crate::train_window::train_extent(&track, d.state.t);
             w.update(d, rear, front)?;
+        }
+        if let Some(f) = far.as_mut() {
+            f.update(d)?;
         }
         let r = d.step(dt)?;
         iterations += r.iterations;
@@ -1062,5 +1077,6 @@ pub fn run(
         wall: start.elapsed().as_secs_f64(),
         window: window.map(|w| w.stats()),
         window_off,
+        far_field: far.map(|f| f.stats()),
     })
 }

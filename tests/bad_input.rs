@@ -845,6 +845,8 @@ fn bad_plugins_are_refused() {
     );
 }
 
+#[path = "bad_input/far_field.rs"]
+mod far_field;
 #[path = "bad_input/round_five.rs"]
 mod round_five;
 #[path = "bad_input/round_four.rs"]

@@ -340,6 +340,9 @@ impl Driver {
             return false;
         }
         p.equations() == self.neq()
+            // Reduced blocks' interior rows are reactions of their constraint, not zero
+            // (`partition/reduced.rs`): the full-residual Newton takes those steps.
+            && !p.has_reduced_blocks()
             && self.model.analysis.newton.kind == NewtonKind::Full
             && !self.asm.variable_elements().is_empty()
             && self.asm.constant_part_is_constant()

@@ -67,8 +67,11 @@ pub struct EnergyRow {
     /// report it.
     pub material: f64,
     /// The balance residual: energy dissipated (or, if negative, created) by the
-    /// integrator, `W_ext − ΔT − strain − damping − friction − material`.
+    /// integrator, `W_ext − ΔT − strain − damping − friction − material − switched`.
     pub integrator: f64,
+    /// Energy removed by jumps of the state between steps (a block switched to its
+    /// reduced form, [`EnergyLedger::book_jump`]); zero without them, and then not written.
+    pub switched: f64,
 }
 
 impl EnergyRow {
@@ -328,17 +331,51 @@ impl EnergyLedger {
         r.friction = friction - self.dissipated0[0];
         r.material = material - self.dissipated0[1];
         r.strain = self.internal_work - r.friction - r.material;
+        // `− switched` is `− 0` without jumps: the same bits.
         r.integrator = r.external_work
             - (r.kinetic - self.kinetic0)
             - r.strain
             - r.damping
             - r.friction
-            - r.material;
+            - r.material
+            - r.switched;
         self.peak_scale = self.peak_scale.max(r.scale()).max(self.kinetic0);
         self.peak_residual = self.peak_residual.max(r.integrator.abs());
         self.history.push(*r);
         self.dq = dq;
         self.buf = buf;
+    }
+
+    /// Books a jump of the state between steps, from `before` to `after` (same time and
+    /// loads; a block switched to its reduced form, `crate::reduced::blocks`): the works
+    /// over the jump as a step's, `f_extᵀ·Δq` and `½·(f_int + f_int')ᵀ·Δq`, and the energy
+    /// the jump removed, `f_extᵀ·Δq − ΔT − ½·(f_int + f_int')ᵀ·Δq` (the change of
+    /// `T + U − f_extᵀ·q`, with the sign of a loss), as [`EnergyRow::switched`]; `C·v`
+    /// is taken at `after`. The balance then closes as without the jump, less the booked
+    /// energy. Returns it (J); nothing before the first recorded step (the balance then
+    /// starts from `after`). One process only (no `ranks`, no held rows).
+    pub fn book_jump(&mut self, asm: &Assembler, before: &State, after: &State) -> f64 {
+        if !self.started {
+            return 0.0;
+        }
+        let mut buf = std::mem::take(&mut self.buf);
+        let t0 = kinetic(asm, &before.v, &mut buf, None);
+        let t1 = kinetic(asm, &after.v, &mut buf, None);
+        self.buf = buf;
+        let (mut ext, mut int) = (0.0, 0.0);
+        for i in 0..after.q.len() {
+            let d = after.q[i] - before.q[i];
+            if d != 0.0 {
+                ext += 0.5 * (before.f_ext[i] + after.f_ext[i]) * d;
+                int += 0.5 * (before.f_int[i] + after.f_int[i]) * d;
+            }
+        }
+        let removed = ext - (t1 - t0) - int;
+        self.now.external_work += ext;
+        self.internal_work += int;
+        self.now.switched += removed;
+        damping_force(asm, &after.v, &mut self.cv_prev);
+        removed
     }
 
     /// The totals after the last recorded step.
@@ -390,15 +427,23 @@ impl EnergyLedger {
     /// Writes the rows as CSV:
     /// `time,external_work,kinetic,strain,damping,friction,material,integrator` (J).
     pub fn write_csv(&self, path: &Path) -> Result<(), FemError> {
+        // The jumps' column only when a jump was booked (a reduced far field).
+        let switched = self.history.iter().any(|r| r.switched != 0.0);
         let mut s = String::from("time [s]");
         for c in EnergyRow::COLUMNS {
             let _ = write!(s, ",{c} [J]");
+        }
+        if switched {
+            s.push_str(",switched [J]");
         }
         s.push('\n');
         for r in &self.history {
             let _ = write!(s, "{:.9e}", r.t);
             for v in r.values() {
                 let _ = write!(s, ",{v:.9e}");
+            }
+            if switched {
+                let _ = write!(s, ",{:.9e}", r.switched);
             }
             s.push('\n');
         }

@@ -72,8 +72,11 @@ use std::sync::Arc;
 use std::time::Instant;
 
 mod frozen;
+mod reduced;
 mod refactor;
 mod rows;
+
+pub use reduced::ReducedBasis;
 
 const NONE: u32 = u32::MAX;
 
@@ -217,6 +220,8 @@ struct Block {
     /// Its interior is held at its present values: the solves skip its passes
     /// ([`Partitioned::set_frozen_blocks`]).
     frozen: bool,
+    /// Its interior is constrained to a reduced basis (`partition/reduced.rs`).
+    reduced: Option<reduced::Reduced>,
 }
 
 /// Rank 0's copy of a block another rank owns: what the top system needs of it.
@@ -503,6 +508,9 @@ impl Partitioned {
             b.promoted.clear();
             b.base_unsent = false;
             b.promotion_unsent = false;
+            if let Some(r) = &mut b.reduced {
+                r.cond = None;
+            }
         }
         self.received = vec![Received::default(); self.blocks.len()];
         if let Some(chain) = &mut self.chain {
@@ -692,6 +700,7 @@ impl Partitioned {
             base_unsent: false,
             promotion_unsent: false,
             frozen: false,
+            reduced: None,
         });
     }
 
@@ -790,6 +799,10 @@ impl Partitioned {
             }
         }
         self.stats.time_blocks += t0.elapsed().as_secs_f64();
+        // Reduced blocks' condensations for this `A` (`partition/reduced.rs`).
+        if local.is_ok() {
+            local = self.condense_reduced(a, &wanted);
+        }
         // Promotions whose set changed: known on every rank (the promoted sets are), formed
         // by the owner.
         let t0 = Instant::now();
@@ -1139,6 +1152,8 @@ impl Partitioned {
                         .map(|(b, zero)| {
                             if self.blocks[b].frozen {
                                 &zero[..]
+                            } else if let Some(r) = &self.blocks[b].reduced {
+                                &r.cond.as_ref().expect("condensed").correction[..]
                             } else if owned.contains(&b) {
                                 &self.blocks[b].state().correction[..]
                             } else {
@@ -1221,7 +1236,10 @@ impl Partitioned {
             if in_condensed[b] || blk.frozen {
                 continue;
             }
-            let (correction, g_inv, w_p) = if owned.contains(&b) {
+            let (correction, g_inv, w_p) = if let Some(r) = &blk.reduced {
+                let c = &r.cond.as_ref().expect("condensed").correction[..];
+                (c, &[][..], &[][..])
+            } else if owned.contains(&b) {
                 let st = blk.state();
                 match &blk.promotion {
                     Some(p) => (&st.correction[..], &p.g_inv[..], &p.w_p[..]),
@@ -1312,14 +1330,19 @@ impl Partitioned {
         // equations).
         let parts = par_each(&mut self.blocks[owned], nt, |blk| {
             let Block {
+                all,
                 base,
                 promotion,
                 frozen,
+                reduced,
                 ..
             } = blk;
             if *frozen {
                 // A held interior's rows are reactions, not equations: nothing to condense.
                 return Ok((Vec::new(), Vec::new()));
+            }
+            if let Some(red) = reduced {
+                return Ok((red.forward(all, rhs), Vec::new()));
             }
             let st = base.as_mut().expect("block factored");
             let mut y: Vec<f64> = st.interior.iter().map(|&i| rhs[i]).collect();
@@ -1516,8 +1539,31 @@ impl Partitioned {
                 promotion,
                 promoted,
                 frozen,
+                reduced,
+                boundary,
                 ..
             } = blk;
+            if let Some(red) = reduced {
+                // The Galerkin back pass (`partition/reduced.rs`).
+                let ni = all.len();
+                let mut z = vec![0.0; ni * nc];
+                for (k, (rhs, xt)) in columns.iter().enumerate() {
+                    let x_b: Vec<f64> = boundary
+                        .iter()
+                        .map(|&g| xt[top_index[g] as usize])
+                        .collect();
+                    red.back(all, *rhs, &x_b, &mut z[k * ni..(k + 1) * ni]);
+                }
+                if let Some(direct) = &direct {
+                    for (k, (out, &len)) in direct.iter().zip(&lens).enumerate() {
+                        // SAFETY: as below; no other block writes this block's interiors.
+                        let out = unsafe { out.range(0, len) };
+                        interiors_into(all, &z[k * ni..(k + 1) * ni], out, add, |_| true);
+                    }
+                    return Ok(Vec::new());
+                }
+                return Ok(z);
+            }
             if *frozen {
                 // A held interior does not move: its part of every column is zero.
                 if let (Some(direct), false) = (&direct, add) {

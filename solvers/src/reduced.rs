@@ -39,6 +39,7 @@
 //! linear system with the generalized-α coefficients ([`march`]), a model with some of its
 //! blocks reduced ([`mixed`]).
 
+pub mod blocks;
 pub mod cutoff;
 pub mod march;
 pub mod mixed;

@@ -120,6 +120,20 @@ pub struct TrainBridgeCmd {
     /// from the thickness, docs/activity-window.md].
     #[arg(value_parser = crate::command::number(), long, value_name = "A")]
     pub window_layer_damping: Option<f64>,
+    /// Far field: reduced runs the partitioned solver's blocks out of the train's reach
+    /// (the activity window's) in Craig–Bampton form, switching them to full as the train
+    /// comes near (docs/reduced-far-field.md); full solves every block in full
+    /// [default: full].
+    #[arg(value_parser = crate::command::text(), long, value_name = "full|reduced")]
+    pub far_field: Option<String>,
+    /// The reduced far field's cut-off: blocks keep their fixed-interface modes up to F
+    /// Hz [default: from --dt, docs/reduced-far-field.md].
+    #[arg(value_parser = crate::command::number(), long, value_name = "F")]
+    pub far_field_cutoff: Option<f64>,
+    /// The reduced far field's reach: blocks within M metres ahead of the train's front or
+    /// behind its rear are full [default: the activity window's, 300].
+    #[arg(value_parser = crate::command::number(), long, value_name = "M")]
+    pub far_field_reach: Option<f64>,
     /// Output directory: wheels.csv, midspan.csv, summary.csv, energy.csv, run.json
     /// [default: out/train_bridge].
     #[arg(long, value_name = "DIR")]
@@ -206,6 +220,12 @@ impl TrainBridgeCmd {
             c.window,
             self.window_layer,
             self.window_layer_damping,
+        )?;
+        c.far_field = crate::far_field::parse(
+            crate::far_field::COMMAND_LINE,
+            self.far_field.as_deref(),
+            self.far_field_cutoff,
+            self.far_field_reach,
         )?;
         Ok(c)
     }
@@ -304,6 +324,23 @@ impl Command for TrainBridgeCmd {
         );
         if let Some(w) = r.window {
             println!("{}", crate::run_window::stats_line(&w));
+        }
+        if let Some(f) = r.far_field {
+            println!(
+                "far field: {} of {} block-steps reduced ({:.1} %); {} of {} blocks reducible, {} reductions ({} modes, {:.1} s; {} failed, kept full); {} switches to reduced, {} to full, E_res {:.4e} J",
+                f.reduced_block_steps,
+                f.block_steps,
+                100.0 * f.reduced_block_steps as f64 / f.block_steps.max(1) as f64,
+                f.candidates,
+                f.blocks,
+                f.reductions,
+                f.modes,
+                f.setup_seconds,
+                f.failed,
+                f.to_reduced,
+                f.to_full,
+                f.e_res
+            );
         }
         if let Some(why) = r.window_off {
             println!("activity window (auto): off here: {why}");

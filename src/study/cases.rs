@@ -81,6 +81,7 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
     let (mut record, mut seed, mut pga, mut qdur, mut scale) = (None, None, 0.3, 30.0, 1.0);
     let mut synthetic = false;
     let (mut window, mut ahead, mut tolerance) = (None, None, None);
+    let (mut far_field, mut far_cutoff, mut far_reach) = (None, None, None);
     for (k, v) in settings(plan, case) {
         match k {
             "cars" => c.cars = count(k, v)?,
@@ -132,6 +133,9 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
             "window" => window = Some(v.label()),
             "window_ahead" => ahead = Some(num(k, v)?),
             "window_tolerance" => tolerance = Some(num(k, v)?),
+            "far_field" => far_field = Some(v.label()),
+            "far_field_cutoff" => far_cutoff = Some(num(k, v)?),
+            "far_field_reach" => far_reach = Some(num(k, v)?),
             _ => unreachable!("plan.rs admits only train-bridge keys"),
         }
     }
@@ -183,6 +187,12 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
         window.as_deref(),
         ahead,
         tolerance,
+    )?;
+    c.far_field = crate::far_field::parse(
+        crate::far_field::STUDY,
+        far_field.as_deref(),
+        far_cutoff,
+        far_reach,
     )?;
     c.record_every = 1;
     Ok(c)

@@ -22,7 +22,7 @@ const TOP_KEYS: [&str; 5] = ["case", "base", "options", "histories", "axis"];
 /// Keys of one `[[axis]]` table.
 const AXIS_KEYS: [&str; 6] = ["name", "values", "start", "stop", "step", "count"];
 /// Keys of the train–bridge case, as options and as axes.
-pub const TRAIN_BRIDGE_KEYS: [&str; 22] = [
+pub const TRAIN_BRIDGE_KEYS: [&str; 25] = [
     "cars",
     "spans",
     "span",
@@ -45,6 +45,9 @@ pub const TRAIN_BRIDGE_KEYS: [&str; 22] = [
     "window",
     "window_ahead",
     "window_tolerance",
+    "far_field",
+    "far_field_cutoff",
+    "far_field_reach",
 ];
 /// Keys of the curve case, as options and as axes.
 pub const CURVE_KEYS: [&str; 12] = [

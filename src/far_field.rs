@@ -1,0 +1,333 @@
+//! The reduced far field of `train-bridge` (docs/reduced-far-field.md): the blocks of
+//! the partitioned solver far from the train run in their Craig–Bampton form
+//! ([`crate::solvers::reduced::blocks`]), and switch to full form as the train comes
+//! within reach and back once it has left.
+//!
+//! **Which blocks, when.** The reach is the activity window's
+//! ([`crate::train_window::settings`] with its defaults: `ahead` metres before the
+//! train's front, `behind` after its rear). Before each step a block whose stations meet
+//! `[rear − behind, front + ahead]` is full, any other reduced. A block that the train
+//! stood on at the start is never reduced: its static state (the reduction's origin, the
+//! state after the preload) carries the train's weight, which is gone once the train has
+//! left. Each block is reduced once, at the start, with its modes up to the cut-off
+//! ([`FarFieldOptions::cutoff_hz`], or the library's rule from `Δt`,
+//! [`CutOffRule`]); blocks whose matrices are equal (to 1e-12 of their largest entry)
+//! share one reduction. A block whose modes do not converge stays full.
+//!
+//! **Energy.** Each switch to reduced form removes `E_res`, the energy of the motion the
+//! kept modes do not describe; the far field sums them ([`FarFieldStats::e_res`]).
+//!
+//! This module also holds the viaduct alone under a ground motion ([`viaduct`]): the
+//! track on the bridge and its approaches, no train, no gravity, so that the model is
+//! linear and starts at rest — the case on which a driver with reduced blocks is checked
+//! against the library's own march of the same reduced model (`tests/far_field.rs`).
+
+use crate::elements::rail::geometry::track_model::{self, TrackModel};
+use crate::framework::builder::ModelBuilder;
+use crate::framework::model::{AnalysisSpec, SolverChoice};
+use crate::framework::FemError;
+use crate::solvers::partition::ReducedBasis;
+use crate::solvers::reduced::cutoff::CutOffRule;
+use crate::solvers::Driver;
+use crate::train_bridge::{ground_motion, QuakeRecord, TrainBridgeCase};
+use crate::train_window::{settings, train_extent, WindowOptions, WindowTrack};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// How the blocks far from the train are solved.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum FarFieldChoice {
+    /// Every block in full (the answers of a run without the option, bit for bit).
+    #[default]
+    Full,
+    /// Blocks out of the train's reach in their Craig–Bampton form.
+    Reduced(FarFieldOptions),
+}
+
+/// The user's settings of the reduced far field; `None`: the default.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FarFieldOptions {
+    /// The modes' cut-off frequency (Hz); default: [`CutOffRule`] from `Δt`.
+    pub cutoff_hz: Option<f64>,
+    /// The reach (m) ahead of the train's front and behind its rear within which blocks
+    /// are full; default: the activity window's ([`crate::train_window::settings`]).
+    pub reach: Option<f64>,
+}
+
+/// Where the far field's settings were given, for the one-line errors of [`parse`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FarFieldKeys {
+    /// The error's origin.
+    pub origin: &'static str,
+    /// The mode's name, the cut-off's and the reach's.
+    pub names: [&'static str; 3],
+}
+
+/// `railfem train-bridge`'s options.
+pub const COMMAND_LINE: FarFieldKeys = FarFieldKeys {
+    origin: "command line",
+    names: ["--far-field", "--far-field-cutoff", "--far-field-reach"],
+};
+
+/// A study plan's keys of the train–bridge case.
+pub const STUDY: FarFieldKeys = FarFieldKeys {
+    origin: "study case",
+    names: ["`far_field`", "`far_field_cutoff`", "`far_field_reach`"],
+};
+
+/// The far field's choice: `full` (the default) or `reduced`, with the cut-off (Hz, a
+/// positive number) and the reach (m, ≥ 0), both with `reduced` only; refused in one line
+/// naming the key and the fix.
+pub fn parse(
+    keys: FarFieldKeys,
+    mode: Option<&str>,
+    cutoff_hz: Option<f64>,
+    reach: Option<f64>,
+) -> Result<FarFieldChoice, FemError> {
+    let [m, c, r] = keys.names;
+    let bad = |msg: String| Err(FemError::input(keys.origin, msg));
+    if let Some(f) = cutoff_hz.filter(|f| !(f.is_finite() && *f > 0.0)) {
+        return bad(format!("{c} {f}: give a positive frequency (Hz)"));
+    }
+    if let Some(d) = reach.filter(|d| !(d.is_finite() && *d >= 0.0)) {
+        return bad(format!("{r} {d}: give a distance ≥ 0 m"));
+    }
+    let options = FarFieldOptions { cutoff_hz, reach };
+    match mode {
+        Some("reduced") => Ok(FarFieldChoice::Reduced(options)),
+        Some("full") | None if options == FarFieldOptions::default() => Ok(FarFieldChoice::Full),
+        Some("full") | None => bad(format!(
+            "{c} and {r} set the reduced far field; add {m} reduced, or drop them"
+        )),
+        Some(other) => bad(format!("{m} {other}: give full or reduced")),
+    }
+}
+
+/// Counters of a reduced far field over a run.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FarFieldStats {
+    /// Blocks that may be reduced, and all blocks.
+    pub candidates: usize,
+    /// All blocks of the partitioned solver.
+    pub blocks: usize,
+    /// Distinct reductions made (blocks with equal matrices share one).
+    pub reductions: usize,
+    /// Blocks whose reduction failed (their modes did not converge): they stay full.
+    pub failed: usize,
+    /// Modes kept, summed over the candidate blocks.
+    pub modes: usize,
+    /// Seconds spent reducing.
+    pub setup_seconds: f64,
+    /// Block-steps reduced, and block-steps in all.
+    pub reduced_block_steps: usize,
+    /// See [`FarFieldStats::reduced_block_steps`].
+    pub block_steps: usize,
+    /// Switches to reduced form, and back to full.
+    pub to_reduced: usize,
+    /// See [`FarFieldStats::to_reduced`].
+    pub to_full: usize,
+    /// `E_res` summed over the switches to reduced form (J).
+    pub e_res: f64,
+}
+
+/// The reduced far field of a run ([`open`]).
+pub struct FarField {
+    bases: Vec<Option<Arc<ReducedBasis>>>,
+    extents: Vec<[f64; 2]>,
+    reduced: Vec<bool>,
+    origin: Vec<f64>,
+    reach: [f64; 2],
+    track: WindowTrack,
+    stats: FarFieldStats,
+}
+
+/// The far field of a run on `driver` (after its preload and initialization): `None`
+/// for [`FarFieldChoice::Full`]. Refused (an input error) without the partitioned solver,
+/// across ranks, and with the activity window (`window`: it holds blocks the far field
+/// would reduce).
+pub fn open(
+    driver: &mut Driver,
+    choice: FarFieldChoice,
+    track: &WindowTrack,
+    dt: f64,
+    window: bool,
+) -> Result<Option<FarField>, FemError> {
+    let FarFieldChoice::Reduced(options) = choice else {
+        return Ok(None);
+    };
+    let o = "command line";
+    if window {
+        return Err(FemError::input(
+            o,
+            "--far-field reduced with the activity window: the window holds the blocks the far field reduces; give --window off",
+        ));
+    }
+    match driver.partition_stats() {
+        None => {
+            return Err(FemError::input(
+                o,
+                "--far-field reduced runs blocks of the partitioned solver in reduced form, and this model uses another solver; give --solver partitioned",
+            ))
+        }
+        Some(p) if p.ranks > 1 => {
+            return Err(FemError::input(
+                o,
+                "--far-field reduced is not shared among MPI ranks; run one process",
+            ))
+        }
+        Some(_) => {}
+    }
+    let t0 = Instant::now();
+    let cutoff = options
+        .cutoff_hz
+        .map_or(CutOffRule::default().omega(dt), |f| {
+            2.0 * std::f64::consts::PI * f
+        });
+    let nb = driver.prepare_blocks().map_err(|m| FemError::input(o, m))?;
+    let w = settings(
+        track,
+        WindowOptions {
+            ahead: options.reach,
+            ..Default::default()
+        },
+    );
+    // An explicit reach holds behind the train too (the window's never goes below the
+    // rail's basin).
+    let behind = options.reach.unwrap_or(w.behind);
+    let [rear0, front0] = train_extent(track, driver.state.t);
+    let interiors = driver.partition_interiors();
+    let mut extents = Vec::with_capacity(nb);
+    let mut bases: Vec<Option<Arc<ReducedBasis>>> = Vec::with_capacity(nb);
+    let mut made: Vec<(usize, Arc<ReducedBasis>)> = Vec::new();
+    let mut stats = FarFieldStats {
+        blocks: nb,
+        ..Default::default()
+    };
+    for (b, all) in interiors.iter().enumerate() {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for &i in all {
+            let x = driver.model.nodes[driver.asm.dofmap.dof_of(i).0].position.x;
+            lo = lo.min(x);
+            hi = hi.max(x);
+        }
+        extents.push([lo, hi]);
+        // Under the train at the start: its origin carries the train's weight.
+        if hi >= rear0 && lo <= front0 {
+            bases.push(None);
+            continue;
+        }
+        stats.candidates += 1;
+        let shared = made
+            .iter()
+            .find(|(k, _)| driver.blocks_alike(*k, b, 1e-12))
+            .map(|(_, basis)| basis.clone());
+        let basis = match shared {
+            Some(basis) => basis,
+            None => match driver.block_reduction(b, cutoff).expect("partitioned") {
+                Ok(cb) => {
+                    let basis = Arc::new(ReducedBasis {
+                        psi: cb.psi,
+                        phi: cb.phi,
+                    });
+                    made.push((b, basis.clone()));
+                    basis
+                }
+                Err(e) => {
+                    // The block stays full: slower, never wrong.
+                    stats.failed += 1;
+                    stats.candidates -= 1;
+                    if stats.failed == 1 {
+                        eprintln!("far field: block {b} stays full ({e})");
+                    }
+                    bases.push(None);
+                    continue;
+                }
+            },
+        };
+        stats.modes += basis.phi.ncols();
+        bases.push(Some(basis));
+    }
+    stats.reductions = made.len();
+    stats.setup_seconds = t0.elapsed().as_secs_f64();
+    Ok(Some(FarField {
+        bases,
+        extents,
+        reduced: vec![false; nb],
+        origin: driver.state.q.clone(),
+        reach: [w.ahead, behind],
+        track: *track,
+        stats,
+    }))
+}
+
+impl FarField {
+    /// Switches the blocks for the train's position at the driver's time (call before
+    /// each step): full within reach, reduced out of it (module documentation).
+    pub fn update(&mut self, driver: &mut Driver) -> Result<(), FemError> {
+        let [rear, front] = train_extent(&self.track, driver.state.t);
+        let [ahead, behind] = self.reach;
+        for b in 0..self.bases.len() {
+            let Some(basis) = &self.bases[b] else {
+                continue;
+            };
+            let [lo, hi] = self.extents[b];
+            let near = hi >= rear - behind && lo <= front + ahead;
+            match (near, self.reduced[b]) {
+                (true, true) => {
+                    driver
+                        .restore_block(b)
+                        .map_err(|m| FemError::input("far field", m))?;
+                    self.reduced[b] = false;
+                    self.stats.to_full += 1;
+                }
+                (false, false) => {
+                    let e = driver
+                        .reduce_block(b, basis.clone(), &self.origin)
+                        .map_err(|m| FemError::input("far field", m))?;
+                    self.reduced[b] = true;
+                    self.stats.to_reduced += 1;
+                    self.stats.e_res += e;
+                }
+                _ => {}
+            }
+        }
+        self.stats.block_steps += self.bases.len();
+        self.stats.reduced_block_steps += self.reduced.iter().filter(|&&r| r).count();
+        Ok(())
+    }
+
+    /// The counters so far.
+    pub fn stats(&self) -> FarFieldStats {
+        self.stats
+    }
+}
+
+/// The viaduct of `case` (its spans, approaches and mesh; no train, no gravity) under the
+/// ground motion `quake`, with the partitioned solver at `block_size` interior equations
+/// per block and `case`'s integrator and step: a driver ready to step, with the track
+/// model (for its midspan nodes).
+pub fn viaduct(
+    case: &TrainBridgeCase,
+    quake: &QuakeRecord,
+    block_size: usize,
+) -> Result<(Driver, Arc<TrackModel>), FemError> {
+    let mut b = ModelBuilder::new("far-field viaduct");
+    let tm = track_model::generate(
+        &mut b,
+        Arc::new(case.track()?),
+        &case.mesh(case.element_length),
+    )?;
+    b.analysis(AnalysisSpec {
+        dt: case.dt,
+        duration: case.duration.unwrap_or(1.0),
+        integrator: case.integrator.clone(),
+        rho_inf: case.rho_inf,
+        alpha: (1.0 - case.rho_inf) / (1.0 + case.rho_inf),
+        solver: SolverChoice::Partitioned,
+        block_size: Some(block_size),
+        initial_static: false,
+        ..Default::default()
+    });
+    ground_motion(&mut b, quake);
+    Ok((Driver::new(b.build()?)?, tm))
+}
