@@ -5,11 +5,6 @@
 use super::Partitioned;
 
 impl Partitioned {
-    /// The top equations coupled to block `b`'s interior (global, sorted).
-    pub fn block_boundary(&self, b: usize) -> &[usize] {
-        &self.blocks[b].boundary
-    }
-
     /// The constant matrix changed on the interiors of `blocks` and, if `top`, on top
     /// equations: drops those blocks' base factors and promotions (the next
     /// [`Partitioned::factor`] factors them again from the matrix it is given; the other
