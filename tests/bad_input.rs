@@ -845,6 +845,27 @@ fn bad_plugins_are_refused() {
     );
 }
 
+/// `railfem train-bridge` on a small case with `args` added; asserts the refusal `line`
+/// (exact, after the origin): the window's and the far field's option checks.
+fn train_bridge_refused(args: &[&str], line: &str) {
+    let mut all = vec![
+        "train-bridge",
+        "--cars",
+        "1",
+        "--spans",
+        "2",
+        "--steps",
+        "1",
+    ];
+    all.extend_from_slice(args);
+    let err = refused_with(&format!("{args:?}"), &railfem(&all), &[line]);
+    assert_eq!(
+        err.trim_end(),
+        format!("error: command line: {line}"),
+        "{args:?}"
+    );
+}
+
 #[path = "bad_input/far_field.rs"]
 mod far_field;
 #[path = "bad_input/round_five.rs"]

@@ -245,7 +245,8 @@ fn mul_block(a: &CscMatrix, x: &DMatrix<f64>, out: &mut DMatrix<f64>) {
     }
 }
 
-fn symmetrize(a: &mut DMatrix<f64>) {
+/// `(A + Aᵀ)/2` in place, for products that are symmetric up to round-off.
+pub(crate) fn symmetrize(a: &mut DMatrix<f64>) {
     let n = a.nrows();
     for j in 0..n {
         for i in 0..j {

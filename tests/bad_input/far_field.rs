@@ -2,28 +2,7 @@
 //! docs/reduced-far-field.md): each refused combination exits with code 2 and one stderr
 //! line, naming the option and the fix.
 
-use super::common::{railfem, refused_with};
-
-/// `railfem train-bridge` on a small case with `args` added; asserts the refusal `line`
-/// (exact, after the origin).
-fn refused(args: &[&str], line: &str) {
-    let mut all = vec![
-        "train-bridge",
-        "--cars",
-        "1",
-        "--spans",
-        "2",
-        "--steps",
-        "1",
-    ];
-    all.extend_from_slice(args);
-    let err = refused_with(&format!("{args:?}"), &railfem(&all), &[line]);
-    assert_eq!(
-        err.trim_end(),
-        format!("error: command line: {line}"),
-        "{args:?}"
-    );
-}
+use super::train_bridge_refused as refused;
 
 #[test]
 fn a_far_field_other_than_full_or_reduced_is_refused() {

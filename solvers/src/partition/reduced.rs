@@ -49,6 +49,7 @@
 
 use super::Partitioned;
 use crate::linear::SolverError;
+use crate::modal::symmetrize;
 use nalgebra::{Cholesky, DMatrix, Dyn};
 use railfem_framework::sparse::CscMatrix;
 use std::sync::Arc;
@@ -178,18 +179,6 @@ impl Reduced {
             x_i += &self.basis.phi * chol.solve(&h);
         }
         z.copy_from_slice(x_i.as_slice());
-    }
-}
-
-/// `(S + Sᵀ)/2` in place: the products above are symmetric up to round-off.
-fn symmetrize(s: &mut DMatrix<f64>) {
-    let n = s.nrows();
-    for j in 0..n {
-        for i in 0..j {
-            let v = 0.5 * (s[(i, j)] + s[(j, i)]);
-            s[(i, j)] = v;
-            s[(j, i)] = v;
-        }
     }
 }
 
