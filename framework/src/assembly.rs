@@ -1545,7 +1545,7 @@ impl Assembler {
 
     /// [`Assembler::external_force`] (`load_factor` 1) on the rows of `rows` alone, the
     /// others left as they are: `Ok(false)`, with nothing written, where some load could
-    /// reach a row outside `rows` ([`held_loads`]).
+    /// reach a row outside `rows` (`assembly/held_loads.rs`).
     pub fn external_force_on(
         &mut self,
         model: &Model,

@@ -309,9 +309,9 @@ impl LinearBackend {
     }
 
     /// Forgets the constant part's values and the factor (the constant matrices changed
-    /// between steps, `railfem_solvers::window::absorb`): the next factorization forms the
+    /// between steps, `crate::window::absorb`): the next factorization forms the
     /// constant part again. The partitioned mode's block factors are kept; the caller
-    /// names the blocks to factor anew ([`Partitioned::refactor_blocks`]).
+    /// names the blocks to factor anew ([`Partitioned::constant_changed`]).
     pub fn forget_constant_values(&mut self) {
         self.a_key = None;
         self.factored = None;
