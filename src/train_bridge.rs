@@ -757,6 +757,36 @@ pub(crate) fn ground_motion(b: &mut ModelBuilder, q: &QuakeRecord) {
     }
 }
 
+/// The viaduct of `case` alone, for the reduced far field's checks (`crate::far_field`) (its spans, approaches and mesh; no train, no gravity) under the
+/// ground motion `quake`, with the partitioned solver at `block_size` interior equations
+/// per block and `case`'s integrator and step: a driver ready to step, with the track
+/// model (for its midspan nodes).
+pub fn viaduct_under_ground_motion(
+    case: &TrainBridgeCase,
+    quake: &QuakeRecord,
+    block_size: usize,
+) -> Result<(Driver, Arc<TrackModel>), FemError> {
+    let mut b = ModelBuilder::new("far-field viaduct");
+    let tm = track_model::generate(
+        &mut b,
+        Arc::new(case.track()?),
+        &case.mesh(case.element_length),
+    )?;
+    b.analysis(AnalysisSpec {
+        dt: case.dt,
+        duration: case.duration.unwrap_or(1.0),
+        integrator: case.integrator.clone(),
+        rho_inf: case.rho_inf,
+        alpha: (1.0 - case.rho_inf) / (1.0 + case.rho_inf),
+        solver: crate::framework::model::SolverChoice::Partitioned,
+        block_size: Some(block_size),
+        initial_static: false,
+        ..Default::default()
+    });
+    ground_motion(&mut b, quake);
+    Ok((Driver::new(b.build()?)?, tm))
+}
+
 /// The round-off floor of the residual norm (N) on the mesh of `tm` with girders of
 /// section `g` (the case's bridge, [`RailSection::pc_box_girder`]). A girder node's
 /// vertical force is the sum of bending terms `12·E·I/h³·w` of its two elements — for the

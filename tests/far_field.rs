@@ -24,7 +24,6 @@
 //! `cargo test --release --test far_field -- --nocapture` prints the numbers.
 
 use nalgebra::DVector;
-use railfem::far_field::viaduct;
 use railfem::framework::Dof;
 use railfem::solvers::integrator::Integrator;
 use railfem::solvers::partition::ReducedBasis;
@@ -32,6 +31,7 @@ use railfem::solvers::reduced::cutoff::CutOffRule;
 use railfem::solvers::reduced::march::LinearMarch;
 use railfem::solvers::reduced::mixed::{on_one_pattern, MixedModel, ReducedBlock};
 use railfem::solvers::Driver;
+use railfem::train_bridge::viaduct_under_ground_motion as viaduct;
 use railfem::train_bridge::{read_quake, QuakeRecord, TrainBridgeCase};
 use std::path::Path;
 use std::sync::Arc;
