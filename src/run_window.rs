@@ -228,6 +228,16 @@ impl Plan {
             Plan::Off | Plan::AutoOff(_) => Ok(()),
         }
     }
+
+    /// Why `mode = "auto"` stayed off, if it did (for the run's summary): decided before
+    /// the run, or when the partitioned solver made no block.
+    pub fn auto_off(&self) -> Option<&str> {
+        match self {
+            Plan::AutoOff(why) => Some(why),
+            Plan::On(w) => w.auto_off(),
+            Plan::Off => None,
+        }
+    }
 }
 
 /// The window of the model of `driver` as `spec` asks for it (`file` names the model file

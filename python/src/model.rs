@@ -173,28 +173,19 @@ impl Model {
             let name = self.source.name();
             let spec = driver.model.analysis.window;
             let mut window = railfem::run_window::plan(&driver, &spec, &name)?;
-            let (summary, histories) = match &mut window {
-                railfem::run_window::Plan::On(w) => driver
-                    .run_preparing(
-                        out.as_deref(),
-                        true,
-                        &mut |_| {},
-                        &mut |_, _| {},
-                        &mut |d| w.before_step(d),
-                    )
-                    .map(|r| {
-                        if let Some(why) = w.auto_off() {
-                            pre.warnings.push(format!("activity window (auto): off here: {why}"));
-                        }
-                        r
-                    }),
-                railfem::run_window::Plan::AutoOff(why) => {
-                    pre.warnings.push(format!("activity window (auto): off here: {why}"));
-                    driver.run_keeping(out.as_deref(), true, &mut |_| {})
-                }
-                railfem::run_window::Plan::Off => driver.run_keeping(out.as_deref(), true, &mut |_| {}),
+            let (summary, histories) = driver
+                .run_preparing(
+                    out.as_deref(),
+                    true,
+                    &mut |_| {},
+                    &mut |_, _| {},
+                    &mut |d| window.before_step(d),
+                )
+                .map_err(|e| e.in_file(&name))?;
+            if let Some(why) = window.auto_off() {
+                pre.warnings
+                    .push(format!("activity window (auto): off here: {why}"));
             }
-            .map_err(|e| e.in_file(&name))?;
             let energy = driver
                 .energy
                 .as_ref()

@@ -109,19 +109,16 @@ impl Command for RunCmd {
             _ => 1,
         };
         let mut bar = crate::progress::Progress::new("run", steps, "steps");
-        let s = match &mut window {
-            crate::run_window::Plan::On(w) => driver
-                .run_preparing(
-                    Some(out),
-                    false,
-                    &mut |f| bar.fraction(f),
-                    &mut |_, _| {},
-                    &mut |d| w.before_step(d),
-                )
-                .map(|(s, _)| s),
-            _ => driver.run(Some(out), &mut |f| bar.fraction(f)),
-        }
-        .map_err(|e| e.in_file(&file))?;
+        let s = driver
+            .run_preparing(
+                Some(out),
+                false,
+                &mut |f| bar.fraction(f),
+                &mut |_, _| {},
+                &mut |d| window.before_step(d),
+            )
+            .map(|(s, _)| s)
+            .map_err(|e| e.in_file(&file))?;
         bar.finish();
         println!(
             "{}: {} steps, {} Newton iterations, {} factorizations, {} equations, {:.3} s; results in {}",
@@ -133,19 +130,13 @@ impl Command for RunCmd {
             s.wall,
             out.display()
         );
-        match &window {
-            crate::run_window::Plan::On(w) => {
-                if let Some(st) = w.stats() {
-                    println!("{}", crate::run_window::stats_line(&st));
-                }
-                if let Some(why) = w.auto_off() {
-                    println!("activity window (auto): off here: {why}")
-                }
+        if let crate::run_window::Plan::On(w) = &window {
+            if let Some(st) = w.stats() {
+                println!("{}", crate::run_window::stats_line(&st));
             }
-            crate::run_window::Plan::AutoOff(why) => {
-                println!("activity window (auto): off here: {why}")
-            }
-            crate::run_window::Plan::Off => {}
+        }
+        if let Some(why) = window.auto_off() {
+            println!("activity window (auto): off here: {why}")
         }
         if let Some(e) = driver.energy.as_ref().filter(|e| e.started()) {
             println!("{}", e.summary());
