@@ -334,6 +334,9 @@ pub fn case_for(
         // The same solver at every size (auto would use the direct one below 50 000
         // equations), so that the growth exponent compares like with like.
         solver: crate::framework::model::SolverChoice::Partitioned,
+        // The whole model every step: this bench times the solver on the full viaduct
+        // (the activity window's cost is `railfem bench --case window`).
+        window: crate::train_window::WindowChoice::Off,
         geometry,
         train_start,
         ..Default::default()

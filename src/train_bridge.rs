@@ -122,7 +122,7 @@ pub struct TrainBridgeCase {
     /// lets the first evaluation find them (docs/performance.md, "The first iteration's
     /// active set").
     pub first_active_set: crate::framework::model::FirstActiveSet,
-    /// The activity window (`--window`, [`crate::train_window`]): off by default.
+    /// The activity window (`--window`, [`crate::train_window`]): `auto` by default.
     pub window: crate::train_window::WindowChoice,
     /// The window's absorbing layer (`--window-layer`, [`crate::train_window::layer`]).
     pub window_layer: crate::train_window::LayerOptions,
@@ -440,6 +440,10 @@ impl TrainBridgeCase {
             fastener_k: slab.fastener_k[1],
             fastener_spacing: slab.fastener_spacing,
             front_centre: self.approach() + self.train_start,
+            abutments: [
+                self.approach(),
+                self.approach() + self.spans as f64 * self.span,
+            ],
             speed: self.speed,
             cars: self.cars,
             ground_motion: self.quake != Quake::None,

@@ -64,6 +64,9 @@ pub struct WindowTrack {
     pub speed: f64,
     /// Number of carriages.
     pub cars: usize,
+    /// Stations of the bridge's first and last abutment (m): ends of the structure that
+    /// send waves back (`railfem_solvers::window`, "The structure's ends").
+    pub abutments: [f64; 2],
     /// Whether the ground moves (`--quake`).
     pub ground_motion: bool,
     /// Whether the track is curved (`--radius`).
@@ -71,20 +74,26 @@ pub struct WindowTrack {
 }
 
 /// The activity window's choice for a case.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum WindowChoice {
     /// Every block solved every step (the answers of a run without the window, bit for
-    /// bit): the default, since no reach measured keeps ΔQ/Q within its target at the
-    /// paper's step (module documentation).
-    #[default]
+    /// bit).
     Off,
     /// Blocks far from the train held ([`WindowOptions`]); a case the window does not
     /// apply to is refused.
     On(WindowOptions),
     /// [`WindowChoice::On`] where the window applies (the partitioned solver on one
     /// process, a straight track, no ground motion), else [`WindowChoice::Off`], saying
-    /// why ([`auto_off_reason`]).
+    /// why ([`auto_off_reason`]). The default: with the default reach it keeps every
+    /// target of the error against the full model at the paper's step (module
+    /// documentation).
     Auto(WindowOptions),
+}
+
+impl Default for WindowChoice {
+    fn default() -> Self {
+        WindowChoice::Auto(WindowOptions::default())
+    }
 }
 
 /// The user's settings of the window; `None`: the default (module documentation).
@@ -221,6 +230,7 @@ pub fn open(
         )
     })?;
     w.set_absorbing_layer(layer(settings.ahead, LayerOptions::default()));
+    w.set_ends(&track.abutments);
     Ok(Some(w))
 }
 
@@ -268,7 +278,7 @@ pub fn parse_layer(
     }
     let options = LayerOptions { thickness, damping };
     if window == WindowChoice::Off && options != LayerOptions::default() {
-        return bad("--window-layer and --window-layer-damping shape the activity window's absorbing layer, which is off unless --window is on or auto; add --window on (or auto), or drop them".into());
+        return bad("--window-layer and --window-layer-damping shape the activity window's absorbing layer, which --window off turns off; drop them, or give --window on or auto".into());
     }
     Ok(options)
 }
@@ -305,8 +315,8 @@ pub const STUDY: WindowKeys = WindowKeys {
     names: ["`window`", "`window_ahead`", "`window_tolerance`"],
 };
 
-/// The window's choice from its settings named by `keys`: the mode `window` (`on`, `auto`
-/// or `off`, the default), the distance `ahead` and the `tolerance` (refused with `off`,
+/// The window's choice from its settings named by `keys`: the mode `window` (`on`, `off`
+/// or `auto`, the default), the distance `ahead` and the `tolerance` (refused with `off`,
 /// and out of range, in one line naming the key and the fix).
 pub fn parse_options(
     keys: WindowKeys,
@@ -327,10 +337,10 @@ pub fn parse_options(
     let options = WindowOptions { ahead, tolerance };
     match window {
         Some("on") => Ok(WindowChoice::On(options)),
-        Some("auto") => Ok(WindowChoice::Auto(options)),
-        Some("off") | None if options == WindowOptions::default() => Ok(WindowChoice::Off),
-        Some("off") | None => bad(format!(
-            "{a_} and {t_} set the activity window, which is off unless {mode} is on or auto; add {mode} on (or auto), or drop them"
+        Some("auto") | None => Ok(WindowChoice::Auto(options)),
+        Some("off") if options == WindowOptions::default() => Ok(WindowChoice::Off),
+        Some("off") => bad(format!(
+            "{a_} and {t_} set the activity window, which {mode} off turns off; drop them, or give {mode} on or auto"
         )),
         Some(other) => bad(format!("{mode} {other}: give on, off or auto")),
     }

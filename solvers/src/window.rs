@@ -39,6 +39,19 @@
 //! ([`ActivityWindow::set_absorbing_layer`]). That damping is the third approximation:
 //! the active structure there is damped more than the model is, far from the load.
 //!
+//! **The structure's ends.** An end of the structure (the end of the modelled track, or a
+//! bridge's abutment, where the track leaves the bridge for the ground) sends the waves
+//! the load sends towards it back, in the full model too. A held block between the load
+//! and that end would stop them on their way out (and the layer would absorb them), so the
+//! window would miss what the full model's end returns. While an end lies within
+//! [`END_REACH`] times the reach of the load, no block between the load and that end is
+//! held: ahead, every block up to the end joins; behind, none reaching past the end is
+//! held (blocks beyond the end keep the usual reach). The ends are the first and last station of the
+//! blocks, and the stations the case adds ([`ActivityWindow::set_ends`]). On a long
+//! structure this changes only the first and last stretches of a crossing; a bridge
+//! shorter than that distance is never held between its abutments
+//! (`docs/activity-window.md`, "The structure's ends", measures why).
+//!
 //! The window itself ([`ActivityWindow`]) knows only stations: each block's extent along
 //! the track and the load's extent `[rear, front]`; the case maps nodes to stations.
 
@@ -47,6 +60,11 @@ pub mod absorb;
 use crate::driver::Driver;
 use absorb::{AbsorbingLayer, LayerSettings};
 use railfem_framework::error::FemError;
+
+/// An end of the structure within this multiple of the reach ([`WindowSettings::ahead`])
+/// of the load keeps every block between the load and that end active (module
+/// documentation, "The structure's ends").
+pub const END_REACH: f64 = 2.0;
 
 /// Settings of the activity window.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -94,6 +112,9 @@ pub struct ActivityWindow {
     settings: WindowSettings,
     /// Each block's `[first, last]` station (m).
     extents: Vec<[f64; 2]>,
+    /// The structure's ends: its first and last station over every block, and those the
+    /// case added (m).
+    ends: Vec<f64>,
     /// Each block's interior equations.
     interiors: Vec<Vec<usize>>,
     /// The station of each of them (m).
@@ -149,9 +170,16 @@ impl ActivityWindow {
             .collect();
         let separators = (top, at);
         let phases = vec![Phase::Ahead; extents.len()];
+        let ends = extents
+            .iter()
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |e, b| {
+                [e[0].min(b[0]), e[1].max(b[1])]
+            })
+            .to_vec();
         Ok(ActivityWindow {
             settings,
             extents,
+            ends,
             interiors,
             stations,
             separators,
@@ -166,6 +194,13 @@ impl ActivityWindow {
     /// block then reflects what reaches it). Before the first [`ActivityWindow::update`].
     pub fn set_absorbing_layer(&mut self, settings: Option<LayerSettings>) {
         self.layer = AbsorbingLayer::new(settings);
+    }
+
+    /// Adds `stations` (m) to the structure's ends (module documentation, "The structure's
+    /// ends"): where the structure changes so that it sends waves back, such as a bridge's
+    /// abutments. Before the first [`ActivityWindow::update`].
+    pub fn set_ends(&mut self, stations: &[f64]) {
+        self.ends.extend_from_slice(stations);
     }
 
     /// The window's settings.
@@ -196,7 +231,10 @@ impl ActivityWindow {
     /// Moves the window to a load spanning stations `[rear, front]` and holds or releases
     /// the driver's blocks accordingly (call before each step). A block ahead joins when
     /// `first ≤ front + ahead`; an active block is held behind when `last < rear − behind`
-    /// and its velocity norm has decayed below the tolerance. A held block that the last
+    /// and its velocity norm has decayed below the tolerance. While an end of the structure
+    /// ahead of `front` is within [`END_REACH`]`·ahead` of it, every block up to that end
+    /// joins; while one behind `rear` is within that of it, no block reaching past it is
+    /// held. A held block that the last
     /// factorization found a variable element on (a wheel reached it: the window is too
     /// short) is an input error naming the fix, never a silently wrong step.
     pub fn update(&mut self, driver: &mut Driver, rear: f64, front: f64) -> Result<(), FemError> {
@@ -221,9 +259,22 @@ impl ActivityWindow {
             ));
         }
         let v = &driver.state.v;
+        // Ahead, blocks join up to the reach, or up to an end within END_REACH·ahead;
+        // behind, no block reaching past such an end is held (module documentation).
+        let end_reach = END_REACH * ahead;
+        let join_to = self
+            .ends
+            .iter()
+            .filter(|&&e| e >= front && e - front <= end_reach)
+            .fold(front + ahead, |m, &e| m.max(e));
+        let keep_from = self
+            .ends
+            .iter()
+            .filter(|&&e| e <= rear && rear - e <= end_reach)
+            .fold(f64::INFINITY, |m, &e| m.min(e));
         for (b, phase) in self.phases.iter_mut().enumerate() {
             let [lo, hi] = self.extents[b];
-            if *phase == Phase::Ahead && lo <= front + ahead {
+            if *phase == Phase::Ahead && lo <= join_to {
                 *phase = Phase::Active { peak: 0.0 };
                 self.stats.joined += 1;
             }
@@ -234,7 +285,7 @@ impl ActivityWindow {
                     .sum::<f64>()
                     .sqrt();
                 *peak = peak.max(norm);
-                if hi < rear - behind && norm <= tolerance * *peak {
+                if hi < rear - behind && hi <= keep_from && norm <= tolerance * *peak {
                     *phase = Phase::Behind;
                     self.stats.left += 1;
                 }

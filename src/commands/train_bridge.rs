@@ -99,7 +99,8 @@ pub struct TrainBridgeCmd {
     pub block_size: Option<f64>,
     /// Activity window: on holds the partitioned solver's blocks far from the train at
     /// their state (straight track, no ground motion); auto is on where it applies and
-    /// off elsewhere; off solves every block [default: off].
+    /// off elsewhere (the partitioned solver on one process, a straight track, no ground
+    /// motion); off solves every block [default: auto].
     #[arg(value_parser = crate::command::text(), long, value_name = "on|off|auto")]
     pub window: Option<String>,
     /// The activity window's reach: a block joins when the train's front is within M

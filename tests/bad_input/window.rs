@@ -16,11 +16,15 @@ fn a_window_mode_other_than_on_off_or_auto_is_refused() {
 fn window_settings_with_the_window_off_are_refused() {
     refused(
         &["--window", "off", "--window-ahead", "100"],
-        "--window-ahead and --window-tolerance set the activity window, which is off unless --window is on or auto; add --window on (or auto), or drop them",
+        "--window-ahead and --window-tolerance set the activity window, which --window off turns off; drop them, or give --window on or auto",
     );
     refused(
-        &["--window-tolerance", "0.1"],
-        "--window-ahead and --window-tolerance set the activity window, which is off unless --window is on or auto; add --window on (or auto), or drop them",
+        &["--window-tolerance", "0.1", "--window", "off"],
+        "--window-ahead and --window-tolerance set the activity window, which --window off turns off; drop them, or give --window on or auto",
+    );
+    refused(
+        &["--window", "off", "--window-layer", "50"],
+        "--window-layer and --window-layer-damping shape the activity window's absorbing layer, which --window off turns off; drop them, or give --window on or auto",
     );
 }
 
