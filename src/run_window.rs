@@ -2,8 +2,10 @@
 //! what moves in the model and where it is along the track at each step
 //! ([`MovingExtent`]), whether the window applies to the model ([`plan`]), and the window
 //! that follows what moves ([`RunWindow`]). What a held block is, what stays exact and
-//! what is approximated is `railfem_solvers::window`; the default reach and tolerance are
-//! those of `railfem train-bridge --window` ([`crate::train_window`]).
+//! what is approximated is `railfem_solvers::window`; the default reach, tolerance and
+//! absorbing layer are those of `railfem train-bridge --window` ([`crate::train_window`]:
+//! the layer's thickness and damping come from [`crate::train_window::layer`], and the
+//! window takes it as `train-bridge`'s does, through `ActivityWindow::set_absorbing_layer`).
 //!
 //! **What moves.** Three things carry load along a model: the carriers' nodes (a
 //! `[[vehicle]]`'s bodies and wheelsets, at their reference positions at time `t`), the
@@ -30,8 +32,10 @@ use crate::framework::analysis::{WindowMode, WindowSpec};
 use crate::framework::loads::Load;
 use crate::framework::model::Model;
 use crate::framework::FemError;
+use crate::solvers::window::absorb::LayerSettings;
 use crate::solvers::window::{ActivityWindow, WindowSettings, WindowStats};
 use crate::solvers::Driver;
+use crate::train_window::LayerOptions;
 
 /// Where the model's moving things are: the carriers, the moving forces and the elements
 /// of changing connectivity (module documentation).
@@ -265,8 +269,16 @@ pub fn plan(driver: &Driver, spec: &WindowSpec, file: &str) -> Result<Plan, FemE
                     .tolerance
                     .unwrap_or(crate::train_window::DEFAULT_TOLERANCE),
             };
+            let layer = crate::train_window::layer(
+                reach,
+                LayerOptions {
+                    thickness: spec.layer,
+                    damping: spec.layer_damping,
+                },
+            );
             Ok(Plan::On(Box::new(RunWindow {
                 settings,
+                layer,
                 movers,
                 window: None,
                 auto: spec.mode == WindowMode::Auto,
@@ -282,6 +294,8 @@ pub fn plan(driver: &Driver, spec: &WindowSpec, file: &str) -> Result<Plan, FemE
 #[derive(Debug)]
 pub struct RunWindow {
     settings: WindowSettings,
+    /// The absorbing layer at the window's edges (`None`: none, `layer = 0`).
+    layer: Option<LayerSettings>,
     movers: MovingExtent,
     /// Made at the first step, once the driver is initialized.
     window: Option<ActivityWindow>,
@@ -305,6 +319,11 @@ impl RunWindow {
         self.settings
     }
 
+    /// The absorbing layer's settings (defaults filled in; `None`: no layer).
+    pub fn layer(&self) -> Option<LayerSettings> {
+        self.layer
+    }
+
     /// Moves the window to where the model's moving things are at the driver's time and
     /// holds or releases its blocks (call before each step, after the initialization).
     pub fn before_step(&mut self, driver: &mut Driver) -> Result<(), FemError> {
@@ -315,7 +334,10 @@ impl RunWindow {
         if self.window.is_none() {
             let nodes = &driver.model.nodes;
             match ActivityWindow::new(driver, self.settings, |n| nodes[n].position.x) {
-                Ok(w) => self.window = Some(w),
+                Ok(mut w) => {
+                    w.set_absorbing_layer(self.layer);
+                    self.window = Some(w);
+                }
                 Err(m) if self.auto => {
                     self.off = Some(m);
                     return Ok(());

@@ -260,25 +260,32 @@ pub fn layer(reach: f64, options: LayerOptions) -> Option<LayerSettings> {
     Some(s)
 }
 
-/// The layer's settings from the command line: refused, in one line naming the option
-/// and the fix, when negative or not finite, or given while the window is off.
+/// The layer's settings named by `keys` (the command line's options or a study's keys):
+/// refused, in one line naming the setting and the fix, when the thickness is negative or
+/// not finite, the damping not above zero or not finite, the damping given for a layer
+/// the thickness 0 removes, or either given while the window is off.
 pub fn parse_layer(
+    keys: WindowKeys,
     window: WindowChoice,
     thickness: Option<f64>,
     damping: Option<f64>,
 ) -> Result<LayerOptions, FemError> {
-    let bad = |m: String| Err(FemError::input("command line", m));
-    for (name, v) in [
-        ("--window-layer", thickness),
-        ("--window-layer-damping", damping),
-    ] {
-        if let Some(x) = v.filter(|x| !(x.is_finite() && *x >= 0.0)) {
-            return bad(format!("{name} {x}: give a value ≥ 0"));
-        }
+    let [mode, t_, d_] = [keys.names[0], keys.layer[0], keys.layer[1]];
+    let bad = |m: String| Err(FemError::input(keys.origin, m));
+    if let Some(x) = thickness.filter(|x| !(x.is_finite() && *x >= 0.0)) {
+        return bad(format!("{t_} {x}: give a value ≥ 0"));
+    }
+    if let Some(x) = damping.filter(|x| !(x.is_finite() && *x > 0.0)) {
+        return bad(format!("{d_} {x}: give a value > 0 (1/s)"));
+    }
+    if thickness == Some(0.0) && damping.is_some() {
+        return bad(format!(
+            "{d_} shapes the absorbing layer, which {t_} 0 removes; drop {d_}, or give {t_} > 0"
+        ));
     }
     let options = LayerOptions { thickness, damping };
     if window == WindowChoice::Off && options != LayerOptions::default() {
-        return bad("--window-layer and --window-layer-damping shape the activity window's absorbing layer, which --window off turns off; drop them, or give --window on or auto".into());
+        return bad(format!("{t_} and {d_} shape the activity window's absorbing layer, which {mode} off turns off; drop them, or give {mode} on or auto"));
     }
     Ok(options)
 }
@@ -293,26 +300,31 @@ pub const LAYER_REFLECTION: f64 = 0.01;
 /// more itself than it absorbs (module documentation).
 pub const LAYER_GRADIENT: f64 = 2.5;
 
-/// How the window's three settings are named where they were given: the command line's
-/// options or a study plan's keys (for the one-line errors of [`parse_options`]).
+/// How the window's settings are named where they were given: the command line's
+/// options or a study plan's keys (for the one-line errors of [`parse_options`] and
+/// [`parse_layer`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WindowKeys {
     /// Where the settings were read (the error's origin).
     pub origin: &'static str,
     /// The mode's name, the distance's and the tolerance's.
     pub names: [&'static str; 3],
+    /// The absorbing layer's thickness and damping.
+    pub layer: [&'static str; 2],
 }
 
 /// `railfem train-bridge`'s options.
 pub const COMMAND_LINE: WindowKeys = WindowKeys {
     origin: "command line",
     names: ["--window", "--window-ahead", "--window-tolerance"],
+    layer: ["--window-layer", "--window-layer-damping"],
 };
 
 /// A study plan's keys of the train–bridge case (`docs/study.md`).
 pub const STUDY: WindowKeys = WindowKeys {
     origin: "study case",
     names: ["`window`", "`window_ahead`", "`window_tolerance`"],
+    layer: ["`window_layer`", "`window_layer_damping`"],
 };
 
 /// The window's choice from its settings named by `keys`: the mode `window` (`on`, `off`

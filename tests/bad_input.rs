@@ -876,6 +876,8 @@ mod round_four;
 mod round_three;
 #[path = "bad_input/run_window.rs"]
 mod run_window;
+#[path = "bad_input/study_window.rs"]
+mod study_window;
 #[path = "bad_input/validation.rs"]
 mod validation;
 #[path = "bad_input/window.rs"]

@@ -500,7 +500,7 @@ fn bad_layer_options_name_the_option_and_the_fix() {
         ),
         (
             &["--window", "on", "--window-layer-damping", "-1"][..],
-            "--window-layer-damping -1: give a value ≥ 0",
+            "--window-layer-damping -1: give a value > 0 (1/s)",
         ),
     ] {
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))

@@ -346,6 +346,14 @@ pub struct WindowSpec {
     /// the largest it reached, in `[0, 1)` (`None`: the default, 0.01).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tolerance: Option<f64>,
+    /// Thickness (m) of the absorbing layer at the window's edges, `0`: none (`None`: the
+    /// default of `railfem train-bridge --window-layer`, a third of the reach).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layer: Option<f64>,
+    /// The absorbing layer's largest mass-proportional damping `α_max` (1/s, `None`: the
+    /// default of `railfem train-bridge --window-layer-damping`, from the thickness).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layer_damping: Option<f64>,
 }
 
 impl WindowSpec {
@@ -379,11 +387,35 @@ impl WindowSpec {
                 ),
             ));
         }
-        let settings = self.ahead.is_some() || self.tolerance.is_some();
+        if let Some(l) = self.layer.filter(|l| !(l.is_finite() && *l >= 0.0)) {
+            errors.push(FemError::input(
+                &o,
+                format!(
+                    "`layer` = {}: give a thickness ≥ 0 m (0: no layer)",
+                    fmt_num(l)
+                ),
+            ));
+        }
+        if let Some(a) = self.layer_damping.filter(|a| !(a.is_finite() && *a > 0.0)) {
+            errors.push(FemError::input(
+                &o,
+                format!("`layer_damping` = {}: give a damping > 0 (1/s)", fmt_num(a)),
+            ));
+        }
+        if self.layer == Some(0.0) && self.layer_damping.is_some() {
+            errors.push(FemError::input(
+                &o,
+                "`layer_damping` shapes the absorbing layer, which `layer` = 0 removes; drop `layer_damping`, or give a `layer` > 0",
+            ));
+        }
+        let settings = self.ahead.is_some()
+            || self.tolerance.is_some()
+            || self.layer.is_some()
+            || self.layer_damping.is_some();
         if self.mode == WindowMode::Off && settings {
             errors.push(FemError::input(
                 &o,
-                "`ahead` and `tolerance` set the activity window, which is off unless `mode` is \"on\" or \"auto\"; add mode = \"on\" (or \"auto\"), or drop them",
+                "`ahead`, `tolerance`, `layer` and `layer_damping` set the activity window, which is off unless `mode` is \"on\" or \"auto\"; add mode = \"on\" (or \"auto\"), or drop them",
             ));
         }
         if kind != AnalysisKind::Transient && (self.mode != WindowMode::Off || settings) {

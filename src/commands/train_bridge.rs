@@ -218,6 +218,7 @@ impl TrainBridgeCmd {
             self.window_tolerance,
         )?;
         c.window_layer = crate::train_window::parse_layer(
+            crate::train_window::COMMAND_LINE,
             c.window,
             self.window_layer,
             self.window_layer_damping,

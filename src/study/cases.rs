@@ -81,6 +81,7 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
     let (mut record, mut seed, mut pga, mut qdur, mut scale) = (None, None, 0.3, 30.0, 1.0);
     let mut synthetic = false;
     let (mut window, mut ahead, mut tolerance) = (None, None, None);
+    let (mut layer, mut layer_damping) = (None, None);
     let (mut far_field, mut far_cutoff, mut far_reach) = (None, None, None);
     for (k, v) in settings(plan, case) {
         match k {
@@ -130,9 +131,12 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
                     })?;
             }
             "first_active_set" => c.first_active_set = first_active_set(v)?,
+            "solver" => c.solver = solver(v)?,
             "window" => window = Some(v.label()),
             "window_ahead" => ahead = Some(num(k, v)?),
             "window_tolerance" => tolerance = Some(num(k, v)?),
+            "window_layer" => layer = Some(num(k, v)?),
+            "window_layer_damping" => layer_damping = Some(num(k, v)?),
             "far_field" => far_field = Some(v.label()),
             "far_field_cutoff" => far_cutoff = Some(num(k, v)?),
             "far_field_reach" => far_reach = Some(num(k, v)?),
@@ -188,6 +192,12 @@ pub fn train_bridge(plan: &Plan, case: &Case) -> Result<TrainBridgeCase, FemErro
         ahead,
         tolerance,
     )?;
+    c.window_layer = crate::train_window::parse_layer(
+        crate::train_window::STUDY,
+        c.window,
+        layer,
+        layer_damping,
+    )?;
     c.far_field = crate::far_field::parse(
         crate::far_field::STUDY,
         far_field.as_deref(),
@@ -205,6 +215,17 @@ fn first_active_set(v: &AxisValue) -> Result<crate::framework::model::FirstActiv
         FemError::input(
             "study case",
             format!("`first_active_set` = {t}: use committed or found"),
+        )
+    })
+}
+
+/// The `solver` value of a case: as `railfem train-bridge --solver`.
+fn solver(v: &AxisValue) -> Result<crate::framework::model::SolverChoice, FemError> {
+    let t = v.label();
+    crate::framework::model::SolverChoice::parse(&t).ok_or_else(|| {
+        FemError::input(
+            "study case",
+            format!("`solver` = {t}: use auto (the default), direct, partitioned or low_rank"),
         )
     })
 }

@@ -22,7 +22,7 @@ const TOP_KEYS: [&str; 5] = ["case", "base", "options", "histories", "axis"];
 /// Keys of one `[[axis]]` table.
 const AXIS_KEYS: [&str; 6] = ["name", "values", "start", "stop", "step", "count"];
 /// Keys of the train–bridge case, as options and as axes.
-pub const TRAIN_BRIDGE_KEYS: [&str; 25] = [
+pub const TRAIN_BRIDGE_KEYS: [&str; 28] = [
     "cars",
     "spans",
     "span",
@@ -42,9 +42,12 @@ pub const TRAIN_BRIDGE_KEYS: [&str; 25] = [
     "quake_duration",
     "midspans",
     "first_active_set",
+    "solver",
     "window",
     "window_ahead",
     "window_tolerance",
+    "window_layer",
+    "window_layer_damping",
     "far_field",
     "far_field_cutoff",
     "far_field_reach",

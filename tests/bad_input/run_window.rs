@@ -40,7 +40,7 @@ fn unknown_keys_and_modes_are_refused_with_the_valid_ones() {
         "mode = \"on\"\nreach = 5.0",
         "partitioned",
         "",
-        "[analysis]: `analysis.window.reach`: unknown field `reach`, expected one of `mode`, `ahead`, `tolerance`; remove or rename the key (docs/model-format.md lists every key, its type and unit)",
+        "[analysis]: `analysis.window.reach`: unknown field `reach`, expected one of `mode`, `ahead`, `tolerance`, `layer`, `layer_damping`; remove or rename the key (docs/model-format.md lists every key, its type and unit)",
     );
     refused(
         "mode = \"maybe\"",
@@ -68,8 +68,47 @@ fn settings_out_of_range_or_without_the_window_are_refused() {
         "ahead = 100.0",
         "partitioned",
         "",
-        "[analysis.window]: `ahead` and `tolerance` set the activity window, which is off unless `mode` is \"on\" or \"auto\"; add mode = \"on\" (or \"auto\"), or drop them",
+        "[analysis.window]: `ahead`, `tolerance`, `layer` and `layer_damping` set the activity window, which is off unless `mode` is \"on\" or \"auto\"; add mode = \"on\" (or \"auto\"), or drop them",
     );
+}
+
+/// The absorbing layer's keys (`layer`, `layer_damping`): a thickness below zero, a
+/// damping not above zero (numbers that are not finite are refused before, as for every
+/// key), a damping for a layer `layer = 0` removes, and either
+/// key with the window off.
+#[test]
+fn layer_settings_out_of_range_or_without_a_layer_are_refused() {
+    let refused_on = |keys: &str, line: &str| {
+        refused(&format!("mode = \"on\"\n{keys}"), "partitioned", "", line)
+    };
+    refused_on(
+        "layer = -10.0",
+        "[analysis.window]: `layer` = -10: give a thickness ≥ 0 m (0: no layer)",
+    );
+    refused_on(
+        "layer_damping = 0.0",
+        "[analysis.window]: `layer_damping` = 0: give a damping > 0 (1/s)",
+    );
+    refused_on(
+        "layer_damping = -100.0",
+        "[analysis.window]: `layer_damping` = -100: give a damping > 0 (1/s)",
+    );
+    refused_on(
+        "layer = 0.0\nlayer_damping = 100.0",
+        "[analysis.window]: `layer_damping` shapes the absorbing layer, which `layer` = 0 removes; drop `layer_damping`, or give a `layer` > 0",
+    );
+    for keys in [
+        "layer = 40.0",
+        "layer_damping = 100.0",
+        "mode = \"off\"\nlayer = 0.0",
+    ] {
+        refused(
+            keys,
+            "partitioned",
+            "",
+            "[analysis.window]: `ahead`, `tolerance`, `layer` and `layer_damping` set the activity window, which is off unless `mode` is \"on\" or \"auto\"; add mode = \"on\" (or \"auto\"), or drop them",
+        );
+    }
 }
 
 #[test]
