@@ -1,6 +1,6 @@
 //! The activity window of the train–bridge case (`railfem train-bridge --window`): where
 //! the train is along the track at each step, the window's default reach and tolerance,
-//! the choice between off (the default), on, and auto (on where the window applies), and
+//! the choice between auto (the default: on where the window applies), on, and off, and
 //! the checks that refuse a case an explicit `on` does not apply to. The window itself —
 //! what a held block is, what stays exact and what is approximated — is
 //! `railfem_solvers::window`. The case hands what the window needs of it as a
@@ -17,19 +17,18 @@
 //! for the UIC 60 rail (`EI` = 6.38 MN·m²) on 60 MN/m seats every 0.625 m, `1/β` =
 //! 0.72 m, and the envelope `√2·e^{−βx}` is below 1e-4 at `3π/β` = 6.8 m (the basin; the
 //! reach is never less behind the rear). The waves are long: the 12-carriage train at
-//! Δt = 0.5 ms (the paper's step; `docs/activity-window.md`, "Error against the full
-//! model") first differs from the full model after 0.34 s with `D` = 150 m and after
-//! 0.57 s with 200 m, so they run at about 800 m/s (`2D/t`) and come back at any time of
-//! a crossing; what `D` buys is their decay on the way. Over the same samples the largest
-//! ΔQ/Q difference falls with `D` (entry, first 0.95 s: 0.52 % at 150 m, 0.20 % at 200 m,
-//! 0.12 % at 300 m of the wheels' largest peak), but it keeps growing with time: over
-//! 2.2 s of a middle segment, 300 m gives 1.2 %, against a 0.5 % target.
-//! **300 m** is the default reach, the best of those measured; no measured reach meets
-//! the ΔQ/Q target on both segments, so the window is **off by default**. At a larger
-//! step the integrator's damping (generalized-α, ρ∞ = 0.5) removes the waves sooner: at
-//! Δt = 2 ms, 66 m already gives 0.29 % (`tests/train_window.rs`). The reach does not
-//! depend on the bridge's length, so the cost of a windowed step grows with the train
-//! and not with the bridge.
+//! Δt = 0.5 ms (the paper's step) sends waves at about 800 m/s, which come back from a
+//! held block at any time of a crossing; what `D` buys is their decay on the way, and the
+//! absorbing layer's. **300 m** is the default reach: on the paper's 113 spans it keeps
+//! ΔQ/Q within 0.18 % (entry) and 0.24 % (a middle segment) of the wheels' largest peak
+//! over 2.5 s, against a 0.5 % target (`docs/activity-window.md`, "Error against the
+//! full model"), so the window is **on by default** where it applies (`auto`). An end of
+//! the structure within twice the reach keeps every block between it and the train active
+//! (`railfem_solvers::window`, "The structure's ends"): the case gives the abutments as
+//! ends ([`WindowTrack::abutments`]). At a larger step the integrator's damping
+//! (generalized-α, ρ∞ = 0.5) removes the waves sooner: at Δt = 2 ms, 66 m already gives
+//! 0.29 % (`tests/train_window.rs`). The reach does not depend on the bridge's length, so
+//! the cost of a windowed step grows with the train and not with the bridge.
 //!
 //! **The default tolerance**, 1 %, drops at most about 1e-4 of a block's largest kinetic
 //! energy when it is held behind (`railfem_solvers::window`).

@@ -329,37 +329,57 @@ fn held_in(summary: &str) -> usize {
 }
 
 /// The structure's ends (`railfem_solvers::window`, "The structure's ends"): while the
-/// viaduct's far end is within twice the reach of the train's front, no block ahead is
-/// held, since the full model's end sends the train's waves back. 10 spans end at
-/// 297.5 m; with a reach of 100 m, the train's front at about 112 m (front carriage's
-/// centre at 100 m) is 185 m from the end, within 200 m: nothing is held over 40 steps
-/// (6.4 m). With the front at about 62 m (237 m from the end) the same reach holds the
-/// blocks beyond about 170 m.
+/// viaduct's far abutment is within twice the reach of the train's front, no block
+/// between the train and it is held, since the full model's abutment sends the train's
+/// waves back. 10 spans end 297.5 m past the first abutment; with a reach of 100 m and
+/// the train's front about 112 m past it (front carriage's centre at 100 m), the far
+/// abutment is 185 m ahead, within 200 m: every block that starts before it is active at
+/// the first step (those of the approach beyond it keep the usual reach). With the front
+/// about 62 m past it (235 m from the far abutment) the same reach holds blocks before
+/// the abutment: the rule, not the reach, released them.
 #[test]
 fn no_block_is_held_between_the_train_and_a_near_end() {
-    let run = |start: &str| {
-        let args = [
-            "--solver",
-            "partitioned",
-            "--block-size",
-            "500",
-            "--window",
-            "on",
-            "--window-ahead",
-            "100",
-            "--train-start",
-            start,
-        ];
-        held_in(&cli(&format!("end-{start}"), &args).0)
+    use railfem::solvers::window::Phase;
+    let held_before_the_abutment = |start: f64| {
+        let c = TrainBridgeCase {
+            train_start: start,
+            ..case(WindowChoice::On(WindowOptions {
+                ahead: Some(100.0),
+                tolerance: None,
+            }))
+        };
+        let mut m = build(&c).expect("model");
+        m.driver.set_partition_options(PartitionOptions {
+            block_size: 500,
+            ..Default::default()
+        });
+        m.driver.static_solve(0.0, 10).expect("static");
+        m.driver.initialize().expect("initialize");
+        let track = c.window_track();
+        let mut w = railfem::train_window::open(&m.driver, c.window, &track)
+            .expect("window")
+            .expect("on");
+        let [rear, front] = railfem::train_window::train_extent(&track, 0.0);
+        w.update(&mut m.driver, rear, front).expect("update");
+        let far = track.abutments[1];
+        assert!(
+            far - front > 100.0,
+            "the reach alone would not reach the abutment"
+        );
+        w.phases()
+            .iter()
+            .zip(w.extents())
+            .filter(|(p, e)| e[0] < far && **p == Phase::Ahead)
+            .count()
     };
     assert_eq!(
-        run("100"),
+        held_before_the_abutment(100.0),
         0,
-        "blocks held with the end within twice the reach"
+        "blocks held with the abutment within twice the reach"
     );
     assert!(
-        run("50") > 0,
-        "the reach held nothing with the end far enough"
+        held_before_the_abutment(50.0) > 0,
+        "the reach held nothing before the abutment with it farther than twice the reach"
     );
 }
 
