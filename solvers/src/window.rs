@@ -43,10 +43,11 @@
 //! bridge's abutment, where the track leaves the bridge for the ground) sends the waves
 //! the load sends towards it back, in the full model too. A held block between the load
 //! and that end would stop them on their way out (and the layer would absorb them), so the
-//! window would miss what the full model's end returns. While an end lies within
-//! [`END_REACH`] times the reach of the load, no block between the load and that end is
-//! held: ahead, every block up to the end joins; behind, none reaching past the end is
-//! held (blocks beyond the end keep the usual reach). The ends are the first and last station of the
+//! window would miss what the full model's end returns; and a layer next to the end would
+//! damp the end itself. While an end lies within [`END_REACH`] times the reach of the
+//! load, the window treats it as a second load: no block between the load and that end,
+//! nor within the reach beyond it, is held (ahead, they join; behind, they are not held
+//! behind). The ends are the first and last station of the
 //! blocks, and the stations the case adds ([`ActivityWindow::set_ends`]). On a long
 //! structure this changes only the first and last stretches of a crossing; a bridge
 //! shorter than that distance is never held between its abutments
@@ -62,9 +63,9 @@ use absorb::{AbsorbingLayer, LayerSettings};
 use railfem_framework::error::FemError;
 
 /// An end of the structure within this multiple of the reach ([`WindowSettings::ahead`])
-/// of the load keeps every block between the load and that end active (module
-/// documentation, "The structure's ends").
-pub const END_REACH: f64 = 2.0;
+/// of the load keeps every block between the load and that end, and within the reach
+/// beyond it, active (module documentation, "The structure's ends").
+pub const END_REACH: f64 = 3.0;
 
 /// Settings of the activity window.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -232,9 +233,9 @@ impl ActivityWindow {
     /// the driver's blocks accordingly (call before each step). A block ahead joins when
     /// `first ≤ front + ahead`; an active block is held behind when `last < rear − behind`
     /// and its velocity norm has decayed below the tolerance. While an end of the structure
-    /// ahead of `front` is within [`END_REACH`]`·ahead` of it, every block up to that end
-    /// joins; while one behind `rear` is within that of it, no block reaching past it is
-    /// held. A held block that the last
+    /// ahead of `front` is within [`END_REACH`]`·ahead` of it, every block up to `ahead`
+    /// beyond that end joins; while one behind `rear` is within that of it, no block
+    /// reaching past `ahead` before it is held. A held block that the last
     /// factorization found a variable element on (a wheel reached it: the window is too
     /// short) is an input error naming the fix, never a silently wrong step.
     pub fn update(&mut self, driver: &mut Driver, rear: f64, front: f64) -> Result<(), FemError> {
@@ -259,19 +260,20 @@ impl ActivityWindow {
             ));
         }
         let v = &driver.state.v;
-        // Ahead, blocks join up to the reach, or up to an end within END_REACH·ahead;
-        // behind, no block reaching past such an end is held (module documentation).
+        // Ahead, blocks join up to the reach, or up to the reach beyond an end within
+        // END_REACH·ahead; behind, no block reaching past the reach before such an end is
+        // held (module documentation).
         let end_reach = END_REACH * ahead;
         let join_to = self
             .ends
             .iter()
             .filter(|&&e| e >= front && e - front <= end_reach)
-            .fold(front + ahead, |m, &e| m.max(e));
+            .fold(front + ahead, |m, &e| m.max(e + ahead));
         let keep_from = self
             .ends
             .iter()
             .filter(|&&e| e <= rear && rear - e <= end_reach)
-            .fold(f64::INFINITY, |m, &e| m.min(e));
+            .fold(f64::INFINITY, |m, &e| m.min(e - ahead));
         for (b, phase) in self.phases.iter_mut().enumerate() {
             let [lo, hi] = self.extents[b];
             if *phase == Phase::Ahead && lo <= join_to {
@@ -285,7 +287,7 @@ impl ActivityWindow {
                     .sum::<f64>()
                     .sqrt();
                 *peak = peak.max(norm);
-                if hi < rear - behind && hi <= keep_from && norm <= tolerance * *peak {
+                if hi < rear - behind && hi < keep_from && norm <= tolerance * *peak {
                     *phase = Phase::Behind;
                     self.stats.left += 1;
                 }
