@@ -594,7 +594,13 @@ impl Driver {
         });
         // With reduced blocks the test reads the residual in their coordinates, as the
         // full-residual Newton's does (*Reduced blocks* above); `w.r` stays the residual.
-        let projected = self.reduced_residual(&w.r);
+        // The predictor's norm is no test (it seeds the rising-residual check only), so it
+        // skips the projection's products with every reduced block's `Ψ` and `Φ`.
+        let projected = if predictor {
+            None
+        } else {
+            self.reduced_residual(&w.r)
+        };
         let sr = projected
             .as_ref()
             .map_or(sr, |p| p.iter().map(|x| x * x).sum());
