@@ -11,8 +11,15 @@
 //! state after the preload) carries the train's weight, which is gone once the train has
 //! left. Each block is reduced once, at the start, with its modes up to the cut-off
 //! ([`FarFieldOptions::cutoff_hz`], or the library's rule from `Δt`,
-//! [`CutOffRule`]); blocks whose matrices are equal (to 1e-12 of their largest entry)
-//! share one reduction. A block whose modes do not converge stays full.
+//! [`CutOffRule`]). A block whose modes do not converge stays full.
+//!
+//! **Blocks at span joints.** The reduced far field gives the partitioned solver its
+//! blocks by station ([`block_cuts`], [`Driver::cut_blocks_at`]): `g` spans each from a
+//! joint, `g` the partition's block size over a span's equations, and the approaches cut
+//! with the same pitch. Such blocks are translated copies of each other, except next to
+//! the abutments and at the bridge's ends, so a handful of reductions serve them all:
+//! a block congruent to one already reduced ([`CONGRUENT`],
+//! [`crate::solvers::reduced::congruent`]) takes its basis, renumbered.
 //!
 //! **Energy.** Each switch to reduced form removes `E_res`, the energy of the motion the
 //! kept modes do not describe; the far field sums them ([`FarFieldStats::e_res`]).
@@ -30,6 +37,12 @@ use crate::solvers::Driver;
 use crate::train_window::{settings, train_extent, WindowOptions, WindowTrack};
 use std::sync::Arc;
 use std::time::Instant;
+
+/// Blocks whose `K` and `M` agree entry by entry to this fraction of the largest entry,
+/// after the map between their nodes, share one reduction
+/// ([`crate::solvers::reduced::congruent`]): the rounding of element matrices formed at
+/// translated coordinates, far below the reduction's own error.
+pub const CONGRUENT: f64 = 1e-12;
 
 /// How the blocks far from the train are solved.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -138,6 +151,43 @@ pub struct FarField {
     stats: FarFieldStats,
 }
 
+/// Where the viaduct's spans are, for the blocks of the far field ([`block_cuts`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Viaduct {
+    /// Station of the first span's start (m, global `x`).
+    pub start: f64,
+    /// Span length (m).
+    pub span: f64,
+    /// Number of spans.
+    pub spans: usize,
+}
+
+/// The stations where the far field cuts the model into blocks: every `group` spans
+/// from the viaduct's start, its end, and on with the same pitch over each approach
+/// until `x_range` (the model's extent in `x`, m). Blocks of `group` spans starting at a
+/// joint are translated copies of each other (one reduction serves them); so are the
+/// approaches' stretches away from their ends.
+pub fn block_cuts(v: Viaduct, group: usize, x_range: [f64; 2]) -> Vec<f64> {
+    let pitch = group.max(1) as f64 * v.span;
+    let end = v.start + v.spans as f64 * v.span;
+    let mut cuts: Vec<f64> = (0..)
+        .map(|k| v.start - k as f64 * pitch)
+        .take_while(|&x| x > x_range[0])
+        .collect();
+    cuts.extend(
+        (1..)
+            .map(|k| v.start + k as f64 * pitch)
+            .take_while(|&x| x < end),
+    );
+    cuts.extend(
+        (0..)
+            .map(|k| end + k as f64 * pitch)
+            .take_while(|&x| x < x_range[1]),
+    );
+    cuts.sort_by(f64::total_cmp);
+    cuts
+}
+
 /// The far field of a run on `driver` (after its preload and initialization): `None`
 /// for [`FarFieldChoice::Full`]. Refused (an input error) without the partitioned solver,
 /// across ranks, and with the activity window (`window`: it holds blocks the far field
@@ -146,6 +196,7 @@ pub fn open(
     driver: &mut Driver,
     choice: FarFieldChoice,
     track: &WindowTrack,
+    viaduct: Viaduct,
     dt: f64,
     window: bool,
 ) -> Result<Option<FarField>, FemError> {
@@ -180,7 +231,29 @@ pub fn open(
         .map_or(CutOffRule::default().omega(dt), |f| {
             2.0 * std::f64::consts::PI * f
         });
-    let nb = driver.prepare_blocks().map_err(|m| FemError::input(o, m))?;
+    // Blocks cut at span joints, as many spans each as make about the partition's own
+    // block size (its level sets' mean), so that congruent blocks share a reduction.
+    let level_sets = driver.prepare_blocks().map_err(|m| FemError::input(o, m))?;
+    let per_block = driver
+        .partition_stats()
+        .map_or(0, |p| p.interior_equations / level_sets.max(1));
+    let (mut x_lo, mut x_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for n in &driver.model.nodes {
+        x_lo = x_lo.min(n.position.x);
+        x_hi = x_hi.max(n.position.x);
+    }
+    let on_bridge = (0..driver.neq())
+        .filter(|&g| {
+            let x = driver.model.nodes[driver.asm.dofmap.dof_of(g).0].position.x;
+            x >= viaduct.start && x < viaduct.start + viaduct.spans as f64 * viaduct.span
+        })
+        .count();
+    let per_span = on_bridge / viaduct.spans.max(1);
+    let group = (per_block as f64 / per_span.max(1) as f64).round().max(1.0) as usize;
+    let cuts = block_cuts(viaduct, group, [x_lo, x_hi]);
+    let nb = driver
+        .cut_blocks_at(&cuts)
+        .map_err(|m| FemError::input(o, m))?;
     let w = settings(
         track,
         WindowOptions {
@@ -214,10 +287,14 @@ pub fn open(
             continue;
         }
         stats.candidates += 1;
-        let shared = made
-            .iter()
-            .find(|(k, _)| driver.blocks_alike(*k, b, 1e-12))
-            .map(|(_, basis)| basis.clone());
+        let shared = made.iter().find_map(|(k, basis)| {
+            let map = driver.block_congruence(*k, b, CONGRUENT)?;
+            Some(if map.is_identity() {
+                basis.clone()
+            } else {
+                Arc::new(basis.mapped(&map))
+            })
+        });
         let basis = match shared {
             Some(basis) => basis,
             None => match driver.block_reduction(b, cutoff).expect("partitioned") {

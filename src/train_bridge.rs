@@ -451,6 +451,15 @@ impl TrainBridgeCase {
         }
     }
 
+    /// Where the spans are, for the reduced far field's blocks ([`crate::far_field`]).
+    pub fn far_field_viaduct(&self) -> crate::far_field::Viaduct {
+        crate::far_field::Viaduct {
+            start: self.approach(),
+            span: self.span,
+            spans: self.spans,
+        }
+    }
+
     pub(crate) fn bridge(&self) -> BridgeSpec {
         BridgeSpec {
             span: self.span,
@@ -908,7 +917,14 @@ pub fn run(
         }
         _ => None,
     };
-    let mut far = crate::far_field::open(d, case.far_field, &track, case.dt, window.is_some())?;
+    let mut far = crate::far_field::open(
+        d,
+        case.far_field,
+        &track,
+        case.far_field_viaduct(),
+        case.dt,
+        window.is_some(),
+    )?;
     let names = d.model.elements[m.wheel_index[0]].element.output_names();
     let find = |k: &str| {
         names

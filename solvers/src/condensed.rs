@@ -63,6 +63,27 @@
 //! [`CondensedStats::margin_exceeded`] records any verified step whose exact tolerance
 //! exceeded the screen's by more than it.
 //!
+//! **Reduced blocks** (`partition/reduced.rs`). A reduced block's interior moves on
+//! `δ_I = Ψ·δ_B + Φ·δη`, and what a correction zeroes is the modal rows `Φᵀ·r_I`, not
+//! `r_I` (the rest are the constraint's reactions). The residual that must vanish is the
+//! projected one, `Tᵀ·r`: the block's boundary rows `r_B + Ψᵀ·r_I`, its modal rows
+//! `Φᵀ·r_I`. The argument above carries over with it. `r_I` is affine in the unknowns, so
+//! on the manifold where the modal rows vanish, `δη = Â_ηη⁻¹·(Φᵀ·r_I(q_b) − Â_ηB·δ_B)`,
+//! and substituting `δ_I` in `r_B + Ψᵀ·r_I` (`Â` the blocks of `Tᵀ·A·T`):
+//!
+//! ```text
+//! r_B + Ψᵀ·r_I = [r_B(q_b) + Ψᵀ·r_I(q_b) − Â_Bη·Â_ηη⁻¹·Φᵀ·r_I(q_b)]
+//!                − (Â_BB − Â_Bη·Â_ηη⁻¹·Â_ηB)·δ_B − (the top couplings, as before),
+//! ```
+//!
+//! which is the partition's condensed right-hand side of the unprojected `r(q_b)` and its
+//! top system for a reduced block (its forward pass and correction). So `r̃_T` is the top
+//! part of `Tᵀ·r`, the rest of `Tᵀ·r` is zero on the manifold, the back-substitution is
+//! the block's Galerkin back pass, and the iterates are the full-residual Newton's with
+//! reduced blocks. The one change: the full evaluations' norm is that of `Tᵀ·r`
+//! (`Driver::reduced_residual`, as the full-residual Newton's test), while the base's
+//! residual stays `r` itself.
+//!
 //! **What is not condensed.** Anything unusual falls back to the full-residual attempt of
 //! [`Driver`] for the whole step (elements reverted, the step taken again): a top set that
 //! changes inside a step, the backtracking of a rising residual, the iteration limit, a
@@ -340,9 +361,6 @@ impl Driver {
             return false;
         }
         p.equations() == self.neq()
-            // Reduced blocks' interior rows are reactions of their constraint, not zero
-            // (`partition/reduced.rs`): the full-residual Newton takes those steps.
-            && !p.has_reduced_blocks()
             && self.model.analysis.newton.kind == NewtonKind::Full
             && !self.asm.variable_elements().is_empty()
             && self.asm.constant_part_is_constant()
@@ -574,11 +592,24 @@ impl Driver {
         let (sr, sf, si) = sums.iter().fold((0.0, deep[1], 0.0), |a, s| {
             (a.0 + s.0, a.1 + s.1, a.2 + s.2)
         });
+        // With reduced blocks the test reads the residual in their coordinates, as the
+        // full-residual Newton's does (*Reduced blocks* above); `w.r` stays the residual.
+        // The predictor's norm is no test (it seeds the rising-residual check only), so it
+        // skips the projection's products with every reduced block's `Ψ` and `Φ`.
+        let projected = if predictor {
+            None
+        } else {
+            self.reduced_residual(&w.r)
+        };
+        let sr = projected
+            .as_ref()
+            .map_or(sr, |p| p.iter().map(|x| x * x).sum());
+        let r_test: &[f64] = projected.as_deref().unwrap_or(&w.r);
         // Each rank's rows alone, when the ranks keep their own rows.
         // The elements' own forces count with the assembled internal force (the driver's
         // reference, [`Driver::force_norms`]), reduced over the ranks with their norms.
         let (rn, fn_, inn, elem) = if self.ranks.own_rows {
-            let (v, elem) = self.force_norms(&[&w.r, &w.f_int, &w.inertia]);
+            let (v, elem) = self.force_norms(&[r_test, &w.f_int, &w.inertia]);
             (v[0], v[1], v[2], elem)
         } else {
             let elem = self.asm.element_force_norm();

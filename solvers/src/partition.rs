@@ -73,6 +73,7 @@ use std::time::Instant;
 
 mod frozen;
 mod reduced;
+mod reduced_cuts;
 mod refactor;
 mod rows;
 
@@ -302,6 +303,9 @@ pub struct Partitioned {
     ranges: Vec<Range<usize>>,
     /// Rank 0 only: the blocks of the other ranks, as last received.
     received: Vec<Received>,
+    /// Given blocks: a bin per equation, each bin one block (`partition/reduced_cuts.rs`);
+    /// `None`: the breadth-first level sets.
+    bins: Option<Vec<u32>>,
 }
 
 impl Partitioned {
@@ -333,6 +337,7 @@ impl Partitioned {
             comm: None,
             ranges: Vec::new(),
             received: Vec::new(),
+            bins: None,
         }
     }
 
@@ -619,6 +624,11 @@ impl Partitioned {
                 for l in &first {
                     self.base_top.extend_from_slice(l);
                 }
+                continue;
+            }
+            if self.bins.as_ref().is_some_and(|b| b.len() == n) {
+                let component: Vec<usize> = first.concat();
+                self.split_by_bins(a, &component);
                 continue;
             }
             // Second sweep from the far end: the level structure of an elongated

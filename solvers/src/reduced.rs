@@ -40,6 +40,7 @@
 //! blocks reduced ([`mixed`]).
 
 pub mod blocks;
+pub mod congruent;
 pub mod cutoff;
 pub mod march;
 pub mod mixed;

@@ -155,11 +155,12 @@ impl Reduced {
     /// The forward pass: `c = −Ψᵀ·b_I + Â_Bη·Â_ηη⁻¹·Φᵀ·b_I`, to be subtracted from `b_B`.
     pub(super) fn forward(&self, all: &[usize], rhs: &[f64]) -> Vec<f64> {
         let b_i = nalgebra::DVector::from_iterator(all.len(), all.iter().map(|&i| rhs[i]));
-        let mut c = -(self.basis.psi.transpose() * &b_i);
+        // `tr_mul`: the products with Ψᵀ, Φᵀ without forming the transposes (per solve).
+        let mut c = -self.basis.psi.tr_mul(&b_i);
         let cond = self.cond();
         if let Some(chol) = &cond.eta_eta {
-            let s = chol.solve(&(self.basis.phi.transpose() * &b_i));
-            c += cond.eta_b.transpose() * s;
+            let s = chol.solve(&self.basis.phi.tr_mul(&b_i));
+            c += cond.eta_b.tr_mul(&s);
         }
         c.as_slice().to_vec()
     }
@@ -174,7 +175,7 @@ impl Reduced {
             let mut h = -(&cond.eta_b * &x_b);
             if let Some(rhs) = rhs {
                 let b_i = nalgebra::DVector::from_iterator(all.len(), all.iter().map(|&i| rhs[i]));
-                h += self.basis.phi.transpose() * b_i;
+                h += self.basis.phi.tr_mul(&b_i);
             }
             x_i += &self.basis.phi * chol.solve(&h);
         }
@@ -258,8 +259,8 @@ impl Partitioned {
             let Some(red) = &blk.reduced else { continue };
             let r_i =
                 nalgebra::DVector::from_iterator(blk.all.len(), blk.all.iter().map(|&i| r[i]));
-            let to_b = red.basis.psi.transpose() * &r_i;
-            let to_eta = red.basis.phi.transpose() * &r_i;
+            let to_b = red.basis.psi.tr_mul(&r_i);
+            let to_eta = red.basis.phi.tr_mul(&r_i);
             for (&g, v) in blk.boundary.iter().zip(to_b.iter()) {
                 r[g] += v;
             }

@@ -48,7 +48,7 @@ impl Driver {
 
     /// Block `b`'s equations (interior and boundary, ascending) and its split in that
     /// local numbering; `None` without the partitioned solver or such a block.
-    fn block_split_of(&self, b: usize) -> Option<(Vec<usize>, Split)> {
+    pub(crate) fn block_split_of(&self, b: usize) -> Option<(Vec<usize>, Split)> {
         let p = self.linear.partitioned()?;
         if b >= p.block_count() {
             return None;
@@ -89,29 +89,6 @@ impl Driver {
                 ..Default::default()
             },
         ))
-    }
-
-    /// Whether blocks `a` and `b` have the same split and the same `K` and `M` in their
-    /// local numbering, entry by entry within `tol` of the largest (then one reduction
-    /// serves both).
-    pub fn blocks_alike(&self, a: usize, b: usize, tol: f64) -> bool {
-        let (Some((ea, sa)), Some((eb, sb))) = (self.block_split_of(a), self.block_split_of(b))
-        else {
-            return false;
-        };
-        if sa != sb {
-            return false;
-        }
-        [&self.asm.k_const, &self.asm.m_const].iter().all(|m| {
-            let (x, y) = (restrict(m, &ea), restrict(m, &eb));
-            let scale = x.values.iter().fold(0.0f64, |s, v| s.max(v.abs()));
-            x.col_ptr == y.col_ptr
-                && x.row_idx == y.row_idx
-                && x.values
-                    .iter()
-                    .zip(&y.values)
-                    .all(|(u, v)| (u - v).abs() <= tol * scale)
-        })
     }
 
     /// Switches block `b` to the reduced form `basis` (rows: its interior, columns of
