@@ -447,6 +447,7 @@ impl TrainBridgeCase {
             speed: self.speed,
             cars: self.cars,
             ground_motion: self.quake != Quake::None,
+            far_field_reduced: self.far_field != crate::far_field::FarFieldChoice::Full,
             curved: self.radius.is_some(),
         }
     }

@@ -68,6 +68,9 @@ pub struct WindowTrack {
     pub abutments: [f64; 2],
     /// Whether the ground moves (`--quake`).
     pub ground_motion: bool,
+    /// Whether the far field is reduced (`--far-field reduced`): it takes the blocks out
+    /// of the train's reach, which the window would hold.
+    pub far_field_reduced: bool,
     /// Whether the track is curved (`--radius`).
     pub curved: bool,
 }
@@ -197,6 +200,9 @@ pub fn auto_off_reason(driver: &Driver, track: &WindowTrack) -> Option<&'static 
     }
     if track.curved {
         return Some("the window maps nodes to stations on a straight track only");
+    }
+    if track.far_field_reduced {
+        return Some("the far field is reduced (--far-field reduced) out of the train's reach");
     }
     match driver.partition_stats() {
         None => Some("the model is not on the partitioned solver (auto picks it from 50 000 equations; --solver partitioned)"),
