@@ -23,9 +23,9 @@
 //! ΔQ/Q within 0.18 % (entry) and 0.24 % (a middle segment) of the wheels' largest peak
 //! over 2.5 s, against a 0.5 % target (`docs/activity-window.md`, "Error against the
 //! full model"), so the window is **on by default** where it applies (`auto`). An end of
-//! the structure within three times the reach keeps every block between it and the train active
-//! (`railfem_solvers::window`, "The structure's ends"): the case gives the abutments as
-//! ends ([`WindowTrack::abutments`]). At a larger step the integrator's damping
+//! the structure within three times the reach keeps every block between it and the train
+//! active (`railfem_solvers::window`, "The structure's ends"): the case gives the
+//! abutments as ends ([`WindowTrack::abutments`]). At a larger step the integrator's damping
 //! (generalized-α, ρ∞ = 0.5) removes the waves sooner: at Δt = 2 ms, 66 m already gives
 //! 0.29 % (`tests/train_window.rs`). The reach does not depend on the bridge's length, so
 //! the cost of a windowed step grows with the train and not with the bridge.

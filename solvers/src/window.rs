@@ -47,11 +47,10 @@
 //! damp the end itself. While an end lies within [`END_REACH`] times the reach of the
 //! load, the window treats it as a second load: no block between the load and that end,
 //! nor within the reach beyond it, is held (ahead, they join; behind, they are not held
-//! behind). The ends are the first and last station of the
-//! blocks, and the stations the case adds ([`ActivityWindow::set_ends`]). On a long
-//! structure this changes only the first and last stretches of a crossing; a bridge
-//! shorter than that distance is never held between its abutments
-//! (`docs/activity-window.md`, "The structure's ends", measures why).
+//! behind). The ends are the first and last station of the blocks, and the stations the
+//! case adds ([`ActivityWindow::set_ends`]). On a long structure this changes only the
+//! first and last stretches of a crossing; a bridge shorter than that distance is never
+//! held between its abutments (`docs/activity-window.md`, "The structure's ends").
 //!
 //! The window itself ([`ActivityWindow`]) knows only stations: each block's extent along
 //! the track and the load's extent `[rear, front]`; the case maps nodes to stations.
@@ -235,9 +234,9 @@ impl ActivityWindow {
     /// and its velocity norm has decayed below the tolerance. While an end of the structure
     /// ahead of `front` is within [`END_REACH`]`·ahead` of it, every block up to `ahead`
     /// beyond that end joins; while one behind `rear` is within that of it, no block
-    /// reaching past `ahead` before it is held. A held block that the last
-    /// factorization found a variable element on (a wheel reached it: the window is too
-    /// short) is an input error naming the fix, never a silently wrong step.
+    /// reaching past `ahead` before it is held. A held block that the last factorization
+    /// found a variable element on (a wheel reached it: the window is too short) is an
+    /// input error naming the fix, never a silently wrong step.
     pub fn update(&mut self, driver: &mut Driver, rear: f64, front: f64) -> Result<(), FemError> {
         let WindowSettings {
             ahead,
