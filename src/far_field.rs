@@ -34,7 +34,7 @@ use crate::framework::FemError;
 use crate::solvers::partition::ReducedBasis;
 use crate::solvers::reduced::cutoff::CutOffRule;
 use crate::solvers::Driver;
-use crate::train_window::{settings, train_extent, WindowOptions, WindowTrack};
+use crate::train_window::{settings, train_extent, Viaduct, WindowOptions, WindowTrack};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -151,17 +151,6 @@ pub struct FarField {
     stats: FarFieldStats,
 }
 
-/// Where the viaduct's spans are, for the blocks of the far field ([`block_cuts`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Viaduct {
-    /// Station of the first span's start (m, global `x`).
-    pub start: f64,
-    /// Span length (m).
-    pub span: f64,
-    /// Number of spans.
-    pub spans: usize,
-}
-
 /// The stations where the far field cuts the model into blocks: every `group` spans
 /// from the viaduct's start, its end, and on with the same pitch over each approach
 /// until `x_range` (the model's extent in `x`, m). Blocks of `group` spans starting at a
@@ -169,7 +158,7 @@ pub struct Viaduct {
 /// approaches' stretches away from their ends.
 pub fn block_cuts(v: Viaduct, group: usize, x_range: [f64; 2]) -> Vec<f64> {
     let pitch = group.max(1) as f64 * v.span;
-    let end = v.start + v.spans as f64 * v.span;
+    let [_, end] = v.abutments();
     let mut cuts: Vec<f64> = (0..)
         .map(|k| v.start - k as f64 * pitch)
         .take_while(|&x| x > x_range[0])
@@ -196,7 +185,6 @@ pub fn open(
     driver: &mut Driver,
     choice: FarFieldChoice,
     track: &WindowTrack,
-    viaduct: Viaduct,
     dt: f64,
     window: bool,
 ) -> Result<Option<FarField>, FemError> {
@@ -233,6 +221,7 @@ pub fn open(
         });
     // Blocks cut at span joints, as many spans each as make about the partition's own
     // block size (its level sets' mean), so that congruent blocks share a reduction.
+    let viaduct = track.viaduct;
     let level_sets = driver.prepare_blocks().map_err(|m| FemError::input(o, m))?;
     let per_block = driver
         .partition_stats()
@@ -245,7 +234,7 @@ pub fn open(
     let on_bridge = (0..driver.neq())
         .filter(|&g| {
             let x = driver.model.nodes[driver.asm.dofmap.dof_of(g).0].position.x;
-            x >= viaduct.start && x < viaduct.start + viaduct.spans as f64 * viaduct.span
+            x >= viaduct.start && x < viaduct.abutments()[1]
         })
         .count();
     let per_span = on_bridge / viaduct.spans.max(1);

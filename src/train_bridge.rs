@@ -436,28 +436,19 @@ impl TrainBridgeCase {
     pub fn window_track(&self) -> crate::train_window::WindowTrack {
         let slab = self.bridge().slab_track;
         crate::train_window::WindowTrack {
-            span: self.span,
+            viaduct: crate::train_window::Viaduct {
+                start: self.approach(),
+                span: self.span,
+                spans: self.spans,
+            },
             fastener_k: slab.fastener_k[1],
             fastener_spacing: slab.fastener_spacing,
             front_centre: self.approach() + self.train_start,
-            abutments: [
-                self.approach(),
-                self.approach() + self.spans as f64 * self.span,
-            ],
             speed: self.speed,
             cars: self.cars,
             ground_motion: self.quake != Quake::None,
             far_field_reduced: self.far_field != crate::far_field::FarFieldChoice::Full,
             curved: self.radius.is_some(),
-        }
-    }
-
-    /// Where the spans are, for the reduced far field's blocks ([`crate::far_field`]).
-    pub fn far_field_viaduct(&self) -> crate::far_field::Viaduct {
-        crate::far_field::Viaduct {
-            start: self.approach(),
-            span: self.span,
-            spans: self.spans,
         }
     }
 
@@ -918,14 +909,7 @@ pub fn run(
         }
         _ => None,
     };
-    let mut far = crate::far_field::open(
-        d,
-        case.far_field,
-        &track,
-        case.far_field_viaduct(),
-        case.dt,
-        window.is_some(),
-    )?;
+    let mut far = crate::far_field::open(d, case.far_field, &track, case.dt, window.is_some())?;
     let names = d.model.elements[m.wheel_index[0]].element.output_names();
     let find = |k: &str| {
         names

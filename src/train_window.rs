@@ -25,7 +25,7 @@
 //! full model"), so the window is **on by default** where it applies (`auto`). An end of
 //! the structure within three times the reach keeps every block between it and the train
 //! active (`railfem_solvers::window`, "The structure's ends"): the case gives the
-//! abutments as ends ([`WindowTrack::abutments`]). At a larger step the integrator's damping
+//! abutments as ends ([`Viaduct::abutments`]). At a larger step the integrator's damping
 //! (generalized-α, ρ∞ = 0.5) removes the waves sooner: at Δt = 2 ms, 66 m already gives
 //! 0.29 % (`tests/train_window.rs`). The reach does not depend on the bridge's length, so
 //! the cost of a windowed step grows with the train and not with the bridge.
@@ -48,11 +48,31 @@ use crate::solvers::window::{ActivityWindow, WindowSettings};
 use crate::solvers::Driver;
 use railfem_framework::FemError;
 
+/// Where the viaduct's spans are: its abutments are ends of the structure for the window
+/// (`railfem_solvers::window`, "The structure's ends"), its joints the far field's block
+/// cuts (`crate::far_field::block_cuts`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Viaduct {
+    /// Station of the first span's start (m, global `x`).
+    pub start: f64,
+    /// Span length (m).
+    pub span: f64,
+    /// Number of spans.
+    pub spans: usize,
+}
+
+impl Viaduct {
+    /// Stations of the first and last abutment (m).
+    pub fn abutments(&self) -> [f64; 2] {
+        [self.start, self.start + self.spans as f64 * self.span]
+    }
+}
+
 /// What the window needs of a straight train–bridge case.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WindowTrack {
-    /// Span length (m).
-    pub span: f64,
+    /// Where the spans are.
+    pub viaduct: Viaduct,
     /// Rail fasteners' vertical stiffness per seat (N/m).
     pub fastener_k: f64,
     /// Rail fasteners' spacing (m).
@@ -63,9 +83,6 @@ pub struct WindowTrack {
     pub speed: f64,
     /// Number of carriages.
     pub cars: usize,
-    /// Stations of the bridge's first and last abutment (m): ends of the structure that
-    /// send waves back (`railfem_solvers::window`, "The structure's ends").
-    pub abutments: [f64; 2],
     /// Whether the ground moves (`--quake`).
     pub ground_motion: bool,
     /// Whether the far field is reduced (`--far-field reduced`): it takes the blocks out
@@ -235,7 +252,7 @@ pub fn open(
         )
     })?;
     w.set_absorbing_layer(layer(settings.ahead, LayerOptions::default()));
-    w.set_ends(&track.abutments);
+    w.set_ends(&track.viaduct.abutments());
     Ok(Some(w))
 }
 

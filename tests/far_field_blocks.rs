@@ -46,7 +46,7 @@ fn cut_viaduct(spans: usize, span: f64) -> (Driver, TrainBridgeCase, Vec<usize>)
         xs.iter().copied().fold(f64::INFINITY, f64::min),
         xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
     ];
-    let v = case.far_field_viaduct();
+    let v = case.window_track().viaduct;
     let nb = d
         .cut_blocks_at(&block_cuts(v, 1, range))
         .expect("partitioned");

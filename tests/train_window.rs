@@ -360,7 +360,7 @@ fn no_block_is_held_between_the_train_and_a_near_end() {
             .expect("on");
         let [rear, front] = railfem::train_window::train_extent(&track, 0.0);
         w.update(&mut m.driver, rear, front).expect("update");
-        let far = track.abutments[1];
+        let far = track.viaduct.abutments()[1];
         assert!(
             far - front > 70.0,
             "the reach alone would not reach the abutment"
