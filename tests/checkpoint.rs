@@ -210,21 +210,36 @@ fn a_study_killed_20_times_resumes_to_the_same_table() {
     sdof(&dir, 10.0);
     let plan = plan(&dir, "plan.toml", 12);
     let whole = dir.join("whole");
+    // The uninterrupted run, timed to its first kept case: start-up (reading the plan and
+    // the checkpoint, building the first case's model) and the first case.
+    let kept = |out: &Path| {
+        std::fs::read_to_string(out.join("study.checkpoint"))
+            .map_or(0, |t| t.lines().count().saturating_sub(1))
+    };
     let t0 = Instant::now();
-    ok(&railfem(&study_args(&plan, &whole, &[])));
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_railfem"))
+        .args(study_args(&plan, &whole, &[]))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("start railfem");
+    let mut first = None;
+    while child.try_wait().expect("poll").is_none() {
+        if first.is_none() && kept(&whole) > 0 {
+            first = Some(t0.elapsed());
+        }
+        std::thread::sleep(std::time::Duration::from_micros(200));
+    }
     let full = t0.elapsed();
+    ok(&child.wait_with_output().expect("wait"));
+    // A study that ended between two polls: its cases' mean time.
+    let first = first.unwrap_or(full / 24);
     let reference = std::fs::read(whole.join("study.csv")).unwrap();
     assert_eq!(
         String::from_utf8_lossy(&reference).lines().count(),
         25,
         "24 cases and the header"
     );
-    // The cost of a run that computes nothing (every case done): start-up, reading the
-    // plan and the checkpoint, writing the table.
-    let t1 = Instant::now();
-    ok(&railfem(&study_args(&plan, &whole, &[])));
-    let idle = t1.elapsed();
-    let work = full.saturating_sub(idle);
     let killed = dir.join("killed");
     let mut rng = Lcg(36);
     let mut landed = 0;
@@ -235,11 +250,21 @@ fn a_study_killed_20_times_resumes_to_the_same_table() {
             .stderr(std::process::Stdio::piped())
             .spawn()
             .expect("start railfem");
-        // A moment from late in the start-up (reading, verifying, rewriting the
-        // checkpoint) to 6 % of the study's work past it: most kills land in the cases and
-        // their appends; the 20 together leave work for the last run.
-        let span = idle.mul_f64(0.25) + work.mul_f64(0.06);
-        std::thread::sleep(idle.mul_f64(0.75) + span.mul_f64(rng.next()));
+        // Every other kill (at random) waits for the run to keep one more case, then a
+        // random part of a case's time: it lands in the next case or its append. The
+        // others land at a random moment of the start-up and the first case. So each run
+        // keeps at most about one case, and the 20 together part of the study, on a fast
+        // machine as on a slow one (the moments follow the study's own progress).
+        let per_case = full.saturating_sub(first) / 23;
+        if rng.next() < 0.5 {
+            let before = kept(&killed);
+            while kept(&killed) == before && child.try_wait().expect("poll").is_none() {
+                std::thread::sleep(std::time::Duration::from_micros(200));
+            }
+            std::thread::sleep(per_case.mul_f64(rng.next()));
+        } else {
+            std::thread::sleep(first.mul_f64(rng.next()));
+        }
         if child.try_wait().expect("poll").is_none() {
             landed += 1;
         }
@@ -256,10 +281,9 @@ fn a_study_killed_20_times_resumes_to_the_same_table() {
         "only {landed} of 20 kills hit a running study"
     );
     // The kills left a study part done: the last run resumes, it does not start or skip.
-    let rows = std::fs::read_to_string(killed.join("study.checkpoint"))
-        .map_or(0, |t| t.lines().count().saturating_sub(1));
+    let rows = kept(&killed);
     println!(
-        "{landed} of 20 kills hit a running study; {rows} of 24 cases kept; uninterrupted {full:?}, idle {idle:?}"
+        "{landed} of 20 kills hit a running study; {rows} of 24 cases kept; uninterrupted {full:?}, first case kept at {first:?}"
     );
     assert!(
         rows > 0 && rows < 24,
