@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{railfem, refused_with, temp_dir};
+use common::{railfem, refused_with, study, temp_dir};
 use std::path::{Path, PathBuf};
 
 /// A 12-case plan: 3 synthetic seeds × intensity 0 and 1 × 2 speeds, one carriage on one
@@ -43,17 +43,6 @@ fn write_plan(dir: &Path, text: &str) -> PathBuf {
     p
 }
 
-fn study(plan: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
-    let mut args = vec![
-        "study",
-        plan.to_str().expect("utf-8"),
-        "--out",
-        out.to_str().expect("utf-8"),
-        "-q",
-    ];
-    args.extend_from_slice(extra);
-    railfem(&args)
-}
 
 /// `railfem train-bridge` on the plans' small case (one carriage on one 10 m span for
 /// 0.2 s, seed 2 at 0.3 g, 100 m/s) with `extra` options, writing into `out`.

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{railfem, temp_dir};
+use common::{railfem, study, temp_dir};
 use std::path::Path;
 
 /// The case: one carriage entering 12 spans of 10 m, 20 steps of 10 ms, on the
@@ -58,15 +58,7 @@ fn a_study_case_with_a_window_layer_writes_the_bytes_of_the_command() {
     let path = dir.join("plan.toml");
     std::fs::write(&path, plan).expect("write the plan");
     let out = dir.join("study");
-    let o = railfem(&[
-        "study",
-        path.to_str().expect("utf-8"),
-        "--out",
-        out.to_str().expect("utf-8"),
-        "-q",
-        "--threads",
-        "1",
-    ]);
+    let o = study(&path, &out, &["--threads", "1"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let mut wheels = Vec::new();
     for (id, layer) in [("0000", "0"), ("0001", "10")] {

@@ -5,7 +5,7 @@
 //! line naming the file (or the command line), the key path and the valid values in the
 //! order the enum declares them (serde's own wording).
 
-use super::common::{railfem, refused_with, temp_dir};
+use super::common::{railfem, refused_with, study, temp_dir};
 use super::{check, check_train, edit};
 
 /// The words of a DOF list, as the enum declares them.
@@ -108,13 +108,7 @@ fn a_study_case_outside_the_list_is_refused_with_the_list() {
     )
     .expect("write plan");
     let out = dir.join("out");
-    let o = railfem(&[
-        "study",
-        plan.to_str().expect("utf-8"),
-        "--out",
-        out.to_str().expect("utf-8"),
-        "-q",
-    ]);
+    let o = study(&plan, &out, &[]);
     refused_with(
         "study case",
         &o,

@@ -4,7 +4,7 @@
 //! `--window-layer-damping`, the option's name replaced by the key's (one parser,
 //! `railfem::train_window::parse_layer`, names both), and the study goes on.
 
-use super::common::{railfem, temp_dir};
+use super::common::{study, temp_dir};
 use super::train_bridge_refused;
 
 /// Each bad setting: the study's keys, the command line's options, and the message with
@@ -70,13 +70,7 @@ fn bad_layer_keys_fail_the_case_in_the_words_of_the_options() {
         )
         .expect("write the plan");
         let out = dir.join(format!("out{i}"));
-        let o = railfem(&[
-            "study",
-            plan.to_str().expect("utf-8"),
-            "--out",
-            out.to_str().expect("utf-8"),
-            "-q",
-        ]);
+        let o = study(&plan, &out, &[]);
         assert!(
             o.status.success(),
             "{keys}: the study goes on past a failed case"

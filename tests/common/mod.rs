@@ -22,6 +22,19 @@ pub fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
+/// Runs `railfem study PLAN --out OUT -q`, then `extra`.
+pub fn study(plan: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "study",
+        plan.to_str().expect("utf-8"),
+        "--out",
+        out.to_str().expect("utf-8"),
+        "-q",
+    ];
+    args.extend_from_slice(extra);
+    railfem(&args)
+}
+
 /// Runs the `railfem` binary with `args`.
 pub fn railfem(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_railfem"))
