@@ -11,8 +11,9 @@
 //!   ([`retime`]);
 //! - `threshold`: dense against sparse factorization by size, the table the solvers' dense
 //!   limit was chosen from ([`threshold`]);
-//! - `window-front`: run time against error of the train–bridge model with the activity
-//!   window beside full runs ([`window_front`]).
+//! - `window-front`, `far-field-front`: run time against error of the train–bridge model
+//!   with the activity window (no ground motion) or the reduced far field (the synthetic
+//!   record) beside full runs ([`window_front`]).
 //!
 //! The commands users run to time their own machine and model (`railfem bench`, `railfem
 //! pareto`, `railfem stress`) stay in `railfem`. This crate depends on `railfem`'s library
@@ -66,8 +67,11 @@ enum Measure {
     /// (threshold.md): where the dense solver stops paying.
     Threshold(ThresholdCmd),
     /// Run time against error of the train–bridge model, windowed runs beside full runs,
-    /// on 3 carriages over 12 spans (window-front.csv, window-front.svg).
+    /// on 3 carriages over 30 spans (window-front.csv, window-front.svg).
     WindowFront(WindowFrontCmd),
+    /// The same under the synthetic ground motion, runs with the reduced far field beside
+    /// full runs (far-field-front.csv, far-field-front.svg).
+    FarFieldFront(WindowFrontCmd),
 }
 
 /// `railfem-measure export`.
@@ -145,11 +149,11 @@ struct ThresholdCmd {
     out: Option<PathBuf>,
 }
 
-/// `railfem-measure window-front`.
+/// `railfem-measure window-front` and `far-field-front`.
 #[derive(Args, Debug)]
 struct WindowFrontCmd {
-    /// Output directory: the runs in DIR/runs (read, not run again, when there),
-    /// window-front.csv and window-front.svg [default: out/window-front].
+    /// Output directory: the runs in DIR/runs (read, not run again, when there), STEM.csv
+    /// and STEM.svg [default: out/STEM], STEM the command's name.
     #[arg(long, value_name = "DIR")]
     out: Option<PathBuf>,
 }
@@ -268,13 +272,14 @@ impl ThresholdCmd {
 }
 
 impl WindowFrontCmd {
-    fn run(&self) -> Result<(), FemError> {
-        let out = out(&self.out, "out/window-front");
+    fn run(&self, scene: window_front::Scene) -> Result<(), FemError> {
+        let stem = scene.stem();
+        let out = out(&self.out, &format!("out/{stem}"));
         eprintln!("load average at start: {}", load_average::loadavg());
-        let points = window_front::measure(&window_front::default_set(), &out)?;
+        let points = window_front::measure(&window_front::default_set(scene), &out)?;
         eprintln!("load average at end: {}", load_average::loadavg());
-        print!("{}", window_front::csv(&points));
-        println!("railfem-measure window-front: results in {}", out.display());
+        print!("{}", window_front::csv(scene, &points));
+        println!("railfem-measure {stem}: results in {}", out.display());
         Ok(())
     }
 }
@@ -308,7 +313,8 @@ fn main_code(argv: Vec<std::ffi::OsString>) -> i32 {
         Measure::Retime(c) => c.run(),
         Measure::RetimeAt(c) => c.run(),
         Measure::Threshold(c) => c.run(),
-        Measure::WindowFront(c) => c.run(),
+        Measure::WindowFront(c) => c.run(window_front::Scene::Still),
+        Measure::FarFieldFront(c) => c.run(window_front::Scene::Quake),
     };
     match result {
         Ok(()) => 0,

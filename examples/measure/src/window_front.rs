@@ -1,10 +1,13 @@
-//! `railfem-measure window-front`: run time against error of the train–bridge model with
-//! the activity window (`railfem train-bridge --window on`) beside full runs, on a case
-//! long enough for the window to hold blocks: 3 carriages started in the middle of 30
-//! spans, the partitioned solver's blocks of 500 equations (about a fifth of a span).
+//! `railfem-measure window-front` and `far-field-front`: run time against error of the
+//! train–bridge model with the activity window (`railfem train-bridge --window on`, no
+//! ground motion) or the reduced far field (`--far-field reduced`, under the synthetic
+//! record) beside full runs of the same scene, on a case long enough for either to leave
+//! blocks out: 3 carriages started in the middle of 30 spans, the partitioned solver's
+//! blocks of 500 equations (about a fifth of a span; the reduced far field cuts its
+//! blocks at span joints, one span a block).
 //!
-//! Full runs at a few (element length, Δt) and windowed runs at several reaches and
-//! steps are each compared with the finest full run of the set (the smallest element
+//! Full runs at a few (element length, Δt) and windowed or reduced runs at several reaches
+//! and steps are each compared with the finest full run of the set (the smallest element
 //! length, then the smallest step), over the reference's samples: each run's
 //! `wheels.csv` and `midspan.csv` linearly interpolated at the reference's sample times
 //! ([`resample`]; the interpolation error, `≤ Δt²/8·max|ẍ|`, is part of what a user
@@ -12,15 +15,18 @@
 //! the largest |difference| of `Q`, of `ΔQ/Q` over every wheel and sample, and of every
 //! span's midspan deflection `w − w(0)`, each against the largest |value| of the quantity
 //! in the reference, from [`SETTLE`] on. Each run's wall and CPU time (the process's, every thread's) cover building
-//! the model, the static solve, every step and writing its CSV files.
+//! the model, the static solve (and the far field's reductions), every step and writing its
+//! CSV files.
 //!
-//! Output: `window-front.csv` (one row per run) and `window-front.svg` (error against CPU
-//! time, full runs and windowed runs as their own points, one panel per quantity).
+//! Output: `window-front.csv` and `window-front.svg`, or `far-field-front.csv` and
+//! `far-field-front.svg` (one row per run; error against CPU time, full runs and windowed
+//! or reduced runs as their own points, one panel per quantity).
 
+use railfem::far_field::{FarFieldChoice, FarFieldOptions};
 use railfem::framework::plot::{Corner, Figure, Panel, Series, Style};
 use railfem::framework::FemError;
 use railfem::solvers::partition::PartitionOptions;
-use railfem::train_bridge::{build, run, TrainBridgeCase};
+use railfem::train_bridge::{build, run, Quake, TrainBridgeCase};
 use railfem::train_window::{WindowChoice, WindowOptions};
 use railfem::window_error::{difference_where, read_columns, Columns};
 use std::path::Path;
@@ -41,15 +47,46 @@ pub const DURATION: f64 = 0.6;
 /// Interior equations per block of the partitioned solver.
 pub const BLOCK_SIZE: usize = 500;
 
-/// One run of the set: element length (m), time step (s) and the window's reach (m;
-/// `None`: the full model).
+/// What the scene has, and so what leaves blocks out of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scene {
+    /// No ground motion: the activity window holds the blocks out of reach.
+    Still,
+    /// The synthetic record (`--quake synthetic`: Kanai–Tajimi, seed 1, 0.3 g horizontal,
+    /// 0.2 g vertical): the reduced far field runs the blocks out of reach in
+    /// Craig–Bampton form.
+    Quake,
+}
+
+impl Scene {
+    /// The stem of the output files.
+    pub fn stem(self) -> &'static str {
+        match self {
+            Scene::Still => "window-front",
+            Scene::Quake => "far-field-front",
+        }
+    }
+
+    /// What a run with a reach is called (run names, CSV, legend).
+    fn method(self) -> &'static str {
+        match self {
+            Scene::Still => "window",
+            Scene::Quake => "reduced",
+        }
+    }
+}
+
+/// One run of the set: the scene, element length (m), time step (s) and the window's or
+/// the far field's reach (m; `None`: the full model).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunSpec {
+    /// The scene.
+    pub scene: Scene,
     /// Rail, slab and girder element length (m).
     pub h: f64,
     /// Time step (s).
     pub dt: f64,
-    /// The window's reach (m), or the full model.
+    /// The window's or the far field's reach (m), or the full model.
     pub reach: Option<f64>,
 }
 
@@ -58,7 +95,7 @@ impl RunSpec {
     fn name(&self) -> String {
         match self.reach {
             None => format!("full-h{}-dt{}", self.h, self.dt),
-            Some(d) => format!("window{d}-h{}-dt{}", self.h, self.dt),
+            Some(d) => format!("{}{d}-h{}-dt{}", self.scene.method(), self.h, self.dt),
         }
     }
 
@@ -73,22 +110,37 @@ impl RunSpec {
             train_start: TRAIN_START,
             midspans: (1..=SPANS).collect(),
             solver: railfem::framework::model::SolverChoice::Partitioned,
-            window: match self.reach {
-                None => WindowChoice::Off,
-                Some(d) => WindowChoice::On(WindowOptions {
+            window: match (self.scene, self.reach) {
+                (Scene::Still, Some(d)) => WindowChoice::On(WindowOptions {
                     ahead: Some(d),
                     tolerance: None,
                 }),
+                _ => WindowChoice::Off,
+            },
+            quake: match self.scene {
+                Scene::Still => Quake::None,
+                Scene::Quake => Quake::Synthetic {
+                    seed: 1,
+                    pga: 0.3,
+                    duration: 30.0,
+                },
+            },
+            far_field: match (self.scene, self.reach) {
+                (Scene::Quake, Some(d)) => FarFieldChoice::Reduced(FarFieldOptions {
+                    cutoff_hz: None,
+                    reach: Some(d),
+                }),
+                _ => FarFieldChoice::Full,
             },
             ..Default::default()
         }
     }
 }
 
-/// The default set: full runs at four steps on the 0.625 m mesh and at three on the
-/// 0.3125 m mesh (the finest, at 0.25 ms, is the reference), windowed runs at reaches of
-/// 30, 60 and 120 m at three steps on the 0.625 m mesh.
-pub fn default_set() -> Vec<RunSpec> {
+/// The default set of a scene: full runs at four steps on the 0.625 m mesh and at three on
+/// the 0.3125 m mesh (the finest, at 0.25 ms, is the reference), windowed or reduced runs
+/// at reaches of 30, 60 and 120 m at three steps on the 0.625 m mesh.
+pub fn default_set(scene: Scene) -> Vec<RunSpec> {
     let mut set = Vec::new();
     for (h, dt) in [
         (0.625, 2e-3),
@@ -99,11 +151,17 @@ pub fn default_set() -> Vec<RunSpec> {
         (0.3125, 5e-4),
         (0.3125, 2.5e-4),
     ] {
-        set.push(RunSpec { h, dt, reach: None });
+        set.push(RunSpec {
+            scene,
+            h,
+            dt,
+            reach: None,
+        });
     }
     for dt in [1e-3, 5e-4, 2.5e-4] {
         for d in [30.0, 60.0, 120.0] {
             set.push(RunSpec {
+                scene,
                 h: 0.625,
                 dt,
                 reach: Some(d),
@@ -124,7 +182,8 @@ pub struct Cost {
     pub wall: f64,
     /// CPU time of the process over the same (s).
     pub cpu: f64,
-    /// Fraction of the block-steps held (0 for a full run).
+    /// Fraction of the block-steps held by the window or reduced by the far field (0 for a
+    /// full run).
     pub held: f64,
 }
 
@@ -139,9 +198,11 @@ pub fn run_one(r: &RunSpec, dir: &Path) -> Result<Cost, FemError> {
         ..Default::default()
     });
     let report = run(&mut m, &case, None, Some(dir))?;
-    let held = report.window.map_or(0.0, |w| {
-        w.held_block_steps as f64 / w.block_steps.max(1) as f64
-    });
+    let held = match (report.window, report.far_field) {
+        (Some(w), _) => w.held_block_steps as f64 / w.block_steps.max(1) as f64,
+        (None, Some(f)) => f.reduced_block_steps as f64 / f.block_steps.max(1) as f64,
+        (None, None) => 0.0,
+    };
     Ok(Cost {
         dofs: m.dofs,
         steps: report.steps,
@@ -216,15 +277,21 @@ pub struct Point {
     pub cost: Cost,
     /// `[Q, ΔQ/Q, w]` errors against the reference (-).
     pub errors: [f64; 3],
-    /// A windowed run's `[Q, ΔQ/Q, w]` errors against the full run at its element length
-    /// and step: the window's own error (`None`: a full run, or no such full run in the set).
+    /// A windowed or reduced run's `[Q, ΔQ/Q, w]` errors against the full run at its element
+    /// length and step: the window's or reduction's own error (`None`: a full run, or no
+    /// such full run in the set).
     pub window_errors: Option<[f64; 3]>,
 }
 
-/// The rows as CSV (units in the header; reach 0 for a full run, and its window errors 0).
-pub fn csv(points: &[Point]) -> String {
-    let mut s = String::from(
-        "run [-],element_length [m],dt [s],reach [m],DOF [-],steps [-],wall [s],cpu [s],held [-],Q_error [-],dQQ_error [-],w_error [-],Q_window [-],dQQ_window [-],w_window [-]\n",
+/// The rows as CSV (units in the header; reach 0 for a full run, and its own errors 0).
+/// `held` and `Q_window`… for the window, `reduced` and `Q_reduced`… for the far field.
+pub fn csv(scene: Scene, points: &[Point]) -> String {
+    let (share, own) = match scene {
+        Scene::Still => ("held", "window"),
+        Scene::Quake => ("reduced", "reduced"),
+    };
+    let mut s = format!(
+        "run [-],element_length [m],dt [s],reach [m],DOF [-],steps [-],wall [s],cpu [s],{share} [-],Q_error [-],dQQ_error [-],w_error [-],Q_{own} [-],dQQ_{own} [-],w_{own} [-]\n",
     );
     for p in points {
         let [eq, edqq, ew] = p.errors;
@@ -232,7 +299,7 @@ pub fn csv(points: &[Point]) -> String {
         s.push_str(&format!(
             "{},{},{},{},{},{},{:.3},{:.3},{:.4},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e},{:.4e}\n",
             if p.spec.reach.is_some() {
-                "window"
+                p.spec.scene.method()
             } else {
                 "full"
             },
@@ -256,9 +323,13 @@ pub fn csv(points: &[Point]) -> String {
 }
 
 /// Error against CPU time, log–log, one panel per quantity: the full runs as squares
-/// (one colour per element length), the windowed runs as circles (one colour per reach).
-/// Runs with a zero error (the reference) are left out of the log axes.
-pub fn figure(points: &[Point]) -> Figure {
+/// (one colour per element length), the windowed or reduced runs as circles (one colour
+/// per reach). Runs with a zero error (the reference) are left out of the log axes.
+pub fn figure(scene: Scene, points: &[Point]) -> Figure {
+    let (what, legend) = match scene {
+        Scene::Still => ("full and windowed", "window"),
+        Scene::Quake => ("synthetic record, full and reduced", "reduced far field"),
+    };
     let quantities = [
         ("Q", "max |Q − Q_ref| / max |Q_ref| (-)"),
         ("ΔQ/Q", "max |ΔQ/Q − ref| / max |ΔQ/Q_ref| (-)"),
@@ -270,7 +341,7 @@ pub fn figure(points: &[Point]) -> Figure {
     for (q, (name, ylabel)) in quantities.iter().enumerate() {
         let mut p = Panel::new(
             &format!(
-                "train–bridge, {CARS} cars on {SPANS} spans, {DURATION} s: {name} error, full and windowed"
+                "train–bridge, {CARS} cars on {SPANS} spans, {DURATION} s: {name} error, {what}"
             ),
             "CPU time of the run (s)",
             ylabel,
@@ -305,7 +376,7 @@ pub fn figure(points: &[Point]) -> Figure {
                 .filter(|p| p.spec.reach == Some(d) && p.errors[q] > 0.0)
                 .collect();
             groups.push((
-                format!("window, reach {d} m"),
+                format!("{legend}, reach {d} m"),
                 Style::Markers,
                 window_colors[k % window_colors.len()],
                 pts,
@@ -325,8 +396,8 @@ pub fn figure(points: &[Point]) -> Figure {
     fig
 }
 
-/// Runs `set` (outputs in `out/runs/NAME`), compares each run with the finest full run and
-/// writes `window-front.csv` and `window-front.svg` into `out`. A run whose directory
+/// Runs `set` (one scene's; outputs in `out/runs/NAME`), compares each run with the finest
+/// full run and writes `STEM.csv` and `STEM.svg` into `out` ([`Scene::stem`]). A run whose directory
 /// already holds `summary.csv` is read, not run again (its cost from
 /// `out/runs/NAME/cost.json`).
 pub fn measure(set: &[RunSpec], out: &Path) -> Result<Vec<Point>, FemError> {
@@ -358,7 +429,7 @@ pub fn measure(set: &[RunSpec], out: &Path) -> Result<Vec<Point>, FemError> {
                 held: v["held"].as_f64().unwrap_or(0.0),
             },
             _ => {
-                eprintln!("window-front: {}", r.name());
+                eprintln!("{}: {}", r.scene.stem(), r.name());
                 let c = run_one(r, &dir)?;
                 let v = serde_json::json!({"dofs": c.dofs, "steps": c.steps, "wall": c.wall, "cpu": c.cpu, "held": c.held});
                 std::fs::write(&cost_file, v.to_string())
@@ -397,10 +468,11 @@ pub fn measure(set: &[RunSpec], out: &Path) -> Result<Vec<Point>, FemError> {
             window_errors,
         });
     }
-    let p = out.join("window-front.csv");
-    std::fs::write(&p, csv(&points)).map_err(|e| FemError::output(&p, e))?;
-    let p = out.join("window-front.svg");
-    figure(&points)
+    let scene = reference.scene;
+    let p = out.join(format!("{}.csv", scene.stem()));
+    std::fs::write(&p, csv(scene, &points)).map_err(|e| FemError::output(&p, e))?;
+    let p = out.join(format!("{}.svg", scene.stem()));
+    figure(scene, &points)
         .write_svg(&p)
         .map_err(|e| FemError::output(&p, e))?;
     Ok(points)
