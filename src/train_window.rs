@@ -43,6 +43,7 @@
 //! 100 /s and worse at 200 and 518 /s; `docs/activity-window.md`, "Why the window
 //! errs"). With the default reach, `L` = 100 m and `α_max` = 207 /s.
 
+use crate::framework::analysis::WindowMode;
 use crate::solvers::window::absorb::LayerSettings;
 use crate::solvers::window::{ActivityWindow, WindowSettings};
 use crate::solvers::Driver;
@@ -369,13 +370,18 @@ pub fn parse_options(
         ));
     }
     let options = WindowOptions { ahead, tolerance };
-    match window {
-        Some("on") => Ok(WindowChoice::On(options)),
-        Some("auto") | None => Ok(WindowChoice::Auto(options)),
-        Some("off") if options == WindowOptions::default() => Ok(WindowChoice::Off),
-        Some("off") => bad(format!(
+    let Some(kind) = window.map_or(Some(WindowMode::Auto), WindowMode::parse) else {
+        return bad(format!(
+            "{mode} {}: give on, off or auto",
+            window.unwrap_or_default()
+        ));
+    };
+    match kind {
+        WindowMode::On => Ok(WindowChoice::On(options)),
+        WindowMode::Auto => Ok(WindowChoice::Auto(options)),
+        WindowMode::Off if options == WindowOptions::default() => Ok(WindowChoice::Off),
+        WindowMode::Off => bad(format!(
             "{a_} and {t_} set the activity window, which {mode} off turns off; drop them, or give {mode} on or auto"
         )),
-        Some(other) => bad(format!("{mode} {other}: give on, off or auto")),
     }
 }

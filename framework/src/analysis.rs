@@ -327,6 +327,14 @@ impl WindowMode {
             WindowMode::Auto => "auto",
         }
     }
+
+    /// The mode a command line or a study spells `word` (`off`, `on`, `auto`); `None` for
+    /// any other word.
+    pub fn parse(word: &str) -> Option<WindowMode> {
+        [WindowMode::Off, WindowMode::On, WindowMode::Auto]
+            .into_iter()
+            .find(|m| m.name() == word)
+    }
 }
 
 /// The activity window of a transient on the partitioned solver (`[analysis.window]`):
