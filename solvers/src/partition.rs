@@ -219,6 +219,9 @@ struct Promotion {
     /// Of the columns of `Z`: how many were solved, kept from the last promotion, and
     /// found among the block's spare columns.
     columns: [usize; 3],
+    /// Per column of `Z`: whether it was solved for this promoted run of its equation
+    /// (`false`: taken from the spare columns, where a wheel ahead had left it).
+    solved: Vec<bool>,
 }
 
 struct Block {
@@ -1999,14 +2002,20 @@ fn promotion(
         .iter()
         .map(|&l| last.as_ref()?.local.binary_search(&l).ok())
         .collect();
-    // The last promotion's columns of equations no longer promoted become spare.
+    // The last promotion's columns of equations no longer promoted become spare, those a
+    // first wheel left: a column the spare gave is left by the wheel behind it, and the
+    // next wheel is a carriage behind (7.5 m and more), by when the spare has dropped it.
     if let Some(last) = &last {
         for (m, &l) in last.local.iter().enumerate() {
-            if local.binary_search(&l).is_err() {
+            if last.solved[m] && local.binary_search(&l).is_err() {
                 st.spare.keep(l, &last.z[m * ni..(m + 1) * ni]);
             }
         }
     }
+    let mut solved: Vec<bool> = from
+        .iter()
+        .map(|f| f.is_none_or(|m| last.as_ref().is_some_and(|p| p.solved[m])))
+        .collect();
     let kept = from.iter().filter(|f| f.is_some()).count();
     let mut z = match last {
         Some(last) if kept > 0 => kept_columns(last.z, ni, &from),
@@ -2018,6 +2027,7 @@ fn promotion(
         match st.spare.take(local[k]) {
             Some(c) => {
                 z[k * ni..(k + 1) * ni].copy_from_slice(&c);
+                solved[k] = false;
                 spared += 1;
             }
             None => fresh.push(k),
@@ -2055,6 +2065,7 @@ fn promotion(
         g_inv: g_inv.as_slice().to_vec(),
         w_p,
         columns: [fresh.len(), kept, spared],
+        solved,
     })
 }
 

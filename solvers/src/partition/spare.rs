@@ -8,14 +8,19 @@
 //! independently of which others it is solved with: [`crate::compact_factor`]). The
 //! columns live in the block's [`super::BlockState`] and go with its base factor (a new
 //! `A`); the partitioned solver drops them too when the block's promoted set empties (the
-//! train has left it), so that only the blocks under the train hold any.
+//! train has left it), so that only the blocks under the train hold any. Only columns that
+//! were solved are kept when their equation leaves the promoted set: a column the spare
+//! gave back is left again by the wheel behind, and the next wheel after that one is a
+//! carriage behind (7.5 m and more), by when the spare would have dropped it.
 
 use std::collections::VecDeque;
 
-/// At most this many columns are kept per block, the longest kept first dropped: about
-/// the rail nodes of two bogies' axle spacing (2.5 m at the paper's 0.069 m elements,
-/// 36 nodes of two rails with up to six promoted DOFs each, is 432 columns).
-pub(super) const SPARE_COLUMNS: usize = 512;
+/// At most this many columns are kept per block, the longest kept first dropped: the
+/// columns a bogie's front axle leaves before its rear axle reaches them are the rail
+/// nodes of its 2.5 m axle spacing (40 nodes of two rails at the paper's 0.0625 m
+/// elements, with six promoted DOFs each: 480 columns), and a block of 3 000 equations
+/// (about 9 m of the paper's viaduct) can hold two bogies, of adjacent carriages, at once.
+pub(super) const SPARE_COLUMNS: usize = 1024;
 
 /// Kept columns of one block, by local interior equation, the most recently dropped last.
 #[derive(Default)]
