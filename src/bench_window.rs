@@ -7,11 +7,13 @@
 //! preload, takes one untimed step (the transient's block factorizations, once per Δt) and
 //! then times `steps` steps: wall time per step, CPU time per step (all threads), and the
 //! load average before and after, printed and written to `window.csv` and `window.md`.
+//! The window runs once per reach asked for (`--window-ahead`, the default reach without
+//! it), each after the same case's run without the window.
 
 use crate::framework::model::SolverChoice;
 use crate::framework::FemError;
 use crate::train_bridge::{build, TrainBridgeCase};
-use crate::train_window::{open, train_extent, WindowChoice, WindowOptions};
+use crate::train_window::{open, train_extent, LayerOptions, WindowChoice, WindowOptions};
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
@@ -27,6 +29,8 @@ pub struct WindowRow {
     pub dofs: usize,
     /// Whether the window was on.
     pub window: bool,
+    /// The window's reach (m; 0 without the window).
+    pub reach: f64,
     /// Wall and CPU seconds per timed step.
     pub wall_per_step: f64,
     /// CPU seconds per timed step (all threads).
@@ -46,6 +50,10 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
     d.initialize()?;
     let track = case.window_track();
     let mut window = open(d, case.window, &track)?;
+    if let Some(w) = window.as_mut() {
+        let reach = w.settings().ahead;
+        w.set_absorbing_layer(crate::train_window::layer(reach, case.window_layer));
+    }
     let mut step = |d: &mut crate::solvers::Driver| -> Result<usize, FemError> {
         if let Some(w) = window.as_mut() {
             let [rear, front] = train_extent(&track, d.state.t);
@@ -69,7 +77,7 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
     let ms = |x: f64| 1e3 * x / steps as f64;
     let per = |a: usize, b: usize| (b - a) as f64 / steps as f64;
     eprintln!(
-        "  per step: assembly {:.1} ms, loads {:.1} ms, factor {:.1} ms (top form {:.1}, top factor {:.1}, blocks {:.1}, promotions {:.1}), solve {:.1} ms; top factorizations {:.2}, top symbolic analyses {:.2}, top constant forms {:.2}, refits {:.2}, block factorizations {:.2}, promotions {:.2}; top equations {}, reduced {}",
+        "  per step: assembly {:.1} ms, loads {:.1} ms, factor {:.1} ms (top form {:.1}, top factor {:.1}, blocks {:.1}, promotions {:.1}), solve {:.1} ms; top factorizations {:.2}, top symbolic analyses {:.2}, top constant forms {:.2}, refits {:.2}, block factorizations {:.2}, promotions {:.2} (columns solved {:.1}, kept {:.1}, spare {:.1}); top equations {}, reduced {}",
         ms(tm1.assembly - tm0.assembly),
         ms(tm1.loads - tm0.loads),
         ms(tm1.factor - tm0.factor),
@@ -84,6 +92,9 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
         per(p0.top_refits, p1.top_refits),
         per(p0.block_factorizations, p1.block_factorizations),
         per(p0.promotions, p1.promotions),
+        per(p0.promotion_columns_solved, p1.promotion_columns_solved),
+        per(p0.promotion_columns_kept, p1.promotion_columns_kept),
+        per(p0.promotion_columns_spared, p1.promotion_columns_spared),
         p1.top_equations,
         p1.top_reduced_equations,
     );
@@ -96,6 +107,7 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
         cars: case.cars,
         dofs: m.dofs,
         window: window.is_some(),
+        reach: window.as_ref().map_or(0.0, |w| w.settings().ahead),
         wall_per_step: wall / steps as f64,
         cpu_per_step: cpu / steps as f64,
         iterations_per_step: iterations as f64 / steps as f64,
@@ -106,22 +118,28 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
 
 /// Times every `(spans, cars)` of the lists, window off then on, with `steps` timed steps
 /// of `dt` on rails of element length `h`, the front carriage's centre starting at
-/// `train_start` from the first abutment; writes `window.csv` and `window.md` into `out`.
+/// `train_start` from the first abutment; the window on with each reach of `reaches` (m;
+/// `None`: the default) and the absorbing `layer`; writes `window.csv` and `window.md` into
+/// `out`.
 pub fn run(
     spans: &[usize],
     cars: &[usize],
     steps: usize,
     [dt, h, train_start]: [f64; 3],
+    (reaches, layer): (&[Option<f64>], LayerOptions),
     out: &Path,
 ) -> Result<Vec<WindowRow>, FemError> {
     std::fs::create_dir_all(out).map_err(|e| FemError::output(out, e))?;
     let mut rows = Vec::new();
     for &ns in spans {
         for &nc in cars {
-            for window in [
-                WindowChoice::Off,
-                WindowChoice::On(WindowOptions::default()),
-            ] {
+            let on = reaches.iter().map(|&ahead| {
+                WindowChoice::On(WindowOptions {
+                    ahead,
+                    ..Default::default()
+                })
+            });
+            for window in std::iter::once(WindowChoice::Off).chain(on) {
                 let case = TrainBridgeCase {
                     spans: ns,
                     cars: nc,
@@ -130,6 +148,7 @@ pub fn run(
                     train_start,
                     solver: SolverChoice::Partitioned,
                     window,
+                    window_layer: layer,
                     ..Default::default()
                 };
                 let r = time_one(&case, steps)?;
@@ -138,7 +157,7 @@ pub fn run(
                     r.spans,
                     r.cars,
                     r.dofs,
-                    if r.window { "on" } else { "off" },
+                    on_label(&r),
                     1e3 * r.wall_per_step,
                     1e3 * r.cpu_per_step,
                     r.iterations_per_step,
@@ -150,7 +169,7 @@ pub fn run(
         }
     }
     let mut csv = String::from(
-        "spans [-],cars [-],dofs [-],window [-],wall_per_step [s],cpu_per_step [s],iterations_per_step [-],held [-]\n",
+        "spans [-],cars [-],dofs [-],window [-],reach [m],wall_per_step [s],cpu_per_step [s],iterations_per_step [-],held [-]\n",
     );
     let mut md = String::from(
         "| spans | cars | DOF | window | wall ms/step | CPU ms/step | iterations/step | held | on/off (CPU) | load before |\n|---|---|---|---|---|---|---|---|---|---|\n",
@@ -158,17 +177,23 @@ pub fn run(
     for (k, r) in rows.iter().enumerate() {
         let _ = writeln!(
             csv,
-            "{},{},{},{},{:.6e},{:.6e},{:.4},{:.4}",
+            "{},{},{},{},{},{:.6e},{:.6e},{:.4},{:.4}",
             r.spans,
             r.cars,
             r.dofs,
             u8::from(r.window),
+            r.reach,
             r.wall_per_step,
             r.cpu_per_step,
             r.iterations_per_step,
             r.held
         );
-        let ratio = match (r.window, k.checked_sub(1).map(|j| &rows[j])) {
+        // Against the same case's run without the window (the last one before it).
+        let off = rows[..k]
+            .iter()
+            .rev()
+            .find(|o| !o.window && o.spans == r.spans && o.cars == r.cars);
+        let ratio = match (r.window, off) {
             (true, Some(off)) => format!("{:.2}", r.cpu_per_step / off.cpu_per_step),
             _ => String::new(),
         };
@@ -178,7 +203,7 @@ pub fn run(
             r.spans,
             r.cars,
             r.dofs,
-            if r.window { "on" } else { "off" },
+            on_label(r),
             1e3 * r.wall_per_step,
             1e3 * r.cpu_per_step,
             r.iterations_per_step,
@@ -191,4 +216,13 @@ pub fn run(
         std::fs::write(&p, text).map_err(|e| FemError::output(&p, e))?;
     }
     Ok(rows)
+}
+
+/// `off`, or `on (R m)` with the window's reach.
+fn on_label(r: &WindowRow) -> String {
+    if r.window {
+        format!("on ({} m)", r.reach)
+    } else {
+        "off".to_string()
+    }
 }

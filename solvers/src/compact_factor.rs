@@ -125,22 +125,47 @@ impl CompactFactor {
     /// scratch, so a stored value and its row index are read once for all of them; each
     /// column's own operations are unchanged, so any grouping gives the same bits.
     pub fn solve_columns(&mut self, b: &mut [f64], ncols: usize) {
+        self.solve_columns_from(b, ncols, &[]);
+    }
+
+    /// Position of equation `i` in the elimination order (the row of the permuted
+    /// right-hand side that holds `b[i]`).
+    pub fn position(&self, i: usize) -> usize {
+        self.inv.as_ref().map_or(i, |inv| inv[i] as usize)
+    }
+
+    /// [`CompactFactor::solve_columns`] for right-hand sides whose column `c` is `+0` at
+    /// every position of the elimination order before `from[c]` ([`CompactFactor::position`];
+    /// missing entries of `from`: 0). The forward pass of a group of columns starts at the
+    /// least of their `from`: the columns `j` it skips would set `x_j ← (+0)·(1/L_jj) = +0`
+    /// (a positive diagonal) and `x_i ← x_i − L_ij·(+0)`, which leaves every `x_i` as it is,
+    /// a `+0` included (`+0 − (±0) = +0`). So the answers are those of
+    /// [`CompactFactor::solve_columns`] to the bit, zeros' signs included: a unit column
+    /// `e_p` costs the forward pass from `p`'s position on only.
+    pub fn solve_columns_from(&mut self, b: &mut [f64], ncols: usize, from: &[usize]) {
         let n = self.n;
         debug_assert_eq!(b.len(), n * ncols);
         let mut done = 0;
         while done < ncols {
             let group = &mut b[done * n..];
-            done += match ncols - done {
-                1 => self.solve_group::<1>(group),
-                2 => self.solve_group::<2>(group),
-                3 => self.solve_group::<3>(group),
-                _ => self.solve_group::<4>(group),
+            let k = (ncols - done).min(4);
+            let start = (done..done + k)
+                .map(|c| from.get(c).copied().unwrap_or(0))
+                .min()
+                .unwrap_or(0)
+                .min(n);
+            done += match k {
+                1 => self.solve_group::<1>(group, start),
+                2 => self.solve_group::<2>(group, start),
+                3 => self.solve_group::<3>(group, start),
+                _ => self.solve_group::<4>(group, start),
             };
         }
     }
 
-    /// [`CompactFactor::solve_columns`] on the first `K` columns of `b`; returns `K`.
-    fn solve_group<const K: usize>(&mut self, b: &mut [f64]) -> usize {
+    /// [`CompactFactor::solve_columns`] on the first `K` columns of `b`, the forward pass
+    /// from column `start` of `L` ([`CompactFactor::solve_columns_from`]); returns `K`.
+    fn solve_group<const K: usize>(&mut self, b: &mut [f64], start: usize) -> usize {
         let n = self.n;
         self.x.resize(n * K, 0.0);
         let x = &mut self.x[..n * K];
@@ -160,7 +185,7 @@ impl CompactFactor {
             }
         }
         // Forward: x_j ← x_j·(1/L_jj), then x_i ← x_i − L_ij·x_j down column j.
-        for j in 0..n {
+        for j in start..n {
             let (start, end) = (self.col_ptr[j] as usize, self.col_ptr[j + 1] as usize);
             let mut xj = [0.0; K];
             for (c, v) in xj.iter_mut().enumerate() {
@@ -306,6 +331,38 @@ mod tests {
                         .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
                     assert!(err <= 1e-12 * scale, "{nodes} nodes: residual {err:e}");
                 }
+            }
+        }
+    }
+
+    /// Unit columns solved with their forward passes started at their positions are the
+    /// unit columns solved in full, to the bit (zeros' signs included), in any order.
+    #[test]
+    fn unit_columns_skip_their_leading_zeros_to_the_bit() {
+        let a = beam_like(40);
+        let n = a.n;
+        let mut s = SparseCholesky::new()
+            .with_layout(Layout::Simplicial)
+            .with_compact_solve(true);
+        s.factor(&a).unwrap();
+        let locals = [n - 1, 3, 117, 0, 58, 200, 59, 7, 131];
+        let got = s.solve_unit_columns(&locals).unwrap();
+        let mut full = vec![0.0; n * locals.len()];
+        for (k, &l) in locals.iter().enumerate() {
+            full[k * n + l] = 1.0;
+        }
+        s.solve_columns_in_place(&mut full, locals.len()).unwrap();
+        assert!(got
+            .iter()
+            .zip(&full)
+            .all(|(u, v)| u.to_bits() == v.to_bits()));
+        // And they are the inverse's columns: A·x = e_l.
+        for (k, &l) in locals.iter().enumerate() {
+            let mut ax = vec![0.0; n];
+            a.mul_vec(&got[k * n..(k + 1) * n], &mut ax);
+            for (i, v) in ax.iter().enumerate() {
+                let e = if i == l { 1.0 } else { 0.0 };
+                assert!((v - e).abs() < 1e-12, "column {l}, row {i}: {v:e}");
             }
         }
     }

@@ -420,6 +420,54 @@ impl SparseCholesky {
         Some((c.nonzeros(), self.stats.factor_nnz))
     }
 
+    /// The columns `A⁻¹·e_l` of the equations `locals`, column-major (`n` rows each, in
+    /// the order of `locals`): with the compact copy, each forward pass starts at its unit
+    /// entry's position in the elimination order, the same bits as solving the unit
+    /// columns ([`crate::compact_factor::CompactFactor::solve_columns_from`]); without it,
+    /// the unit columns solved.
+    pub fn solve_unit_columns(&mut self, locals: &[usize]) -> Result<Vec<f64>, SolverError> {
+        let n = match (&self.compact, &self.symbolic) {
+            (Some(c), _) => c.n(),
+            (None, Some(symbolic)) => symbolic.nrows(),
+            (None, None) => {
+                return Err(SolverError::Failed(
+                    "solve called without a valid factorization".into(),
+                ))
+            }
+        };
+        let m = locals.len();
+        if let Some(&l) = locals.iter().find(|&&l| l >= n) {
+            return Err(SolverError::Failed(format!(
+                "unit column {l} of {n} equations"
+            )));
+        }
+        let mut out = vec![0.0; n * m];
+        match (self.factored, self.compact.as_mut()) {
+            (true, Some(c)) if m > 0 => {
+                // In order of position, so that a group of columns starts late together.
+                let mut order: Vec<usize> = (0..m).collect();
+                order.sort_by_key(|&k| c.position(locals[k]));
+                let from: Vec<usize> = order.iter().map(|&k| c.position(locals[k])).collect();
+                let mut b = vec![0.0; n * m];
+                for (q, &k) in order.iter().enumerate() {
+                    b[q * n + locals[k]] = 1.0;
+                }
+                c.solve_columns_from(&mut b, m, &from);
+                self.stats.solves += m;
+                for (q, &k) in order.iter().enumerate() {
+                    out[k * n..(k + 1) * n].copy_from_slice(&b[q * n..(q + 1) * n]);
+                }
+            }
+            _ => {
+                for (k, &l) in locals.iter().enumerate() {
+                    out[k * n + l] = 1.0;
+                }
+                self.solve_columns_in_place(&mut out, m)?;
+            }
+        }
+        Ok(out)
+    }
+
     /// Same solver computing `L·D·Lᵀ` (no pivoting) instead of `L·Lᵀ`.
     pub fn ldlt() -> SparseCholesky {
         SparseCholesky::new().with_kind(CholeskyKind::Ldlt)

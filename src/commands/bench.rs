@@ -51,6 +51,14 @@ pub struct BenchCmd {
     /// elasticBeamColumn default) [default: consistent].
     #[arg(value_parser = crate::command::text(), long, value_name = "consistent|lumped")]
     pub mass: Option<String>,
+    /// Window case: the activity window's reaches in m, comma-separated; the window runs
+    /// once with each, after the run without it [default: 300].
+    #[arg(value_parser = crate::command::text(), long, value_name = "M1,M2,..")]
+    pub window_ahead: Option<String>,
+    /// Window case: the absorbing layer's thickness in m; 0: none [default: a third of the
+    /// reach].
+    #[arg(value_parser = crate::command::number(), long, value_name = "M")]
+    pub window_layer: Option<f64>,
 }
 
 /// The cases of `--case`.
@@ -85,7 +93,9 @@ fn number(key: &str, v: Option<&str>) -> Result<Option<f64>, FemError> {
 impl BenchCmd {
     /// `--case window` ([`crate::bench_window`]): `--spans` and `--cars` lists (default 113
     /// and 12), `--steps` timed steps (default 20), `--dt` (default 5e-4 s),
-    /// `--element-length` (default 0.625 m), `--train-start` (default -15 m).
+    /// `--element-length` (default 0.625 m), `--train-start` (default -15 m), the window's
+    /// reaches `--window-ahead` and absorbing layer `--window-layer` (refused as
+    /// `train-bridge` refuses them).
     fn window(&self, out: &Path) -> Result<i32, FemError> {
         let list =
             |key: &str, given: Option<&str>, default: &str| -> Result<Vec<usize>, FemError> {
@@ -116,7 +126,33 @@ impl BenchCmd {
         let dt = positive("dt", self.dt, 5e-4)?;
         let h = positive("element-length", self.element_length, 0.625)?;
         let start = self.train_start.unwrap_or(-15.0);
-        crate::bench_window::run(&spans, &cars, steps.max(1), [dt, h, start], out)?;
+        let keys = crate::train_window::COMMAND_LINE;
+        let reaches: Vec<Option<f64>> = match self.window_ahead.as_deref() {
+            None => vec![None],
+            Some(spec) => spec
+                .split(',')
+                .map(|x| {
+                    let ahead = x.trim().parse::<f64>().map_err(|_| {
+                        FemError::input(
+                            "command line",
+                            format!("--window-ahead {spec}: give distances ≥ 0 m, comma-separated"),
+                        )
+                    })?;
+                    crate::train_window::parse_options(keys, Some("on"), Some(ahead), None)?;
+                    Ok(Some(ahead))
+                })
+                .collect::<Result<_, FemError>>()?,
+        };
+        let on = crate::train_window::WindowChoice::On(Default::default());
+        let layer = crate::train_window::parse_layer(keys, on, self.window_layer, None)?;
+        crate::bench_window::run(
+            &spans,
+            &cars,
+            steps.max(1),
+            [dt, h, start],
+            (&reaches, layer),
+            out,
+        )?;
         Ok(0)
     }
 }
@@ -135,6 +171,19 @@ impl Command for BenchCmd {
         let out = ctx.out();
         if case == BenchCase::Window {
             return self.window(out);
+        }
+        for (key, given) in [
+            ("--window-ahead", self.window_ahead.is_some()),
+            ("--window-layer", self.window_layer.is_some()),
+        ] {
+            if given {
+                return Err(FemError::input(
+                    "command line",
+                    format!(
+                        "{key}: only the window case takes {key}; drop it or use --case window"
+                    ),
+                ));
+            }
         }
         let sizes = crate::bench::sizes(self.sizes.as_deref())?;
         let steps = crate::bench::steps(self.steps)?;

@@ -55,3 +55,40 @@ fn the_window_asked_for_where_it_does_not_apply_is_refused() {
         "--window on: the activity window needs the partitioned solver (solver = \"partitioned\") with at least one block; give --solver partitioned or --window off",
     );
 }
+
+/// `railfem bench --case window` with `args` added (the tiny case, so that a wrong
+/// acceptance would show as a run, not a refusal); asserts the refusal `line` (exact).
+fn bench_refused(args: &[&str], line: &str) {
+    let mut all = vec![
+        "bench", "--case", "window", "--spans", "2", "--cars", "1", "--steps", "1",
+    ];
+    all.extend_from_slice(args);
+    let err = super::refused_with(&format!("{args:?}"), &super::railfem(&all), &[line]);
+    assert_eq!(
+        err.trim_end(),
+        format!("error: command line: {line}"),
+        "{args:?}"
+    );
+}
+
+#[test]
+fn the_window_benchmarks_reaches_and_layer_are_refused_as_train_bridges() {
+    bench_refused(
+        &["--window-ahead", "300,-5"],
+        "--window-ahead -5: give a distance ≥ 0 m",
+    );
+    bench_refused(
+        &["--window-ahead", "300,far"],
+        "--window-ahead 300,far: give distances ≥ 0 m, comma-separated",
+    );
+    bench_refused(
+        &["--window-layer=-1"],
+        "--window-layer -1: give a value ≥ 0",
+    );
+    let o = super::railfem(&["bench", "--window-ahead", "150", "--sizes", "100"]);
+    let err = super::refused_with("--window-ahead with the beam case", &o, &[]);
+    assert_eq!(
+        err.trim_end(),
+        "error: command line: --window-ahead: only the window case takes --window-ahead; drop it or use --case window"
+    );
+}
