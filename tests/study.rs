@@ -43,7 +43,6 @@ fn write_plan(dir: &Path, text: &str) -> PathBuf {
     p
 }
 
-
 /// `railfem train-bridge` on the plans' small case (one carriage on one 10 m span for
 /// 0.2 s, seed 2 at 0.3 g, 100 m/s) with `extra` options, writing into `out`.
 fn small_train_bridge(out: &Path, extra: &[&str]) -> std::process::Output {
