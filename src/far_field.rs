@@ -5,8 +5,16 @@
 //!
 //! **Which blocks, when.** The reach is the activity window's
 //! ([`crate::train_window::settings`] with its defaults: `ahead` metres before the
-//! train's front, `behind` after its rear). Before each step a block whose stations meet
-//! `[rear − behind, front + ahead]` is full, any other reduced. A block that the train
+//! train's front, `behind` after its rear), and the structure's ends count as the
+//! activity window's do ([`end_bounds`]): an abutment within
+//! [`END_REACH`](crate::solvers::window::END_REACH) times `ahead` of the train is a second
+//! train, so that no block between the train and that abutment, nor within `ahead` beyond
+//! it, is reduced. Before each step a block whose stations meet
+//! `[min(rear − behind, keep_from), max(front + ahead, join_to)]` is full, any other
+//! reduced, with `[keep_from, join_to]` the ends' bounds for the two abutments
+//! ([`Viaduct::abutments`]). A reduced block carries only the motion below its cut-off,
+//! so it would change the waves on their way from the train to a near abutment and back
+//! (`docs/reduced-far-field.md`, "Which blocks"). A block that the train
 //! stood on at the start is never reduced: its static state (the reduction's origin, the
 //! state after the preload) carries the train's weight, which is gone once the train has
 //! left. Each block is reduced once, at the start, with its modes up to the cut-off
@@ -33,6 +41,7 @@
 use crate::framework::FemError;
 use crate::solvers::partition::ReducedBasis;
 use crate::solvers::reduced::cutoff::CutOffRule;
+use crate::solvers::window::end_bounds;
 use crate::solvers::Driver;
 use crate::train_window::{settings, train_extent, Viaduct, WindowOptions, WindowTrack};
 use std::sync::Arc;
@@ -327,14 +336,13 @@ impl FarField {
     /// Switches the blocks for the train's position at the driver's time (call before
     /// each step): full within reach, reduced out of it (module documentation).
     pub fn update(&mut self, driver: &mut Driver) -> Result<(), FemError> {
-        let [rear, front] = train_extent(&self.track, driver.state.t);
-        let [ahead, behind] = self.reach;
+        let [from, to] = self.full_stretch(driver.state.t);
         for b in 0..self.bases.len() {
             let Some(basis) = &self.bases[b] else {
                 continue;
             };
             let [lo, hi] = self.extents[b];
-            let near = hi >= rear - behind && lo <= front + ahead;
+            let near = hi >= from && lo <= to;
             match (near, self.reduced[b]) {
                 (true, true) => {
                     driver
@@ -357,6 +365,28 @@ impl FarField {
         self.stats.block_steps += self.bases.len();
         self.stats.reduced_block_steps += self.reduced.iter().filter(|&&r| r).count();
         Ok(())
+    }
+
+    /// The stretch `[from, to]` (m) whose blocks are full at time `t` (s): the train's
+    /// extent widened by the reach, `[rear − behind, front + ahead]`, and by what the
+    /// abutments within [`END_REACH`](crate::solvers::window::END_REACH) reaches of the
+    /// train keep ([`end_bounds`], module documentation).
+    pub fn full_stretch(&self, t: f64) -> [f64; 2] {
+        let [rear, front] = train_extent(&self.track, t);
+        let [ahead, behind] = self.reach;
+        let abutments = self.track.viaduct.abutments();
+        let [keep_from, join_to] = end_bounds(&abutments, rear, front, ahead);
+        [(rear - behind).min(keep_from), (front + ahead).max(join_to)]
+    }
+
+    /// Whether each block of the partitioned solver is in reduced form now.
+    pub fn reduced_blocks(&self) -> &[bool] {
+        &self.reduced
+    }
+
+    /// Each block's `[first, last]` station (m).
+    pub fn extents(&self) -> &[[f64; 2]] {
+        &self.extents
     }
 
     /// The counters so far.

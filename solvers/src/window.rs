@@ -56,6 +56,8 @@
 //! the track and the load's extent `[rear, front]`; the case maps nodes to stations.
 
 pub mod absorb;
+#[cfg(test)]
+mod tests;
 
 use crate::driver::Driver;
 use absorb::{AbsorbingLayer, LayerSettings};
@@ -65,6 +67,38 @@ use railfem_framework::error::FemError;
 /// of the load keeps every block between the load and that end, and within the reach
 /// beyond it, active (module documentation, "The structure's ends").
 pub const END_REACH: f64 = 3.0;
+
+/// The stretch that the structure's `ends` (m) keep active around a load spanning
+/// `[rear, front]` with the reach `ahead` (m), as `[keep_from, join_to]` (module
+/// documentation, "The structure's ends").
+///
+/// The load itself keeps active what lies within `ahead` of it. An end `e` ahead of the
+/// load (`e ≥ front`) with `e − front ≤ `[`END_REACH`]`·ahead` counts as a second load
+/// at `e`: it keeps active what lies up to `ahead` beyond it, and everything between
+/// the front and `e`, the waves' path to the end and back. So the stretch ahead reaches to
+/// `join_to = max(front + ahead, max_e (e + ahead))` over such ends. Behind the load,
+/// mirrored: an end `e ≤ rear` with `rear − e ≤ END_REACH·ahead` keeps active what
+/// reaches past `e − ahead`, so `keep_from = min_e (e − ahead)` over such ends, or `+∞`
+/// when there is none (the ends then keep nothing behind). An end farther away changes
+/// nothing. `END_REACH` = 3 is measured, not derived (`docs/design-decisions.md`, "The
+/// activity window: on by default, ends kept active").
+///
+/// The activity window ([`ActivityWindow::update`]) lets a block ahead join once its
+/// first station is at most `join_to`, and holds none behind whose last station is at
+/// least `keep_from`; the reduced far field of the train–bridge case keeps a block full
+/// while it meets `[min(rear − behind, keep_from), max(front + ahead, join_to)]`.
+pub fn end_bounds(ends: &[f64], rear: f64, front: f64, ahead: f64) -> [f64; 2] {
+    let end_reach = END_REACH * ahead;
+    let join_to = ends
+        .iter()
+        .filter(|&&e| e >= front && e - front <= end_reach)
+        .fold(front + ahead, |m, &e| m.max(e + ahead));
+    let keep_from = ends
+        .iter()
+        .filter(|&&e| e <= rear && rear - e <= end_reach)
+        .fold(f64::INFINITY, |m, &e| m.min(e - ahead));
+    [keep_from, join_to]
+}
 
 /// Settings of the activity window.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -259,20 +293,7 @@ impl ActivityWindow {
             ));
         }
         let v = &driver.state.v;
-        // Ahead, blocks join up to the reach, or up to the reach beyond an end within
-        // END_REACH·ahead; behind, no block reaching past the reach before such an end is
-        // held (module documentation).
-        let end_reach = END_REACH * ahead;
-        let join_to = self
-            .ends
-            .iter()
-            .filter(|&&e| e >= front && e - front <= end_reach)
-            .fold(front + ahead, |m, &e| m.max(e + ahead));
-        let keep_from = self
-            .ends
-            .iter()
-            .filter(|&&e| e <= rear && rear - e <= end_reach)
-            .fold(f64::INFINITY, |m, &e| m.min(e - ahead));
+        let [keep_from, join_to] = end_bounds(&self.ends, rear, front, ahead);
         for (b, phase) in self.phases.iter_mut().enumerate() {
             let [lo, hi] = self.extents[b];
             if *phase == Phase::Ahead && lo <= join_to {
