@@ -165,21 +165,56 @@ impl Reduced {
         c.as_slice().to_vec()
     }
 
-    /// The back pass of one column: `x_I = Ψ·x_B + Φ·Â_ηη⁻¹·(Φᵀ·b_I − Â_ηB·x_B)` (`b`:
-    /// `None` for a zero right-hand side), into `z` (length `n_I`).
-    pub(super) fn back(&self, all: &[usize], rhs: Option<&[f64]>, x_b: &[f64], z: &mut [f64]) {
-        let x_b = nalgebra::DVector::from_column_slice(x_b);
-        let mut x_i = &self.basis.psi * &x_b;
+    /// The back pass of `columns` (each: the right-hand side, `None` for a zero one, and
+    /// the boundary's `x_B`): `x_I = Ψ·x_B + Φ·Â_ηη⁻¹·(Φᵀ·b_I − Â_ηB·x_B)` into `z`,
+    /// column `k` at `z[k·n_I..(k + 1)·n_I]`. The expansion `Ψ·x_B + Φ·x_η` of every column
+    /// is one pass over `Ψ` and `Φ`, a column of theirs at a time (it stays in the cache
+    /// while every right-hand side takes it): the passes over these dense `n_I × (n_B + p)`
+    /// matrices are what a reduced block's solve costs.
+    pub(super) fn back(
+        &self,
+        all: &[usize],
+        columns: &[(Option<&[f64]>, Vec<f64>)],
+        z: &mut [f64],
+    ) {
+        let ni = all.len();
+        let (psi, phi) = (&self.basis.psi, &self.basis.phi);
         let cond = self.cond();
-        if let Some(chol) = &cond.eta_eta {
-            let mut h = -(&cond.eta_b * &x_b);
-            if let Some(rhs) = rhs {
-                let b_i = nalgebra::DVector::from_iterator(all.len(), all.iter().map(|&i| rhs[i]));
-                h += self.basis.phi.tr_mul(&b_i);
+        // x_η of each column.
+        let x_eta: Vec<Vec<f64>> = columns
+            .iter()
+            .map(|(rhs, x_b)| {
+                let Some(chol) = &cond.eta_eta else {
+                    return Vec::new();
+                };
+                let x_b = nalgebra::DVector::from_column_slice(x_b);
+                let mut h = -(&cond.eta_b * &x_b);
+                if let Some(rhs) = rhs {
+                    let b_i = nalgebra::DVector::from_iterator(ni, all.iter().map(|&i| rhs[i]));
+                    h += phi.tr_mul(&b_i);
+                }
+                chol.solve(&h).as_slice().to_vec()
+            })
+            .collect();
+        z[..ni * columns.len()].fill(0.0);
+        let mut expand = |basis: &nalgebra::DMatrix<f64>, coef: &dyn Fn(usize, usize) -> f64| {
+            for j in 0..basis.ncols() {
+                let w = &basis.as_slice()[j * ni..(j + 1) * ni];
+                for k in 0..columns.len() {
+                    let s = coef(k, j);
+                    if s == 0.0 {
+                        continue;
+                    }
+                    for (zi, wi) in z[k * ni..(k + 1) * ni].iter_mut().zip(w) {
+                        *zi += s * wi;
+                    }
+                }
             }
-            x_i += &self.basis.phi * chol.solve(&h);
+        };
+        expand(psi, &|k, j| columns[k].1[j]);
+        if cond.eta_eta.is_some() {
+            expand(phi, &|k, j| x_eta[k][j]);
         }
-        z.copy_from_slice(x_i.as_slice());
     }
 }
 
