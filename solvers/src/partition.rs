@@ -1572,13 +1572,14 @@ impl Partitioned {
                 // The Galerkin back pass (`partition/reduced.rs`).
                 let ni = all.len();
                 let mut z = vec![0.0; ni * nc];
-                for (k, (rhs, xt)) in columns.iter().enumerate() {
-                    let x_b: Vec<f64> = boundary
-                        .iter()
-                        .map(|&g| xt[top_index[g] as usize])
-                        .collect();
-                    red.back(all, *rhs, &x_b, &mut z[k * ni..(k + 1) * ni]);
-                }
+                let cols: Vec<(Option<&[f64]>, Vec<f64>)> = columns
+                    .iter()
+                    .map(|(rhs, xt)| {
+                        let x_b = boundary.iter().map(|&g| xt[top_index[g] as usize]);
+                        (*rhs, x_b.collect())
+                    })
+                    .collect();
+                red.back(all, &cols, &mut z);
                 if let Some(direct) = &direct {
                     for (k, (out, &len)) in direct.iter().zip(&lens).enumerate() {
                         // SAFETY: as below; no other block writes this block's interiors.

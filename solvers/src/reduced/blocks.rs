@@ -7,8 +7,14 @@
 //! `d_B` and projects the interior, `η = G⁻¹·Φᵀ·M_II·(d_I − Ψ·d_B)` with
 //! `G = Φᵀ·M_II·Φ` (the identity for mass-normalized modes), the `η` that leaves the
 //! smallest residual in the `M_II` norm ([`crate::reduced::switch`]); then
-//! `q_I = q₀_I + Ψ·d_B + Φ·η`, and the same for `v` and `a` (about zero). `q₀`'s interior
-//! is the static answer to its boundary, `K_II·q₀_I = f_I − K_IB·q₀_B`, so the affine
+//! `q_I = q₀_I + Ψ·d_B + Φ·η`, and the same for `v` (about zero). The acceleration keeps
+//! `a_B` and takes `a_I = Ψ·a_B + Φ·η̈` with `η̈` from the modal rows of the equation of
+//! motion at the switch, `Φᵀ·(f_ext − f_int − C·v − M·a)_I = 0`: the reduced equation
+//! `M̂·q̂̈ = f̂ − K̂·q̂ − Ĉ·q̂̇` solved for the modal accelerations, as the integrator's start
+//! solves the full one. The projected `a` does not balance it (the projection drops the
+//! motion above the cut-off, and with it the inertia that balanced the dropped forces),
+//! and an unbalanced `a_n` shows as work in the integrator's residual over the next step.
+//! `q₀`'s interior is the static answer to its boundary, `K_II·q₀_I = f_I − K_IB·q₀_B`, so the affine
 //! subspace holds every static state of the far field exactly. Every later Newton
 //! increment stays on it (the solve is the Galerkin one), and so do the integrator's
 //! `v`, `a`, linear in the increments. The internal force of the committed state is
@@ -27,9 +33,11 @@
 
 use super::{restrict, CraigBampton, ReducedError, Split};
 use crate::driver::Driver;
+use crate::driver::State;
 use crate::modal::ModalOptions;
 use crate::partition::ReducedBasis;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+use railfem_framework::sparse::CscMatrix;
 use std::sync::Arc;
 
 impl Driver {
@@ -162,7 +170,6 @@ impl Driver {
         let s = &mut self.state;
         let new_q = project(&s.q, Some(origin));
         let new_v = project(&s.v, None);
-        let new_a = project(&s.a, None);
         // Δ and the sums d + d', v + v' on the block's equations.
         let ne = eqs.len();
         let (mut dq, mut dv) = (vec![0.0; ne], vec![0.0; ne]);
@@ -176,7 +183,6 @@ impl Driver {
             sum_v[at] += dv[at];
             s.q[g] = new_q[l];
             s.v[g] = new_v[l];
-            s.a[g] = new_a[l];
         }
         let (mut k_sum, mut m_sum, mut k_dq) = (vec![0.0; ne], vec![0.0; ne], vec![0.0; ne]);
         k.mul_vec(&sum_d, &mut k_sum);
@@ -186,6 +192,18 @@ impl Driver {
         let change = 0.5 * dot(&dq, &k_sum) + 0.5 * dot(&dv, &m_sum);
         for (l, &g) in eqs.iter().enumerate() {
             s.f_int[g] += k_dq[l];
+        }
+        // The acceleration from the reduced equation of motion (module documentation).
+        let c = restrict(&self.asm.c_const, &eqs);
+        let new_a = balanced_acceleration(
+            (&m, &c),
+            (&li, &boundary),
+            (psi, phi, gram.as_ref()),
+            s,
+            &eqs,
+        );
+        for (l, &g) in interior.iter().enumerate() {
+            s.a[g] = new_a[l];
         }
         if let (Some(e), Some(before)) = (self.energy.as_mut(), before) {
             e.book_jump(&self.asm, &before, &self.state);
@@ -242,4 +260,44 @@ impl Driver {
         self.linear.invalidate();
         Ok(())
     }
+}
+
+/// The interior accelerations of a block just switched to reduced form, `Ψ·a_B + Φ·η̈`,
+/// with `η̈` from the modal rows of the equation of motion at the switch (module
+/// documentation): `Φᵀ·r_I = 0` with `r_I = f_ext,I − f_int,I − (C·v)_I − (M·a)_I`, the
+/// state (`q`, `v`, `f_int`) already projected. `a_I = Ψ·a_B + Φ·η̈` makes
+/// `Φᵀ·r_I = Φᵀ·r_I⁰ − G·η̈` (`r_I⁰` the residual with `η̈ = 0`, `G = Φᵀ·M_II·Φ`), so
+/// `η̈ = G⁻¹·Φᵀ·r_I⁰`. The block's interior rows couple only to its own equations, so the
+/// block's restricted `M` and `C` (on `eqs`) give them whole; `li` holds the interior's
+/// positions in `eqs`, `boundary` the boundary's global equations.
+fn balanced_acceleration(
+    (m, c): (&CscMatrix, &CscMatrix),
+    (li, boundary): (&[usize], &[usize]),
+    (psi, phi, gram): (&DMatrix<f64>, &DMatrix<f64>, Option<&Cholesky<f64, Dyn>>),
+    s: &State,
+    eqs: &[usize],
+) -> DVector<f64> {
+    let a_b = DVector::from_iterator(boundary.len(), boundary.iter().map(|&g| s.a[g]));
+    let static_part = psi * &a_b;
+    let Some(gram) = gram else {
+        return static_part;
+    };
+    // a⁰ on the block: the boundary's own, the interior's static answer to it.
+    let mut a0: Vec<f64> = eqs.iter().map(|&g| s.a[g]).collect();
+    for (l, &at) in li.iter().enumerate() {
+        a0[at] = static_part[l];
+    }
+    let v: Vec<f64> = eqs.iter().map(|&g| s.v[g]).collect();
+    let (mut ma, mut cv) = (vec![0.0; eqs.len()], vec![0.0; eqs.len()]);
+    m.mul_vec(&a0, &mut ma);
+    c.mul_vec(&v, &mut cv);
+    let r0 = DVector::from_iterator(
+        li.len(),
+        li.iter().map(|&at| {
+            let g = eqs[at];
+            s.f_ext[g] - s.f_int[g] - cv[at] - ma[at]
+        }),
+    );
+    let eta_dd = gram.solve(&phi.tr_mul(&r0));
+    static_part + phi * eta_dd
 }
