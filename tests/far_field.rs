@@ -7,8 +7,11 @@
 //! 1. against the library's own march of the same reduced model (`MixedModel` +
 //!    `LinearMarch`: the model's `K`, `M`, `C` projected with the same basis and marched
 //!    with the generalized-α coefficients — no partition, no element assembly, no Newton):
-//!    every midspan deflection within 1e-9 of the largest peak (the two differ by the
-//!    round-off of two direct solves per step, accumulated over the steps);
+//!    every midspan deflection within 1e-8 of the largest peak (the two differ by the
+//!    round-off of two direct solves per step, accumulated over the 1 000 steps: about
+//!    1e-9 here, for the full model against the library's full march too, and the
+//!    rounding follows the vector width that faer's kernels pick on the machine; a wrong
+//!    reduced term shows at the reduction's own error, 5e-3, five orders above);
 //! 2. against the full model in the same driver: within 1 % of the peak (what the
 //!    library's reduction meets on this span);
 //! 3. a switch of the shaking block to reduced form removes the energy
@@ -190,7 +193,7 @@ fn a_reduced_block_in_the_driver_marches_as_the_reduced_model() {
         "full driver − full library march {full_vs:.3e} m ({:.2e} of peak)",
         full_vs / peak
     );
-    assert!(full_vs <= 1e-9 * peak, "the reference itself: {full_vs:e}");
+    assert!(full_vs <= 1e-8 * peak, "the reference itself: {full_vs:e}");
     println!(
         "block {b} reduced ({} modes, {} boundary): midspan Uz peak {peak:.4e} m; driver − library march {vs_mixed:.3e} m ({:.2e} of peak); reduced − full {vs_full:.3e} m ({:.3} %)",
         cb.modes(),
@@ -198,7 +201,7 @@ fn a_reduced_block_in_the_driver_marches_as_the_reduced_model() {
         vs_mixed / peak,
         100.0 * vs_full / peak
     );
-    assert!(vs_mixed <= 1e-9 * peak, "{vs_mixed:e} against {peak:e}");
+    assert!(vs_mixed <= 1e-8 * peak, "{vs_mixed:e} against {peak:e}");
     assert!(vs_full <= 1e-2 * peak, "{vs_full:e} against {peak:e}");
 }
 
