@@ -28,6 +28,9 @@
 //!
 //! `cargo test --release --test far_field -- --nocapture` prints the numbers.
 
+mod common;
+
+use common::reduce_then_march;
 use nalgebra::DVector;
 use railfem::far_field::{FarFieldChoice, FarFieldOptions};
 use railfem::framework::model::SolverChoice;
@@ -213,14 +216,7 @@ fn a_switch_in_the_driver_removes_the_library_residual_energy() {
     let quake = record();
     let (mut d, _) = viaduct(&case, &quake, BLOCK).expect("viaduct");
     let b = middle_block(&mut d, &case);
-    let sys = d.reference_system().expect("reference system");
-    let cb = d
-        .block_reduction(b, CutOffRule::default().omega(DT))
-        .expect("partitioned")
-        .expect("reduction");
-    for _ in 0..750 {
-        d.step(DT).expect("step");
-    }
+    let (sys, cb) = reduce_then_march(&mut d, b, DT, 750);
     let mut eqs = d.block_interior_and_boundary(b);
     eqs.sort_unstable();
     let pick = |x: &[f64]| eqs.iter().map(|&e| x[e]).collect::<Vec<f64>>();

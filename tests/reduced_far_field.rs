@@ -19,6 +19,9 @@
 //! `cargo test --release --test reduced_far_field -- --nocapture` prints the sizes and
 //! the errors.
 
+mod common;
+
+use common::reduce_then_march;
 use nalgebra::{DMatrix, DVector};
 use railfem::framework::Dof;
 use railfem::solvers::integrator::Integrator;
@@ -434,14 +437,7 @@ fn a_switch_balances_the_modal_rows_of_the_equation_of_motion() {
     let (mut d, _) = viaduct_under_ground_motion(&case, &quake, 300).expect("viaduct");
     let nb = d.prepare_blocks().expect("partitioned");
     let b = nb / 2;
-    let sys = d.reference_system().expect("reference system");
-    let cb = d
-        .block_reduction(b, CutOffRule::default().omega(DT))
-        .expect("partitioned")
-        .expect("reduction");
-    for _ in 0..750 {
-        d.step(DT).expect("step");
-    }
+    let (sys, cb) = reduce_then_march(&mut d, b, DT, 750);
     let interior = d.partition_interiors()[b].clone();
     let n = d.neq();
     // Φᵀ·r_I and Φᵀ·(M·a)_I of the driver's state, from the reference matrices.

@@ -22,6 +22,32 @@ pub fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
+/// The model's matrices about `d`'s reference state and block `b`'s Craig–Bampton
+/// reduction (the library's cut-off for `dt`), both taken before `steps` steps of `dt`:
+/// the reduced far field's tests' shaking block, about to be switched.
+pub fn reduce_then_march(
+    d: &mut railfem::solvers::Driver,
+    b: usize,
+    dt: f64,
+    steps: usize,
+) -> (
+    railfem::solvers::ReferenceSystem,
+    railfem::solvers::reduced::CraigBampton,
+) {
+    let sys = d.reference_system().expect("reference system");
+    let cb = d
+        .block_reduction(
+            b,
+            railfem::solvers::reduced::cutoff::CutOffRule::default().omega(dt),
+        )
+        .expect("partitioned")
+        .expect("reduction");
+    for _ in 0..steps {
+        d.step(dt).expect("step");
+    }
+    (sys, cb)
+}
+
 /// Runs `railfem study PLAN --out OUT -q`, then `extra`.
 pub fn study(plan: &Path, out: &Path, extra: &[&str]) -> Output {
     let mut args = vec![
