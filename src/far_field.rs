@@ -17,9 +17,11 @@
 //! (`docs/reduced-far-field.md`, "Which blocks"). A block that the train
 //! stood on at the start is never reduced: its static state (the reduction's origin, the
 //! state after the preload) carries the train's weight, which is gone once the train has
-//! left. Each block is reduced once, at the start, with its modes up to the cut-off
-//! ([`FarFieldOptions::cutoff_hz`], or the library's rule from `Δt`,
-//! [`CutOffRule`]). A block whose modes do not converge stays full.
+//! left. Each block is reduced once, when it is first switched to reduced form, with its
+//! modes up to the cut-off ([`FarFieldOptions::cutoff_hz`], or the library's rule from
+//! `Δt`, [`CutOffRule`]): a run whose far field never leaves the train's reach (a viaduct
+//! shorter than the ends' reach, or a short run) makes no reduction. A block whose modes
+//! do not converge stays full.
 //!
 //! **Blocks at span joints.** The reduced far field gives the partitioned solver its
 //! blocks by station ([`block_cuts`], [`Driver::cut_blocks_at`]): `g` spans each from a
@@ -133,9 +135,10 @@ pub struct FarFieldStats {
     pub reductions: usize,
     /// Blocks whose reduction failed (their modes did not converge): they stay full.
     pub failed: usize,
-    /// Modes kept, summed over the candidate blocks.
+    /// Modes kept, summed over the blocks reduced so far.
     pub modes: usize,
-    /// Seconds spent reducing.
+    /// Seconds spent cutting the blocks and reducing (the reductions are made at the
+    /// blocks' first switches to reduced form).
     pub setup_seconds: f64,
     /// Block-steps reduced, and block-steps in all.
     pub reduced_block_steps: usize,
@@ -149,9 +152,21 @@ pub struct FarFieldStats {
     pub e_res: f64,
 }
 
+/// A block's reduced basis: never reduced (under the train at the start, or its modes did
+/// not converge), not made yet, or made.
+enum Basis {
+    Never,
+    Pending,
+    Made(Arc<ReducedBasis>),
+}
+
 /// The reduced far field of a run ([`open`]).
 pub struct FarField {
-    bases: Vec<Option<Arc<ReducedBasis>>>,
+    bases: Vec<Basis>,
+    /// The reductions made, each with the block it was made on (for congruent blocks).
+    made: Vec<(usize, Arc<ReducedBasis>)>,
+    /// The modes' cut-off (rad/s).
+    cutoff: f64,
     extents: Vec<[f64; 2]>,
     reduced: Vec<bool>,
     origin: Vec<f64>,
@@ -265,13 +280,12 @@ pub fn open(
     let [rear0, front0] = train_extent(track, driver.state.t);
     let interiors = driver.partition_interiors();
     let mut extents = Vec::with_capacity(nb);
-    let mut bases: Vec<Option<Arc<ReducedBasis>>> = Vec::with_capacity(nb);
-    let mut made: Vec<(usize, Arc<ReducedBasis>)> = Vec::new();
+    let mut bases = Vec::with_capacity(nb);
     let mut stats = FarFieldStats {
         blocks: nb,
         ..Default::default()
     };
-    for (b, all) in interiors.iter().enumerate() {
+    for all in &interiors {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for &i in all {
             let x = driver.model.nodes[driver.asm.dofmap.dof_of(i).0].position.x;
@@ -281,48 +295,17 @@ pub fn open(
         extents.push([lo, hi]);
         // Under the train at the start: its origin carries the train's weight.
         if hi >= rear0 && lo <= front0 {
-            bases.push(None);
-            continue;
+            bases.push(Basis::Never);
+        } else {
+            stats.candidates += 1;
+            bases.push(Basis::Pending);
         }
-        stats.candidates += 1;
-        let shared = made.iter().find_map(|(k, basis)| {
-            let map = driver.block_congruence(*k, b, CONGRUENT)?;
-            Some(if map.is_identity() {
-                basis.clone()
-            } else {
-                Arc::new(basis.mapped(&map))
-            })
-        });
-        let basis = match shared {
-            Some(basis) => basis,
-            None => match driver.block_reduction(b, cutoff).expect("partitioned") {
-                Ok(cb) => {
-                    let basis = Arc::new(ReducedBasis {
-                        psi: cb.psi,
-                        phi: cb.phi,
-                    });
-                    made.push((b, basis.clone()));
-                    basis
-                }
-                Err(e) => {
-                    // The block stays full: slower, never wrong.
-                    stats.failed += 1;
-                    stats.candidates -= 1;
-                    if stats.failed == 1 {
-                        eprintln!("far field: block {b} stays full ({e})");
-                    }
-                    bases.push(None);
-                    continue;
-                }
-            },
-        };
-        stats.modes += basis.phi.ncols();
-        bases.push(Some(basis));
     }
-    stats.reductions = made.len();
     stats.setup_seconds = t0.elapsed().as_secs_f64();
     Ok(Some(FarField {
         bases,
+        made: Vec::new(),
+        cutoff,
         extents,
         reduced: vec![false; nb],
         origin: driver.state.q.clone(),
@@ -338,9 +321,9 @@ impl FarField {
     pub fn update(&mut self, driver: &mut Driver) -> Result<(), FemError> {
         let [from, to] = self.full_stretch(driver.state.t);
         for b in 0..self.bases.len() {
-            let Some(basis) = &self.bases[b] else {
+            if matches!(self.bases[b], Basis::Never) {
                 continue;
-            };
+            }
             let [lo, hi] = self.extents[b];
             let near = hi >= from && lo <= to;
             match (near, self.reduced[b]) {
@@ -352,8 +335,11 @@ impl FarField {
                     self.stats.to_full += 1;
                 }
                 (false, false) => {
+                    let Some(basis) = self.basis(driver, b) else {
+                        continue;
+                    };
                     let e = driver
-                        .reduce_block(b, basis.clone(), &self.origin)
+                        .reduce_block(b, basis, &self.origin)
                         .map_err(|m| FemError::input("far field", m))?;
                     self.reduced[b] = true;
                     self.stats.to_reduced += 1;
@@ -365,6 +351,58 @@ impl FarField {
         self.stats.block_steps += self.bases.len();
         self.stats.reduced_block_steps += self.reduced.iter().filter(|&&r| r).count();
         Ok(())
+    }
+
+    /// Block `b`'s reduced basis, made at its first use: a congruent block's, renumbered,
+    /// or its own reduction; `None` when its modes do not converge (it then stays full).
+    fn basis(&mut self, driver: &mut Driver, b: usize) -> Option<Arc<ReducedBasis>> {
+        if let Basis::Made(basis) = &self.bases[b] {
+            return Some(basis.clone());
+        }
+        let t0 = Instant::now();
+        let shared = self.made.iter().find_map(|(k, basis)| {
+            let map = driver.block_congruence(*k, b, CONGRUENT)?;
+            Some(if map.is_identity() {
+                basis.clone()
+            } else {
+                Arc::new(basis.mapped(&map))
+            })
+        });
+        let basis = match shared {
+            Some(basis) => Some(basis),
+            None => match driver
+                .block_reduction(b, self.cutoff)
+                .expect("the far field runs on the partitioned solver")
+            {
+                Ok(cb) => {
+                    let basis = Arc::new(ReducedBasis {
+                        psi: cb.psi,
+                        phi: cb.phi,
+                    });
+                    self.made.push((b, basis.clone()));
+                    self.stats.reductions = self.made.len();
+                    Some(basis)
+                }
+                Err(e) => {
+                    // The block stays full: slower, never wrong.
+                    self.stats.failed += 1;
+                    self.stats.candidates -= 1;
+                    if self.stats.failed == 1 {
+                        eprintln!("far field: block {b} stays full ({e})");
+                    }
+                    None
+                }
+            },
+        };
+        self.bases[b] = match &basis {
+            Some(basis) => {
+                self.stats.modes += basis.phi.ncols();
+                Basis::Made(basis.clone())
+            }
+            None => Basis::Never,
+        };
+        self.stats.setup_seconds += t0.elapsed().as_secs_f64();
+        basis
     }
 
     /// The stretch `[from, to]` (m) whose blocks are full at time `t` (s): the train's

@@ -488,3 +488,42 @@ fn an_abutment_within_three_reaches_keeps_the_blocks_between_full() {
     assert!(checked[0] > 0 && checked[1] > 0, "{checked:?}");
     assert!(far_ahead > 0 && far_behind > 0, "{far_ahead} {far_behind}");
 }
+
+/// The reductions are made at the blocks' first switches, so a far field that never
+/// leaves the train's reach costs none: on the four-span case with a 100 m reach, each
+/// abutment is within `END_REACH` = 3 reaches (300 m) of the train at every time, so the
+/// ends keep `[first − 100 m, last + 100 m]` full, which covers the whole model (checked
+/// below from the nodes' stations). Blocks off the train at the start are candidates
+/// (a reduction each was made at the start before), yet over 20 steps no block is
+/// reduced and no reduction is made.
+#[test]
+fn a_far_field_that_never_leaves_the_reach_makes_no_reduction() {
+    const REACH: f64 = 100.0;
+    let (case, mut m) = four_spans_reduced(REACH);
+    let [first, last] = case.window_track().viaduct.abutments();
+    let (lo, hi) = m
+        .driver
+        .model
+        .nodes
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), n| {
+            (lo.min(n.position.x), hi.max(n.position.x))
+        });
+    assert!(
+        lo >= first - REACH && hi <= last + REACH,
+        "the model [{lo}, {hi}] m reaches beyond the ends' stretch [{}, {}] m",
+        first - REACH,
+        last + REACH
+    );
+    let out = scratch("no-reduction");
+    let r = railfem::train_bridge::run(&mut m, &case, Some(20), Some(&out)).expect("run");
+    let f = r.far_field.expect("a reduced far field");
+    println!("{f:?}");
+    assert!(f.candidates > 0, "{f:?}");
+    assert_eq!(
+        (f.reductions, f.modes, f.reduced_block_steps, f.to_reduced),
+        (0, 0, 0, 0),
+        "{f:?}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
+}
