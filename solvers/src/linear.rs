@@ -266,7 +266,9 @@ impl TrianglePattern {
             return TrianglePattern::lower(a);
         }
         let map = |i: usize| inv.map_or(i, |inv| inv[i]);
-        let mut entries = Vec::new(); // (column, row, source position)
+        // (column, row, source position); the lower triangle holds at most half the
+        // off-diagonal entries and the diagonal.
+        let mut entries = Vec::with_capacity(a.row_idx.len() / 2 + n);
         for j in 0..n {
             for p in a.col_ptr[j]..a.col_ptr[j + 1] {
                 let i = a.row_idx[p];
