@@ -77,7 +77,7 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
     let ms = |x: f64| 1e3 * x / steps as f64;
     let per = |a: usize, b: usize| (b - a) as f64 / steps as f64;
     eprintln!(
-        "  per step: assembly {:.1} ms, loads {:.1} ms, factor {:.1} ms (top form {:.1}, top factor {:.1}, blocks {:.1}, promotions {:.1}), solve {:.1} ms; top factorizations {:.2}, top symbolic analyses {:.2}, top constant forms {:.2}, refits {:.2}, block factorizations {:.2}, promotions {:.2} (columns solved {:.1}, kept {:.1}); top equations {}, reduced {}",
+        "  per step: assembly {:.1} ms, loads {:.1} ms, factor {:.1} ms (top form {:.1}, top factor {:.1}, blocks {:.1}, promotions {:.1}), solve {:.1} ms; top factorizations {:.2}, top symbolic analyses {:.2}, top constant forms {:.2} (pattern repeats {:.2}), refits {:.2}, block factorizations {:.2}, promotions {:.2} (columns solved {:.1}, kept {:.1}); top equations {}, reduced {}",
         ms(tm1.assembly - tm0.assembly),
         ms(tm1.loads - tm0.loads),
         ms(tm1.factor - tm0.factor),
@@ -89,6 +89,7 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
         per(p0.top_factorizations, p1.top_factorizations),
         per(p0.top_symbolic_analyses, p1.top_symbolic_analyses),
         per(p0.top_constant_forms, p1.top_constant_forms),
+        per(p0.top_pattern_repeats, p1.top_pattern_repeats),
         per(p0.top_refits, p1.top_refits),
         per(p0.block_factorizations, p1.block_factorizations),
         per(p0.promotions, p1.promotions),

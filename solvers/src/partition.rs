@@ -149,6 +149,9 @@ pub struct PartitionStats {
     pub top_symbolic_analyses: usize,
     /// Times the constant part `S_A` of the top system was formed anew.
     pub top_constant_forms: usize,
+    /// Of the formings: those whose triplets changed layout but gave the last pattern again
+    /// (its symbolic analysis kept).
+    pub top_pattern_repeats: usize,
     /// Stored entries of the top system.
     pub top_nnz: usize,
     /// Stored entries of its last factor (`L` of a Cholesky factorization; 0 for sparse
@@ -208,6 +211,9 @@ struct Promotion {
     g_inv: Vec<f64>,
     /// `W_P = Zᵀ·A_IB`, column-major `|P| × |B|`.
     w_p: Vec<f64>,
+    /// Its terms of the top system, formed with it ([`promoted_products`]) so that a new
+    /// top system re-forms only the blocks whose promotion changed.
+    products: Products,
     /// Of the columns of `Z`: how many were solved, and how many kept from the last
     /// promotion.
     columns: [usize; 2],
@@ -473,7 +479,9 @@ impl Partitioned {
                         + p.local.capacity()
                         + p.z.capacity()
                         + p.g_inv.capacity()
-                        + p.w_p.capacity());
+                        + p.w_p.capacity()
+                        + p.products.h.capacity()
+                        + p.products.wth.capacity());
             }
         }
         let received: usize = self
@@ -1038,7 +1046,7 @@ impl Partitioned {
             self.stats.top_refits += 1;
         }
         if !reuse && !refit {
-            let (ctrip, plain_len) = self.constant_triplets(a);
+            let (mut ctrip, plain_len) = self.constant_triplets(a, vtrip.len());
             self.stats.top_constant_forms += 1;
             let constant_len = ctrip.len();
             let same = self.top_cache.as_ref().is_some_and(|c| {
@@ -1060,13 +1068,23 @@ impl Partitioned {
             // the cached matrix through the cached positions, keeping its pattern id so the
             // top solver also reuses its symbolic analysis.
             if !same {
-                let all: Vec<(usize, usize, f64)> = ctrip
-                    .iter()
-                    .chain(&vtrip)
-                    .map(|&(i, j, v)| (i as usize, j as usize, v))
-                    .collect();
-                let (m, positions) = pattern_of_triplets(nr, &all);
-                let layout = all.iter().map(|&(i, j, _)| (i as u32, j as u32)).collect();
+                // The variable triplets after the constant ones, in the room left for them.
+                ctrip.extend_from_slice(&vtrip);
+                let all = &ctrip[..];
+                let (m, positions) = pattern_of_triplets(nr, all);
+                // Another layout may still give the last pattern (the same couplings
+                // between the same top positions): its symbolic analysis then stands, as
+                // the same pattern gives the same ordering.
+                let mut m = m;
+                if let Some(c) = self.top_cache.as_ref().filter(|c| {
+                    c.matrix.n == m.n
+                        && c.matrix.col_ptr == m.col_ptr
+                        && c.matrix.row_idx == m.row_idx
+                }) {
+                    m.pattern_id = c.matrix.pattern_id;
+                    self.stats.top_pattern_repeats += 1;
+                }
+                let layout = all.iter().map(|&(i, j, _)| (i, j)).collect();
                 let nnz = m.values.len();
                 self.top_cache = Some(TopCache {
                     layout,
@@ -1084,7 +1102,8 @@ impl Partitioned {
                 cache.constant[p] += t.2;
             }
             cache.plain.copy_from_slice(&cache.constant);
-            for (&p, t) in cache.positions[plain_len..].iter().zip(&ctrip[plain_len..]) {
+            let tail = &ctrip[plain_len..constant_len];
+            for (&p, t) in cache.positions[plain_len..].iter().zip(tail) {
                 cache.constant[p] += t.2;
             }
         }
@@ -1221,9 +1240,9 @@ impl Partitioned {
     /// reduced numbering, and how many of them lead as `S_A`'s own: `A` between base top
     /// equations and each block's condensation (module documentation), the owned blocks'
     /// from their factors, the others' as received — without what the condensed groups
-    /// hold — then each condensed group's `M_ee − M_ei·M_ii⁻¹·M_ie` on its ends.
-    fn constant_triplets(&self, a: &CscMatrix) -> (Vec<(u32, u32, f64)>, usize) {
-        let mut trip: Vec<(usize, usize, f64)> = Vec::new();
+    /// hold — then each condensed group's `M_ee − M_ei·M_ii⁻¹·M_ie` on its ends. The vector
+    /// has room for `extra` more (the variable elements' triplets).
+    fn constant_triplets(&self, a: &CscMatrix, extra: usize) -> (Vec<(u32, u32, f64)>, usize) {
         let ti = &self.top_index;
         let red = &self.red_of_top;
         let chain = self.chain.as_ref();
@@ -1235,6 +1254,25 @@ impl Partitioned {
                 }
             }
         }
+        let skipped = |b: usize, blk: &Block| in_condensed[b] || blk.frozen;
+        // Room for every triplet at once (and for the caller's `extra`), so that the
+        // vector never grows by copying.
+        let base_entries: usize = self
+            .base_top
+            .iter()
+            .map(|&j| a.col_ptr[j + 1] - a.col_ptr[j])
+            .sum();
+        let block_entries: usize = (self.blocks.iter().enumerate())
+            .filter(|&(b, blk)| !skipped(b, blk))
+            .map(|(_, blk)| block_triplet_count(blk.boundary.len(), blk.promoted.len()))
+            .sum();
+        let group_entries: usize = chain.map_or(0, |chain| {
+            (self.condensed.iter())
+                .map(|&gi| chain.groups[gi].ends.len().pow(2))
+                .sum()
+        });
+        let mut trip: Vec<(u32, u32, f64)> =
+            Vec::with_capacity(base_entries + block_entries + group_entries + extra);
         // A between base top equations (promoted ones enter through their block's S),
         // except the condensed inner equations' rows and columns.
         for &j in &self.base_top {
@@ -1247,34 +1285,36 @@ impl Partitioned {
                 if self.block_of[r] == NONE {
                     let kr = red[ti[r] as usize];
                     if kr != NONE {
-                        trip.push((kr as usize, k as usize, a.values[p]));
+                        trip.push((kr, k, a.values[p]));
                     }
                 }
             }
         }
         let owned = self.owned();
         // Reduced position of a top equation.
-        let rti = |g: usize| red[ti[g] as usize] as usize;
+        let rti = |g: usize| red[ti[g] as usize];
+        let mut formed = Products::default();
         for (b, blk) in self.blocks.iter().enumerate() {
             // A held block's interior is prescribed: its boundary keeps `A_BB` alone
             // (`frozen.rs`).
-            if in_condensed[b] || blk.frozen {
+            if skipped(b, blk) {
                 continue;
             }
-            let (correction, g_inv, w_p) = if let Some(r) = &blk.reduced {
+            let np = blk.promoted.len();
+            let (correction, g_inv, products) = if let Some(r) = &blk.reduced {
                 let c = &r.cond.as_ref().expect("condensed").correction[..];
-                (c, &[][..], &[][..])
+                (c, &[][..], &formed)
             } else if owned.contains(&b) {
                 let st = blk.state();
                 match &blk.promotion {
-                    Some(p) => (&st.correction[..], &p.g_inv[..], &p.w_p[..]),
-                    None => (&st.correction[..], &[][..], &[][..]),
+                    Some(p) => (&st.correction[..], &p.g_inv[..], &p.products),
+                    None => (&st.correction[..], &[][..], &formed),
                 }
             } else {
                 let r = &self.received[b];
-                (&r.correction[..], &r.g_inv[..], &r.w_p[..])
+                formed = promoted_products(&r.g_inv, &r.w_p, np, blk.boundary.len());
+                (&r.correction[..], &r.g_inv[..], &formed)
             };
-            let np = blk.promoted.len();
             debug_assert_eq!(g_inv.len(), np * np, "block {b}'s promotion");
             block_triplets(
                 rti,
@@ -1282,7 +1322,7 @@ impl Partitioned {
                 &blk.promoted,
                 correction,
                 g_inv,
-                w_p,
+                products,
                 &mut trip,
             );
         }
@@ -1293,18 +1333,14 @@ impl Partitioned {
                 let schur = &g.cond.as_ref().expect("condensed").schur;
                 let ne = g.ends.len();
                 for (f, &ef) in g.ends.iter().enumerate() {
-                    let kf = red[ti[ef] as usize] as usize;
+                    let kf = red[ti[ef] as usize];
                     for (e, &ee) in g.ends.iter().enumerate() {
-                        let ke = red[ti[ee] as usize] as usize;
+                        let ke = red[ti[ee] as usize];
                         trip.push((ke, kf, schur[e + f * ne]));
                     }
                 }
             }
         }
-        let trip = trip
-            .into_iter()
-            .map(|(i, j, v)| (i as u32, j as u32, v))
-            .collect();
         (trip, plain_len)
     }
     /// Solves `(A + V)·x = b` in place with the last factorization: the interiors'
@@ -1723,10 +1759,10 @@ fn interiors_into(
 /// position of each triplet: the result of [`CscMatrix::from_triplets`] and
 /// [`CscMatrix::position`], found by a counting sort over columns and a marker per row
 /// instead of a binary search per triplet.
-fn pattern_of_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> (CscMatrix, Vec<usize>) {
+fn pattern_of_triplets(n: usize, triplets: &[(u32, u32, f64)]) -> (CscMatrix, Vec<usize>) {
     let mut count = vec![0usize; n + 1];
     for &(_, j, _) in triplets {
-        count[j + 1] += 1;
+        count[j as usize + 1] += 1;
     }
     for j in 0..n {
         count[j + 1] += count[j];
@@ -1734,6 +1770,7 @@ fn pattern_of_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> (CscMatrix
     let mut order = vec![0usize; triplets.len()];
     let mut next = count.clone();
     for (k, &(_, j, _)) in triplets.iter().enumerate() {
+        let j = j as usize;
         order[next[j]] = k;
         next[j] += 1;
     }
@@ -1748,7 +1785,7 @@ fn pattern_of_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> (CscMatrix
         rows.clear();
         let here = &order[count[j]..count[j + 1]];
         for &k in here {
-            let r = triplets[k].0;
+            let r = triplets[k].0 as usize;
             if mark[r] != j {
                 mark[r] = j;
                 rows.push(r);
@@ -1766,7 +1803,7 @@ fn pattern_of_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> (CscMatrix
         }
         row_idx.extend_from_slice(&rows);
         for &k in here {
-            positions[k] = slot[triplets[k].0];
+            positions[k] = slot[triplets[k].0 as usize];
         }
         col_ptr.push(row_idx.len());
     }
@@ -1828,17 +1865,56 @@ fn ownership(sizes: &[usize], ranks: usize) -> Vec<Range<usize>> {
         .collect()
 }
 
+/// The promoted part of a block's condensation on the top system (module documentation),
+/// column-major: `H = G⁻¹·W_P` (`|P| × |B|`, on `P × B` and `B × P`) and `W_Pᵀ·H`
+/// (`|B| × |B|`, added to `B × B`).
+#[derive(Debug, Clone, Default)]
+struct Products {
+    h: Vec<f64>,
+    wth: Vec<f64>,
+}
+
+/// [`Products`] of `G⁻¹` (`np × np`) and `W_P` (`np × nb`), each entry one sum over `P`
+/// in increasing order.
+fn promoted_products(g_inv: &[f64], w_p: &[f64], np: usize, nb: usize) -> Products {
+    if np == 0 {
+        return Products::default();
+    }
+    let mut h = vec![0.0; np * nb];
+    for j in 0..nb {
+        for k in 0..np {
+            h[k + j * np] = (0..np).map(|l| g_inv[k + l * np] * w_p[l + j * np]).sum();
+        }
+    }
+    let mut wth = vec![0.0; nb * nb];
+    for cj in 0..nb {
+        for ci in 0..nb {
+            wth[ci + cj * nb] = (0..np).map(|k| w_p[k + ci * np] * h[k + cj * np]).sum();
+        }
+    }
+    Products { h, wth }
+}
+
+/// Triplets [`block_triplets`] pushes for a block with boundary `nb` and `np` promoted
+/// equations, at most (the correction's zeros are skipped).
+fn block_triplet_count(nb: usize, np: usize) -> usize {
+    match np {
+        0 => nb * nb,
+        _ => (nb + np) * (nb + np) + nb * nb,
+    }
+}
+
 /// Pushes one block's condensation onto the top system as triplets (module
 /// documentation): `−C` on `B × B`, and with promoted equations `P`, `G⁻¹` on `P × P`,
-/// `H = G⁻¹·W_P` on `P × B` and `B × P`, and `W_Pᵀ·H` on `B × B`.
+/// `H = G⁻¹·W_P` on `P × B` and `B × P`, and `W_Pᵀ·H` on `B × B` ([`Products`]).
 fn block_triplets(
-    ti: impl Fn(usize) -> usize,
+    ti: impl Fn(usize) -> u32,
     boundary: &[usize],
     promoted: &[usize],
     correction: &[f64],
     g_inv: &[f64],
-    w_p: &[f64],
-    trip: &mut Vec<(usize, usize, f64)>,
+    products: &Products,
+    trip: &mut Vec<(u32, u32, f64)>,
 ) {
     let nb = boundary.len();
     // S_BB − A_BB = −C (+ W_Pᵀ·G⁻¹·W_P below).
@@ -1855,13 +1931,7 @@ fn block_triplets(
     if np == 0 {
         return;
     }
-    // H = G⁻¹·W_P (|P| × |B|).
-    let mut h = vec![0.0; np * nb];
-    for j in 0..nb {
-        for k in 0..np {
-            h[k + j * np] = (0..np).map(|l| g_inv[k + l * np] * w_p[l + j * np]).sum();
-        }
-    }
+    let Products { h, wth } = products;
     for (k, &gk) in promoted.iter().enumerate() {
         let tk = ti(gk);
         for (l, &gl) in promoted.iter().enumerate() {
@@ -1877,8 +1947,7 @@ fn block_triplets(
     for (cj, &gj) in boundary.iter().enumerate() {
         let tj = ti(gj);
         for (ci, &gi) in boundary.iter().enumerate() {
-            let v: f64 = (0..np).map(|k| w_p[k + ci * np] * h[k + cj * np]).sum();
-            trip.push((ti(gi), tj, v));
+            trip.push((ti(gi), tj, wth[ci + cj * nb]));
         }
     }
 }
@@ -2017,12 +2086,15 @@ fn promotion(
             w_p[k + j * np] = col.iter().map(|&(r, v)| v * zk[r as usize]).sum();
         }
     }
+    let g_inv = g_inv.as_slice().to_vec();
+    let products = promoted_products(&g_inv, &w_p, np, nb);
     Ok(Promotion {
         promoted,
         local,
         z,
-        g_inv: g_inv.as_slice().to_vec(),
+        g_inv,
         w_p,
+        products,
         columns: [fresh.len(), kept],
     })
 }
@@ -2351,6 +2423,79 @@ mod tests {
         assert!(
             2 * s.promotion_columns_solved <= fresh_columns + 24,
             "{s:?} {fresh_columns}"
+        );
+    }
+
+    /// Four axles of a train on the chain of [`chain`]`(nodes, 12)`, `step` nodes on from
+    /// node 100: each couples the two chain nodes under it (six equations) to its three
+    /// vehicle equations by springs (symmetric: the top system is factored by Cholesky).
+    fn train_at(nodes: usize, step: usize) -> Vec<(usize, usize, f64)> {
+        let mut v = Vec::new();
+        for axle in 0..4 {
+            let node = 100 + step + 7 * axle;
+            for d in 0..6 {
+                let (i, j) = (3 * node + d, 3 * nodes + 3 * axle + d % 3);
+                let s = 2.0 + d as f64;
+                v.extend([(i, i, s), (j, j, s), (i, j, -s), (j, i, -s)]);
+            }
+        }
+        v
+    }
+
+    /// A train moving one node a step keeps the top system's symbolic analysis while each
+    /// of its wheels' equations stays in its block and between the same separator
+    /// equations: the top system's pattern is then the last one. The count of analyses is
+    /// derived from the motion and the split alone (a new one at the first factorization
+    /// and whenever a wheel's equation enters another block, meets a separator or passes
+    /// one of its equations), and the solutions equal a fresh solver's (a fresh analysis)
+    /// to the bit.
+    #[test]
+    fn a_train_moving_within_its_blocks_keeps_the_top_analysis_to_the_bit() {
+        let nodes = 8000;
+        let a = chain(nodes, 12);
+        let n = a.n;
+        let options = PartitionOptions {
+            block_size: 200,
+            threads: 2,
+            top_group_blocks: 0,
+        };
+        let mut p = Partitioned::new(true, options);
+        let mut last: Option<Vec<(u32, usize)>> = None;
+        let (mut expected, mut kept) = (0, 0);
+        for step in 0..40 {
+            let v = train_at(nodes, step);
+            p.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();
+            // Where each wheel equation is: its block (or none: a base top equation) and
+            // how many base top equations come before it. The top system's pattern is the
+            // last one while these stay.
+            let at: Vec<(u32, usize)> = v
+                .iter()
+                .flat_map(|&(i, j, _)| [i, j])
+                .map(|e| (p.block_of[e], p.base_top.partition_point(|&t| t < e)))
+                .collect();
+            if last.as_ref() == Some(&at) {
+                kept += 1;
+            } else {
+                expected += 1;
+            }
+            last = Some(at);
+            assert!(p.top.len() > crate::thresholds::DENSE_LIMIT, "a sparse top");
+            assert_eq!(p.stats().top_symbolic_analyses, expected, "step {step}");
+            let b = rhs(n);
+            let mut x = b.clone();
+            p.solve_in_place(&mut x).unwrap();
+            let mut q = Partitioned::new(true, options);
+            q.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();
+            let mut y = b.clone();
+            q.solve_in_place(&mut y).unwrap();
+            assert_eq!(q.stats().top_symbolic_analyses, 1);
+            let same = x.iter().zip(&y).all(|(u, w)| u.to_bits() == w.to_bits());
+            assert!(same, "step {step}: {:e}", max_rel(&x, &y));
+        }
+        // The blocks hold about 66 nodes: most moves stay within them.
+        assert!(
+            kept >= 20 && expected >= 3,
+            "kept {kept}, analysed {expected}"
         );
     }
 
