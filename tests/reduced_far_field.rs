@@ -676,19 +676,21 @@ fn closed_form_step(
     });
     let (af, am, dt) = (ig.alpha_f, ig.alpha_m, LEDGER_DT);
     let (mut dr_dq, mut da_m_da, mut d_ama, mut rw_dq) = (0.0, 0.0, 0.0, 0.0);
-    let mut rw = vec![0.0; n];
     let mut inertia = 0.0f64;
-    for i in 0..n {
-        let dq = s1.q[i] - s0.q[i];
-        let (r0, r1) = (ends[0].0[i], ends[1].0[i]);
-        let (ma0, ma1) = (ends[0].1[i], ends[1].1[i]);
-        dr_dq += (r1 - r0) * dq;
-        da_m_da += (s1.a[i] - s0.a[i]) * (ma1 - ma0);
-        d_ama += s1.a[i] * ma1 - s0.a[i] * ma0;
-        rw[i] = (1.0 - af) * r1 + af * r0 - (af - am) * (ma1 - ma0);
-        rw_dq += rw[i] * dq;
-        inertia = inertia.max(((1.0 - am) * ma1 + am * ma0).abs());
-    }
+    let rw: Vec<f64> = (0..n)
+        .map(|i| {
+            let dq = s1.q[i] - s0.q[i];
+            let (r0, r1) = (ends[0].0[i], ends[1].0[i]);
+            let (ma0, ma1) = (ends[0].1[i], ends[1].1[i]);
+            dr_dq += (r1 - r0) * dq;
+            da_m_da += (s1.a[i] - s0.a[i]) * (ma1 - ma0);
+            d_ama += s1.a[i] * ma1 - s0.a[i] * ma0;
+            let rw = (1.0 - af) * r1 + af * r0 - (af - am) * (ma1 - ma0);
+            rw_dq += rw * dq;
+            inertia = inertia.max(((1.0 - am) * ma1 + am * ma0).abs());
+            rw
+        })
+        .collect();
     let d = (af - 0.5) * dr_dq
         + dt * dt * (ig.beta - ig.gamma / 2.0) * ((af - am) * da_m_da + 0.5 * d_ama);
     (d, rw_dq, sub.reduced_max(&rw) / inertia)
