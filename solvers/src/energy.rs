@@ -46,9 +46,11 @@
 //! interior, but `r_wᵀ·Δq = (Tᵀ·r_w)ᵀ·Δq̂ = 0` for an increment on the subspace, and the
 //! same closed form holds in the reduced coordinates. `δrᵀ·Δq` holds the load's change
 //! times the increment, `δf_extᵀ·Δq`, which has either sign: under ground motion the
-//! residual swings from step to step (±0.3 J a step on the three-span viaduct of
-//! `tests/reduced_far_field.rs`, 2 ms steps, ρ∞ = 0.5), and only its sum over many steps
-//! is the integrator's dissipation.
+//! residual swings from step to step, and only its sum over many steps is the
+//! integrator's dissipation. On the three-span viaduct of `tests/reduced_far_field.rs`
+//! (2 ms steps, ρ∞ = 0.5) ten steps at 1.5 s range from −0.33 to 0.33 J; on the paper's
+//! 113-span entry with the synthetic record (0.5 ms) a step's residual ranges from −19 to
+//! 13 J, and their sum is 51 J after 5 000 steps.
 //!
 //! On finite-rotation nodes `Δq` is the step's incremental rotation vector (the spin the
 //! nodal moments, conjugate to spin, work on), not the difference of rotation vectors.
