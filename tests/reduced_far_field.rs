@@ -424,16 +424,8 @@ fn interpolate(ts: &[f64], a: &[f64], t: f64) -> f64 {
 #[test]
 fn a_switch_balances_the_modal_rows_of_the_equation_of_motion() {
     use railfem::solvers::partition::ReducedBasis;
-    use railfem::train_bridge::viaduct_under_ground_motion;
     const DT: f64 = 2e-3;
-    let case = TrainBridgeCase {
-        cars: 1,
-        spans: 3,
-        dt: DT,
-        ..Default::default()
-    };
-    let quake = read_quake(Path::new("examples/records/synthetic_kt.csv")).expect("record");
-    let (mut d, _) = viaduct_under_ground_motion(&case, &quake, 300).expect("viaduct");
+    let mut d = shaking_viaduct(DT);
     let nb = d.prepare_blocks().expect("partitioned");
     let b = nb / 2;
     let (sys, cb) = reduce_then_march(&mut d, b, DT, 750);
@@ -490,6 +482,21 @@ fn a_switch_balances_the_modal_rows_of_the_equation_of_motion() {
     );
 }
 
+/// The three-span viaduct alone under the synthetic record (no train, no gravity), a
+/// driver stepping `dt` (s), for the switch's tests.
+fn shaking_viaduct(dt: f64) -> railfem::solvers::Driver {
+    let case = TrainBridgeCase {
+        cars: 1,
+        spans: 3,
+        dt,
+        ..Default::default()
+    };
+    let quake = read_quake(Path::new("examples/records/synthetic_kt.csv")).expect("record");
+    railfem::train_bridge::viaduct_under_ground_motion(&case, &quake, 300)
+        .expect("viaduct")
+        .0
+}
+
 /// The step of the reduced far field's energy tests (s).
 const LEDGER_DT: f64 = 2e-3;
 
@@ -500,19 +507,7 @@ const LEDGER_DT: f64 = 2e-3;
 /// state's distance from it just before the switch (the largest of `q`, `v`, `a`).
 fn switched_and_full_twin(with_twin: bool) -> Switched {
     use railfem::solvers::partition::ReducedBasis;
-    use railfem::train_bridge::viaduct_under_ground_motion;
-    let case = TrainBridgeCase {
-        cars: 1,
-        spans: 3,
-        dt: LEDGER_DT,
-        ..Default::default()
-    };
-    let quake = read_quake(Path::new("examples/records/synthetic_kt.csv")).expect("record");
-    let viaduct = || {
-        viaduct_under_ground_motion(&case, &quake, 300)
-            .expect("viaduct")
-            .0
-    };
+    let viaduct = || shaking_viaduct(LEDGER_DT);
     let mut d = viaduct();
     let b = d.prepare_blocks().expect("partitioned") / 2;
     let (sys, cb) = reduce_then_march(&mut d, b, LEDGER_DT, 750);
