@@ -13,6 +13,13 @@
 //! and nothing is published. A last line cut by a kill (no line end) is not a finished
 //! case: it is dropped, and that case runs again. A checkpoint of another plan (or of an
 //! earlier format) is refused as a whole.
+//!
+//! One writer at a time: opening takes an exclusive advisory lock (`flock`) on the output
+//! folder, held until the study ends (the kernel drops it when the process dies, so a kill
+//! leaves no stale lock). A second study on the same folder while the first runs — two
+//! commands given the same `--out`, or ranks of an MPI launch that did not join one world
+//! and each ran the study alone — is refused at once instead of appending the same cases
+//! twice.
 
 use super::cases::{fnv1a, Case};
 use super::plan::Plan;
@@ -56,6 +63,46 @@ pub struct Checkpoint {
     len: u64,
     /// An append failed: later rows are not written (the file ends on its last whole line).
     broken: bool,
+    /// The output folder, opened and locked for as long as the checkpoint lives.
+    _lock: WriterLock,
+}
+
+/// An exclusive `flock` on the output folder (module documentation); released on drop or
+/// when the process ends.
+struct WriterLock {
+    #[cfg(unix)]
+    _dir: std::fs::File,
+}
+
+impl WriterLock {
+    /// Takes the lock on `dir`, or says that another study holds it.
+    fn take(dir: &Path) -> Result<WriterLock, FemError> {
+        #[cfg(unix)]
+        {
+            use std::os::fd::AsRawFd;
+            let d = std::fs::File::open(dir).map_err(|e| FemError::output(dir, e))?;
+            // SAFETY: flock on a descriptor this function owns; no memory is shared.
+            let rc = unsafe { libc::flock(d.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) };
+            if rc != 0 {
+                let e = std::io::Error::last_os_error();
+                if e.kind() == std::io::ErrorKind::WouldBlock {
+                    return Err(FemError::input(
+                        dir.join(FILE).display().to_string(),
+                        "another `railfem study` is writing this checkpoint (the same --out \
+                         given twice, or MPI ranks that did not join one job); wait for it to \
+                         end or give another --out",
+                    ));
+                }
+                return Err(FemError::output(dir, e));
+            }
+            Ok(WriterLock { _dir: d })
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = dir;
+            Ok(WriterLock {})
+        }
+    }
 }
 
 /// What a row of this plan must look like.
@@ -132,6 +179,7 @@ impl Checkpoint {
         restart: bool,
     ) -> Result<Checkpoint, FemError> {
         std::fs::create_dir_all(dir).map_err(|e| FemError::output(dir, e))?;
+        let lock = WriterLock::take(dir)?;
         let path = dir.join(FILE);
         let want = head(fingerprint, cases.len());
         let mut text = match std::fs::read(&path) {
@@ -204,6 +252,7 @@ impl Checkpoint {
             fingerprint,
             len: text.len() as u64,
             broken: false,
+            _lock: lock,
         })
     }
 
@@ -228,5 +277,41 @@ impl Checkpoint {
         self.len += text.len() as u64;
         self.rows.insert(id.to_string(), row);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A second writer on the same folder is refused with an input error naming the
+    /// checkpoint, and the folder is free again once the first checkpoint is dropped.
+    #[test]
+    fn a_second_writer_is_refused_while_the_first_holds_the_folder() {
+        let dir = std::env::temp_dir().join(format!("railfem-ck-lock-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let plan_file = dir.join("plan.toml");
+        std::fs::write(
+            &plan_file,
+            "case = \"train-bridge\"\n[options]\ncars = 1\nspans = 1\nspan = 10.0\n\
+             element_length = 2.5\ndt = 0.01\nduration = 0.2\n[[axis]]\nname = \"speed\"\n\
+             values = [60, 100]\n",
+        )
+        .unwrap();
+        let plan = super::super::plan::read(&plan_file).unwrap();
+        let cases = super::super::cases::expand(&plan);
+        let fp = super::super::cases::fingerprint(&plan, &cases).unwrap();
+        let out = dir.join("out");
+        let first = Checkpoint::open(&out, &plan, &cases, fp, false).unwrap();
+        let second = Checkpoint::open(&out, &plan, &cases, fp, false);
+        let Err(e) = second else {
+            panic!("a second writer was let in")
+        };
+        let text = e.to_string();
+        assert!(matches!(e, FemError::Input { .. }), "{text}");
+        assert!(text.contains(FILE) && text.contains("another"), "{text}");
+        drop(first);
+        assert!(Checkpoint::open(&out, &plan, &cases, fp, false).is_ok());
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -51,12 +51,41 @@ pub struct Counts {
     pub this_run: usize,
 }
 
+/// Refuses a process that a launcher started as one of `launched` ranks but that runs in a
+/// world of `size`: each such process would run the whole study alone, all of them into
+/// one checkpoint. `size` is 1 in a build without the `mpi` feature, and in an MPI build
+/// whose MPI library is not the launcher's (each rank then starts as a singleton).
+fn check_launch(size: usize, launched: Option<usize>) -> Result<(), FemError> {
+    match launched {
+        Some(n) if n != size => {
+            let fix = if cfg!(feature = "mpi") {
+                "rebuild with `--features mpi` against the MPI library of the mpirun on PATH"
+            } else {
+                "this railfem is built without MPI: build it with `--features mpi` \
+                 (docs/scale-out.md), or run the study without mpirun"
+            };
+            Err(FemError::input(
+                "mpirun",
+                format!(
+                    "the launcher started {n} ranks but this one is in a world of {size}; {fix}"
+                ),
+            ))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// `railfem study`: the exit code (0 done, 130 stopped by a signal, resumable).
 pub fn command(o: Options) -> Result<i32, FemError> {
     let plan = plan::read(&o.plan)?;
     let cases = cases::expand(&plan);
     #[cfg(feature = "mpi")]
     let world = mpi::World::init();
+    #[cfg(feature = "mpi")]
+    let size = world.as_ref().map_or(1, |w| w.size());
+    #[cfg(not(feature = "mpi"))]
+    let size = 1;
+    check_launch(size, crate::sidecar::launcher_size().map(|n| n as usize))?;
     #[cfg(feature = "mpi")]
     if let Some(w) = world.as_ref().filter(|w| !w.is_master()) {
         w.serve(&plan, &cases, &o.out);
@@ -216,4 +245,24 @@ fn write_sidecar(
     let p = o.out.join("study.json");
     let text = serde_json::to_string_pretty(&v).unwrap_or_default() + "\n";
     crate::atomic_file::write(&p, text.as_bytes())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A launch of `n` ranks is accepted only by a world of `n`; no launcher, any world.
+    #[test]
+    fn a_rank_outside_the_launchers_world_is_refused() {
+        assert!(check_launch(1, None).is_ok());
+        assert!(check_launch(1, Some(1)).is_ok());
+        assert!(check_launch(2, Some(2)).is_ok());
+        let e = check_launch(1, Some(2)).unwrap_err();
+        assert!(matches!(e, FemError::Input { .. }));
+        let text = e.to_string();
+        assert!(
+            text.contains("started 2 ranks") && text.contains("world of 1"),
+            "{text}"
+        );
+    }
 }
