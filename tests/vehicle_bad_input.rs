@@ -205,16 +205,20 @@ fn force_table_not_sorted_and_bad_bump_stop() {
         &model(WS_BODY, &susp, WS),
         &[
             "suspension[0] \"spring\"",
-            "`force_table.z`",
-            "row 1",
-            "sort the table",
+            "`force_table.z`[1]",
+            "does not increase",
+            "sort the points",
         ],
     );
     let susp = format!("{SUSP}\nbump_stop = {{w = {{gap = 0.02, k = 1e6}}}}");
     check_bad_model(
         "stop.toml",
         &model(WS_BODY, &susp, WS),
-        &["`bump_stop.w`", "unknown direction", "x, y, z, rx, ry, rz"],
+        &[
+            "suspension[0].bump_stop.w`",
+            "unknown variant `w`",
+            "`x`, `y`, `z`, `rx`, `ry`, `rz`",
+        ],
     );
     let susp = format!("{SUSP}\nbump_stop = {{y = {{gap = -0.02, k = 1e6}}}}");
     check_bad_model(

@@ -18,12 +18,29 @@ pub fn from_value<T: DeserializeOwned>(v: &Value, origin: &str, at: &str) -> Res
     serde_path_to_error::deserialize(v).map_err(|e| {
         let reason = e.inner().to_string();
         let mut rel = e.path().to_string();
-        if let Some(key) = variant_key(v, e.path(), &reason) {
+        if let Some(key) = map_key(e.path(), &reason) {
+            // A map keyed by an enum: serde_path_to_error writes the refused key as `?`.
+            rel = format!("{}{key}", &rel[..rel.len() - 1]);
+        } else if let Some(key) = variant_key(v, e.path(), &reason) {
             rel = join(if rel == "." { "" } else { &rel }, &key);
         }
         let path = join(at, &rel);
         FemError::input(origin, message(&path, &reason))
     })
+}
+
+/// The refused key of a map whose keys are an enum (a suspension's `bump_stop.w`): the
+/// path ends in an unknown segment (`?`) and the reason names the variant.
+fn map_key(path: &serde_path_to_error::Path, reason: &str) -> Option<String> {
+    use serde_path_to_error::Segment;
+    if !matches!(path.iter().next_back(), Some(Segment::Unknown)) {
+        return None;
+    }
+    let bad = reason
+        .strip_prefix("unknown variant `")?
+        .split('`')
+        .next()?;
+    Some(bad.to_string())
 }
 
 /// The key below `path` that holds the unknown variant `reason` names, where the path
@@ -152,5 +169,21 @@ mod tests {
             "{e}"
         );
         assert_eq!(join("", "."), "");
+        // A map keyed by an enum names the refused key itself.
+        #[derive(Debug, Deserialize, PartialEq, Eq, PartialOrd, Ord)]
+        #[serde(rename_all = "lowercase")]
+        enum Axis {
+            X,
+        }
+        let v = serde_json::json!({"stop": {"x": 1.0, "w": 2.0}});
+        let e = from_value::<
+            std::collections::BTreeMap<String, std::collections::BTreeMap<Axis, f64>>,
+        >(&v, "m.toml", "s[0]")
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("`s[0].stop.w`: unknown variant `w`, expected `x`"),
+            "{e}"
+        );
     }
 }

@@ -15,7 +15,7 @@
 //! its body's station with offset `[y, z, Δs]`, Δs the attachment's station less the
 //! body's. Springs act in the lower body's axes (vehicle x, y, z = element axes 3, 1, 2).
 
-use super::definition::{VehicleDef, WheelModel};
+use super::definition::{VehicleDef, VehicleDirection, WheelModel};
 use super::statics;
 use super::track_model::TrackModel;
 use super::{TrainIds, SPIN_STIFFNESS};
@@ -28,7 +28,9 @@ use railfem_framework::moving::{Carrier, Path};
 use railfem_framework::registry::ElementSpec;
 use railfem_framework::speed::SpeedHistory;
 use railfem_framework::DofSet;
+use serde::Serialize;
 use serde_json::{json, Map, Value};
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 /// Half the width of a 60E1 rail head (m): a contact point farther than this from the rail
@@ -93,25 +95,31 @@ pub struct Train {
     pub suspension_tangent: SuspensionTangent,
 }
 
-/// Vehicle-axes direction names to element keys: `spring_damper` (ux lateral, uy vertical,
+/// Vehicle-axes directions to element keys: `spring_damper` (ux lateral, uy vertical,
 /// uz longitudinal) and `suspension` (1, 2, 3).
-fn element_direction(d: &str, nonlinear: bool) -> String {
+fn element_direction(d: VehicleDirection, nonlinear: bool) -> &'static str {
+    use VehicleDirection as D;
     let (lin, nl) = match d {
-        "x" => ("uz", "3"),
-        "y" => ("ux", "1"),
-        "z" => ("uy", "2"),
+        D::X => ("uz", "3"),
+        D::Y => ("ux", "1"),
+        D::Z => ("uy", "2"),
         // Rotations: spring_damper only (refused on nonlinear suspensions before this).
-        "rx" => ("rz", "rz"),
-        "ry" => ("rx", "rx"),
-        _ => ("ry", "ry"),
+        D::Rx => ("rz", "rz"),
+        D::Ry => ("rx", "rx"),
+        D::Rz => ("ry", "ry"),
     };
-    (if nonlinear { nl } else { lin }).to_string()
+    if nonlinear {
+        nl
+    } else {
+        lin
+    }
 }
 
-fn remap(m: &Map<String, Value>, nonlinear: bool) -> Value {
+/// A table keyed by vehicle directions as the element's parameter, keyed by its own.
+fn remap<T: Serialize>(m: &BTreeMap<VehicleDirection, T>, nonlinear: bool) -> Value {
     Value::Object(
         m.iter()
-            .map(|(k, v)| (element_direction(k, nonlinear), v.clone()))
+            .map(|(&d, v)| (element_direction(d, nonlinear).to_string(), json!(v)))
             .collect(),
     )
 }
@@ -405,11 +413,10 @@ pub fn build(
                 let kr = [s.k_rot[1], s.k_rot[2], s.k_rot[0]];
                 let cr = [s.c_rot[1], s.c_rot[2], s.c_rot[0]];
                 let mut p = if nonlinear {
-                    let rot_table = [&s.force_table, &s.bump_stop]
-                        .into_iter()
-                        .flatten()
-                        .flat_map(|m| m.keys())
-                        .find(|d| d.starts_with('r'));
+                    let rot_table = (s.force_table.iter().flat_map(|m| m.keys()))
+                        .chain(s.bump_stop.iter().flat_map(|m| m.keys()))
+                        .find(|d| d.is_rotation())
+                        .map(|d| d.key());
                     if let Some(d) = rot_table {
                         return Err(fail(
                             &format!("vehicle {vi}, {}", v.suspension_label(si)),
@@ -554,15 +561,43 @@ mod tests {
     /// `suspension` 1/2/3.
     #[test]
     fn table_directions_map_to_element_axes() {
-        let lin: Vec<String> = ["x", "y", "z", "rx", "ry", "rz"]
+        let lin: Vec<&str> = VehicleDirection::ALL
             .iter()
-            .map(|d| element_direction(d, false))
+            .map(|&d| element_direction(d, false))
             .collect();
         assert_eq!(lin, ["uz", "ux", "uy", "rz", "rx", "ry"]);
-        let nl: Vec<String> = ["x", "y", "z"]
+        let nl: Vec<&str> = VehicleDirection::ALL[..3]
             .iter()
-            .map(|d| element_direction(d, true))
+            .map(|&d| element_direction(d, true))
             .collect();
         assert_eq!(nl, ["3", "1", "2"]);
+    }
+
+    /// A vehicle's table and stop reach the element under the element's direction names
+    /// with their values unchanged (a vertical table is `spring_damper`'s `uy`,
+    /// `suspension`'s `2`).
+    #[test]
+    fn tables_and_stops_reach_the_element_unchanged() {
+        use crate::force_law::{BumpStopSpec, Gap};
+        let table = BTreeMap::from([(VehicleDirection::Z, vec![[-0.05, -8e4], [0.0, 0.0]])]);
+        assert_eq!(
+            remap(&table, false),
+            json!({"uy": [[-0.05, -8e4], [0.0, 0.0]]})
+        );
+        assert_eq!(
+            remap(&table, true),
+            json!({"2": [[-0.05, -8e4], [0.0, 0.0]]})
+        );
+        let stop = BTreeMap::from([(
+            VehicleDirection::Y,
+            BumpStopSpec {
+                gap: Gap::Sides([0.01, 0.03]),
+                k: 5e6,
+            },
+        )]);
+        assert_eq!(
+            remap(&stop, false),
+            json!({"ux": {"gap": [0.01, 0.03], "k": 5e6}})
+        );
     }
 }

@@ -7,9 +7,11 @@
 //! [`super::build`]); a suspension with `mirror = true` stands for itself and its mirror
 //! image at −y, built right after it ([`VehicleDef::normalized`]).
 
+use crate::force_law::{build_laws, BumpStopSpec, BumpStops, ForceTables};
 use crate::rail::wheels::wheel_defect::WheelDefect;
 use railfem_framework::limits::fmt_num;
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 
 /// A rigid body: mass, inertia about its mass centre in vehicle axes, and the mass centre.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -75,13 +77,13 @@ pub struct SuspensionDef {
     /// geometry is `carries·g`. Absent: the preload comes from the static solve.
     #[serde(default)]
     pub carries: Option<f64>,
-    /// Nonlinear force–deflection tables by vehicle direction (`x`, `y`, `z`, `rx`, `ry`,
-    /// `rz`): `[[d, F], …]`, passed to the element as its `force_table`.
+    /// Nonlinear force–deflection tables by vehicle direction: `[[d, F], …]` (m, N or
+    /// rad, N·m), passed to the element as its `force_table`.
     #[serde(default)]
-    pub force_table: Option<serde_json::Map<String, serde_json::Value>>,
+    pub force_table: Option<BTreeMap<VehicleDirection, Vec<[f64; 2]>>>,
     /// Bump stops by vehicle direction: `{gap = m or [compression, extension], k = N/m}`.
     #[serde(default)]
-    pub bump_stop: Option<serde_json::Map<String, serde_json::Value>>,
+    pub bump_stop: Option<BTreeMap<VehicleDirection, BumpStopSpec>>,
 }
 
 /// An anti-roll bar: a roll stiffness between two bodies.
@@ -215,8 +217,56 @@ impl WheelModel {
         }
     }
 }
-/// Directions a `force_table` or `bump_stop` may name (vehicle axes).
-pub const DIRECTIONS: [&str; 6] = ["x", "y", "z", "rx", "ry", "rz"];
+/// A direction of the vehicle's axes (x forward, y left, z up; `r`: the rotation about
+/// it), the key of a suspension's `force_table` and `bump_stop`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum VehicleDirection {
+    /// Longitudinal translation.
+    X,
+    /// Lateral translation.
+    Y,
+    /// Vertical translation.
+    Z,
+    /// Roll.
+    Rx,
+    /// Pitch.
+    Ry,
+    /// Yaw.
+    Rz,
+}
+
+impl VehicleDirection {
+    /// Every direction, in the order of the keys.
+    pub const ALL: [VehicleDirection; 6] = [
+        VehicleDirection::X,
+        VehicleDirection::Y,
+        VehicleDirection::Z,
+        VehicleDirection::Rx,
+        VehicleDirection::Ry,
+        VehicleDirection::Rz,
+    ];
+
+    /// The key as written in a vehicle file.
+    pub fn key(self) -> &'static str {
+        match self {
+            VehicleDirection::X => "x",
+            VehicleDirection::Y => "y",
+            VehicleDirection::Z => "z",
+            VehicleDirection::Rx => "rx",
+            VehicleDirection::Ry => "ry",
+            VehicleDirection::Rz => "rz",
+        }
+    }
+
+    /// Whether it is a rotation.
+    pub fn is_rotation(self) -> bool {
+        matches!(
+            self,
+            VehicleDirection::Rx | VehicleDirection::Ry | VehicleDirection::Rz
+        )
+    }
+}
 
 impl VehicleDef {
     /// The definition with every `mirror = true` suspension written out as two (itself,
@@ -394,8 +444,7 @@ impl VehicleDef {
                     );
                 }
             }
-            check_directions(&place, "force_table", s.force_table.as_ref())?;
-            check_directions(&place, "bump_stop", s.bump_stop.as_ref())?;
+            check_laws(&place, s.force_table.as_ref(), s.bump_stop.as_ref())?;
         }
         for (i, a) in self.anti_roll_bars.iter().enumerate() {
             let place = format!("anti_roll_bar[{i}]");
@@ -462,69 +511,27 @@ impl VehicleDef {
     }
 }
 
-fn check_directions(
+/// The tables' and stops' values checked as the elements will check them
+/// ([`build_laws`]: at least two points, finite, deflections increasing, forces not
+/// falling; gaps and stiffness finite and ≥ 0), so that a bad one is refused at the
+/// vehicle's own place.
+fn check_laws(
     place: &str,
-    key: &str,
-    m: Option<&serde_json::Map<String, serde_json::Value>>,
+    tables: Option<&BTreeMap<VehicleDirection, Vec<[f64; 2]>>>,
+    stops: Option<&BTreeMap<VehicleDirection, BumpStopSpec>>,
 ) -> Result<(), (String, String)> {
-    let bad = |d: &str, m: String| Err((place.to_string(), format!("`{key}.{d}`: {m}")));
-    for (d, v) in m.into_iter().flat_map(|m| m.iter()) {
-        if !DIRECTIONS.contains(&d.as_str()) {
-            return bad(
-                d,
-                format!(
-                    "unknown direction; give one of {} (vehicle axes)",
-                    DIRECTIONS.join(", ")
-                ),
-            );
-        }
-        if key == "force_table" {
-            // [[d, F], ...]: finite pairs, deflections strictly increasing.
-            let rows: Option<Vec<[f64; 2]>> = serde_json::from_value(v.clone()).ok();
-            let Some(rows) = rows.filter(|r| r.len() >= 2) else {
-                return bad(
-                    d,
-                    "give a table of at least two [deflection m, force N] pairs".into(),
-                );
-            };
-            if rows.iter().flatten().any(|x| !x.is_finite()) {
-                return bad(d, "has a non-finite entry; give finite numbers".into());
-            }
-            if let Some(i) = (1..rows.len()).find(|&i| rows[i][0] <= rows[i - 1][0]) {
-                return bad(
-                    d,
-                    format!("row {i}: deflections must increase strictly (m); sort the table"),
-                );
-            }
-        } else {
-            // {gap = m or [compression, extension], k = N/m}
-            let gap = v.get("gap");
-            let gaps: Vec<f64> = match gap {
-                Some(serde_json::Value::Array(a)) if a.len() == 2 => {
-                    a.iter().filter_map(|x| x.as_f64()).collect()
-                }
-                Some(x) => x.as_f64().into_iter().collect(),
-                None => Vec::new(),
-            };
-            let k = v.get("k").and_then(|x| x.as_f64());
-            let keys_ok = v
-                .as_object()
-                .is_some_and(|o| o.keys().all(|k| k == "gap" || k == "k"));
-            if gaps.is_empty()
-                || gaps.len() != gap.map_or(0, |g| g.as_array().map_or(1, |a| a.len()))
-                || !keys_ok
-            {
-                return bad(
-                    d,
-                    "give {gap = m or [compression, extension], k = N/m}".into(),
-                );
-            }
-            if gaps.iter().any(|g| !(g.is_finite() && *g >= 0.0))
-                || !k.is_some_and(|k| k.is_finite() && k >= 0.0)
-            {
-                return bad(d, "gaps and k must be finite and ≥ 0 (m, N/m)".into());
-            }
-        }
-    }
-    Ok(())
+    let names = VehicleDirection::ALL.map(VehicleDirection::key);
+    let tables: ForceTables = tables
+        .into_iter()
+        .flatten()
+        .map(|(d, t)| (d.key().to_string(), t.clone()))
+        .collect();
+    let stops: BumpStops = stops
+        .into_iter()
+        .flatten()
+        .map(|(d, s)| (d.key().to_string(), *s))
+        .collect();
+    build_laws(&names, &[0.0; 6], &tables, &stops)
+        .map(|_| ())
+        .map_err(|m| (place.to_string(), m))
 }
