@@ -68,7 +68,7 @@ pub struct Checkpoint {
 }
 
 /// An exclusive `flock` on the output folder (module documentation); released on drop or
-/// when the process ends.
+/// when the process ends. Where the file system cannot lock, the study runs without it.
 struct WriterLock {
     #[cfg(unix)]
     _dir: std::fs::File,
@@ -93,7 +93,8 @@ impl WriterLock {
                          end or give another --out",
                     ));
                 }
-                return Err(FemError::output(dir, e));
+                // A file system without locks (some network mounts): run unguarded, as
+                // before the lock existed, rather than refuse the study.
             }
             Ok(WriterLock { _dir: d })
         }
