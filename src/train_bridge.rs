@@ -902,6 +902,8 @@ pub fn run(
     if let Some(w) = window.as_mut() {
         let reach = w.settings().ahead;
         w.set_absorbing_layer(crate::train_window::layer(reach, case.window_layer));
+        // The window's promotions by the forward pass (solvers/src/partition/forward.rs).
+        d.set_promotion_form(crate::solvers::partition::PromotionForm::Forward);
     }
     let window_off = match case.window {
         crate::train_window::WindowChoice::Auto(_) => {

@@ -1,0 +1,193 @@
+//! Promotions by the forward pass: a block's condensation onto its promoted equations `P`
+//! from the forward half of its base factor only ([`PromotionForm::Forward`]).
+//!
+//! With the block's base factor `P·A_II·Pᵀ = L·Lᵀ` (a permutation `P` and the simplicial
+//! `L` of [`crate::compact_factor`]) write `Y = L⁻¹·P·E_P` (one column per promoted
+//! equation) and `C_B = L⁻¹·P·A_IB`. Then `A_II⁻¹ = Pᵀ·L⁻ᵀ·L⁻¹·P`, and the quantities of the
+//! module documentation of [`crate::partition`] are
+//!
+//! ```text
+//! G   = E_Pᵀ·A_II⁻¹·E_P = Yᵀ·Y,
+//! W_P = E_Pᵀ·A_II⁻¹·A_IB = Yᵀ·C_B,
+//! x_I = A_II⁻¹·c + Z·G⁻¹·(x_P − y_P)  with  c = r_I − A_IB·x_B,  Z = A_II⁻¹·E_P:
+//!       w = L⁻¹·P·c,  y_P = Yᵀ·w,  w ← w + Y·G⁻¹·(x_P − y_P),  x_I = Pᵀ·L⁻ᵀ·w,
+//! ```
+//!
+//! since `y_P = E_Pᵀ·A_II⁻¹·c = Yᵀ·w` and `Z·μ = Pᵀ·L⁻ᵀ·(Y·μ)`. A column of `Y` is non-zero
+//! only on the reach of its unit column in the elimination tree of `L`
+//! ([`CompactFactor::forward_sparse`], `compact_factor/reach.rs`): a promotion solves each
+//! new column by a forward pass along that path instead of a forward and a backward pass
+//! over the whole block, keeps `|path|` values a column instead of `|I|`, and the
+//! back-substitution adds `Y·μ` between its two passes instead of the dense `Z·μ` after
+//! them. `C_B` depends on `A` alone: it is formed (by the same sparse forward passes) at
+//! the block's first promotion after its base factor, and released when the block has no
+//! promoted equation left.
+//!
+//! The columns of `Y` are each the full forward pass's to the bit, whether kept from the
+//! block's last promotion or solved anew ([`CompactFactor::forward_sparse`]), so a
+//! promotion's answers do not depend on which columns were kept. They differ from the
+//! [`PromotionForm::Columns`] answers by round-off only: `G`, `W_P` and the
+//! back-substitution's correction are the same exact quantities, summed in another order
+//! (`partition::tests::the_forward_form_solves_as_the_columns_form`).
+
+use super::{promoted_products, BlockState, Partitioned, Promotion, Solved};
+use crate::compact_factor::{CompactFactor, ForwardColumn};
+use crate::linear::SolverError;
+
+/// How a promotion forms its block's condensation onto the promoted equations (module
+/// documentation).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PromotionForm {
+    /// The columns `Z = A_II⁻¹·E_P`, each by a forward and a backward pass over the block
+    /// (`|I|` values a column).
+    #[default]
+    Columns,
+    /// The columns `Y = L⁻¹·P·E_P` of the forward pass alone, on their elimination-tree
+    /// paths; blocks whose factor has no compact copy use [`PromotionForm::Columns`].
+    Forward,
+}
+
+impl Partitioned {
+    /// Forms the promotions from the next factorization on in `form` (a change drops every
+    /// block's promotion, formed again then). Across ranks every rank must make the same
+    /// calls, as for every method.
+    pub fn set_promotion_form(&mut self, form: PromotionForm) {
+        if self.options.promotion_form == form {
+            return;
+        }
+        self.options.promotion_form = form;
+        for blk in &mut self.blocks {
+            blk.promotion = None;
+            blk.promoted.clear();
+            if let Some(st) = blk.base.as_mut() {
+                st.forward_coupling = None;
+            }
+        }
+        // Rank 0's copies of the other ranks' promotions: those re-formed are sent again.
+        for r in &mut self.received {
+            r.g_inv.clear();
+            r.w_p.clear();
+        }
+        self.constant_stale = true;
+    }
+
+    /// How promotions form their condensation.
+    pub fn promotion_form(&self) -> PromotionForm {
+        self.options.promotion_form
+    }
+}
+
+/// The promotion of block `st` onto `promoted` (its interior indices `local`) in the
+/// forward form (module documentation), the columns of `Y` of the equations promoted in
+/// `last` too (`from[k]`: the column's place there) kept. `None` if the block's factor has
+/// no compact copy (the caller forms the columns form).
+pub(super) fn promotion_forward(
+    st: &mut BlockState,
+    promoted: Vec<usize>,
+    local: Vec<usize>,
+    from: &[Option<usize>],
+    last: Option<Vec<ForwardColumn>>,
+) -> Option<Result<Promotion, SolverError>> {
+    let BlockState {
+        factor,
+        coupling,
+        forward_coupling,
+        ..
+    } = st;
+    let c = factor.compact_mut()?;
+    let np = promoted.len();
+    let mut last = last.unwrap_or_default();
+    let mut y: Vec<ForwardColumn> = from
+        .iter()
+        .map(|m| m.map_or_else(ForwardColumn::default, |m| std::mem::take(&mut last[m])))
+        .collect();
+    let fresh: Vec<usize> = (0..np).filter(|&k| from[k].is_none()).collect();
+    let units: Vec<Vec<(u32, f64)>> = fresh
+        .iter()
+        .map(|&k| vec![(local[k] as u32, 1.0)])
+        .collect();
+    let solved = c.forward_sparse(&units);
+    let reach = [
+        solved.iter().map(|s| s.rows.len()).sum(),
+        solved.iter().map(|s| s.rows.len()).max().unwrap_or(0),
+    ];
+    for (&k, col) in fresh.iter().zip(solved) {
+        y[k] = col;
+    }
+    let cb = forward_coupling.get_or_insert_with(|| c.forward_sparse(coupling));
+    let n = c.n();
+    let mut dense = vec![0.0; n];
+    // G = Yᵀ·Y (each entry one sum over the rows of the later column, in increasing
+    // position; symmetric by construction).
+    let mut g = nalgebra::DMatrix::<f64>::zeros(np, np);
+    for k in 0..np {
+        scatter(&y[k], &mut dense, true);
+        for l in 0..=k {
+            let v = y[l].dot(&dense);
+            g[(k, l)] = v;
+            g[(l, k)] = v;
+        }
+        scatter(&y[k], &mut dense, false);
+    }
+    // G is a principal block of the inverse of a positive definite matrix.
+    let Some(ch) = g.cholesky() else {
+        return Some(Err(SolverError::Singular {
+            equation: promoted[0],
+        }));
+    };
+    let g_inv = ch.inverse().as_slice().to_vec();
+    // W_P = Yᵀ·C_B, by boundary column.
+    let nb = cb.len();
+    let mut w_p = vec![0.0; np * nb];
+    for (j, cj) in cb.iter().enumerate() {
+        scatter(cj, &mut dense, true);
+        for (k, yk) in y.iter().enumerate() {
+            w_p[k + j * np] = yk.dot(&dense);
+        }
+        scatter(cj, &mut dense, false);
+    }
+    let products = promoted_products(&g_inv, &w_p, np, nb);
+    let kept = np - fresh.len();
+    Some(Ok(Promotion {
+        promoted,
+        local,
+        z: Solved::Forward(y),
+        g_inv,
+        w_p,
+        products,
+        columns: [fresh.len(), kept],
+        reach,
+    }))
+}
+
+/// Writes column `col` into `dense` (indexed by position), or its rows back to `+0`.
+fn scatter(col: &ForwardColumn, dense: &mut [f64], on: bool) {
+    for (&i, &v) in col.rows.iter().zip(&col.values) {
+        dense[i as usize] = if on { v } else { 0.0 };
+    }
+}
+
+/// The back-substitution of one block in the forward form (module documentation), in
+/// place on `z` (`nc` columns of `c = r_I − A_IB·x_B`, interior order), `xp[k]` the
+/// promoted equations' values of column `k`: `x_I = Pᵀ·L⁻ᵀ·(w + Y·G⁻¹·(x_P − Yᵀ·w))`,
+/// `w = L⁻¹·P·c`.
+pub(super) fn back_substitute_forward(
+    c: &mut CompactFactor,
+    y: &[ForwardColumn],
+    g_inv: &[f64],
+    xp: &[Vec<f64>],
+    z: &mut [f64],
+    nc: usize,
+) {
+    let np = y.len();
+    let mut between = |k: usize, w: &mut [f64]| {
+        let d: Vec<f64> = y.iter().zip(&xp[k]).map(|(yk, x)| x - yk.dot(w)).collect();
+        for (kk, yk) in y.iter().enumerate() {
+            let e: f64 = (0..np).map(|l| g_inv[kk + l * np] * d[l]).sum();
+            if e != 0.0 {
+                yk.add_to(e, w);
+            }
+        }
+    };
+    c.solve_columns_between(z, nc, &mut between);
+}
