@@ -53,13 +53,12 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
     if let Some(w) = window.as_mut() {
         let reach = w.settings().ahead;
         w.set_absorbing_layer(crate::train_window::layer(reach, case.window_layer));
-        // As `railfem train-bridge` does with the window (`crate::train_bridge::run`).
-        d.set_promotion_form(crate::solvers::partition::PromotionForm::Forward);
     }
     let mut step = |d: &mut crate::solvers::Driver| -> Result<usize, FemError> {
         if let Some(w) = window.as_mut() {
             let [rear, front] = train_extent(&track, d.state.t);
             w.update(d, rear, front)?;
+            d.set_promotion_form(crate::train_window::promotion_form(w));
         }
         Ok(d.step(case.dt)?.iterations)
     };

@@ -902,8 +902,6 @@ pub fn run(
     if let Some(w) = window.as_mut() {
         let reach = w.settings().ahead;
         w.set_absorbing_layer(crate::train_window::layer(reach, case.window_layer));
-        // The window's promotions by the forward pass (solvers/src/partition/forward.rs).
-        d.set_promotion_form(crate::solvers::partition::PromotionForm::Forward);
     }
     let window_off = match case.window {
         crate::train_window::WindowChoice::Auto(_) => {
@@ -1003,6 +1001,7 @@ pub fn run(
         if let Some(w) = window.as_mut() {
             let [rear, front] = crate::train_window::train_extent(&track, d.state.t);
             w.update(d, rear, front)?;
+            d.set_promotion_form(crate::train_window::promotion_form(w));
         }
         if let Some(f) = far.as_mut() {
             f.update(d)?;

@@ -115,37 +115,54 @@ pub(super) fn promotion_forward(
         y[k] = col;
     }
     let cb = forward_coupling.get_or_insert_with(|| c.forward_sparse(coupling));
+    // The rows of `Y` (the union `U` of its paths, which share their ends near the root),
+    // and `Y` and `C_B` on them as dense matrices: `G = Yᵀ·Y` and `W_P = Yᵀ·C_B` are then
+    // products of contiguous columns, each entry one dot product over `U` (nalgebra's
+    // `tr_mul`; a row of `C_B` off `U` meets zeros of `Y`), not gathers along each path.
+    // `U`, hence every sum, depends on the promoted set alone, not on which columns were
+    // kept.
     let n = c.n();
-    let mut dense = vec![0.0; n];
-    // G = Yᵀ·Y (each entry one sum over the rows of the later column, in increasing
-    // position; symmetric by construction).
-    let mut g = nalgebra::DMatrix::<f64>::zeros(np, np);
-    for k in 0..np {
-        scatter(&y[k], &mut dense, true);
-        for l in 0..=k {
-            let v = y[l].dot(&dense);
-            g[(k, l)] = v;
-            g[(l, k)] = v;
+    let mut at = vec![u32::MAX; n];
+    let mut rows: Vec<u32> = Vec::new();
+    for yk in &y {
+        for &i in &yk.rows {
+            if at[i as usize] == u32::MAX {
+                at[i as usize] = 0;
+                rows.push(i);
+            }
         }
-        scatter(&y[k], &mut dense, false);
     }
-    // G is a principal block of the inverse of a positive definite matrix.
+    rows.sort_unstable();
+    for (u, &i) in rows.iter().enumerate() {
+        at[i as usize] = u as u32;
+    }
+    let nu = rows.len();
+    let mut yu = nalgebra::DMatrix::<f64>::zeros(nu, np);
+    for (k, yk) in y.iter().enumerate() {
+        for (&i, &v) in yk.rows.iter().zip(&yk.values) {
+            yu[(at[i as usize] as usize, k)] = v;
+        }
+    }
+    let nb = cb.len();
+    let mut cu = nalgebra::DMatrix::<f64>::zeros(nu, nb);
+    for (j, cj) in cb.iter().enumerate() {
+        for (&i, &v) in cj.rows.iter().zip(&cj.values) {
+            if let Some(&u) = at.get(i as usize).filter(|&&u| u != u32::MAX) {
+                cu[(u as usize, j)] = v;
+            }
+        }
+    }
+    // G = Yᵀ·Y: entries (k, l) and (l, k) are the same products in the same order, so it
+    // is symmetric to the bit. It is a principal block of the inverse of a positive
+    // definite matrix.
+    let g = yu.tr_mul(&yu);
     let Some(ch) = g.cholesky() else {
         return Some(Err(SolverError::Singular {
             equation: promoted[0],
         }));
     };
     let g_inv = ch.inverse().as_slice().to_vec();
-    // W_P = Yᵀ·C_B, by boundary column.
-    let nb = cb.len();
-    let mut w_p = vec![0.0; np * nb];
-    for (j, cj) in cb.iter().enumerate() {
-        scatter(cj, &mut dense, true);
-        for (k, yk) in y.iter().enumerate() {
-            w_p[k + j * np] = yk.dot(&dense);
-        }
-        scatter(cj, &mut dense, false);
-    }
+    let w_p = yu.tr_mul(&cu).as_slice().to_vec();
     let products = promoted_products(&g_inv, &w_p, np, nb);
     let kept = np - fresh.len();
     Some(Ok(Promotion {
@@ -158,13 +175,6 @@ pub(super) fn promotion_forward(
         columns: [fresh.len(), kept],
         reach,
     }))
-}
-
-/// Writes column `col` into `dense` (indexed by position), or its rows back to `+0`.
-fn scatter(col: &ForwardColumn, dense: &mut [f64], on: bool) {
-    for (&i, &v) in col.rows.iter().zip(&col.values) {
-        dense[i as usize] = if on { v } else { 0.0 };
-    }
 }
 
 /// The back-substitution of one block in the forward form (module documentation), in
