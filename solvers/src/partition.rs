@@ -208,9 +208,9 @@ struct BlockState {
     coupling: Vec<Vec<(u32, f64)>>,
     /// `C = A_{B I} A_{I I}⁻¹ A_{I B}`, column-major `|B| × |B|`.
     correction: Vec<f64>,
-    /// `C_B = L⁻¹·P·A_IB` by boundary column, while the block has promoted equations in
-    /// the forward form (`partition/forward.rs`).
-    forward_coupling: Option<Vec<crate::compact_factor::ForwardColumn>>,
+    /// `C_B = L⁻¹·P·A_IB` by rows, while the block has promoted equations in the forward
+    /// form (`partition/forward.rs`).
+    forward_coupling: Option<forward::CouplingRows>,
 }
 
 /// A promotion's columns (module documentation; `partition/forward.rs`).
@@ -499,8 +499,10 @@ impl Partitioned {
             structure += 8 * (b.all.capacity() + b.boundary.capacity() + b.promoted.capacity());
             if let Some(st) = &b.base {
                 factors += st.factor.heap_bytes();
-                coupling += 8
-                    * (st.interior.capacity() + st.boundary.capacity() + st.correction.capacity())
+                coupling += st.forward_coupling.as_ref().map_or(0, |c| c.heap_bytes())
+                    + 8 * (st.interior.capacity()
+                        + st.boundary.capacity()
+                        + st.correction.capacity())
                     + st.coupling
                         .iter()
                         .map(|c| 16 * c.capacity() + 24)
@@ -2122,12 +2124,12 @@ fn promotion(
     // Where each column of `Z` was in the last promotion's (`None`: not there); both
     // `local` lists are sorted.
     // A last promotion of the other form keeps nothing.
-    let (last_local, last_z) = match last {
-        Some(Promotion { local, z, .. }) => (local, Some(z)),
-        None => (Vec::new(), None),
+    let (last_local, last_z, last_w) = match last {
+        Some(Promotion { local, z, w_p, .. }) => (local, Some(z), w_p),
+        None => (Vec::new(), None, Vec::new()),
     };
     let (last_z, last_y) = match (form, last_z) {
-        (PromotionForm::Forward, Some(Solved::Forward(y))) => (None, Some(y)),
+        (PromotionForm::Forward, Some(Solved::Forward(y))) => (None, Some((y, last_w))),
         (PromotionForm::Columns, Some(Solved::Columns(z))) => (Some(z), None),
         _ => (None, None),
     };

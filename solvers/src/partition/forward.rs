@@ -20,8 +20,10 @@
 //! over the whole block, keeps `|path|` values a column instead of `|I|`, and the
 //! back-substitution adds `Y·μ` between its two passes instead of the dense `Z·μ` after
 //! them. `C_B` depends on `A` alone: it is formed (by the same sparse forward passes) at
-//! the block's first promotion after its base factor, and released when the block has no
-//! promoted equation left.
+//! the block's first promotion after its base factor, kept by rows, and released when the
+//! block has no promoted equation left. Row `k` of `W_P` is `Σ_i Y_ik·C_B(i, :)` along
+//! column `k`'s path, so a column kept from the last promotion keeps its row of `W_P`;
+//! `G` is formed whole, as a dense product over the union of the paths.
 //!
 //! The columns of `Y` are each the full forward pass's to the bit, whether kept from the
 //! block's last promotion or solved anew ([`CompactFactor::forward_sparse`]), so a
@@ -86,7 +88,7 @@ pub(super) fn promotion_forward(
     promoted: Vec<usize>,
     local: Vec<usize>,
     from: &[Option<usize>],
-    last: Option<Vec<ForwardColumn>>,
+    last: Option<(Vec<ForwardColumn>, Vec<f64>)>,
 ) -> Option<Result<Promotion, SolverError>> {
     let BlockState {
         factor,
@@ -96,7 +98,8 @@ pub(super) fn promotion_forward(
     } = st;
     let c = factor.compact_mut()?;
     let np = promoted.len();
-    let mut last = last.unwrap_or_default();
+    let (mut last, last_w) = last.unwrap_or_default();
+    let np_last = last.len();
     let mut y: Vec<ForwardColumn> = from
         .iter()
         .map(|m| m.map_or_else(ForwardColumn::default, |m| std::mem::take(&mut last[m])))
@@ -114,13 +117,12 @@ pub(super) fn promotion_forward(
     for (&k, col) in fresh.iter().zip(solved) {
         y[k] = col;
     }
-    let cb = forward_coupling.get_or_insert_with(|| c.forward_sparse(coupling));
-    // The rows of `Y` (the union `U` of its paths, which share their ends near the root),
-    // and `Y` and `C_B` on them as dense matrices: `G = Yᵀ·Y` and `W_P = Yᵀ·C_B` are then
-    // products of contiguous columns, each entry one dot product over `U` (nalgebra's
-    // `tr_mul`; a row of `C_B` off `U` meets zeros of `Y`), not gathers along each path.
-    // `U`, hence every sum, depends on the promoted set alone, not on which columns were
-    // kept.
+    let cb = forward_coupling.get_or_insert_with(|| CouplingRows::new(c, coupling));
+    // G = Yᵀ·Y over the rows of `Y` (the union `U` of its paths, which share their ends
+    // near the root) as a dense product of contiguous columns, each entry one dot product
+    // over `U` (nalgebra's `tr_mul`), not gathers along each path. `U`, hence every sum,
+    // depends on the promoted set alone, not on which columns were kept. Entries (k, l)
+    // and (l, k) are the same products in the same order: G is symmetric to the bit.
     let n = c.n();
     let mut at = vec![u32::MAX; n];
     let mut rows: Vec<u32> = Vec::new();
@@ -136,33 +138,44 @@ pub(super) fn promotion_forward(
     for (u, &i) in rows.iter().enumerate() {
         at[i as usize] = u as u32;
     }
-    let nu = rows.len();
-    let mut yu = nalgebra::DMatrix::<f64>::zeros(nu, np);
+    let mut yu = nalgebra::DMatrix::<f64>::zeros(rows.len(), np);
     for (k, yk) in y.iter().enumerate() {
         for (&i, &v) in yk.rows.iter().zip(&yk.values) {
             yu[(at[i as usize] as usize, k)] = v;
         }
     }
-    let nb = cb.len();
-    let mut cu = nalgebra::DMatrix::<f64>::zeros(nu, nb);
-    for (j, cj) in cb.iter().enumerate() {
-        for (&i, &v) in cj.rows.iter().zip(&cj.values) {
-            if let Some(&u) = at.get(i as usize).filter(|&&u| u != u32::MAX) {
-                cu[(u as usize, j)] = v;
-            }
-        }
-    }
-    // G = Yᵀ·Y: entries (k, l) and (l, k) are the same products in the same order, so it
-    // is symmetric to the bit. It is a principal block of the inverse of a positive
-    // definite matrix.
     let g = yu.tr_mul(&yu);
+    // G is a principal block of the inverse of a positive definite matrix.
     let Some(ch) = g.cholesky() else {
         return Some(Err(SolverError::Singular {
             equation: promoted[0],
         }));
     };
     let g_inv = ch.inverse().as_slice().to_vec();
-    let w_p = yu.tr_mul(&cu).as_slice().to_vec();
+    // W_P = Yᵀ·C_B by rows: row k is Σ Y_ik·C_B(i, :) over column k's path in increasing
+    // position, a function of that column and C_B alone, so a kept column keeps its row.
+    let nb = cb.nb;
+    let mut w_p = vec![0.0; np * nb];
+    let mut row = vec![0.0; nb];
+    for (k, yk) in y.iter().enumerate() {
+        if let Some(m) = from[k].filter(|_| last_w.len() == np_last * nb) {
+            for j in 0..nb {
+                w_p[k + j * np] = last_w[m + j * np_last];
+            }
+            continue;
+        }
+        row.fill(0.0);
+        for (&i, &v) in yk.rows.iter().zip(&yk.values) {
+            if let Some(r) = cb.row(i) {
+                for (w, x) in row.iter_mut().zip(r) {
+                    *w += v * x;
+                }
+            }
+        }
+        for (j, w) in row.iter().enumerate() {
+            w_p[k + j * np] = *w;
+        }
+    }
     let products = promoted_products(&g_inv, &w_p, np, nb);
     let kept = np - fresh.len();
     Some(Ok(Promotion {
@@ -175,6 +188,53 @@ pub(super) fn promotion_forward(
         columns: [fresh.len(), kept],
         reach,
     }))
+}
+
+/// `C_B = L⁻¹·P·A_IB` (module documentation) by rows: the positions of its reach (the
+/// union of its columns' paths) and `nb` values each, contiguous.
+pub(super) struct CouplingRows {
+    /// Row of each position in `values` (`u32::MAX`: off the reach, a zero row).
+    at: Vec<u32>,
+    values: Vec<f64>,
+    /// Boundary equations (columns).
+    nb: usize,
+}
+
+impl CouplingRows {
+    /// `C_B` of the block whose factor's compact copy is `c` and whose coupling `A_IB` by
+    /// boundary column is `coupling` (sparse forward passes, [`CompactFactor::forward_sparse`]).
+    fn new(c: &mut CompactFactor, coupling: &[Vec<(u32, f64)>]) -> CouplingRows {
+        let cols = c.forward_sparse(coupling);
+        let nb = cols.len();
+        let mut at = vec![u32::MAX; c.n()];
+        let mut count = 0;
+        for col in &cols {
+            for &i in &col.rows {
+                if at[i as usize] == u32::MAX {
+                    at[i as usize] = count;
+                    count += 1;
+                }
+            }
+        }
+        let mut values = vec![0.0; count as usize * nb];
+        for (j, col) in cols.iter().enumerate() {
+            for (&i, &v) in col.rows.iter().zip(&col.values) {
+                values[at[i as usize] as usize * nb + j] = v;
+            }
+        }
+        CouplingRows { at, values, nb }
+    }
+
+    /// Row `i` (a position), or `None` for a zero row.
+    fn row(&self, i: u32) -> Option<&[f64]> {
+        let a = *self.at.get(i as usize).filter(|&&a| a != u32::MAX)? as usize;
+        Some(&self.values[a * self.nb..(a + 1) * self.nb])
+    }
+
+    /// Bytes held (capacities).
+    pub(super) fn heap_bytes(&self) -> usize {
+        4 * self.at.capacity() + 8 * self.values.capacity()
+    }
 }
 
 /// The back-substitution of one block in the forward form (module documentation), in
