@@ -33,7 +33,9 @@
 //! correction `A_BI·A_II⁻¹·A_IB` are made once per `A` (a new `Δt`); a wheel moving onto new
 //! rail nodes costs a triangular solve in its block for each newly promoted equation, never
 //! a factorization: the columns of `Z` of the equations that stay promoted are kept. A unit
-//! column's forward pass starts at its equation's place in the elimination order. Each iteration then costs one
+//! column's forward pass starts at its equation's place in the elimination order; in the
+//! forward form ([`PromotionForm::Forward`], `partition/forward.rs`) a promotion needs
+//! only forward passes, along elimination-tree paths. Each iteration then costs one
 //! factorization of the small top system and two triangular solves per block (in
 //! parallel).
 //!
