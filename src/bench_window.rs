@@ -58,6 +58,7 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
         if let Some(w) = window.as_mut() {
             let [rear, front] = train_extent(&track, d.state.t);
             w.update(d, rear, front)?;
+            d.set_promotion_form(crate::train_window::promotion_form(w));
         }
         Ok(d.step(case.dt)?.iterations)
     };
@@ -77,7 +78,7 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
     let ms = |x: f64| 1e3 * x / steps as f64;
     let per = |a: usize, b: usize| (b - a) as f64 / steps as f64;
     eprintln!(
-        "  per step: assembly {:.1} ms, loads {:.1} ms, factor {:.1} ms (top form {:.1}, top factor {:.1}, blocks {:.1}, promotions {:.1}), solve {:.1} ms; top factorizations {:.2}, top symbolic analyses {:.2}, top constant forms {:.2} (pattern repeats {:.2}), refits {:.2}, block factorizations {:.2}, promotions {:.2} (columns solved {:.1}, kept {:.1}); top equations {}, reduced {}",
+        "  per step: assembly {:.1} ms, loads {:.1} ms, factor {:.1} ms (top form {:.1}, top factor {:.1}, blocks {:.1}, promotions {:.1}), solve {:.1} ms; top factorizations {:.2}, top symbolic analyses {:.2}, top constant forms {:.2} (pattern repeats {:.2}), refits {:.2}, block factorizations {:.2}, promotions {:.2} (columns solved {:.1}, kept {:.1}; forward paths mean {:.0}, longest {} rows, blocks of {:.0}); top equations {}, reduced {}",
         ms(tm1.assembly - tm0.assembly),
         ms(tm1.loads - tm0.loads),
         ms(tm1.factor - tm0.factor),
@@ -95,6 +96,10 @@ fn time_one(case: &TrainBridgeCase, steps: usize) -> Result<WindowRow, FemError>
         per(p0.promotions, p1.promotions),
         per(p0.promotion_columns_solved, p1.promotion_columns_solved),
         per(p0.promotion_columns_kept, p1.promotion_columns_kept),
+        (p1.promotion_reach_rows - p0.promotion_reach_rows) as f64
+            / (p1.promotion_columns_solved - p0.promotion_columns_solved).max(1) as f64,
+        p1.promotion_reach_max,
+        p1.interior_equations as f64 / p1.blocks.max(1) as f64,
         p1.top_equations,
         p1.top_reduced_equations,
     );

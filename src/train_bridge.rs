@@ -1001,6 +1001,7 @@ pub fn run(
         if let Some(w) = window.as_mut() {
             let [rear, front] = crate::train_window::train_extent(&track, d.state.t);
             w.update(d, rear, front)?;
+            d.set_promotion_form(crate::train_window::promotion_form(w));
         }
         if let Some(f) = far.as_mut() {
             f.update(d)?;

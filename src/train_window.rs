@@ -257,6 +257,19 @@ pub fn open(
     Ok(Some(w))
 }
 
+/// How the partitioned solver forms its promotions under the window `w`: by the forward
+/// pass (`solvers/src/partition/forward.rs`, the cheaper form) once the window has held a
+/// block, by columns before, so that a window holding nothing writes the bytes of a run
+/// without it. A change re-forms the promotions at the next factorization.
+pub fn promotion_form(w: &ActivityWindow) -> crate::solvers::partition::PromotionForm {
+    use crate::solvers::partition::PromotionForm;
+    if w.stats().held_block_steps > 0 {
+        PromotionForm::Forward
+    } else {
+        PromotionForm::Columns
+    }
+}
+
 /// The user's settings of the absorbing layer (`--window-layer`,
 /// `--window-layer-damping`); `None`: the default (module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]

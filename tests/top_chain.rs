@@ -30,6 +30,7 @@ fn history(case: &TrainBridgeCase, groups: usize, steps: usize) -> History {
         block_size: 150,
         threads: 2,
         top_group_blocks,
+        ..Default::default()
     };
     // The same start for both: the static preload and the initial accelerations by the
     // whole top system. The initial accelerations solve `M·a = f − K·q` with the mass

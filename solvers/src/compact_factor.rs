@@ -33,6 +33,17 @@
 //!
 //! Tests: the module's unit tests compare with faer's solve bit for bit on matrices with
 //! stored zeros, for one to five right-hand sides.
+//!
+//! The forward pass alone for sparse right-hand sides, visiting only their reach in the
+//! elimination tree, lives in `compact_factor/reach.rs` ([`CompactFactor::forward_sparse`]).
+
+mod reach;
+
+pub use reach::ForwardColumn;
+
+/// What [`CompactFactor::solve_columns_between`] calls between the passes: the column's
+/// index and its forward result.
+type Between<'a> = dyn FnMut(usize, &mut [f64]) + 'a;
 
 /// `L` (off-diagonal non-zeros, column by column in faer's storage order), the reciprocal
 /// of its diagonal, and the fill-reducing permutation.
@@ -48,6 +59,10 @@ pub struct CompactFactor {
     col_ptr: Vec<u32>,
     rows: Vec<u32>,
     values: Vec<f64>,
+    /// Parent of each column in the elimination tree of the stored pattern (`u32::MAX`: a
+    /// root), when that pattern is closed under it (`compact_factor/reach.rs`); `None`:
+    /// a sparse forward pass visits every column from its first non-zero on.
+    parent: Option<Vec<u32>>,
     /// Scratch of the permuted right-hand sides.
     x: Vec<f64>,
 }
@@ -98,6 +113,7 @@ impl CompactFactor {
             f.fwd = Some(fwd.iter().map(|&i| i as u32).collect());
             f.inv = Some(inv.iter().map(|&i| i as u32).collect());
         }
+        f.parent = reach::elimination_tree(col_ptr, row_idx);
         Some(f)
     }
 
@@ -113,8 +129,9 @@ impl CompactFactor {
 
     /// Bytes held (capacities).
     pub fn heap_bytes(&self) -> usize {
-        let perm =
-            self.fwd.as_ref().map_or(0, Vec::capacity) + self.inv.as_ref().map_or(0, Vec::capacity);
+        let perm = self.fwd.as_ref().map_or(0, Vec::capacity)
+            + self.inv.as_ref().map_or(0, Vec::capacity)
+            + self.parent.as_ref().map_or(0, Vec::capacity);
         4 * (perm + self.col_ptr.capacity() + self.rows.capacity())
             + 8 * (self.recip.capacity() + self.values.capacity() + self.x.capacity())
     }
@@ -143,8 +160,33 @@ impl CompactFactor {
     /// [`CompactFactor::solve_columns`] to the bit, zeros' signs included: a unit column
     /// `e_p` costs the forward pass from `p`'s position on only.
     pub fn solve_columns_from(&mut self, b: &mut [f64], ncols: usize, from: &[usize]) {
+        self.solve_columns_inner(b, ncols, from, None);
+    }
+
+    /// [`CompactFactor::solve_columns`] with `between(c, w)` called for each column `c`
+    /// between its forward and backward passes, on `w = L⁻¹·P·b_c` (indexed by position in
+    /// the elimination order, [`CompactFactor::position`]), which it may change: the
+    /// backward pass then gives `Pᵀ·L⁻ᵀ·w`. Each column's operations are otherwise those
+    /// of [`CompactFactor::solve_columns`].
+    pub fn solve_columns_between(
+        &mut self,
+        b: &mut [f64],
+        ncols: usize,
+        between: &mut dyn FnMut(usize, &mut [f64]),
+    ) {
+        self.solve_columns_inner(b, ncols, &[], Some(between));
+    }
+
+    fn solve_columns_inner<'a>(
+        &mut self,
+        b: &mut [f64],
+        ncols: usize,
+        from: &[usize],
+        mut between: Option<&mut Between<'a>>,
+    ) {
         let n = self.n;
         debug_assert_eq!(b.len(), n * ncols);
+        let mut w = Vec::new();
         let mut done = 0;
         while done < ncols {
             let group = &mut b[done * n..];
@@ -154,18 +196,28 @@ impl CompactFactor {
                 .min()
                 .unwrap_or(0)
                 .min(n);
+            let mid = between.as_deref_mut();
             done += match k {
-                1 => self.solve_group::<1>(group, start),
-                2 => self.solve_group::<2>(group, start),
-                3 => self.solve_group::<3>(group, start),
-                _ => self.solve_group::<4>(group, start),
+                1 => self.solve_group::<1>(group, start, mid, done, &mut w),
+                2 => self.solve_group::<2>(group, start, mid, done, &mut w),
+                3 => self.solve_group::<3>(group, start, mid, done, &mut w),
+                _ => self.solve_group::<4>(group, start, mid, done, &mut w),
             };
         }
     }
 
     /// [`CompactFactor::solve_columns`] on the first `K` columns of `b`, the forward pass
-    /// from column `start` of `L` ([`CompactFactor::solve_columns_from`]); returns `K`.
-    fn solve_group<const K: usize>(&mut self, b: &mut [f64], start: usize) -> usize {
+    /// from column `start` of `L` ([`CompactFactor::solve_columns_from`]), with `mid`
+    /// between the passes ([`CompactFactor::solve_columns_between`]; the group's first
+    /// column is column `first` of the solve, `w` a scratch); returns `K`.
+    fn solve_group<'a, const K: usize>(
+        &mut self,
+        b: &mut [f64],
+        start: usize,
+        mid: Option<&mut Between<'a>>,
+        first: usize,
+        w: &mut Vec<f64>,
+    ) -> usize {
         let n = self.n;
         self.x.resize(n * K, 0.0);
         let x = &mut self.x[..n * K];
@@ -196,6 +248,18 @@ impl CompactFactor {
                 let xi = &mut x[i as usize * K..(i as usize + 1) * K];
                 for (e, v) in xi.iter_mut().zip(&xj) {
                     *e -= l * v;
+                }
+            }
+        }
+        if let Some(f) = mid {
+            w.resize(n, 0.0);
+            for c in 0..K {
+                for (i, wi) in w.iter_mut().enumerate() {
+                    *wi = x[i * K + c];
+                }
+                f(first + c, w);
+                for (i, wi) in w.iter().enumerate() {
+                    x[i * K + c] = *wi;
                 }
             }
         }
@@ -365,6 +429,74 @@ mod tests {
                 assert!((v - e).abs() < 1e-12, "column {l}, row {i}: {v:e}");
             }
         }
+    }
+
+    /// The sparse forward passes are the full forward pass (captured between the passes of
+    /// a whole solve) to the bit: the same value on the reach, `+0` off it. The factor's
+    /// pattern is a Cholesky factor's, so the reaches are elimination-tree paths, most of
+    /// them shorter than the rest of the order after their first position.
+    #[test]
+    fn the_sparse_forward_pass_is_the_full_one_on_its_reach_to_the_bit() {
+        let a = beam_like(40);
+        let n = a.n;
+        let mut s = SparseCholesky::new()
+            .with_layout(Layout::Simplicial)
+            .with_compact_solve(true);
+        s.factor(&a).unwrap();
+        let c = s.compact_mut().expect("compact copy");
+        assert!(c.parent.is_some(), "a Cholesky pattern is closed");
+        let mut columns: Vec<Vec<(u32, f64)>> = [n - 1, 3, 117, 0, 58, 200, 59, 7, 131]
+            .iter()
+            .map(|&l| vec![(l as u32, 1.0)])
+            .collect();
+        columns.push(vec![(5, 2.5), (80, -1.25), (81, 0.5)]);
+        columns.push(vec![(190, -3.0)]);
+        let got = c.forward_sparse(&columns);
+        let mut b = vec![0.0; n * columns.len()];
+        for (k, col) in columns.iter().enumerate() {
+            for &(e, v) in col {
+                b[k * n + e as usize] = v;
+            }
+        }
+        let mut full = vec![Vec::new(); columns.len()];
+        let mut keep = |k: usize, w: &mut [f64]| full[k] = w.to_vec();
+        c.solve_columns_between(&mut b, columns.len(), &mut keep);
+        let mut shorter = 0;
+        for (k, (g, w)) in got.iter().zip(&full).enumerate() {
+            let mut on = vec![false; n];
+            for (&i, v) in g.rows.iter().zip(&g.values) {
+                on[i as usize] = true;
+                assert_eq!(v.to_bits(), w[i as usize].to_bits(), "column {k}, row {i}");
+            }
+            for (i, v) in w.iter().enumerate() {
+                assert!(
+                    on[i] || v.to_bits() == 0,
+                    "column {k}, row {i} off the reach: {v:e}"
+                );
+            }
+            assert!(g.rows.windows(2).all(|p| p[0] < p[1]));
+            let first = g.rows[0] as usize;
+            if g.rows.len() < n - first {
+                shorter += 1;
+            }
+        }
+        assert!(
+            shorter >= columns.len() / 2,
+            "{shorter} of {}",
+            columns.len()
+        );
+        // And the whole solves with nothing changed between the passes are the solves.
+        let mut plain = vec![0.0; n * columns.len()];
+        for (k, col) in columns.iter().enumerate() {
+            for &(e, v) in col {
+                plain[k * n + e as usize] = v;
+            }
+        }
+        s.solve_columns_in_place(&mut plain, columns.len()).unwrap();
+        assert!(b
+            .iter()
+            .zip(&plain)
+            .all(|(u, v)| u.to_bits() == v.to_bits()));
     }
 
     #[test]

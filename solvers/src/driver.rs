@@ -814,6 +814,14 @@ impl Driver {
         self.linear.partitioned().map(Partitioned::stats)
     }
 
+    /// Has the partitioned solver, if the driver uses it, form its promotions in `form`
+    /// from the next factorization on ([`Partitioned::set_promotion_form`]).
+    pub fn set_promotion_form(&mut self, form: crate::partition::PromotionForm) {
+        if let Some(p) = self.linear.partitioned_mut() {
+            p.set_promotion_form(form);
+        }
+    }
+
     /// Forms and factors the effective tangent `k·K + m·M + c·C`: the pattern analysed
     /// once ([`LinearBackend::analyse`], counted as factorization time), the values filled
     /// in on it, then the numeric factorization ([`LinearBackend::factor`]).

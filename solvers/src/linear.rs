@@ -451,6 +451,12 @@ impl SparseCholesky {
         Some((c.nonzeros(), self.stats.factor_nnz))
     }
 
+    /// The compact copy of the factor ([`SparseCholesky::with_compact_solve`]), after a
+    /// factorization that made one.
+    pub fn compact_mut(&mut self) -> Option<&mut CompactFactor> {
+        self.compact.as_mut().filter(|_| self.factored)
+    }
+
     /// The columns `A⁻¹·e_l` of the equations `locals`, column-major (`n` rows each, in
     /// the order of `locals`): with the compact copy, each forward pass starts at its unit
     /// entry's position in the elimination order, the same bits as solving the unit

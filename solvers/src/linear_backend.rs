@@ -448,6 +448,7 @@ mod tests {
             block_size: 100,
             threads: 1,
             top_group_blocks: 0,
+            ..Default::default()
         };
         let mut backend = LinearBackend::new(
             Mode::Partitioned(Partitioned::new(true, options)),

@@ -33,7 +33,9 @@
 //! correction `A_BI·A_II⁻¹·A_IB` are made once per `A` (a new `Δt`); a wheel moving onto new
 //! rail nodes costs a triangular solve in its block for each newly promoted equation, never
 //! a factorization: the columns of `Z` of the equations that stay promoted are kept. A unit
-//! column's forward pass starts at its equation's place in the elimination order. Each iteration then costs one
+//! column's forward pass starts at its equation's place in the elimination order; in the
+//! forward form ([`PromotionForm::Forward`], `partition/forward.rs`) a promotion needs
+//! only forward passes, along elimination-tree paths. Each iteration then costs one
 //! factorization of the small top system and two triangular solves per block (in
 //! parallel).
 //!
@@ -73,12 +75,14 @@ use std::ops::Range;
 use std::sync::Arc;
 use std::time::Instant;
 
+mod forward;
 mod frozen;
 mod reduced;
 mod reduced_cuts;
 mod refactor;
 mod rows;
 
+pub use forward::PromotionForm;
 pub use reduced::ReducedBasis;
 
 const NONE: u32 = u32::MAX;
@@ -94,6 +98,8 @@ pub struct PartitionOptions {
     /// ([`crate::top_chain`]); `0` or `1`: none, every iteration factors the whole top
     /// system.
     pub top_group_blocks: usize,
+    /// How promotions form their condensation (`partition/forward.rs`).
+    pub promotion_form: PromotionForm,
 }
 
 impl Default for PartitionOptions {
@@ -102,6 +108,7 @@ impl Default for PartitionOptions {
             block_size: 3000,
             threads: 0,
             top_group_blocks: 8,
+            promotion_form: PromotionForm::Columns,
         }
     }
 }
@@ -129,6 +136,11 @@ pub struct PartitionStats {
     pub promotion_columns_solved: usize,
     /// See [`PartitionStats::promotion_columns_solved`].
     pub promotion_columns_kept: usize,
+    /// Of the columns solved in the forward form ([`PromotionForm::Forward`]): the rows of
+    /// their elimination-tree paths, summed, and the longest path.
+    pub promotion_reach_rows: usize,
+    /// See [`PartitionStats::promotion_reach_rows`].
+    pub promotion_reach_max: usize,
     /// Factorizations of the top system.
     pub top_factorizations: usize,
     /// Right-hand sides solved.
@@ -198,6 +210,26 @@ struct BlockState {
     coupling: Vec<Vec<(u32, f64)>>,
     /// `C = A_{B I} A_{I I}⁻¹ A_{I B}`, column-major `|B| × |B|`.
     correction: Vec<f64>,
+    /// `C_B = L⁻¹·P·A_IB` by rows, while the block has promoted equations in the forward
+    /// form (`partition/forward.rs`).
+    forward_coupling: Option<forward::CouplingRows>,
+}
+
+/// A promotion's columns (module documentation; `partition/forward.rs`).
+enum Solved {
+    /// `Z = A_II⁻¹·E_P`, column-major `|I| × |P|`.
+    Columns(Vec<f64>),
+    /// `Y = L⁻¹·P·E_P`, each column on its elimination-tree path.
+    Forward(Vec<crate::compact_factor::ForwardColumn>),
+}
+
+impl Solved {
+    fn heap_bytes(&self) -> usize {
+        match self {
+            Solved::Columns(z) => 8 * z.capacity(),
+            Solved::Forward(y) => y.iter().map(|c| c.heap_bytes() + 48).sum(),
+        }
+    }
 }
 
 /// The condensation of a block onto its promoted equations `P` (module documentation).
@@ -205,8 +237,8 @@ struct Promotion {
     /// Promoted equations (global, sorted) and their local interior indices.
     promoted: Vec<usize>,
     local: Vec<usize>,
-    /// `Z = A_II⁻¹·E_P`, column-major `|I| × |P|`.
-    z: Vec<f64>,
+    /// `Z = A_II⁻¹·E_P`, or `Y = L⁻¹·P·E_P` ([`PromotionForm`]).
+    z: Solved,
     /// `G⁻¹`, column-major `|P| × |P|`.
     g_inv: Vec<f64>,
     /// `W_P = Zᵀ·A_IB`, column-major `|P| × |B|`.
@@ -217,6 +249,9 @@ struct Promotion {
     /// Of the columns of `Z`: how many were solved, and how many kept from the last
     /// promotion.
     columns: [usize; 2],
+    /// Of the solved columns in the forward form: their paths' rows, summed, and the
+    /// longest.
+    reach: [usize; 2],
 }
 
 struct Block {
@@ -466,8 +501,10 @@ impl Partitioned {
             structure += 8 * (b.all.capacity() + b.boundary.capacity() + b.promoted.capacity());
             if let Some(st) = &b.base {
                 factors += st.factor.heap_bytes();
-                coupling += 8
-                    * (st.interior.capacity() + st.boundary.capacity() + st.correction.capacity())
+                coupling += st.forward_coupling.as_ref().map_or(0, |c| c.heap_bytes())
+                    + 8 * (st.interior.capacity()
+                        + st.boundary.capacity()
+                        + st.correction.capacity())
                     + st.coupling
                         .iter()
                         .map(|c| 16 * c.capacity() + 24)
@@ -477,11 +514,11 @@ impl Partitioned {
                 promotions += 8
                     * (p.promoted.capacity()
                         + p.local.capacity()
-                        + p.z.capacity()
                         + p.g_inv.capacity()
                         + p.w_p.capacity()
                         + p.products.h.capacity()
-                        + p.products.wth.capacity());
+                        + p.products.wth.capacity())
+                    + p.z.heap_bytes();
             }
         }
         let received: usize = self
@@ -846,6 +883,7 @@ impl Partitioned {
             }
         }
         let changed = jobs.iter().filter(|(_, w)| !w.is_empty()).count();
+        let form = self.options.promotion_form;
         if local.is_ok() {
             let results = par_each(&mut jobs, nt, |(blk, want)| {
                 let Block {
@@ -855,10 +893,11 @@ impl Partitioned {
                 } = &mut **blk;
                 let base = base.as_mut().expect("base factored above");
                 if want.is_empty() {
+                    base.forward_coupling = None;
                     return Ok(None);
                 }
                 // The last promotion's storage is reused (replaced below in any case).
-                promotion(base, std::mem::take(want), last.take()).map(Some)
+                promotion(base, std::mem::take(want), last.take(), form).map(Some)
             });
             for ((blk, _), r) in jobs.iter_mut().zip(results) {
                 blk.promotion_unsent = true;
@@ -866,6 +905,8 @@ impl Partitioned {
                     let [solved, kept] = p.columns;
                     self.stats.promotion_columns_solved += solved;
                     self.stats.promotion_columns_kept += kept;
+                    self.stats.promotion_reach_rows += p.reach[0];
+                    self.stats.promotion_reach_max = self.stats.promotion_reach_max.max(p.reach[1]);
                 }
                 match r {
                     Ok(p) => blk.promotion = p,
@@ -1656,12 +1697,41 @@ impl Partitioned {
                     }
                 }
             }
-            if nc == 1 {
+            let forward = match (&*promotion, st.factor.compact_mut()) {
+                (
+                    Some(Promotion {
+                        z: Solved::Forward(y),
+                        g_inv,
+                        promoted,
+                        ..
+                    }),
+                    Some(c),
+                ) => {
+                    // The correction between the passes (`partition/forward.rs`).
+                    let xp: Vec<Vec<f64>> = columns
+                        .iter()
+                        .map(|(_, xt)| {
+                            promoted
+                                .iter()
+                                .map(|&g| xt[top_index[g] as usize])
+                                .collect()
+                        })
+                        .collect();
+                    forward::back_substitute_forward(c, y, g_inv, &xp, &mut z, nc);
+                    true
+                }
+                _ => false,
+            };
+            if forward {
+            } else if nc == 1 {
                 st.factor.solve_in_place(&mut z)?;
             } else {
                 st.factor.solve_columns_in_place(&mut z, nc)?;
             }
-            if let Some(pr) = promotion {
+            if let (false, Some(pr)) = (forward, promotion.as_ref()) {
+                let Solved::Columns(pz) = &pr.z else {
+                    unreachable!("a forward-form promotion has a compact factor")
+                };
                 // x_I = y + Z·G⁻¹·(x_P − y_P).
                 let np = pr.promoted.len();
                 for (k, (_, xt)) in columns.iter().enumerate() {
@@ -1675,7 +1745,7 @@ impl Partitioned {
                     for kk in 0..np {
                         let e: f64 = (0..np).map(|l| pr.g_inv[kk + l * np] * d[l]).sum();
                         if e != 0.0 {
-                            for (zi, zp) in zk.iter_mut().zip(&pr.z[kk * ni..(kk + 1) * ni]) {
+                            for (zi, zp) in zk.iter_mut().zip(&pz[kk * ni..(kk + 1) * ni]) {
                                 *zi += zp * e;
                             }
                         }
@@ -2025,6 +2095,7 @@ fn block_state(
         factor,
         coupling,
         correction,
+        forward_coupling: None,
     })
 }
 
@@ -2034,10 +2105,13 @@ fn block_state(
 /// solved with the base factor. `G⁻¹` and `W_P` are formed anew from the columns. A column
 /// is `A_II⁻¹·e_p` whether kept or solved, to the bit (the solve does each column's
 /// operations independently of which others it is solved with: [`crate::compact_factor`]).
+/// In the forward form ([`PromotionForm::Forward`]) the columns are those of `Y`
+/// (`partition/forward.rs`).
 fn promotion(
     st: &mut BlockState,
     promoted: Vec<usize>,
     last: Option<Promotion>,
+    form: PromotionForm,
 ) -> Result<Promotion, SolverError> {
     let ni = st.interior.len();
     let np = promoted.len();
@@ -2051,14 +2125,41 @@ fn promotion(
         .collect::<Result<_, _>>()?;
     // Where each column of `Z` was in the last promotion's (`None`: not there); both
     // `local` lists are sorted.
+    // A last promotion of the other form keeps nothing.
+    let (last_local, last_z, last_w) = match last {
+        Some(Promotion { local, z, w_p, .. }) => (local, Some(z), w_p),
+        None => (Vec::new(), None, Vec::new()),
+    };
+    let (last_z, last_y) = match (form, last_z) {
+        (PromotionForm::Forward, Some(Solved::Forward(y))) => (None, Some((y, last_w))),
+        (PromotionForm::Columns, Some(Solved::Columns(z))) => (Some(z), None),
+        _ => (None, None),
+    };
     let from: Vec<Option<usize>> = local
         .iter()
-        .map(|&l| last.as_ref()?.local.binary_search(&l).ok())
+        .map(|&l| {
+            (last_z.is_some() || last_y.is_some())
+                .then(|| last_local.binary_search(&l).ok())
+                .flatten()
+        })
         .collect();
+    if form == PromotionForm::Forward {
+        if let Some(r) =
+            forward::promotion_forward(st, promoted.clone(), local.clone(), &from, last_y)
+        {
+            return r;
+        }
+    }
+    // The columns form (asked for, or a factor without its compact copy); a forward-form
+    // last promotion's columns are not `Z`'s.
+    let from: Vec<Option<usize>> = match &last_z {
+        Some(_) => from,
+        None => vec![None; np],
+    };
     let fresh: Vec<usize> = (0..np).filter(|&k| from[k].is_none()).collect();
     let kept = np - fresh.len();
-    let mut z = match last {
-        Some(last) if kept > 0 => kept_columns(last.z, ni, &from),
+    let mut z = match last_z {
+        Some(last_z) if kept > 0 => kept_columns(last_z, ni, &from),
         _ => vec![0.0; ni * np],
     };
     if fresh.len() == np {
@@ -2091,11 +2192,12 @@ fn promotion(
     Ok(Promotion {
         promoted,
         local,
-        z,
+        z: Solved::Columns(z),
         g_inv,
         w_p,
         products,
         columns: [fresh.len(), kept],
+        reach: [0, 0],
     })
 }
 
@@ -2258,6 +2360,49 @@ mod tests {
         assert!(s.promotions >= 8, "{s:?}");
     }
 
+    /// The forward form (`partition/forward.rs`) against the columns form and a dense
+    /// solve, with the coupling of [`matches_a_dense_solve_with_moving_coupling`] moving
+    /// between factorizations, and on the split solve with a two-column back-substitution
+    /// of [`run_rank`]. All are backward-stable direct solves of one system whose condition
+    /// is about 1e2, differing only in the order of their sums: they agree to round-off,
+    /// which 1e-12 of the largest entry bounds with room (1e2 · a few hundred terms · 1.1e-16).
+    #[test]
+    fn the_forward_form_solves_as_the_columns_form() {
+        let a = chain(200, 6);
+        let n = a.n;
+        let (mut fwd, mut cols) = (
+            in_form(PromotionForm::Forward),
+            in_form(PromotionForm::Columns),
+        );
+        let mut differ = false;
+        for step in 0..8 {
+            let v = moving(step);
+            fwd.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();
+            cols.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();
+            let b = rhs(n);
+            let (mut x, mut y) = (b.clone(), b.clone());
+            fwd.solve_in_place(&mut x).unwrap();
+            cols.solve_in_place(&mut y).unwrap();
+            let e = max_rel(&x, &y);
+            assert!(e < 1e-12, "step {step}: forms differ by {e:e}");
+            differ |= x.iter().zip(&y).any(|(u, w)| u.to_bits() != w.to_bits());
+            let e = max_rel(&x, &dense_solve(&a, &v, &b));
+            assert!(e < 1e-12, "step {step}: against the dense solve {e:e}");
+        }
+        // Different sums (not the columns form under another name), on the paths.
+        assert!(differ);
+        let s = fwd.stats();
+        assert!(
+            s.promotion_columns_solved > 0 && s.promotion_reach_rows > 0,
+            "{s:?}"
+        );
+        assert_eq!(cols.stats().promotion_reach_rows, 0);
+        let (f, _, _) = run_rank(None, 50, false, PromotionForm::Forward);
+        let (c, _, _) = run_rank(None, 50, false, PromotionForm::Columns);
+        let e = max_rel(&f, &c);
+        assert!(e < 1e-12, "split solves differ by {e:e}");
+    }
+
     /// A chain like [`chain`] with pseudo-random positive spring values (a fixed linear
     /// congruential sequence), so that no two separators' condensations are alike.
     fn random_chain(nodes: usize, extra: usize) -> CscMatrix {
@@ -2306,6 +2451,7 @@ mod tests {
             block_size: 30,
             threads: 2,
             top_group_blocks: groups,
+            ..Default::default()
         };
         let mut reduced = Partitioned::new(false, options(4));
         let mut whole = Partitioned::new(false, options(0));
@@ -2388,9 +2534,27 @@ mod tests {
     /// factorization: no previous promotion); both are a direct solve's to round-off.
     #[test]
     fn reused_promotion_columns_give_the_fresh_columns_answers_to_the_bit() {
+        check_reused_columns(PromotionForm::Columns);
+    }
+
+    /// [`reused_promotion_columns_give_the_fresh_columns_answers_to_the_bit`] in the
+    /// forward form (the kept columns of `Y = L⁻¹·P·E_P`).
+    #[test]
+    fn reused_forward_columns_give_the_fresh_columns_answers_to_the_bit() {
+        check_reused_columns(PromotionForm::Forward);
+    }
+
+    /// The solver of `form` in blocks of 50 equations on two threads.
+    fn in_form(form: PromotionForm) -> Partitioned {
+        let mut p = in_blocks(false, 50, 2);
+        p.set_promotion_form(form);
+        p
+    }
+
+    fn check_reused_columns(form: PromotionForm) {
         let a = chain(200, 6);
         let n = a.n;
-        let mut p = in_blocks(false, 50, 2);
+        let mut p = in_form(form);
         let mut fresh_columns = 0;
         for step in 0..24 {
             let v = rolling(step);
@@ -2398,7 +2562,7 @@ mod tests {
             p.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();
             let mut x = b.clone();
             p.solve_in_place(&mut x).unwrap();
-            let mut q = in_blocks(false, 50, 2);
+            let mut q = in_form(form);
             q.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();
             let mut y = b.clone();
             q.solve_in_place(&mut y).unwrap();
@@ -2458,6 +2622,7 @@ mod tests {
             block_size: 200,
             threads: 2,
             top_group_blocks: 0,
+            ..Default::default()
         };
         let mut p = Partitioned::new(true, options);
         let mut last: Option<Vec<(u32, usize)>> = None;
@@ -2547,10 +2712,12 @@ mod tests {
         exchange: Option<Arc<dyn Exchange>>,
         block_size: usize,
         restrict: bool,
+        form: PromotionForm,
     ) -> (Vec<f64>, PartitionStats, usize) {
         let a = chain(200, 6);
         let n = a.n;
         let mut p = in_blocks(false, block_size, 1);
+        p.set_promotion_form(form);
         if let Some(ex) = exchange {
             p.set_exchange(ex);
         }
@@ -2592,13 +2759,17 @@ mod tests {
 
     #[test]
     fn across_thread_ranks_the_answers_are_one_process_answers() {
-        for (block_size, restrict) in [(50, false), (250, false), (50, true), (250, true)] {
-            let (serial, s1, _) = run_rank(None, block_size, restrict);
+        let forms = [PromotionForm::Columns, PromotionForm::Forward];
+        for (block_size, restrict, form) in [(50, false), (250, false), (50, true), (250, true)]
+            .into_iter()
+            .flat_map(|(b, r)| forms.map(|f| (b, r, f)))
+        {
+            let (serial, s1, _) = run_rank(None, block_size, restrict, form);
             for ranks in [2, 3] {
                 let results: Vec<(Vec<f64>, PartitionStats, usize)> = std::thread::scope(|sc| {
                     let hs: Vec<_> = crate::exchange::thread_ranks(ranks)
                         .into_iter()
-                        .map(|ex| sc.spawn(move || run_rank(Some(ex), block_size, restrict)))
+                        .map(|ex| sc.spawn(move || run_rank(Some(ex), block_size, restrict, form)))
                         .collect();
                     hs.into_iter().map(|h| h.join().unwrap()).collect()
                 });

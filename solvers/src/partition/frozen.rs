@@ -164,6 +164,7 @@ mod tests {
                     block_size: 50,
                     threads: 2,
                     top_group_blocks: groups,
+                    ..Default::default()
                 },
             );
             p.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();

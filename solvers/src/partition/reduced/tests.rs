@@ -123,6 +123,7 @@ fn reduced_blocks_solve_as_the_galerkin_system() {
                 block_size: 60,
                 threads: 2,
                 top_group_blocks: groups,
+                ..Default::default()
             },
         );
         p.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();
@@ -211,6 +212,7 @@ fn a_reduced_block_refuses_a_wrong_basis_and_a_wheel() {
             block_size: 60,
             threads: 1,
             top_group_blocks: 0,
+            ..Default::default()
         },
     );
     p.factor(&a, [1.0, 0.0, 0.0], &v).unwrap();
