@@ -238,18 +238,7 @@ impl CompactFactor {
         }
         // Forward: x_j ← x_j·(1/L_jj), then x_i ← x_i − L_ij·x_j down column j.
         for j in start..n {
-            let (start, end) = (self.col_ptr[j] as usize, self.col_ptr[j + 1] as usize);
-            let mut xj = [0.0; K];
-            for (c, v) in xj.iter_mut().enumerate() {
-                *v = x[j * K + c] * self.recip[j];
-                x[j * K + c] = *v;
-            }
-            for (&i, &l) in self.rows[start..end].iter().zip(&self.values[start..end]) {
-                let xi = &mut x[i as usize * K..(i as usize + 1) * K];
-                for (e, v) in xi.iter_mut().zip(&xj) {
-                    *e -= l * v;
-                }
-            }
+            forward_column::<K>(&self.col_ptr, &self.rows, &self.values, &self.recip, x, j);
         }
         if let Some(f) = mid {
             w.resize(n, 0.0);
@@ -298,6 +287,33 @@ impl CompactFactor {
             }
         }
         K
+    }
+}
+
+/// Column `j` of the forward pass on `K` right-hand sides interleaved in `x`:
+/// `x_j ← x_j·(1/L_jj)`, then `x_i ← x_i − L_ij·x_j` for the stored off-diagonals of
+/// column `j` in storage order (the operations the module documentation lists, in its
+/// order). Shared by the full pass and the reach-limited one, so both do the same.
+#[inline(always)]
+pub(crate) fn forward_column<const K: usize>(
+    col_ptr: &[u32],
+    rows: &[u32],
+    values: &[f64],
+    recip: &[f64],
+    x: &mut [f64],
+    j: usize,
+) {
+    let (start, end) = (col_ptr[j] as usize, col_ptr[j + 1] as usize);
+    let mut xj = [0.0; K];
+    for (c, v) in xj.iter_mut().enumerate() {
+        *v = x[j * K + c] * recip[j];
+        x[j * K + c] = *v;
+    }
+    for (&i, &l) in rows[start..end].iter().zip(&values[start..end]) {
+        let xi = &mut x[i as usize * K..(i as usize + 1) * K];
+        for (e, v) in xi.iter_mut().zip(&xj) {
+            *e -= l * v;
+        }
     }
 }
 
@@ -399,16 +415,22 @@ mod tests {
         }
     }
 
-    /// Unit columns solved with their forward passes started at their positions are the
-    /// unit columns solved in full, to the bit (zeros' signs included), in any order.
-    #[test]
-    fn unit_columns_skip_their_leading_zeros_to_the_bit() {
-        let a = beam_like(40);
-        let n = a.n;
+    /// A beam-like matrix of `nodes` nodes and its simplicial factor with the compact copy.
+    fn factored_beam(nodes: usize) -> (CscMatrix, SparseCholesky) {
+        let a = beam_like(nodes);
         let mut s = SparseCholesky::new()
             .with_layout(Layout::Simplicial)
             .with_compact_solve(true);
         s.factor(&a).unwrap();
+        (a, s)
+    }
+
+    /// Unit columns solved with their forward passes started at their positions are the
+    /// unit columns solved in full, to the bit (zeros' signs included), in any order.
+    #[test]
+    fn unit_columns_skip_their_leading_zeros_to_the_bit() {
+        let (a, mut s) = factored_beam(40);
+        let n = a.n;
         let locals = [n - 1, 3, 117, 0, 58, 200, 59, 7, 131];
         let got = s.solve_unit_columns(&locals).unwrap();
         let mut full = vec![0.0; n * locals.len()];
@@ -437,12 +459,8 @@ mod tests {
     /// them shorter than the rest of the order after their first position.
     #[test]
     fn the_sparse_forward_pass_is_the_full_one_on_its_reach_to_the_bit() {
-        let a = beam_like(40);
+        let (a, mut s) = factored_beam(40);
         let n = a.n;
-        let mut s = SparseCholesky::new()
-            .with_layout(Layout::Simplicial)
-            .with_compact_solve(true);
-        s.factor(&a).unwrap();
         let c = s.compact_mut().expect("compact copy");
         assert!(c.parent.is_some(), "a Cholesky pattern is closed");
         let mut columns: Vec<Vec<(u32, f64)>> = [n - 1, 3, 117, 0, 58, 200, 59, 7, 131]

@@ -22,7 +22,7 @@
 //! Tests (in `compact_factor.rs`): every value against the full forward pass, bit for bit,
 //! zeros outside the reach included.
 
-use super::CompactFactor;
+use super::{forward_column, CompactFactor};
 
 const ROOT: u32 = u32::MAX;
 
@@ -197,19 +197,8 @@ impl CompactFactor {
         }
         // Forward: x_j ← x_j·(1/L_jj), then x_i ← x_i − L_ij·x_j down column j.
         for &j in &union {
-            let j = j as usize;
-            let (start, end) = (self.col_ptr[j] as usize, self.col_ptr[j + 1] as usize);
-            let mut xj = [0.0; K];
-            for (c, v) in xj.iter_mut().enumerate() {
-                *v = x[j * K + c] * self.recip[j];
-                x[j * K + c] = *v;
-            }
-            for (&i, &l) in self.rows[start..end].iter().zip(&self.values[start..end]) {
-                let xi = &mut x[i as usize * K..(i as usize + 1) * K];
-                for (e, v) in xi.iter_mut().zip(&xj) {
-                    *e -= l * v;
-                }
-            }
+            let (l, r) = (&self.col_ptr, &self.rows);
+            forward_column::<K>(l, r, &self.values, &self.recip, x, j as usize);
         }
         for (c, &col) in group.iter().enumerate() {
             let rows = reaches[col].clone();
