@@ -1722,11 +1722,12 @@ impl Partitioned {
                 }
                 _ => false,
             };
-            if forward {
-            } else if nc == 1 {
-                st.factor.solve_in_place(&mut z)?;
-            } else {
-                st.factor.solve_columns_in_place(&mut z, nc)?;
+            if !forward {
+                if nc == 1 {
+                    st.factor.solve_in_place(&mut z)?;
+                } else {
+                    st.factor.solve_columns_in_place(&mut z, nc)?;
+                }
             }
             if let (false, Some(pr)) = (forward, promotion.as_ref()) {
                 let Solved::Columns(pz) = &pr.z else {
