@@ -227,7 +227,10 @@ impl Solved {
     fn heap_bytes(&self) -> usize {
         match self {
             Solved::Columns(z) => 8 * z.capacity(),
-            Solved::Forward(y) => y.iter().map(|c| c.heap_bytes() + 48).sum(),
+            Solved::Forward(y) => y
+                .iter()
+                .map(|c| c.heap_bytes() + std::mem::size_of_val(c))
+                .sum(),
         }
     }
 }
